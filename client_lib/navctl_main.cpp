@@ -1,0 +1,286 @@
+// navctl: the command-line client of navd. One readable line and a non-zero exit on any error.
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "client_lib/navd_client.h"
+#include "client_lib/telemetry.h"
+
+namespace {
+
+using nlohmann::json;
+
+// Parses "X,Y" or "X,Y,THETA" (numbers; "nan"/"inf" pass through for navd to reject).
+std::vector<double> ParseTuple(const std::string& text, const std::string& flag, size_t min, size_t max) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string part;
+  while (std::getline(ss, part, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(part.c_str(), &end);
+    if (part.empty() || end == part.c_str() || *end != '\0') {
+      throw std::invalid_argument(flag + " '" + text + "': '" + part + "' is not a number");
+    }
+    out.push_back(v);
+  }
+  if (out.size() < min || out.size() > max) {
+    throw std::invalid_argument(flag + " '" + text + "' must be " + (max == 2 ? "X,Y" : "X,Y[,THETA]"));
+  }
+  return out;
+}
+
+json PoseJson(const navd::v1::Pose2D& p) { return {{"x", p.x()}, {"y", p.y()}, {"theta", p.theta()}}; }
+
+const char* OutcomeText(navd::v1::Outcome o) {
+  switch (o) {
+    case navd::v1::SUCCEEDED: return "succeeded";
+    case navd::v1::FAILED: return "failed";
+    case navd::v1::CANCELED: return "canceled";
+    case navd::v1::PREEMPTED: return "preempted";
+    default: return "unknown";
+  }
+}
+
+const char* StateText(navd::v1::NavigationState s) {
+  switch (s) {
+    case navd::v1::IDLE: return "idle";
+    case navd::v1::ROTATING: return "rotating";
+    case navd::v1::DRIVING: return "driving";
+    case navd::v1::FINAL_ROTATION: return "final_rotation";
+    case navd::v1::STOPPED_STALE_SENSORS: return "stopped_stale_sensors";
+    default: return "unknown";
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"navctl: command-line client of navd"};
+  app.require_subcommand(1);
+  navd::ClientOptions client_options;
+  app.add_option("--server", client_options.server, "navd address HOST:PORT");
+  app.add_option("--deadline", client_options.timeout, "Deadline of each call, seconds");
+
+  auto* health = app.add_subcommand("health", "Check navd's grpc.health.v1 status");
+
+  auto* plan = app.add_subcommand("plan", "Plan a path");
+  std::string from, to, planner;
+  bool json_out = false;
+  plan->add_option("--from", from, "Start X,Y (map frame, metres)")->required();
+  plan->add_option("--to", to, "Goal X,Y")->required();
+  plan->add_option("--planner", planner, "Planner name (see 'planners')");
+  plan->add_flag("--json", json_out, "Print one JSON object");
+
+  auto* planners = app.add_subcommand("planners", "List planners");
+  planners->add_flag("--json", json_out, "Print one JSON object");
+
+  auto* navigate = app.add_subcommand("navigate", "Send the robot to a goal; exit 0 only when reached");
+  double timeout = 0;
+  bool preempt = false;
+  navigate->add_option("--to", to, "Goal X,Y[,THETA]")->required();
+  navigate->add_option("--timeout", timeout, "Give up (and cancel) after S seconds");
+  navigate->add_option("--planner", planner, "Planner name");
+  navigate->add_flag("--preempt", preempt, "Replace an active goal instead of being rejected");
+  navigate->add_flag("--json", json_out, "Print the result as one JSON object");
+
+  auto* pose = app.add_subcommand("pose", "Print the pose estimate");
+  pose->add_flag("--json", json_out, "Print one JSON object");
+
+  auto* set_pose = app.add_subcommand("set-pose", "Re-anchor the pose estimate");
+  std::string pose_text;
+  set_pose->add_option("pose", pose_text, "X,Y,THETA")->required();
+
+  auto* cancel = app.add_subcommand("cancel", "Cancel the active navigation");
+  auto* status = app.add_subcommand("status", "Print navigation status");
+  status->add_flag("--json", json_out, "Print one JSON object");
+
+  auto* map = app.add_subcommand("map", "Print the map's metadata");
+  map->add_flag("--json", json_out, "Print one JSON object");
+  auto* load_map = app.add_subcommand("load-map", "Load a map file the server can read");
+  std::string map_path;
+  load_map->add_option("path", map_path, "map_server YAML or world YAML")->required();
+
+  auto* truth = app.add_subcommand("truth", "Print the simulator's ground truth (DDS)");
+  int domain = 0;
+  std::string ns;
+  double wait = 5.0;
+  truth->add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
+  truth->add_option("--namespace", ns, "Robot namespace");
+  truth->add_option("--wait", wait, "Seconds to wait for a sample");
+  truth->add_flag("--json", json_out, "Print one JSON object");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    if (truth->parsed()) {
+      navd::TelemetryOptions topts;
+      topts.dds.domain = domain;
+      topts.dds.name = "navctl";
+      topts.robot_namespace = ns;
+      navd::Telemetry telemetry(topts);
+      const auto s = telemetry.WaitForSimStatus(wait);
+      if (!s) throw std::runtime_error("no simulator status on DDS domain " + std::to_string(domain) + " within " +
+                                       std::to_string(wait) + " s");
+      if (json_out) {
+        std::printf("%s\n", json{{"x", s->x()}, {"y", s->y()}, {"theta", s->theta()}, {"collisions", s->collisions()},
+                                 {"in_collision", s->in_collision()}, {"distance_travelled", s->distance_travelled()},
+                                 {"sim_time", s->header().stamp().sec() + s->header().stamp().nanosec() * 1e-9}}
+                                .dump()
+                                .c_str());
+      } else {
+        std::printf("true pose (%.3f, %.3f, %.3f)  collisions %u  travelled %.2f m\n", s->x(), s->y(), s->theta(),
+                    s->collisions(), s->distance_travelled());
+      }
+      return 0;
+    }
+
+    navd::Client client(client_options);
+    if (health->parsed()) {
+      const auto st = client.Health();
+      std::printf("%s\n", grpc::health::v1::HealthCheckResponse::ServingStatus_Name(st).c_str());
+      return st == grpc::health::v1::HealthCheckResponse::SERVING ? 0 : 1;
+    }
+    if (plan->parsed()) {
+      const auto a = ParseTuple(from, "--from", 2, 2), b = ParseTuple(to, "--to", 2, 2);
+      const auto r = client.ComputePath(a[0], a[1], b[0], b[1], planner);
+      if (json_out) {
+        json path = json::array();
+        for (const auto& p : r.path()) path.push_back({p.x(), p.y()});
+        std::printf("%s\n", json{{"planner", r.planner()}, {"length", r.length()}, {"planning_time", r.planning_time()},
+                                 {"expansions", r.expansions()}, {"path", path}}
+                                .dump()
+                                .c_str());
+      } else {
+        std::printf("planner %s: %d waypoints, length %.3f m, planned in %.2f ms (%lu expansions)\n",
+                    r.planner().c_str(), r.path_size(), r.length(), r.planning_time() * 1e3,
+                    static_cast<unsigned long>(r.expansions()));
+        for (const auto& p : r.path()) std::printf("  %.3f, %.3f\n", p.x(), p.y());
+      }
+      return 0;
+    }
+    if (planners->parsed()) {
+      const auto r = client.ListPlanners();
+      json list = json::array();
+      for (const auto& p : r.planners()) {
+        json opts = json::array();
+        for (const auto& o : p.options())
+          opts.push_back({{"name", o.name()}, {"default", o.default_value()}, {"description", o.description()}});
+        list.push_back({{"name", p.name()}, {"description", p.description()}, {"default", p.is_default()},
+                        {"options", opts}});
+        if (!json_out) std::printf("%s%s  %s\n", p.name().c_str(), p.is_default() ? " (default)" : "", p.description().c_str());
+      }
+      if (json_out) std::printf("%s\n", json{{"planners", list}}.dump().c_str());
+      return 0;
+    }
+    if (navigate->parsed()) {
+      const auto g = ParseTuple(to, "--to", 2, 3);
+      navd::v1::NavigateToRequest req;
+      req.mutable_goal()->set_x(g[0]);
+      req.mutable_goal()->set_y(g[1]);
+      if (g.size() == 3) {
+        req.mutable_goal()->set_theta(g[2]);
+        req.set_use_goal_heading(true);
+      }
+      req.set_planner(planner);
+      req.set_preempt(preempt);
+      int last_tenth = -1;
+      const auto result = client.NavigateTo(
+          req,
+          [&](const navd::v1::NavigationFeedback& f) {
+            // One progress line per second of feedback (feedback arrives at ~10 Hz).
+            const int tenth = static_cast<int>(f.stamp().sec());
+            if (json_out || tenth == last_tenth) return;
+            last_tenth = tenth;
+            std::printf("  t=%6.1fs  %-14s pose (%.2f, %.2f, %.2f)  %.2f m to go\n",
+                        f.stamp().sec() + f.stamp().nanosec() * 1e-9, StateText(f.state()), f.pose().x(), f.pose().y(),
+                        f.pose().theta(), f.distance_remaining());
+            std::fflush(stdout);
+          },
+          timeout);
+      if (json_out) {
+        std::printf("%s\n", json{{"outcome", OutcomeText(result.outcome())}, {"message", result.message()},
+                                 {"final_pose", PoseJson(result.final_pose())},
+                                 {"distance_to_goal", result.distance_to_goal()}, {"elapsed", result.elapsed()},
+                                 {"path_length", result.path_length()}}
+                                .dump()
+                                .c_str());
+      } else {
+        std::printf("%s: %s; final pose (%.3f, %.3f, %.3f), %.3f m from the goal, %.1f s, path %.2f m\n",
+                    OutcomeText(result.outcome()), result.message().c_str(), result.final_pose().x(),
+                    result.final_pose().y(), result.final_pose().theta(), result.distance_to_goal(), result.elapsed(),
+                    result.path_length());
+      }
+      return result.outcome() == navd::v1::SUCCEEDED ? 0 : 1;
+    }
+    if (pose->parsed()) {
+      const auto r = client.GetPose();
+      if (json_out) {
+        std::printf("%s\n", json{{"pose", PoseJson(r.pose())},
+                                 {"covariance", std::vector<double>(r.covariance().begin(), r.covariance().end())},
+                                 {"stamp", r.stamp().sec() + r.stamp().nanosec() * 1e-9},
+                                 {"localizer", r.localizer()}}
+                                .dump()
+                                .c_str());
+      } else {
+        std::printf("pose (%.3f, %.3f, %.3f)  sigma_xy %.3f m  [%s]\n", r.pose().x(), r.pose().y(), r.pose().theta(),
+                    std::sqrt(std::max(0.0, r.covariance(0) + r.covariance(4))), r.localizer().c_str());
+      }
+      return 0;
+    }
+    if (set_pose->parsed()) {
+      const auto p = ParseTuple(pose_text, "pose", 3, 3);
+      client.SetPose(p[0], p[1], p[2]);
+      std::printf("pose set to (%.3f, %.3f, %.3f)\n", p[0], p[1], p[2]);
+      return 0;
+    }
+    if (cancel->parsed()) {
+      std::printf("%s\n", client.Cancel() ? "cancelled the active goal" : "no goal was active");
+      return 0;
+    }
+    if (status->parsed()) {
+      const auto s = client.GetStatus();
+      if (json_out) {
+        std::printf("%s\n", json{{"state", StateText(s.state())}, {"active", s.active()}, {"goal", PoseJson(s.goal())},
+                                 {"pose", PoseJson(s.feedback().pose())},
+                                 {"distance_remaining", s.feedback().distance_remaining()},
+                                 {"sensors_stale", s.sensors_stale()}}
+                                .dump()
+                                .c_str());
+      } else {
+        std::printf("%s%s, pose (%.2f, %.2f, %.2f)%s\n", StateText(s.state()), s.active() ? " (goal active)" : "",
+                    s.feedback().pose().x(), s.feedback().pose().y(), s.feedback().pose().theta(),
+                    s.sensors_stale() ? ", sensors stale" : "");
+      }
+      return 0;
+    }
+    if (map->parsed()) {
+      const auto m = client.GetMap(true).info();
+      if (json_out) {
+        std::printf("%s\n", json{{"name", m.name()}, {"width", m.width()}, {"height", m.height()},
+                                 {"resolution", m.resolution()}, {"origin", PoseJson(m.origin())},
+                                 {"version", m.version()}}
+                                .dump()
+                                .c_str());
+      } else {
+        std::printf("map '%s': %ux%u cells at %.3f m, origin (%.2f, %.2f), version %lu\n", m.name().c_str(), m.width(),
+                    m.height(), m.resolution(), m.origin().x(), m.origin().y(), static_cast<unsigned long>(m.version()));
+      }
+      return 0;
+    }
+    if (load_map->parsed()) {
+      const auto m = client.LoadMap(map_path);
+      std::printf("loaded map '%s': %ux%u cells at %.3f m\n", m.name().c_str(), m.width(), m.height(), m.resolution());
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "navctl: %s\n", e.what());
+    return 1;
+  }
+  return 1;
+}

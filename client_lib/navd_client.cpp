@@ -1,0 +1,172 @@
+#include "client_lib/navd_client.h"
+
+#include <chrono>
+
+namespace navd {
+
+Client::Client(const ClientOptions& options)
+    : options_(options), channel_(grpc::CreateChannel(options.server, grpc::InsecureChannelCredentials())) {
+  health_ = grpc::health::v1::Health::NewStub(channel_);
+  planning_ = v1::PlanningService::NewStub(channel_);
+  localization_ = v1::LocalizationService::NewStub(channel_);
+  mapping_ = v1::MappingService::NewStub(channel_);
+  navigation_ = v1::NavigationService::NewStub(channel_);
+}
+
+void Client::Prepare(grpc::ClientContext& context, double timeout) const {
+  if (timeout > 0) {
+    context.set_deadline(std::chrono::system_clock::now() +
+                         std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                             std::chrono::duration<double>(timeout)));
+  }
+}
+
+void Client::Fail(const grpc::Status& status) const {
+  std::string message = status.error_message();
+  if (status.error_code() == grpc::StatusCode::UNAVAILABLE) {
+    message = "cannot reach navd at " + options_.server + " (" + message + ")";
+  } else if (status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED && message == "Deadline Exceeded") {
+    message = "navd at " + options_.server + " did not answer before the deadline";
+  }
+  throw ClientError(status.error_code(), message);
+}
+
+bool Client::WaitForConnected(double timeout) {
+  return channel_->WaitForConnected(std::chrono::system_clock::now() +
+                                    std::chrono::milliseconds(static_cast<int64_t>(timeout * 1000)));
+}
+
+grpc::health::v1::HealthCheckResponse::ServingStatus Client::Health(const std::string& service) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
+  grpc::health::v1::HealthCheckRequest req;
+  req.set_service(service);
+  grpc::health::v1::HealthCheckResponse resp;
+  const grpc::Status s = health_->Check(&ctx, req, &resp);
+  if (!s.ok()) Fail(s);
+  return resp.status();
+}
+
+v1::ComputePathResponse Client::ComputePath(double start_x, double start_y, double goal_x, double goal_y,
+                                            const std::string& planner, const std::map<std::string, double>& options) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
+  v1::ComputePathRequest req;
+  req.mutable_start()->set_x(start_x);
+  req.mutable_start()->set_y(start_y);
+  req.mutable_goal()->set_x(goal_x);
+  req.mutable_goal()->set_y(goal_y);
+  req.set_planner(planner);
+  for (const auto& [k, v] : options) (*req.mutable_options())[k] = v;
+  v1::ComputePathResponse resp;
+  const grpc::Status s = planning_->ComputePath(&ctx, req, &resp);
+  if (!s.ok()) Fail(s);
+  return resp;
+}
+
+v1::ListPlannersResponse Client::ListPlanners() {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
+  v1::ListPlannersResponse resp;
+  const grpc::Status s = planning_->ListPlanners(&ctx, v1::ListPlannersRequest(), &resp);
+  if (!s.ok()) Fail(s);
+  return resp;
+}
+
+v1::GetPoseResponse Client::GetPose() {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
+  v1::GetPoseResponse resp;
+  const grpc::Status s = localization_->GetPose(&ctx, v1::GetPoseRequest(), &resp);
+  if (!s.ok()) Fail(s);
+  return resp;
+}
+
+void Client::SetPose(double x, double y, double theta) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
+  v1::SetPoseRequest req;
+  req.mutable_pose()->set_x(x);
+  req.mutable_pose()->set_y(y);
+  req.mutable_pose()->set_theta(theta);
+  v1::SetPoseResponse resp;
+  const grpc::Status s = localization_->SetPose(&ctx, req, &resp);
+  if (!s.ok()) Fail(s);
+}
+
+v1::GetMapResponse Client::GetMap(bool info_only) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
+  v1::GetMapRequest req;
+  req.set_info_only(info_only);
+  v1::GetMapResponse resp;
+  const grpc::Status s = mapping_->GetMap(&ctx, req, &resp);
+  if (!s.ok()) Fail(s);
+  return resp;
+}
+
+v1::MapInfo Client::LoadMap(const std::string& path) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
+  v1::LoadMapRequest req;
+  req.set_path(path);
+  v1::LoadMapResponse resp;
+  const grpc::Status s = mapping_->LoadMap(&ctx, req, &resp);
+  if (!s.ok()) Fail(s);
+  return resp.info();
+}
+
+v1::NavigationResult Client::NavigateTo(const v1::NavigateToRequest& request, const FeedbackCallback& on_feedback,
+                                        double timeout) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, timeout);
+  auto reader = navigation_->NavigateTo(&ctx, request);
+  v1::NavigateToResponse msg;
+  std::optional<v1::NavigationResult> result;
+  while (reader->Read(&msg)) {
+    if (msg.has_feedback() && on_feedback) on_feedback(msg.feedback());
+    if (msg.has_result()) result = msg.result();
+  }
+  const grpc::Status s = reader->Finish();
+  if (!s.ok()) {
+    if (s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED) {
+      throw ClientError(s.error_code(), "navigation did not finish within " + std::to_string(timeout) +
+                                            " s; navd cancelled the goal");
+    }
+    Fail(s);
+  }
+  if (!result) throw ClientError(grpc::StatusCode::INTERNAL, "navd ended the navigation stream without a result");
+  return *result;
+}
+
+v1::NavigationResult Client::NavigateTo(double x, double y, std::optional<double> theta,
+                                        const FeedbackCallback& on_feedback, double timeout) {
+  v1::NavigateToRequest req;
+  req.mutable_goal()->set_x(x);
+  req.mutable_goal()->set_y(y);
+  if (theta) {
+    req.mutable_goal()->set_theta(*theta);
+    req.set_use_goal_heading(true);
+  }
+  return NavigateTo(req, on_feedback, timeout);
+}
+
+bool Client::Cancel() {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
+  v1::CancelResponse resp;
+  const grpc::Status s = navigation_->Cancel(&ctx, v1::CancelRequest(), &resp);
+  if (!s.ok()) Fail(s);
+  return resp.was_active();
+}
+
+v1::GetStatusResponse Client::GetStatus() {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
+  v1::GetStatusResponse resp;
+  const grpc::Status s = navigation_->GetStatus(&ctx, v1::GetStatusRequest(), &resp);
+  if (!s.ok()) Fail(s);
+  return resp;
+}
+
+}  // namespace navd

@@ -1,0 +1,83 @@
+#pragma once
+// libnavclient: a synchronous C++ client of navd's gRPC API. Every call has a deadline (seconds)
+// and throws navd::ClientError carrying the gRPC status code and navd's message on failure.
+// Poses and points are in the map frame, metres and radians.
+#include <grpcpp/grpcpp.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "grpc/health/v1/health.grpc.pb.h"
+#include "navd/v1/localization.grpc.pb.h"
+#include "navd/v1/mapping.grpc.pb.h"
+#include "navd/v1/navigation.grpc.pb.h"
+#include "navd/v1/planning.grpc.pb.h"
+
+namespace navd {
+
+class ClientError : public std::runtime_error {
+ public:
+  ClientError(grpc::StatusCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  grpc::StatusCode code() const { return code_; }
+
+ private:
+  grpc::StatusCode code_;
+};
+
+struct ClientOptions {
+  std::string server = "127.0.0.1:50051";
+  double timeout = 10.0;   // default deadline of unary calls, seconds
+};
+
+class Client {
+ public:
+  explicit Client(const ClientOptions& options = {});
+
+  // Blocks until the channel connects or `timeout` passes; returns whether it connected.
+  bool WaitForConnected(double timeout);
+  // grpc.health.v1 status of `service` ("" = the whole server).
+  grpc::health::v1::HealthCheckResponse::ServingStatus Health(const std::string& service = "");
+
+  v1::ComputePathResponse ComputePath(double start_x, double start_y, double goal_x, double goal_y,
+                                      const std::string& planner = "",
+                                      const std::map<std::string, double>& options = {});
+  v1::ListPlannersResponse ListPlanners();
+
+  v1::GetPoseResponse GetPose();
+  void SetPose(double x, double y, double theta);
+
+  v1::GetMapResponse GetMap(bool info_only = false);
+  v1::MapInfo LoadMap(const std::string& path);
+
+  using FeedbackCallback = std::function<void(const v1::NavigationFeedback&)>;
+  // Sends the robot to `request.goal` and blocks until the goal ends, calling `on_feedback` for
+  // each feedback message. `timeout` bounds the whole navigation (0: none); when it passes, navd
+  // cancels the goal and this throws with DEADLINE_EXCEEDED.
+  v1::NavigationResult NavigateTo(const v1::NavigateToRequest& request, const FeedbackCallback& on_feedback = {},
+                                  double timeout = 0.0);
+  // Convenience: goal (x, y), and heading theta when given.
+  v1::NavigationResult NavigateTo(double x, double y, std::optional<double> theta = std::nullopt,
+                                  const FeedbackCallback& on_feedback = {}, double timeout = 0.0);
+  bool Cancel();
+  v1::GetStatusResponse GetStatus();
+
+  const std::string& server() const { return options_.server; }
+
+ private:
+  void Prepare(grpc::ClientContext& context, double timeout) const;
+  [[noreturn]] void Fail(const grpc::Status& status) const;
+
+  ClientOptions options_;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<grpc::health::v1::Health::Stub> health_;
+  std::unique_ptr<v1::PlanningService::Stub> planning_;
+  std::unique_ptr<v1::LocalizationService::Stub> localization_;
+  std::unique_ptr<v1::MappingService::Stub> mapping_;
+  std::unique_ptr<v1::NavigationService::Stub> navigation_;
+};
+
+}  // namespace navd

@@ -1,0 +1,40 @@
+#pragma once
+// libnavclient's DDS side: subscribes navd's telemetry (rt/navd/status) and, when a simulator
+// runs, its truth (rt/ground_truth, rt/sim/status). Newest sample of each, plus optional callbacks.
+#include <memory>
+#include <optional>
+
+#include "dds/participant.h"
+#include "nav_msgsPubSubTypes.h"
+#include "navd_msgsPubSubTypes.h"
+#include "navsim_msgsPubSubTypes.h"
+
+namespace navd {
+
+struct TelemetryOptions {
+  dds::ParticipantOptions dds;
+  std::string robot_namespace;
+};
+
+class Telemetry {
+ public:
+  using StatusCallback = std::function<void(const navd_msgs::msg::dds_::NavStatus_&)>;
+  explicit Telemetry(const TelemetryOptions& options, StatusCallback on_status = {});
+
+  std::optional<navd_msgs::msg::dds_::NavStatus_> LatestStatus() const { return status_->Latest(); }
+  std::optional<navsim_msgs::msg::dds_::SimStatus_> LatestSimStatus() const { return sim_status_->Latest(); }
+  std::optional<nav_msgs::msg::dds_::Odometry_> LatestGroundTruth() const { return truth_->Latest(); }
+  uint64_t status_count() const { return status_->count(); }
+  uint64_t sim_status_count() const { return sim_status_->count(); }
+
+  // Blocks until a simulator status sample newer than those seen so far arrives, or timeout.
+  std::optional<navsim_msgs::msg::dds_::SimStatus_> WaitForSimStatus(double timeout) const;
+
+ private:
+  dds::Participant participant_;
+  std::unique_ptr<dds::Reader<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_;
+  std::unique_ptr<dds::Reader<navsim_msgs::msg::dds_::SimStatus_PubSubType>> sim_status_;
+  std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> truth_;
+};
+
+}  // namespace navd

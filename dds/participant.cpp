@@ -1,0 +1,112 @@
+#include "dds/participant.h"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+
+#include <stdexcept>
+
+namespace navd::dds {
+
+using namespace eprosima::fastdds::dds;
+using eprosima::fastrtps::rtps::IPLocator;
+using eprosima::fastrtps::rtps::Locator_t;
+
+Network ParseNetwork(const std::string& s) {
+  if (s == "loopback") return Network::kLoopback;
+  if (s == "all") return Network::kAll;
+  throw std::invalid_argument("DDS network '" + s + "' is not 'loopback' or 'all'");
+}
+
+namespace {
+
+Locator_t UdpLocator(const std::string& address) {
+  Locator_t loc;
+  loc.kind = LOCATOR_KIND_UDPv4;
+  IPLocator::setIPv4(loc, address);
+  return loc;
+}
+
+DomainParticipantQos MakeQos(const ParticipantOptions& o) {
+  DomainParticipantQos qos = PARTICIPANT_QOS_DEFAULT;
+  qos.name(o.name);
+  auto& builtin = qos.wire_protocol().builtin;
+  if (o.network == Network::kLoopback) {
+    qos.transport().use_builtin_transports = false;
+    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+    udp->interfaceWhiteList.emplace_back("127.0.0.1");
+    // Unicast discovery probes ports of this many participant ids per peer; a test domain holds a
+    // handful (navsim, navd, the test, navctl), so 32 leaves room.
+    udp->maxInitialPeersRange = 32;
+    qos.transport().user_transports.push_back(udp);
+    const Locator_t lo = UdpLocator("127.0.0.1");
+    // Explicit unicast metatraffic locators stop Fast DDS from adding its multicast ones; port 0
+    // asks it to fill in the well-known port for this domain and participant id.
+    builtin.metatrafficUnicastLocatorList.push_back(lo);
+    qos.wire_protocol().default_unicast_locator_list.push_back(lo);
+    builtin.initialPeersList.push_back(lo);
+  }
+  for (const auto& peer : o.peers) builtin.initialPeersList.push_back(UdpLocator(peer));
+  // Keeps discovery brisk so tests and CLI calls do not wait long for matches.
+  builtin.discovery_config.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(1, 0);
+  builtin.discovery_config.initial_announcements.count = 5;
+  builtin.discovery_config.initial_announcements.period = eprosima::fastrtps::Duration_t(0, 100'000'000);
+  return qos;
+}
+
+}  // namespace
+
+Participant::Participant(const ParticipantOptions& options) : domain_(options.domain) {
+  if (options.domain < 0 || options.domain > 232) {
+    throw std::invalid_argument("DDS domain " + std::to_string(options.domain) + " is outside 0..232");
+  }
+  participant_ = DomainParticipantFactory::get_instance()->create_participant(options.domain, MakeQos(options));
+  if (!participant_) throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(options.domain));
+  publisher_ = participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
+  subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
+  if (!publisher_ || !subscriber_) throw std::runtime_error("cannot create DDS publisher/subscriber");
+}
+
+Participant::~Participant() {
+  if (participant_) {
+    participant_->delete_contained_entities();
+    DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  }
+}
+
+Topic* Participant::TopicFor(const std::string& name, TypeSupport& type) {
+  if (auto it = topics_.find(name); it != topics_.end()) return it->second;
+  type.register_type(participant_);
+  Topic* topic = participant_->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);
+  if (!topic) throw std::runtime_error("cannot create DDS topic " + name);
+  topics_[name] = topic;
+  return topic;
+}
+
+DataWriter* Participant::CreateWriter(const std::string& topic, TypeSupport type, Reliability reliability, int depth) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  DataWriterQos qos = DATAWRITER_QOS_DEFAULT;
+  qos.reliability().kind = reliability == Reliability::kReliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
+  qos.history().kind = KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = depth;
+  qos.durability().kind = VOLATILE_DURABILITY_QOS;
+  DataWriter* w = publisher_->create_datawriter(TopicFor(topic, type), qos);
+  if (!w) throw std::runtime_error("cannot create DDS writer on " + topic);
+  return w;
+}
+
+DataReader* Participant::CreateReader(const std::string& topic, TypeSupport type, Reliability reliability, int depth,
+                                      DataReaderListener* listener) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  DataReaderQos qos = DATAREADER_QOS_DEFAULT;
+  qos.reliability().kind = reliability == Reliability::kReliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
+  qos.history().kind = KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = depth;
+  qos.durability().kind = VOLATILE_DURABILITY_QOS;
+  DataReader* r = subscriber_->create_datareader(TopicFor(topic, type), qos, listener);
+  if (!r) throw std::runtime_error("cannot create DDS reader on " + topic);
+  return r;
+}
+
+}  // namespace navd::dds

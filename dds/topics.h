@@ -1,0 +1,19 @@
+#pragma once
+// DDS topic names, ROS 2 style ("rt/" prefix). A robot namespace, when given, goes after "rt/".
+#include <string>
+
+namespace navd::dds {
+
+inline std::string TopicName(const std::string& robot_namespace, const std::string& name) {
+  return robot_namespace.empty() ? "rt/" + name : "rt/" + robot_namespace + "/" + name;
+}
+
+inline constexpr const char* kClock = "rt/clock";       // rosgraph_msgs/Clock, global
+inline constexpr const char* kScan = "scan";            // sensor_msgs/LaserScan
+inline constexpr const char* kOdom = "odom";            // nav_msgs/Odometry
+inline constexpr const char* kCmdVel = "cmd_vel";       // geometry_msgs/Twist
+inline constexpr const char* kGroundTruth = "ground_truth";  // nav_msgs/Odometry, simulator truth
+inline constexpr const char* kSimStatus = "sim/status";      // navsim_msgs/SimStatus
+inline constexpr const char* kNavStatus = "navd/status";     // navd_msgs/NavStatus
+
+}  // namespace navd::dds

@@ -1,0 +1,55 @@
+#include "server/control_loop.h"
+
+namespace navd::server {
+
+namespace {
+// After a goal ends, a few zero commands make sure the robot heard "stop" on a lossy link; then
+// navd goes quiet so other sources (teleop) may command the robot.
+constexpr int kZeroCommandsAfterGoal = 5;
+}  // namespace
+
+ControlLoop::ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
+                         localization::Localizer& localizer, navigation::NavigationExecutive& executive)
+    : options_(options), clock_(clock), bridge_(bridge), localizer_(localizer), executive_(executive) {}
+
+ControlLoop::~ControlLoop() { Stop(); }
+
+void ControlLoop::Start() { thread_ = std::thread([this] { Run(); }); }
+
+void ControlLoop::Stop() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+  bridge_.PublishCommand({});
+}
+
+void ControlLoop::Run() {
+  const double period = 1.0 / options_.rate;
+  double next = clock_.Now();
+  uint64_t tick = 0;
+  while (!stop_) {
+    // Bounded waits keep the loop responsive to Stop() when simulated time stalls.
+    if (!clock_.SleepUntil(next, 0.05)) continue;
+    const double now = clock_.Now();
+    next += period;
+    if (now - next > period) next = now + period;  // fell behind (or the clock jumped): do not burst
+    Tick(tick++);
+  }
+}
+
+void ControlLoop::Tick(uint64_t tick) {
+  if (auto odom = bridge_.LatestOdometry()) localizer_.AddOdometry(*odom);
+  const bool fresh = clock_.Now() - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
+  const bool was_active = executive_.navigator().Status().active;
+  const WheelSpeeds wheels = executive_.Step(fresh);
+  const navigation::NavigationStatus status = executive_.navigator().Status();
+  if (status.active) {
+    bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));
+    zero_commands_left_ = kZeroCommandsAfterGoal;
+  } else if (was_active || zero_commands_left_ > 0) {
+    bridge_.PublishCommand({});
+    zero_commands_left_ = was_active ? kZeroCommandsAfterGoal : zero_commands_left_ - 1;
+  }
+  if (tick % 2 == 0) bridge_.PublishStatus(status, localizer_.Estimate(), localizer_.name(), clock_.Now());
+}
+
+}  // namespace navd::server

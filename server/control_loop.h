@@ -1,0 +1,42 @@
+#pragma once
+// The per-robot control loop: at a fixed rate of the daemon's clock it localises (newest odometry
+// into the localiser), decides (one navigation step, stopping on stale sensors) and commands
+// (cmd_vel), and publishes telemetry at half the rate.
+#include <atomic>
+#include <thread>
+
+#include "server/dds_bridge.h"
+#include "services/navigation/navigation_executive.h"
+
+namespace navd::server {
+
+struct ControlLoopOptions {
+  double rate = 20.0;            // Hz
+  double sensor_timeout = 0.5;   // s
+  double wheel_base = 0.33;      // m, to turn wheel speeds into a twist
+};
+
+class ControlLoop {
+ public:
+  ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
+              localization::Localizer& localizer, navigation::NavigationExecutive& executive);
+  ~ControlLoop();
+  void Start();
+  // Stops the loop and sends the robot a zero command.
+  void Stop();
+
+ private:
+  void Run();
+  void Tick(uint64_t tick);
+
+  ControlLoopOptions options_;
+  Clock& clock_;
+  DdsBridge& bridge_;
+  localization::Localizer& localizer_;
+  navigation::NavigationExecutive& executive_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+  int zero_commands_left_ = 0;
+};
+
+}  // namespace navd::server

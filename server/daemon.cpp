@@ -1,0 +1,116 @@
+#include "server/daemon.h"
+
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <thread>
+
+#include "server/control_loop.h"
+#include "server/dds_bridge.h"
+#include "services/common/error.h"
+#include "services/common/map_store.h"
+#include "services/common/text_file.h"
+#include "services/common/world.h"
+#include "services/localization/localization_service.h"
+#include "services/localization/odometry_localizer.h"
+#include "services/mapping/mapping_service.h"
+#include "services/navigation/navigation_executive.h"
+#include "services/navigation/navigation_service.h"
+#include "services/planning/grid_astar_planner.h"
+#include "services/planning/planning_engine.h"
+#include "services/planning/planning_service.h"
+
+namespace navd::server {
+
+int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
+  // --- Map and robot -------------------------------------------------------------------------
+  MapStore maps;
+  RobotDescription robot;
+  Pose2 initial_pose;
+  if (!o.map_path.empty()) {
+    std::string name;
+    OccupancyGrid grid = LoadAnyMapFile(o.map_path, &name);
+    maps.Set(std::move(grid), name);
+  } else {
+    World world = o.world_path.empty() ? DefaultWorld() : LoadWorldFile(o.world_path);
+    robot = world.robot;
+    initial_pose = world.start;
+    maps.Set(std::move(world.map), world.name);
+  }
+  if (o.initial_pose_set) initial_pose = {o.initial_pose[0], o.initial_pose[1], o.initial_pose[2]};
+  const auto map = maps.Get();
+  spdlog::info("navd: map '{}' {}x{} cells at {} m", map->name, map->grid.width(), map->grid.height(),
+               map->grid.resolution());
+
+  // --- Services -----------------------------------------------------------------------------
+  planning::PlanningEngineOptions planning_options;
+  planning_options.costmap.inflation_radius = robot.radius + o.inflation_margin;
+  planning::PlanningEngine planning(maps, planning_options);
+  planning.Register(std::make_unique<planning::GridAStarPlanner>(false));
+  planning.Register(std::make_unique<planning::GridAStarPlanner>(true));
+  planning.CurrentCostmap();  // built now rather than on the first request
+
+  localization::OdometryLocalizer localizer(initial_pose);
+
+  std::unique_ptr<Clock> clock;
+  SimClock* sim_clock = nullptr;
+  if (o.use_sim_time) {
+    auto c = std::make_unique<SimClock>();
+    sim_clock = c.get();
+    clock = std::move(c);
+  } else {
+    clock = std::make_unique<SystemClock>();
+  }
+
+  navigation::PathFollowerParams follower;
+  follower.wheel_base = robot.wheel_base;
+  follower.max_wheel_speed = robot.max_wheel_speed;
+  navigation::NavigationExecutive executive(planning, localizer, *clock, follower);
+
+  // --- Transport ----------------------------------------------------------------------------
+  DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock);
+  ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive);
+
+  planning::PlanningService planning_service(planning);
+  localization::LocalizationService localization_service(localizer);
+  mapping::MappingService mapping_service(maps);
+  navigation::NavigationService navigation_service(executive);
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::ServerBuilder builder;
+  int port = 0;
+  builder.AddListeningPort(o.listen, grpc::InsecureServerCredentials(), &port);
+  builder.RegisterService(&planning_service);
+  builder.RegisterService(&localization_service);
+  builder.RegisterService(&mapping_service);
+  builder.RegisterService(&navigation_service);
+  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  if (!server || port == 0) {
+    throw Error(ErrorCode::kUnavailable, "cannot listen on " + o.listen + " (address in use or invalid)");
+  }
+  auto* health = server->GetHealthCheckService();
+  for (const char* name : {"", "navd.v1.PlanningService", "navd.v1.LocalizationService", "navd.v1.MappingService",
+                           "navd.v1.NavigationService"}) {
+    health->SetServingStatus(name, true);
+  }
+  const std::string host = o.listen.substr(0, o.listen.rfind(':'));
+  if (!o.port_file.empty()) WriteFileAtomically(o.port_file, std::to_string(port) + "\n");
+  loop.Start();
+  spdlog::info("navd: listening on {}:{}, DDS domain {}, {} clock", host, port, o.dds.domain,
+               o.use_sim_time ? "simulated (rt/clock)" : "system");
+
+  while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+
+  // --- Shutdown: robot first ----------------------------------------------------------------
+  spdlog::info("navd: shutting down");
+  executive.Cancel();
+  loop.Stop();  // also publishes a zero command
+  health->Shutdown();
+  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));
+  spdlog::info("navd: stopped");
+  return 0;
+}
+
+}  // namespace navd::server

@@ -1,0 +1,24 @@
+#pragma once
+// navd's settings, filled from the command line (navd_main.cpp).
+#include <string>
+
+#include "dds/participant.h"
+
+namespace navd::server {
+
+struct DaemonOptions {
+  std::string world_path;           // world YAML; empty and map_path empty: the embedded warehouse
+  std::string map_path;             // map_server YAML or world YAML (map only)
+  std::string listen = "127.0.0.1:50051";
+  std::string port_file;            // when set, the bound port is written here (atomically)
+  dds::ParticipantOptions dds;
+  std::string robot_namespace;
+  bool use_sim_time = false;
+  double control_rate = 20.0;       // Hz, in the daemon's clock
+  double sensor_timeout = 0.5;      // s without odometry before the robot is stopped
+  double inflation_margin = 0.10;   // m added to the robot radius for planning
+  bool initial_pose_set = false;    // --initial-pose given
+  double initial_pose[3] = {0, 0, 0};
+};
+
+}  // namespace navd::server

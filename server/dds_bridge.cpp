@@ -1,0 +1,68 @@
+#include "server/dds_bridge.h"
+
+#include "dds/conversions.h"
+#include "dds/topics.h"
+
+namespace navd::server {
+
+using dds::Reliability;
+
+DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& ns, SimClock* sim_clock,
+                     const Clock& arrival_clock)
+    : participant_(options), arrival_clock_(arrival_clock) {
+  if (sim_clock) {
+    clock_reader_ = std::make_unique<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
+        participant_, dds::kClock, Reliability::kBestEffort,
+        [sim_clock](const rosgraph_msgs::msg::dds_::Clock_& m) { sim_clock->Set(dds::FromTime(m.clock())); }, 1);
+  }
+  odom_reader_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>>(
+      participant_, dds::TopicName(ns, dds::kOdom), Reliability::kBestEffort,
+      [this](const nav_msgs::msg::dds_::Odometry_&) { last_odom_arrival_ = arrival_clock_.Now(); }, 5);
+  scan_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
+      participant_, dds::TopicName(ns, dds::kScan), Reliability::kBestEffort, nullptr, 2);
+  cmd_writer_ = std::make_unique<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>>(
+      participant_, dds::TopicName(ns, dds::kCmdVel), Reliability::kReliable, 5);
+  status_writer_ = std::make_unique<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>>(
+      participant_, dds::TopicName(ns, dds::kNavStatus), Reliability::kReliable, 5);
+}
+
+std::optional<localization::OdometryReading> DdsBridge::LatestOdometry() const {
+  const auto m = odom_reader_->Latest();
+  if (!m) return std::nullopt;
+  localization::OdometryReading r;
+  r.pose = dds::FromPose(m->pose().pose());
+  r.stamp = dds::FromTime(m->header().stamp());
+  const auto& c = m->pose().covariance();
+  const int idx[3] = {0, 1, 5};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) r.covariance(i, k) = c[idx[i] * 6 + idx[k]];
+  return r;
+}
+
+void DdsBridge::PublishCommand(const Twist2& twist) {
+  geometry_msgs::msg::dds_::Twist_ m;
+  m.linear().x(twist.v);
+  m.angular().z(twist.omega);
+  cmd_writer_->Write(m);
+}
+
+void DdsBridge::PublishStatus(const navigation::NavigationStatus& status, const localization::PoseEstimate& pose,
+                              const std::string& localizer, double now) {
+  navd_msgs::msg::dds_::NavStatus_ m;
+  m.header().stamp(dds::ToTime(now));
+  m.header().frame_id("map");
+  m.x(pose.pose.x);
+  m.y(pose.pose.y);
+  m.theta(pose.pose.theta);
+  for (int i = 0; i < 9; ++i) m.covariance()[i] = pose.covariance(i / 3, i % 3);
+  m.state(static_cast<uint8_t>(status.feedback.state));
+  m.active(status.active);
+  m.sensors_stale(status.sensors_stale);
+  m.goal_x(status.goal.pose.x);
+  m.goal_y(status.goal.pose.y);
+  m.distance_remaining(status.active ? status.feedback.distance_remaining : 0.0);
+  m.localizer(localizer);
+  status_writer_->Write(m);
+}
+
+}  // namespace navd::server

@@ -1,0 +1,48 @@
+#pragma once
+// navd's side of DDS: keeps the newest odometry, scan and clock sample (the listeners only copy),
+// and publishes velocity commands and navd_msgs telemetry.
+#include <atomic>
+#include <memory>
+#include <optional>
+
+#include "dds/participant.h"
+#include "geometry_msgsPubSubTypes.h"
+#include "nav_msgsPubSubTypes.h"
+#include "navd_msgsPubSubTypes.h"
+#include "rosgraph_msgsPubSubTypes.h"
+#include "sensor_msgsPubSubTypes.h"
+#include "services/common/clock.h"
+#include "services/common/diff_drive.h"
+#include "services/localization/localizer.h"
+#include "services/navigation/navigator.h"
+
+namespace navd::server {
+
+class DdsBridge {
+ public:
+  // sim_clock: when given, rt/clock samples drive it. arrival_clock stamps odometry arrival for
+  // the staleness check.
+  DdsBridge(const dds::ParticipantOptions& options, const std::string& robot_namespace, SimClock* sim_clock,
+            const Clock& arrival_clock);
+
+  // The newest odometry reading, if any, and when (arrival clock) it arrived.
+  std::optional<localization::OdometryReading> LatestOdometry() const;
+  double last_odometry_arrival() const { return last_odom_arrival_.load(); }
+  uint64_t odometry_count() const { return odom_reader_->count(); }
+
+  void PublishCommand(const Twist2& twist);
+  void PublishStatus(const navigation::NavigationStatus& status, const localization::PoseEstimate& pose,
+                     const std::string& localizer, double now);
+
+ private:
+  dds::Participant participant_;
+  const Clock& arrival_clock_;
+  std::atomic<double> last_odom_arrival_{-1e9};
+  std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_reader_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_reader_;
+  std::unique_ptr<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>> clock_reader_;
+  std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
+  std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;
+};
+
+}  // namespace navd::server

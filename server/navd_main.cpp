@@ -1,0 +1,55 @@
+// navd: the navigation daemon. Parses the command line and runs the daemon until SIGINT/SIGTERM.
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+
+#include "server/daemon.h"
+
+namespace {
+std::atomic<bool> g_stop{false};
+void OnSignal(int) { g_stop = true; }
+}  // namespace
+
+int main(int argc, char** argv) {
+  navd::server::DaemonOptions o;
+  CLI::App app{"navd: navigation daemon (planning, localisation, mapping, navigation over gRPC; sensors over DDS)"};
+  auto* world = app.add_option("--world", o.world_path, "World YAML (map and robot); default: the embedded warehouse");
+  app.add_option("--map", o.map_path, "Map file: ROS map_server YAML (+PGM) or a world YAML")->excludes(world);
+  app.add_option("--listen", o.listen, "gRPC listen address HOST:PORT (port 0 picks a free one)");
+  app.add_option("--port-file", o.port_file, "Write the bound gRPC port to this file");
+  app.add_option("--domain", o.dds.domain, "DDS domain id")->check(CLI::Range(0, 232));
+  std::string network = "loopback";
+  app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
+  app.add_option("--dds-peer", o.dds.peers, "Extra unicast DDS discovery peer (IPv4), repeatable");
+  app.add_option("--namespace", o.robot_namespace, "Robot namespace for topics (rt/<ns>/scan ...)");
+  app.add_flag("--use-sim-time", o.use_sim_time, "Follow the simulator's rt/clock instead of the system clock");
+  app.add_option("--control-rate", o.control_rate, "Control loop rate, Hz")->check(CLI::Range(1.0, 200.0));
+  std::vector<double> initial;
+  app.add_option("--initial-pose", initial, "Initial pose X Y THETA in the map frame (default: the world's start)")
+      ->expected(3);
+  try {
+    app.parse(argc, argv);
+    o.dds.network = navd::dds::ParseNetwork(network);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "navd: %s\n", e.what());
+    return 2;
+  }
+  if (initial.size() == 3) {
+    o.initial_pose_set = true;
+    std::copy(initial.begin(), initial.end(), o.initial_pose);
+  }
+  o.dds.name = "navd";
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  try {
+    return navd::server::RunDaemon(o, g_stop);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "navd: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,145 @@
+#include "services/common/map_server_format.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "services/common/error.h"
+#include "services/common/text_file.h"
+
+namespace navd {
+namespace {
+
+// Reads the next whitespace-separated header token of a PGM, skipping '#' comments.
+bool NextToken(const std::string& s, size_t& pos, std::string& token) {
+  token.clear();
+  while (pos < s.size()) {
+    if (s[pos] == '#') {
+      while (pos < s.size() && s[pos] != '\n') ++pos;
+    } else if (std::isspace(static_cast<unsigned char>(s[pos]))) {
+      ++pos;
+    } else {
+      break;
+    }
+  }
+  while (pos < s.size() && !std::isspace(static_cast<unsigned char>(s[pos]))) token += s[pos++];
+  return !token.empty();
+}
+
+int ParsePositive(const std::string& token, const std::string& what, const std::string& source) {
+  try {
+    size_t used = 0;
+    const int v = std::stoi(token, &used);
+    if (used == token.size() && v > 0) return v;
+  } catch (const std::exception&) {
+  }
+  throw Error(ErrorCode::kInvalidArgument, source + ": PGM " + what + " '" + token + "' is not a positive integer");
+}
+
+}  // namespace
+
+OccupancyGrid DecodeMapServerImage(const std::string& bytes, const MapServerParams& p, const std::string& source) {
+  size_t pos = 0;
+  std::string magic, tok;
+  if (!NextToken(bytes, pos, magic) || (magic != "P5" && magic != "P2")) {
+    throw Error(ErrorCode::kInvalidArgument, source + ": not a PGM image (expected P5 or P2 header)");
+  }
+  if (!NextToken(bytes, pos, tok)) throw Error(ErrorCode::kInvalidArgument, source + ": PGM header truncated (width)");
+  const int width = ParsePositive(tok, "width", source);
+  if (!NextToken(bytes, pos, tok)) throw Error(ErrorCode::kInvalidArgument, source + ": PGM header truncated (height)");
+  const int height = ParsePositive(tok, "height", source);
+  if (!NextToken(bytes, pos, tok)) throw Error(ErrorCode::kInvalidArgument, source + ": PGM header truncated (maxval)");
+  const int maxval = ParsePositive(tok, "maxval", source);
+  if (maxval > 255) throw Error(ErrorCode::kInvalidArgument, source + ": 16-bit PGM images are not supported");
+  if (static_cast<long long>(width) * height > 100'000'000LL) {
+    throw Error(ErrorCode::kInvalidArgument, source + ": PGM image too large");
+  }
+
+  std::vector<int> pixels(static_cast<size_t>(width) * height);
+  if (magic == "P5") {
+    ++pos;  // exactly one whitespace byte separates the header from the raster
+    if (bytes.size() < pos + pixels.size()) {
+      throw Error(ErrorCode::kInvalidArgument, source + ": PGM raster truncated (expected " +
+                                                   std::to_string(pixels.size()) + " bytes)");
+    }
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>(bytes[pos + i]);
+  } else {
+    for (auto& px : pixels) {
+      if (!NextToken(bytes, pos, tok)) throw Error(ErrorCode::kInvalidArgument, source + ": PGM raster truncated");
+      px = std::stoi(tok);
+    }
+  }
+
+  OccupancyGrid grid(width, height, p.resolution, p.origin, OccupancyGrid::kUnknown);
+  for (int row = 0; row < height; ++row) {
+    for (int col = 0; col < width; ++col) {
+      const double value = static_cast<double>(pixels[static_cast<size_t>(row) * width + col]) / maxval;
+      // map_server: occupancy is darkness unless negated.
+      const double occ = p.negate ? value : 1.0 - value;
+      int8_t cell;
+      if (p.mode == "raw") {
+        cell = static_cast<int8_t>(std::lround(value * maxval > 100 ? -1 : value * maxval));
+      } else if (occ > p.occupied_thresh) {
+        cell = OccupancyGrid::kOccupied;
+      } else if (occ < p.free_thresh) {
+        cell = OccupancyGrid::kFree;
+      } else if (p.mode == "scale") {
+        cell = static_cast<int8_t>(std::lround(99.0 * (occ - p.free_thresh) / (p.occupied_thresh - p.free_thresh)));
+      } else {
+        cell = OccupancyGrid::kUnknown;
+      }
+      grid.set({col, height - 1 - row}, cell);  // images are stored top row first
+    }
+  }
+  return grid;
+}
+
+OccupancyGrid LoadMapServerMap(const std::string& yaml_path) {
+  const std::string text = ReadTextFile(yaml_path, "map file");
+  YAML::Node doc;
+  try {
+    doc = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw Error(ErrorCode::kInvalidArgument, yaml_path + ": malformed YAML: " + e.what());
+  }
+  if (!doc.IsMap()) throw Error(ErrorCode::kInvalidArgument, yaml_path + ": expected a YAML mapping");
+  auto require = [&](const char* key) {
+    if (!doc[key]) throw Error(ErrorCode::kInvalidArgument, yaml_path + ": missing field '" + key + "'");
+    return doc[key];
+  };
+  MapServerParams p;
+  std::string image;
+  try {
+    image = require("image").as<std::string>();
+    p.resolution = require("resolution").as<double>();
+    const auto origin = require("origin");
+    if (!origin.IsSequence() || origin.size() < 2) {
+      throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'origin' must be [x, y, yaw]");
+    }
+    // The origin's yaw is ignored, as by Nav2's costmaps; maps are axis-aligned.
+    p.origin = {origin[0].as<double>(), origin[1].as<double>()};
+    if (doc["negate"]) p.negate = doc["negate"].as<int>() != 0;
+    if (doc["occupied_thresh"]) p.occupied_thresh = doc["occupied_thresh"].as<double>();
+    if (doc["free_thresh"]) p.free_thresh = doc["free_thresh"].as<double>();
+    if (doc["mode"]) p.mode = doc["mode"].as<std::string>();
+  } catch (const YAML::Exception& e) {
+    throw Error(ErrorCode::kInvalidArgument, yaml_path + ": bad value: " + e.what());
+  }
+  if (!(p.resolution > 0.0) || !std::isfinite(p.resolution)) {
+    throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'resolution' must be a positive number");
+  }
+  if (!p.origin.allFinite()) throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'origin' must be finite");
+  if (p.mode != "trinary" && p.mode != "scale" && p.mode != "raw") {
+    throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'mode' must be trinary, scale or raw");
+  }
+  std::filesystem::path image_path(image);
+  if (image_path.is_relative()) image_path = std::filesystem::path(yaml_path).parent_path() / image_path;
+  const std::string bytes = ReadTextFile(image_path.string(), "map image");
+  return DecodeMapServerImage(bytes, p, image_path.string());
+}
+
+}  // namespace navd

@@ -1,0 +1,26 @@
+#pragma once
+// Reads maps in the ROS map_server format: a YAML file (image, resolution, origin, negate,
+// occupied_thresh, free_thresh, mode) naming a PGM image. Throws navd::Error naming the bad field.
+#include <string>
+
+#include "services/common/occupancy_grid.h"
+
+namespace navd {
+
+// path: the map_server YAML. Relative image paths resolve against the YAML's folder.
+OccupancyGrid LoadMapServerMap(const std::string& yaml_path);
+
+// Decodes an 8-bit PGM (P5 binary or P2 ASCII) into map cells as map_server's trinary/scale/raw
+// modes do. `source` names the file in error messages.
+struct MapServerParams {
+  double resolution = 0.05;
+  Point2 origin = Point2::Zero();
+  bool negate = false;
+  double occupied_thresh = 0.65;
+  double free_thresh = 0.196;
+  std::string mode = "trinary";
+};
+OccupancyGrid DecodeMapServerImage(const std::string& pgm_bytes, const MapServerParams& params,
+                                   const std::string& source);
+
+}  // namespace navd

@@ -1,0 +1,47 @@
+#pragma once
+// Planar geometry in one place. Units: metres and radians; angles counter-clockwise from +x.
+#include <Eigen/Core>
+#include <cmath>
+#include <string>
+
+namespace navd {
+
+using Point2 = Eigen::Vector2d;
+
+// Wraps an angle to (-pi, pi].
+inline double NormalizeAngle(double a) {
+  a = std::fmod(a + M_PI, 2.0 * M_PI);
+  if (a <= 0.0) a += 2.0 * M_PI;
+  return a - M_PI;
+}
+
+// Pose of a frame in a parent frame: p_parent = R(theta) * p_child + (x, y).
+struct Pose2 {
+  double x = 0.0;
+  double y = 0.0;
+  double theta = 0.0;
+
+  Point2 translation() const { return {x, y}; }
+
+  // this ∘ other: other expressed in this pose's parent frame.
+  Pose2 operator*(const Pose2& o) const {
+    const double c = std::cos(theta), s = std::sin(theta);
+    return {x + c * o.x - s * o.y, y + s * o.x + c * o.y, NormalizeAngle(theta + o.theta)};
+  }
+  Point2 operator*(const Point2& p) const {
+    const double c = std::cos(theta), s = std::sin(theta);
+    return {x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()};
+  }
+  Pose2 inverse() const {
+    const double c = std::cos(theta), s = std::sin(theta);
+    return {-c * x - s * y, s * x - c * y, NormalizeAngle(-theta)};
+  }
+  bool finite() const { return std::isfinite(x) && std::isfinite(y) && std::isfinite(theta); }
+};
+
+inline double Distance(const Point2& a, const Point2& b) { return (a - b).norm(); }
+
+// "(x, y)" with centimetre precision, for error messages.
+std::string FormatPoint(const Point2& p);
+
+}  // namespace navd

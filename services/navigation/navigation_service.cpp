@@ -1,0 +1,93 @@
+#include "services/navigation/navigation_service.h"
+
+#include <chrono>
+
+#include "services/common/common_service.h"
+
+namespace navd::navigation {
+namespace {
+
+// Feedback goes out at most this often; the result goes out at once.
+constexpr double kFeedbackPeriod = 0.1;  // wall seconds
+
+void ToProto(const NavigationFeedback& f, v1::NavigationFeedback* out) {
+  out->set_state(static_cast<v1::NavigationState>(f.state));
+  navd::ToProto(f.pose, out->mutable_pose());
+  out->set_distance_remaining(f.distance_remaining);
+  out->set_waypoint_index(f.waypoint_index);
+  out->set_waypoint_count(f.waypoint_count);
+  navd::ToProto(f.stamp, out->mutable_stamp());
+}
+
+void ToProto(const NavigationResult& r, v1::NavigationResult* out) {
+  out->set_outcome(static_cast<v1::Outcome>(r.outcome));
+  out->set_message(r.message);
+  navd::ToProto(r.final_pose, out->mutable_final_pose());
+  out->set_distance_to_goal(r.distance_to_goal);
+  out->set_elapsed(r.elapsed);
+  out->set_path_length(r.path_length);
+}
+
+}  // namespace
+
+grpc::Status NavigationService::NavigateTo(grpc::ServerContext* context, const v1::NavigateToRequest* request,
+                                           grpc::ServerWriter<v1::NavigateToResponse>* writer) {
+  uint64_t goal_id = 0;
+  grpc::Status started = GuardedCall([&] {
+    if (!request->has_goal()) throw Error(ErrorCode::kInvalidArgument, "goal is missing");
+    goal_id = executive_.Navigate({FromProto(request->goal()), request->use_goal_heading(), request->planner(),
+                                   request->preempt()},
+                                  StopWhenDone(context));
+  });
+  if (!started.ok()) return started;
+
+  const Navigator& nav = executive_.navigator();
+  uint64_t seen = 0;
+  auto last_feedback = std::chrono::steady_clock::time_point{};
+  while (true) {
+    seen = nav.WaitForChange(seen, kFeedbackPeriod);
+    if (auto result = nav.ResultOf(goal_id)) {
+      v1::NavigateToResponse msg;
+      ToProto(*result, msg.mutable_result());
+      writer->Write(msg);
+      return grpc::Status::OK;
+    }
+    if (context->IsCancelled()) {
+      // The caller went away or its deadline passed: a goal nobody watches is cancelled, so an
+      // interrupted navctl stops the robot.
+      executive_.Cancel(goal_id);
+      return grpc::Status(grpc::StatusCode::CANCELLED, "navigation cancelled: the client cancelled the call");
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_feedback).count() >= kFeedbackPeriod) {
+      const NavigationStatus status = nav.Status();
+      if (status.goal_id != goal_id) continue;
+      v1::NavigateToResponse msg;
+      ToProto(status.feedback, msg.mutable_feedback());
+      if (!writer->Write(msg)) {
+        executive_.Cancel(goal_id);
+        return grpc::Status(grpc::StatusCode::CANCELLED, "navigation cancelled: the feedback stream broke");
+      }
+      last_feedback = now;
+    }
+  }
+}
+
+grpc::Status NavigationService::Cancel(grpc::ServerContext*, const v1::CancelRequest*, v1::CancelResponse* response) {
+  return GuardedCall([&] { response->set_was_active(executive_.Cancel()); });
+}
+
+grpc::Status NavigationService::GetStatus(grpc::ServerContext*, const v1::GetStatusRequest*,
+                                          v1::GetStatusResponse* response) {
+  return GuardedCall([&] {
+    const NavigationStatus s = executive_.navigator().Status();
+    response->set_state(static_cast<v1::NavigationState>(s.feedback.state));
+    response->set_active(s.active);
+    response->set_sensors_stale(s.sensors_stale);
+    navd::ToProto(s.goal.pose, response->mutable_goal());
+    ToProto(s.feedback, response->mutable_feedback());
+    if (s.last_result) ToProto(*s.last_result, response->mutable_last_result());
+  });
+}
+
+}  // namespace navd::navigation

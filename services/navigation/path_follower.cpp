@@ -1,0 +1,85 @@
+#include "services/navigation/path_follower.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace navd::navigation {
+
+std::vector<Point2> DensifyPath(const std::vector<Point2>& path, double spacing) {
+  if (path.empty()) return {};
+  std::vector<Point2> out{path.front()};
+  for (size_t i = 1; i < path.size(); ++i) {
+    const Point2 a = path[i - 1], b = path[i];
+    const int pieces = std::max(1, static_cast<int>(std::ceil(Distance(a, b) / spacing)));
+    for (int k = 1; k <= pieces; ++k) out.push_back(a + (b - a) * (static_cast<double>(k) / pieces));
+  }
+  return out;
+}
+
+void PathFollower::SetPath(const std::vector<Point2>& path, std::optional<double> goal_heading) {
+  waypoints_ = DensifyPath(path, p_.waypoint_spacing);
+  goal_heading_ = goal_heading;
+  // waypoints_[0] is where the robot stands; aim at the next one (seed 000, state 6).
+  index_ = waypoints_.size() > 1 ? 1 : 0;
+  state_ = waypoints_.empty() ? FollowerState::kIdle : FollowerState::kRotating;
+}
+
+void PathFollower::Clear() {
+  waypoints_.clear();
+  index_ = 0;
+  state_ = FollowerState::kIdle;
+}
+
+WheelSpeeds PathFollower::Rotate(double dphi) const {
+  const double speed = std::clamp(p_.rotate_gain * std::abs(dphi), p_.min_speed, p_.rotate_speed);
+  return dphi > 0 ? WheelSpeeds{-speed, speed} : WheelSpeeds{speed, -speed};
+}
+
+FollowerCommand PathFollower::Step(const Pose2& pose) {
+  if (state_ == FollowerState::kIdle || state_ == FollowerState::kArrived) return {{}, state_};
+
+  const bool last = index_ + 1 >= waypoints_.size();
+  const Point2 target = waypoints_[index_];
+  const double dist = Distance(pose.translation(), target);
+
+  if (state_ == FollowerState::kFinalRotation) {
+    const double dphi = NormalizeAngle(*goal_heading_ - pose.theta);
+    if (std::abs(dphi) <= p_.goal_heading_tolerance) {
+      state_ = FollowerState::kArrived;
+      return {{}, state_};
+    }
+    return {Rotate(dphi), state_};
+  }
+
+  // State 9: waypoint reached; next waypoint, or the goal.
+  if (dist <= (last ? p_.goal_tolerance : p_.waypoint_radius)) {
+    if (!last) {
+      ++index_;
+      return Step(pose);
+    }
+    state_ = goal_heading_ ? FollowerState::kFinalRotation : FollowerState::kArrived;
+    return Step(pose);
+  }
+
+  const double desired = std::atan2(target.y() - pose.y, target.x() - pose.x);
+  const double dphi = NormalizeAngle(desired - pose.theta);
+  // States 7/8 with hysteresis.
+  if (state_ == FollowerState::kDriving && std::abs(dphi) > p_.heading_threshold) state_ = FollowerState::kRotating;
+  if (state_ == FollowerState::kRotating) {
+    if (std::abs(dphi) > p_.heading_resume) return {Rotate(dphi), state_};
+    state_ = FollowerState::kDriving;
+  }
+  double v_nav = p_.v_nav;
+  if (last) v_nav = std::clamp(p_.v_nav * dist / p_.approach_distance, p_.min_speed, p_.v_nav);
+  const double dv = p_.k_p * v_nav * dphi;
+  return {ClampWheels({v_nav - dv, v_nav + dv}, p_.max_wheel_speed), state_};
+}
+
+double PathFollower::DistanceRemaining(const Pose2& pose) const {
+  if (waypoints_.empty() || state_ == FollowerState::kIdle) return 0.0;
+  double d = Distance(pose.translation(), waypoints_[index_]);
+  for (size_t i = index_ + 1; i < waypoints_.size(); ++i) d += Distance(waypoints_[i - 1], waypoints_[i]);
+  return d;
+}
+
+}  // namespace navd::navigation

@@ -1,0 +1,71 @@
+#pragma once
+// The path-following controller of seed 000 (Wahde et al., section 4.1.3, states 7-9): rotate in
+// place while the heading error |dphi| exceeds delta, otherwise drive with
+//   v_L = V_nav - dV,  v_R = V_nav + dV,  dV = K_p * V_nav * dphi,
+// and advance to the next waypoint within d_p of the current one. Two additions keep it precise:
+// hysteresis (after a rotation it drives once |dphi| < delta_resume, not just below delta), and a
+// slow final approach that stops within goal_tolerance of the goal rather than d_p.
+// Poses in the map frame; metres, radians, m/s at the wheel rim.
+#include <optional>
+#include <vector>
+
+#include "services/common/diff_drive.h"
+#include "services/common/pose2.h"
+
+namespace navd::navigation {
+
+struct PathFollowerParams {
+  double heading_threshold = 0.35;    // delta, rad: rotate in place above this
+  double heading_resume = 0.10;       // rad: stop rotating below this
+  double v_nav = 0.30;                // V_nav, m/s
+  double k_p = 1.0;                   // K_p, 1/rad
+  double waypoint_radius = 0.15;      // d_p, m
+  double waypoint_spacing = 0.50;     // d_wp, m: the path is densified to at most this spacing
+  double goal_tolerance = 0.05;       // m
+  double goal_heading_tolerance = 0.05;  // rad
+  double approach_distance = 0.40;    // m: slow down linearly within this of the goal
+  double min_speed = 0.04;            // m/s: slowest approach and rotation wheel speed
+  double rotate_speed = 0.15;         // m/s: wheel speed when turning in place
+  double rotate_gain = 0.4;           // (m/s)/rad: turning slows near the target heading
+  double wheel_base = 0.33;           // m
+  double max_wheel_speed = 0.5;       // m/s
+};
+
+enum class FollowerState { kIdle, kRotating, kDriving, kFinalRotation, kArrived };
+
+struct FollowerCommand {
+  WheelSpeeds wheels;
+  FollowerState state = FollowerState::kIdle;
+};
+
+class PathFollower {
+ public:
+  explicit PathFollower(const PathFollowerParams& params = {}) : p_(params) {}
+
+  // path: start first, goal last (at least two points). goal_heading: final heading to turn to.
+  void SetPath(const std::vector<Point2>& path, std::optional<double> goal_heading);
+  void Clear();
+  FollowerCommand Step(const Pose2& pose);
+
+  FollowerState state() const { return state_; }
+  // Distance left along the path from `pose` through the remaining waypoints, metres.
+  double DistanceRemaining(const Pose2& pose) const;
+  size_t waypoint_index() const { return index_; }
+  size_t waypoint_count() const { return waypoints_.size(); }
+  const std::vector<Point2>& waypoints() const { return waypoints_; }
+  const PathFollowerParams& params() const { return p_; }
+
+ private:
+  WheelSpeeds Rotate(double dphi) const;
+
+  PathFollowerParams p_;
+  std::vector<Point2> waypoints_;
+  std::optional<double> goal_heading_;
+  size_t index_ = 0;
+  FollowerState state_ = FollowerState::kIdle;
+};
+
+// Inserts points so consecutive ones are at most `spacing` apart (seed 000's d_wp).
+std::vector<Point2> DensifyPath(const std::vector<Point2>& path, double spacing);
+
+}  // namespace navd::navigation

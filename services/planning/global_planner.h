@@ -1,0 +1,44 @@
+#pragma once
+// The plug-in interface of global planners (Nav2's GlobalPlanner, OMPL's Planner): a planner
+// searches a costmap between two free cells and returns a cell path. Validation, start recovery,
+// smoothing and timing live in PlanningEngine, so every planner gets them alike.
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "services/planning/costmap.h"
+
+namespace navd::planning {
+
+struct PlannerOptionSpec {
+  std::string name;
+  double default_value = 0.0;
+  std::string description;
+};
+
+// Option values by name, already checked against the planner's specs and filled with defaults.
+using PlannerOptions = std::map<std::string, double>;
+
+// Polled during search; returns true when the caller's deadline passed or it cancelled.
+using StopRequested = std::function<bool()>;
+
+struct CellPath {
+  std::vector<CellIndex> cells;  // start first, goal last; empty when no path exists
+  uint64_t expansions = 0;
+};
+
+class GlobalPlanner {
+ public:
+  virtual ~GlobalPlanner() = default;
+  virtual std::string name() const = 0;
+  virtual std::string description() const = 0;
+  virtual std::vector<PlannerOptionSpec> options() const = 0;
+  // start and goal are free cells of the costmap. Throws navd::Error(kDeadlineExceeded) when
+  // stop() turns true.
+  virtual CellPath Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
+                        const PlannerOptions& options, const StopRequested& stop) const = 0;
+};
+
+}  // namespace navd::planning

@@ -1,0 +1,198 @@
+#include "services/planning/planning_engine.h"
+
+#include <chrono>
+#include <cmath>
+#include <queue>
+
+#include "services/common/error.h"
+
+namespace navd::planning {
+namespace {
+
+const std::vector<PlannerOptionSpec>& CommonOptions() {
+  static const std::vector<PlannerOptionSpec> kCommon = {
+      {"smooth", 1.0, "1: shorten the path by line-of-sight shortcuts on the costmap, 0: raw cell path"}};
+  return kCommon;
+}
+
+void CheckFinite(const Point2& p, const std::string& field) {
+  if (!std::isfinite(p.x())) throw Error(ErrorCode::kInvalidArgument, field + ".x is not a finite number");
+  if (!std::isfinite(p.y())) throw Error(ErrorCode::kInvalidArgument, field + ".y is not a finite number");
+}
+
+}  // namespace
+
+double PathLength(const std::vector<Point2>& points) {
+  double len = 0;
+  for (size_t i = 1; i < points.size(); ++i) len += Distance(points[i - 1], points[i]);
+  return len;
+}
+
+std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point2>& points) {
+  if (points.size() <= 2) return points;
+  std::vector<Point2> out{points.front()};
+  size_t anchor = 0;
+  while (anchor < points.size() - 1) {
+    // Farthest visible point; scanning backwards finds it with one check per candidate.
+    size_t next = anchor + 1;
+    for (size_t j = points.size() - 1; j > anchor + 1; --j) {
+      if (costmap.SegmentFree(points[anchor], points[j])) {
+        next = j;
+        break;
+      }
+    }
+    out.push_back(points[next]);
+    anchor = next;
+  }
+  return out;
+}
+
+PlanningEngine::PlanningEngine(const MapStore& maps, PlanningEngineOptions options)
+    : maps_(maps), options_(std::move(options)) {}
+
+void PlanningEngine::Register(std::unique_ptr<GlobalPlanner> planner) { planners_.push_back(std::move(planner)); }
+
+std::vector<PlannerInfo> PlanningEngine::Planners() const {
+  std::vector<PlannerInfo> out;
+  for (const auto& p : planners_) {
+    PlannerInfo info{p->name(), p->description(), p->options(), p->name() == options_.default_planner};
+    info.options.insert(info.options.end(), CommonOptions().begin(), CommonOptions().end());
+    out.push_back(std::move(info));
+  }
+  return out;
+}
+
+const GlobalPlanner& PlanningEngine::Find(const std::string& name) const {
+  const std::string wanted = name.empty() ? options_.default_planner : name;
+  std::string known;
+  for (const auto& p : planners_) {
+    if (p->name() == wanted) return *p;
+    known += (known.empty() ? "" : ", ") + p->name();
+  }
+  throw Error(ErrorCode::kInvalidArgument, "planner: unknown planner '" + wanted + "' (known: " + known + ")");
+}
+
+PlannerOptions PlanningEngine::ResolveOptions(const GlobalPlanner& planner,
+                                              const std::map<std::string, double>& given) const {
+  PlannerOptions resolved;
+  auto specs = planner.options();
+  specs.insert(specs.end(), CommonOptions().begin(), CommonOptions().end());
+  for (const auto& s : specs) resolved[s.name] = s.default_value;
+  for (const auto& [name, value] : given) {
+    if (!resolved.count(name)) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "options: planner '" + planner.name() + "' has no option '" + name + "'");
+    }
+    if (!std::isfinite(value)) throw Error(ErrorCode::kInvalidArgument, "options: '" + name + "' is not finite");
+    resolved[name] = value;
+  }
+  return resolved;
+}
+
+std::shared_ptr<const Costmap> PlanningEngine::CurrentCostmap() {
+  auto snapshot = maps_.Get();
+  if (!snapshot) throw Error(ErrorCode::kFailedPrecondition, "no map is loaded");
+  std::lock_guard<std::mutex> lock(costmap_mutex_);
+  if (!costmap_ || costmap_version_ != snapshot->version) {
+    costmap_ = std::make_shared<Costmap>(std::shared_ptr<const OccupancyGrid>(snapshot, &snapshot->grid),
+                                         options_.costmap);
+    costmap_version_ = snapshot->version;
+  }
+  return costmap_;
+}
+
+PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, const std::string& planner_name,
+                                     const std::map<std::string, double>& given, const StopRequested& stop) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CheckFinite(start, "start");
+  CheckFinite(goal, "goal");
+  const GlobalPlanner& planner = Find(planner_name);
+  const PlannerOptions options = ResolveOptions(planner, given);
+  const auto costmap = CurrentCostmap();
+  const OccupancyGrid& grid = costmap->grid();
+
+  auto check_inside = [&](const Point2& p, const std::string& field) {
+    if (!grid.ContainsPoint(p)) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  field + " " + FormatPoint(p) + " is outside the map, which spans " + FormatPoint(grid.origin()) +
+                      " to " + FormatPoint(grid.origin() + Point2(grid.size_x(), grid.size_y())));
+    }
+  };
+  check_inside(start, "start");
+  check_inside(goal, "goal");
+
+  const CellIndex goal_cell = grid.CellOf(goal);
+  if (grid.IsOccupied(goal_cell)) {
+    throw Error(ErrorCode::kInvalidArgument, "goal " + FormatPoint(goal) + " is inside an obstacle");
+  }
+  if (costmap->IsLethal(goal_cell)) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", options_.costmap.inflation_radius);
+    throw Error(ErrorCode::kInvalidArgument, "goal " + FormatPoint(goal) + " is within " + buf +
+                                                 " m of an obstacle or unknown space: the robot cannot stand there");
+  }
+
+  CellIndex start_cell = grid.CellOf(start);
+  if (grid.IsOccupied(start_cell)) {
+    throw Error(ErrorCode::kInvalidArgument, "start " + FormatPoint(start) + " is inside an obstacle");
+  }
+  if (costmap->IsLethal(start_cell)) {
+    // Breadth-first search outward for the nearest free cell.
+    const int max_r = static_cast<int>(options_.start_recovery_radius / grid.resolution());
+    std::vector<uint8_t> seen(grid.cells().size(), 0);
+    std::queue<CellIndex> q;
+    q.push(start_cell);
+    seen[grid.Flat(start_cell)] = 1;
+    bool found = false;
+    while (!q.empty() && !found) {
+      const CellIndex c = q.front();
+      q.pop();
+      for (const CellIndex d : {CellIndex{1, 0}, CellIndex{-1, 0}, CellIndex{0, 1}, CellIndex{0, -1}}) {
+        const CellIndex n{c.x + d.x, c.y + d.y};
+        if (!grid.Contains(n) || seen[grid.Flat(n)] || std::abs(n.x - start_cell.x) > max_r ||
+            std::abs(n.y - start_cell.y) > max_r || grid.IsOccupied(n)) {
+          continue;
+        }
+        seen[grid.Flat(n)] = 1;
+        if (!costmap->IsLethal(n)) {
+          start_cell = n;
+          found = true;
+          break;
+        }
+        q.push(n);
+      }
+    }
+    if (!found) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "start " + FormatPoint(start) + " is too close to obstacles and no free cell is near it");
+    }
+  }
+
+  const CellPath cells = planner.Plan(*costmap, start_cell, goal_cell, options, stop);
+  if (cells.cells.empty()) {
+    throw Error(ErrorCode::kNotFound, "no path from start " + FormatPoint(start) + " to goal " + FormatPoint(goal));
+  }
+  PathPlan plan;
+  plan.planner = planner.name();
+  plan.expansions = cells.expansions;
+  plan.points.push_back(start);
+  for (size_t i = 1; i + 1 < cells.cells.size(); ++i) plan.points.push_back(grid.CellCenter(cells.cells[i]));
+  if (start_cell != grid.CellOf(start)) plan.points.insert(plan.points.begin() + 1, grid.CellCenter(start_cell));
+  plan.points.push_back(goal);
+  if (options.at("smooth") != 0.0) {
+    // The first hop may leave the inflation zone, which the shortcut test would reject; keep it.
+    if (start_cell != grid.CellOf(start)) {
+      std::vector<Point2> rest(plan.points.begin() + 1, plan.points.end());
+      rest = ShortcutPath(*costmap, rest);
+      plan.points.resize(1);
+      plan.points.insert(plan.points.end(), rest.begin(), rest.end());
+    } else {
+      plan.points = ShortcutPath(*costmap, plan.points);
+    }
+  }
+  plan.length = PathLength(plan.points);
+  plan.planning_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return plan;
+}
+
+}  // namespace navd::planning

@@ -1,0 +1,77 @@
+#pragma once
+// The planning front end shared by the gRPC adapter and the navigator: keeps the costmap in step
+// with the current map, checks queries (finite, inside the map, not in an obstacle), moves a start
+// that sits in the inflation zone to the nearest free cell, runs the named planner, and shortens
+// the result by line-of-sight shortcuts. Points in metres, map frame.
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "services/common/map_store.h"
+#include "services/planning/costmap.h"
+#include "services/planning/global_planner.h"
+
+namespace navd::planning {
+
+struct PlanningEngineOptions {
+  CostmapOptions costmap;
+  std::string default_planner = "astar";
+  // A start inside the inflation zone (robot close to a wall) is moved to the nearest free cell
+  // within this distance, as Nav2 does; farther means the robot is in collision.
+  double start_recovery_radius = 0.5;
+};
+
+struct PathPlan {
+  std::vector<Point2> points;  // start first, goal last
+  double length = 0.0;         // metres
+  double planning_time = 0.0;  // wall seconds
+  uint64_t expansions = 0;
+  std::string planner;
+};
+
+struct PlannerInfo {
+  std::string name;
+  std::string description;
+  std::vector<PlannerOptionSpec> options;
+  bool is_default = false;
+};
+
+class PlanningEngine {
+ public:
+  PlanningEngine(const MapStore& maps, PlanningEngineOptions options);
+
+  void Register(std::unique_ptr<GlobalPlanner> planner);
+  std::vector<PlannerInfo> Planners() const;
+  const PlanningEngineOptions& options() const { return options_; }
+
+  // Throws navd::Error: kInvalidArgument for non-finite, out-of-map or blocked points and unknown
+  // planners or options (the message names the field), kNotFound when no path exists,
+  // kFailedPrecondition when no map is loaded, kDeadlineExceeded when stop() turns true.
+  PathPlan ComputePath(const Point2& start, const Point2& goal, const std::string& planner,
+                       const std::map<std::string, double>& options, const StopRequested& stop = {});
+
+  // The costmap of the current map (built on first use after a map change).
+  std::shared_ptr<const Costmap> CurrentCostmap();
+
+ private:
+  const GlobalPlanner& Find(const std::string& name) const;
+  PlannerOptions ResolveOptions(const GlobalPlanner& planner, const std::map<std::string, double>& given) const;
+
+  const MapStore& maps_;
+  PlanningEngineOptions options_;
+  std::vector<std::unique_ptr<GlobalPlanner>> planners_;
+  std::mutex costmap_mutex_;
+  std::shared_ptr<const Costmap> costmap_;
+  uint64_t costmap_version_ = 0;
+};
+
+// Length of a polyline, metres.
+double PathLength(const std::vector<Point2>& points);
+
+// Greedy line-of-sight shortcutting: from each kept point, jump to the farthest later point the
+// costmap sees free on the straight segment.
+std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point2>& points);
+
+}  // namespace navd::planning
