@@ -1,5 +1,7 @@
 #include "server/control_loop.h"
 
+#include <chrono>
+
 namespace navd::server {
 
 namespace {
@@ -26,14 +28,30 @@ void ControlLoop::Run() {
   const double period = 1.0 / options_.rate;
   double next = clock_.Now();
   uint64_t tick = 0;
+  auto last_tick = std::chrono::steady_clock::now();
   while (!stop_) {
     // Bounded waits keep the loop responsive to Stop() when simulated time stalls.
-    if (!clock_.SleepUntil(next, 0.05)) continue;
+    if (!clock_.SleepUntil(next, 0.05)) {
+      // Simulated time has stopped (the simulator died or hangs): that is stale sensors too.
+      const auto wall = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(wall - last_tick).count() > options_.sensor_timeout) {
+        StaleTick();
+        last_tick = wall;
+      }
+      continue;
+    }
+    last_tick = std::chrono::steady_clock::now();
     const double now = clock_.Now();
     next += period;
     if (now - next > period) next = now + period;  // fell behind (or the clock jumped): do not burst
     Tick(tick++);
   }
+}
+
+void ControlLoop::StaleTick() {
+  executive_.Step(false);
+  bridge_.PublishCommand({});
+  bridge_.PublishStatus(executive_.navigator().Status(), localizer_.Estimate(), localizer_.name(), clock_.Now());
 }
 
 void ControlLoop::Tick(uint64_t tick) {

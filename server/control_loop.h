@@ -28,6 +28,8 @@ class ControlLoop {
  private:
   void Run();
   void Tick(uint64_t tick);
+  // Runs when the clock has not advanced for sensor_timeout wall seconds.
+  void StaleTick();
 
   ControlLoopOptions options_;
   Clock& clock_;

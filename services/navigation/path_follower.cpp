@@ -38,6 +38,15 @@ WheelSpeeds PathFollower::Rotate(double dphi) const {
 FollowerCommand PathFollower::Step(const Pose2& pose) {
   if (state_ == FollowerState::kIdle || state_ == FollowerState::kArrived) return {{}, state_};
 
+  // Skip to the farthest waypoint already within reach (seed 000's waypoint skipping), e.g.
+  // when an avoidance manoeuvre carried the robot past some.
+  for (size_t j = waypoints_.size() - 1; j > index_; --j) {
+    const double reach = j + 1 == waypoints_.size() ? p_.goal_tolerance : p_.waypoint_radius;
+    if (Distance(pose.translation(), waypoints_[j]) <= reach) {
+      index_ = j;
+      break;
+    }
+  }
   const bool last = index_ + 1 >= waypoints_.size();
   const Point2 target = waypoints_[index_];
   const double dist = Distance(pose.translation(), target);

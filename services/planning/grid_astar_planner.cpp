@@ -58,7 +58,8 @@ CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
     open.pop();
     if (closed[e.index]) continue;
     closed[e.index] = 1;
-    if ((++result.expansions & 1023) == 0 && stop && stop()) {
+    // Checked on the first expansion and every 1024 after: cheap, and prompt.
+    if ((++result.expansions & 1023) == 1 && stop && stop()) {
       throw Error(ErrorCode::kDeadlineExceeded, "planning stopped after " + std::to_string(result.expansions) +
                                                     " expansions: deadline exceeded or cancelled");
     }

@@ -1,0 +1,116 @@
+// Every bad input of the foundation issue, against a real navd over gRPC: the status code, and
+// a message that names the problem. navd keeps serving afterwards.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "tests/support/navd_fixture.h"
+
+namespace navd::testing {
+namespace {
+
+class BadInput : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { stack_ = new NavdStack(); }
+  static void TearDownTestSuite() {
+    delete stack_;
+    stack_ = nullptr;
+  }
+  void SetUp() override { ASSERT_TRUE(stack_->WaitForPose(20.0)) << stack_->Logs(); }
+  Client& client() { return stack_->client(); }
+
+  // Runs f, expects a ClientError with `code` whose message contains every one of `words`.
+  void ExpectError(const std::function<void()>& f, grpc::StatusCode code, std::vector<std::string> words) {
+    try {
+      f();
+      ADD_FAILURE() << "no error";
+    } catch (const ClientError& e) {
+      EXPECT_EQ(e.code(), code) << e.what();
+      for (const auto& w : words) EXPECT_NE(std::string(e.what()).find(w), std::string::npos) << e.what();
+    }
+    // Still serving.
+    EXPECT_NO_THROW(client().GetPose());
+  }
+  static NavdStack* stack_;
+};
+NavdStack* BadInput::stack_ = nullptr;
+
+TEST_F(BadInput, GoalOutsideTheMap) {
+  ExpectError([&] { client().ComputePath(1, 1, 25, 3); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"goal", "outside the map"});
+  ExpectError([&] { client().NavigateTo(-4, 3); }, grpc::StatusCode::INVALID_ARGUMENT, {"goal", "outside the map"});
+}
+
+TEST_F(BadInput, GoalInsideAnObstacle) {
+  // The elevator shaft.
+  ExpectError([&] { client().ComputePath(0.8, 1, 8.5, 1.5); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"goal", "inside an obstacle"});
+  ExpectError([&] { client().NavigateTo(8.5, 1.5); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"goal", "inside an obstacle"});
+}
+
+TEST_F(BadInput, NonFiniteCoordinates) {
+  ExpectError([&] { client().ComputePath(NAN, 1, 3, 3); }, grpc::StatusCode::INVALID_ARGUMENT, {"start.x", "finite"});
+  ExpectError([&] { client().ComputePath(1, 1, 3, INFINITY); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"goal.y", "finite"});
+  ExpectError([&] { client().NavigateTo(NAN, 3); }, grpc::StatusCode::INVALID_ARGUMENT, {"goal.x", "finite"});
+  ExpectError([&] { client().NavigateTo(3, 2.6, NAN); }, grpc::StatusCode::INVALID_ARGUMENT, {"goal.theta"});
+  ExpectError([&] { client().SetPose(1, INFINITY, 0); }, grpc::StatusCode::INVALID_ARGUMENT, {"pose.y"});
+}
+
+TEST_F(BadInput, UnknownPlanner) {
+  ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "warp_drive"); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"planner", "warp_drive", "astar"});
+  ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "astar", {{"bogus", 1}}); },
+              grpc::StatusCode::INVALID_ARGUMENT, {"options", "bogus"});
+}
+
+TEST_F(BadInput, MissingMalformedAndUnreadableMapFiles) {
+  const std::string dir = MakeTempDir();
+  ExpectError([&] { client().LoadMap(dir + "/nope.yaml"); }, grpc::StatusCode::NOT_FOUND, {"nope.yaml"});
+  ExpectError([&] { client().LoadMap(""); }, grpc::StatusCode::INVALID_ARGUMENT, {"path"});
+  std::ofstream(dir + "/broken.yaml") << "image: [oops\n";
+  ExpectError([&] { client().LoadMap(dir + "/broken.yaml"); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"broken.yaml", "malformed"});
+  std::ofstream(dir + "/bad.pgm") << "GIF89a not a pgm";
+  std::ofstream(dir + "/badimg.yaml") << "image: bad.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n";
+  ExpectError([&] { client().LoadMap(dir + "/badimg.yaml"); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"bad.pgm", "not a PGM"});
+  // The failed loads left the map alone.
+  EXPECT_EQ(client().GetMap(true).info().name(), "warehouse");
+  EXPECT_EQ(client().GetMap(true).info().version(), 1u);
+}
+
+TEST_F(BadInput, NavigateWhileNavigatingIsRejectedOrPreempts) {
+  std::atomic<int> outcome{-1};
+  std::thread first([&] {
+    Client c({stack_->address(), 5.0});
+    outcome = c.NavigateTo(8.8, 8.8, std::nullopt, {}, 60.0).outcome();
+  });
+  for (int i = 0; i < 250 && !client().GetStatus().active(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_TRUE(client().GetStatus().active());
+  ExpectError([&] { client().NavigateTo(3.0, 2.6); }, grpc::StatusCode::FAILED_PRECONDITION,
+              {"active", "rejected", "preempt"});
+  // With preempt the new goal replaces the old, which ends PREEMPTED.
+  v1::NavigateToRequest req;
+  req.mutable_goal()->set_x(0.8);
+  req.mutable_goal()->set_y(2.0);
+  req.set_preempt(true);
+  const auto second = client().NavigateTo(req, {}, 60.0);
+  first.join();
+  EXPECT_EQ(outcome.load(), v1::PREEMPTED);
+  EXPECT_EQ(second.outcome(), v1::SUCCEEDED) << second.message();
+}
+
+TEST_F(BadInput, ServesTheMapAndHealth) {
+  const auto map = client().GetMap();
+  EXPECT_EQ(map.info().width(), 200u);
+  EXPECT_EQ(map.cells().size(), 200u * 200u);
+  EXPECT_EQ(client().Health(), grpc::health::v1::HealthCheckResponse::SERVING);
+  EXPECT_EQ(client().Health("navd.v1.NavigationService"), grpc::health::v1::HealthCheckResponse::SERVING);
+}
+
+}  // namespace
+}  // namespace navd::testing

@@ -1,0 +1,161 @@
+// The command-line contract of navctl, navd and navsim, run as real processes: outputs, JSON,
+// exit codes, one-line errors.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "client_lib/telemetry.h"
+#include "tests/support/navd_fixture.h"
+
+namespace navd::testing {
+namespace {
+
+int Lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+TEST(Navctl, UnreachableServerIsOneLineAndNonZero) {
+  // A port nobody listens on: bind-and-close is not needed; port 1 on loopback refuses.
+  const auto r = RunCommand({NavctlBinary(), "--server", "127.0.0.1:1", "pose"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(Lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("cannot reach navd at 127.0.0.1:1"), std::string::npos) << r.output;
+  const auto h = RunCommand({NavctlBinary(), "--server", "127.0.0.1:1", "health"});
+  EXPECT_NE(h.exit_code, 0);
+  EXPECT_EQ(Lines(h.output), 1) << h.output;
+}
+
+TEST(Navctl, MalformedArgumentsAreRejectedLocally) {
+  const auto r = RunCommand({NavctlBinary(), "plan", "--from", "1,abc", "--to", "2,2"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--from"), std::string::npos) << r.output;
+}
+
+TEST(Navctl, HealthPlanPoseNavigateAgainstRealDaemons) {
+  NavdStack stack;
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  const std::string server = stack.address();
+
+  auto health = RunCommand({NavctlBinary(), "--server", server, "health"});
+  EXPECT_EQ(health.exit_code, 0) << health.output;
+  EXPECT_NE(health.output.find("SERVING"), std::string::npos);
+
+  auto plan = RunCommand({NavctlBinary(), "--server", server, "plan", "--from", "0.8,1", "--to", "3,2.6", "--json"});
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  const auto j = nlohmann::json::parse(plan.output);
+  EXPECT_EQ(j["planner"], "astar");
+  EXPECT_GT(j["length"].get<double>(), 2.5);
+  EXPECT_GE(j["path"].size(), 2u);
+
+  auto bad = RunCommand({NavctlBinary(), "--server", server, "plan", "--from", "0.8,1", "--to", "30,2"});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(Lines(bad.output), 1) << bad.output;
+  EXPECT_NE(bad.output.find("outside the map"), std::string::npos) << bad.output;
+
+  auto unknown = RunCommand({NavctlBinary(), "--server", server, "plan", "--from", "0.8,1", "--to", "3,2.6",
+                             "--planner", "nope"});
+  EXPECT_NE(unknown.exit_code, 0);
+  EXPECT_NE(unknown.output.find("unknown planner 'nope'"), std::string::npos) << unknown.output;
+
+  auto pose = RunCommand({NavctlBinary(), "--server", server, "pose", "--json"});
+  ASSERT_EQ(pose.exit_code, 0) << pose.output;
+  const auto p = nlohmann::json::parse(pose.output);
+  EXPECT_NEAR(p["pose"]["x"].get<double>(), 0.8, 0.05);
+  EXPECT_EQ(p["covariance"].size(), 9u);
+
+  auto nav = RunCommand({NavctlBinary(), "--server", server, "navigate", "--to", "0.8,2.5,1.57", "--timeout", "60"},
+                        90.0);
+  EXPECT_EQ(nav.exit_code, 0) << nav.output << stack.Logs();
+  EXPECT_NE(nav.output.find("succeeded"), std::string::npos) << nav.output;
+
+  auto truth = RunCommand({NavctlBinary(), "truth", "--domain", std::to_string(stack.domain()), "--json"});
+  ASSERT_EQ(truth.exit_code, 0) << truth.output;
+  const auto t = nlohmann::json::parse(truth.output);
+  EXPECT_NEAR(t["x"].get<double>(), 0.8, 0.25);
+  EXPECT_NEAR(t["y"].get<double>(), 2.5, 0.25);
+  EXPECT_EQ(t["collisions"].get<int>(), 0);
+
+  // A navigation that cannot finish in time exits non-zero and leaves navd idle.
+  auto timeout = RunCommand({NavctlBinary(), "--server", server, "navigate", "--to", "8.8,8.8", "--timeout", "0.5"});
+  EXPECT_NE(timeout.exit_code, 0);
+  EXPECT_NE(timeout.output.find("did not finish"), std::string::npos) << timeout.output;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_FALSE(stack.client().GetStatus().active());
+}
+
+TEST(Daemons, BadWorldAndMapFilesExitNonZeroWithOneLine) {
+  const std::string dir = MakeTempDir();
+  std::ofstream(dir + "/broken.yaml") << "map: {size: [10, 10]\n";
+  std::ofstream(dir + "/bad.pgm") << "P5 100 100 255\nshort";
+  std::ofstream(dir + "/map.yaml") << "image: bad.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n";
+  struct Case {
+    std::vector<std::string> argv;
+    std::string expect;
+  };
+  const std::vector<Case> cases = {
+      {{NavdBinary(), "--world", dir + "/missing.yaml", "--listen", "127.0.0.1:0"}, "missing.yaml"},
+      {{NavdBinary(), "--world", dir + "/broken.yaml", "--listen", "127.0.0.1:0"}, "malformed YAML"},
+      {{NavdBinary(), "--map", dir + "/map.yaml", "--listen", "127.0.0.1:0"}, "truncated"},
+      {{NavsimBinary(), "--world", dir + "/missing.yaml"}, "missing.yaml"},
+      {{NavsimBinary(), "--world", dir + "/broken.yaml"}, "malformed YAML"},
+      {{NavdBinary(), "--dds-network", "wifi"}, "wifi"},
+  };
+  for (const auto& c : cases) {
+    const auto r = RunCommand(c.argv, 20.0);
+    EXPECT_NE(r.exit_code, 0) << c.argv[0] << " " << c.argv[2];
+    EXPECT_EQ(Lines(r.output), 1) << r.output;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+  }
+}
+
+TEST(Daemons, NavdStopsTheRobotAndExitsCleanlyOnSigterm) {
+  NavdStack stack;
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  std::thread nav([&] {
+    try {
+      stack.client().NavigateTo(8.8, 8.8, std::nullopt, {}, 60.0);
+    } catch (const ClientError&) {
+      // The stream ends when navd goes down.
+    }
+  });
+  for (int i = 0; i < 250 && !stack.client().GetStatus().active(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(stack.navd().Stop(SIGTERM, 10.0), 0) << stack.Logs();
+  nav.join();
+  EXPECT_NE(stack.navd().Log().find("stopped"), std::string::npos);
+  // navsim heard the stop before its watchdog could: check it is standing still.
+  TelemetryOptions topts;
+  topts.dds.domain = stack.domain();
+  Telemetry telemetry(topts);
+  const auto a = telemetry.WaitForSimStatus(5.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const auto b = telemetry.WaitForSimStatus(5.0);
+  ASSERT_TRUE(a && b);
+  EXPECT_NEAR(a->x(), b->x(), 1e-3);
+  EXPECT_NEAR(a->y(), b->y(), 1e-3);
+}
+
+TEST(Daemons, NavdStopsAndReportsWhenSensorsGoStale) {
+  for (const bool sim_time : {true, false}) {
+    StackOptions options;
+    options.use_sim_time = sim_time;
+    options.rate = 1.0;
+    NavdStack stack(options);
+    ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+    EXPECT_FALSE(stack.client().GetStatus().sensors_stale());
+    stack.sim()->Stop(SIGKILL, 5.0);
+    bool stale = false;
+    for (int i = 0; i < 100 && !stale; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      stale = stack.client().GetStatus().sensors_stale();
+    }
+    EXPECT_TRUE(stale) << (sim_time ? "with" : "without") << " --use-sim-time";
+  }
+}
+
+}  // namespace
+}  // namespace navd::testing

@@ -1,0 +1,65 @@
+// navd's DDS policy, checked on the wire: participants in loopback mode discover each other and
+// exchange ROS 2-layout samples, and every locator they announce is unicast on 127.0.0.1.
+#include <gtest/gtest.h>
+
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastrtps/utils/IPLocator.h>
+
+#include <chrono>
+#include <thread>
+
+#include "dds/participant.h"
+#include "dds/topics.h"
+#include "geometry_msgsPubSubTypes.h"
+#include "tests/support/process.h"
+
+namespace navd::testing {
+namespace {
+
+using eprosima::fastrtps::rtps::IPLocator;
+
+TEST(DdsLoopback, ParticipantsAnnounceOnlyLoopbackUnicastLocators) {
+  const int domain = ReserveDomain();
+  dds::Participant a({domain, dds::Network::kLoopback, "a"});
+  dds::Participant b({domain, dds::Network::kLoopback, "b"});
+  dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> writer(a, "rt/cmd_vel", dds::Reliability::kReliable);
+  dds::Reader<geometry_msgs::msg::dds_::Twist_PubSubType> reader(b, "rt/cmd_vel", dds::Reliability::kReliable);
+  for (int i = 0; i < 100 && writer.matched() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_EQ(writer.matched(), 1);
+  geometry_msgs::msg::dds_::Twist_ m;
+  m.linear().x(0.25);
+  m.angular().z(-0.5);
+  for (int i = 0; i < 100 && reader.count() == 0; ++i) {
+    writer.Write(m);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(reader.Latest());
+  EXPECT_DOUBLE_EQ(reader.Latest()->linear().x(), 0.25);
+  EXPECT_DOUBLE_EQ(reader.Latest()->angular().z(), -0.5);
+
+  // What participant `a` tells the network about itself.
+  eprosima::fastdds::dds::DomainParticipantQos qos;
+  auto* factory = eprosima::fastdds::dds::DomainParticipantFactory::get_instance();
+  auto* probe = factory->lookup_participant(domain);
+  ASSERT_NE(probe, nullptr);
+  probe->get_qos(qos);
+  const auto& builtin = qos.wire_protocol().builtin;
+  EXPECT_TRUE(builtin.metatrafficMulticastLocatorList.empty());
+  EXPECT_FALSE(qos.transport().use_builtin_transports);
+  for (const auto& loc : builtin.metatrafficUnicastLocatorList) EXPECT_EQ(IPLocator::toIPv4string(loc), "127.0.0.1");
+  for (const auto& loc : qos.wire_protocol().default_unicast_locator_list)
+    EXPECT_EQ(IPLocator::toIPv4string(loc), "127.0.0.1");
+  for (const auto& loc : builtin.initialPeersList) EXPECT_EQ(IPLocator::toIPv4string(loc), "127.0.0.1");
+  EXPECT_TRUE(qos.wire_protocol().default_multicast_locator_list.empty());
+}
+
+TEST(DdsLoopback, TypeNamesFollowRos2Conventions) {
+  geometry_msgs::msg::dds_::Twist_PubSubType twist;
+  EXPECT_STREQ(twist.getName(), "geometry_msgs::msg::dds_::Twist_");
+  EXPECT_EQ(dds::TopicName("", dds::kScan), "rt/scan");
+  EXPECT_EQ(dds::TopicName("robot1", dds::kScan), "rt/robot1/scan");
+}
+
+}  // namespace
+}  // namespace navd::testing

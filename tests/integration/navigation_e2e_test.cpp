@@ -1,0 +1,86 @@
+// End to end over real processes: navsim and navd on loopback (own DDS domain, free port), the
+// robot sent to the default world's three goals through libnavclient, judged by the simulator's
+// ground truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "client_lib/telemetry.h"
+#include "services/common/world.h"
+#include "tests/support/navd_fixture.h"
+
+namespace navd::testing {
+namespace {
+
+void ThreeGoals(double rate) {
+  StackOptions options;
+  options.rate = rate;
+  NavdStack stack(options);
+  TelemetryOptions topts;
+  topts.dds.domain = stack.domain();
+  topts.dds.name = "e2e-test";
+  Telemetry telemetry(topts);
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+
+  const World world = DefaultWorld();
+  ASSERT_EQ(world.goals.size(), 3u);
+  for (const Pose2& goal : world.goals) {
+    size_t feedback = 0;
+    const v1::NavigationResult result = stack.client().NavigateTo(
+        goal.x, goal.y, std::nullopt, [&](const v1::NavigationFeedback&) { ++feedback; }, 120.0);
+    ASSERT_EQ(result.outcome(), v1::SUCCEEDED) << result.message() << "\n" << stack.Logs();
+    EXPECT_GT(feedback, 0u);
+    // Ground truth from the simulator, a fresh sample taken after arrival.
+    const auto truth = telemetry.WaitForSimStatus(5.0);
+    ASSERT_TRUE(truth) << "no simulator status over DDS";
+    const double error = std::hypot(truth->x() - goal.x, truth->y() - goal.y);
+    std::printf("goal (%.2f, %.2f): true position error %.3f m, estimated %.3f m, %.1f s\n", goal.x, goal.y, error,
+                result.distance_to_goal(), result.elapsed());
+    EXPECT_LT(error, 0.25) << "true pose (" << truth->x() << ", " << truth->y() << ")";
+    EXPECT_EQ(truth->collisions(), 0u) << "the simulator reported a collision";
+  }
+  // navd's own telemetry flowed over DDS too.
+  EXPECT_GT(telemetry.status_count(), 0u);
+  const auto status = telemetry.LatestStatus();
+  ASSERT_TRUE(status);
+  EXPECT_FALSE(status->active());
+}
+
+TEST(NavigationE2E, ThreeGoalsInTheDefaultWorldAtRate10) { ThreeGoals(10.0); }
+
+TEST(NavigationE2E, StreamReportsProgressAndCancelStopsTheRobot) {
+  NavdStack stack;
+  TelemetryOptions topts;
+  topts.dds.domain = stack.domain();
+  topts.dds.name = "e2e-test";
+  Telemetry telemetry(topts);
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+
+  std::thread canceller([&] {
+    // Let the robot get going, then cancel through a second call.
+    for (int i = 0; i < 200 && !stack.client().GetStatus().active(); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    Client other({stack.address(), 5.0});
+    EXPECT_TRUE(other.Cancel());
+  });
+  std::vector<double> remaining;
+  const auto result = stack.client().NavigateTo(
+      8.8, 8.8, std::nullopt, [&](const v1::NavigationFeedback& f) { remaining.push_back(f.distance_remaining()); },
+      60.0);
+  canceller.join();
+  EXPECT_EQ(result.outcome(), v1::CANCELED);
+  ASSERT_FALSE(remaining.empty());
+  // The robot stops: its true position no longer changes.
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const auto a = telemetry.WaitForSimStatus(5.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const auto b = telemetry.WaitForSimStatus(5.0);
+  ASSERT_TRUE(a && b);
+  EXPECT_NEAR(a->x(), b->x(), 1e-3);
+  EXPECT_NEAR(a->y(), b->y(), 1e-3);
+  EXPECT_FALSE(stack.client().GetStatus().active());
+}
+
+}  // namespace
+}  // namespace navd::testing

@@ -1,0 +1,71 @@
+#include "tests/support/navd_fixture.h"
+
+#include <signal.h>
+
+#include <chrono>
+#include <fstream>
+#include <stdexcept>
+#include <thread>
+
+namespace navd::testing {
+
+std::string NavdBinary() { return NAVD_BINARY; }
+std::string NavsimBinary() { return NAVSIM_BINARY; }
+std::string NavctlBinary() { return NAVCTL_BINARY; }
+std::string SourceDir() { return NAVD_SOURCE_DIR; }
+
+NavdStack::NavdStack(const StackOptions& o) : domain_(ReserveDomain()), dir_(MakeTempDir()) {
+  const std::string domain = std::to_string(domain_);
+  if (o.start_sim) {
+    std::vector<std::string> args{NavsimBinary(), "--domain", domain, "--rate", std::to_string(o.rate)};
+    args.insert(args.end(), o.sim_args.begin(), o.sim_args.end());
+    sim_ = std::make_unique<Process>(args, dir_ + "/navsim.log");
+  }
+  const std::string port_file = dir_ + "/navd.port";
+  std::vector<std::string> args{NavdBinary(), "--domain", domain, "--listen", "127.0.0.1:0", "--port-file", port_file};
+  if (o.use_sim_time) args.push_back("--use-sim-time");
+  args.insert(args.end(), o.navd_args.begin(), o.navd_args.end());
+  navd_ = std::make_unique<Process>(args, dir_ + "/navd.log");
+
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  std::string port;
+  while (port.empty()) {
+    std::ifstream in(port_file);
+    if (in) in >> port;
+    if (!port.empty()) break;
+    if (!navd_->running()) throw std::runtime_error("navd exited during start-up:\n" + Logs());
+    if (std::chrono::steady_clock::now() > end) throw std::runtime_error("navd did not start:\n" + Logs());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  address_ = "127.0.0.1:" + port;
+  ClientOptions co;
+  co.server = address_;
+  client_ = std::make_unique<Client>(co);
+  if (!client_->WaitForConnected(10.0)) throw std::runtime_error("cannot connect to navd at " + address_);
+}
+
+NavdStack::~NavdStack() {
+  navd_->Stop(SIGTERM, 10.0);
+  if (sim_) sim_->Stop(SIGTERM, 10.0);
+}
+
+bool NavdStack::WaitForPose(double timeout) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
+  while (std::chrono::steady_clock::now() < end) {
+    try {
+      client_->GetPose();
+      return true;
+    } catch (const ClientError&) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+  return false;
+}
+
+std::string NavdStack::Logs() const {
+  std::string s = "--- navd log ---\n" + navd_->Log();
+  if (sim_) s += "--- navsim log ---\n" + sim_->Log();
+  return s;
+}
+
+}  // namespace navd::testing

@@ -1,0 +1,51 @@
+#pragma once
+// Starts a real navsim and a real navd on loopback with a reserved DDS domain and a free gRPC
+// port (navd binds port 0 and reports it through --port-file), and a client for them.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "client_lib/navd_client.h"
+#include "tests/support/process.h"
+
+namespace navd::testing {
+
+struct StackOptions {
+  double rate = 10.0;                  // navsim --rate
+  bool use_sim_time = true;            // navd --use-sim-time
+  bool start_sim = true;
+  std::vector<std::string> navd_args;  // extra arguments
+  std::vector<std::string> sim_args;
+};
+
+class NavdStack {
+ public:
+  explicit NavdStack(const StackOptions& options = {});
+  ~NavdStack();
+
+  Client& client() { return *client_; }
+  const std::string& address() const { return address_; }
+  int domain() const { return domain_; }
+  const std::string& dir() const { return dir_; }
+  Process& navd() { return *navd_; }
+  Process* sim() { return sim_.get(); }
+  // Waits until navd reports a pose (odometry flowing). Returns false on timeout.
+  bool WaitForPose(double timeout);
+  std::string Logs() const;
+
+ private:
+  int domain_;
+  std::string dir_;
+  std::string address_;
+  std::unique_ptr<Process> sim_;
+  std::unique_ptr<Process> navd_;
+  std::unique_ptr<Client> client_;
+};
+
+// Paths of the built binaries and the source tree (set by CMake).
+std::string NavdBinary();
+std::string NavsimBinary();
+std::string NavctlBinary();
+std::string SourceDir();
+
+}  // namespace navd::testing

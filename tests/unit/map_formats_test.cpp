@@ -1,0 +1,167 @@
+// map_server YAML + PGM reading, world files, and the embedded default world.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "services/common/error.h"
+#include "services/common/map_server_format.h"
+#include "services/common/text_file.h"
+#include "services/common/world.h"
+#include "services/planning/costmap.h"
+#include "services/planning/grid_astar_planner.h"
+#include "services/planning/planning_engine.h"
+#include "tests/support/process.h"
+
+namespace navd {
+namespace {
+
+std::string Write(const std::string& dir, const std::string& name, const std::string& contents) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path, std::ios::binary) << contents;
+  return path;
+}
+
+std::pair<ErrorCode, std::string> ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return {e.code(), e.what()};
+  }
+  return {ErrorCode::kInternal, "no error"};
+}
+
+TEST(MapServerFormat, DecodesBinaryPgmWithThresholdsAndFlip) {
+  // 3x2 image, top row first: black, white, mid-grey / white, white, black.
+  std::string pgm = "P5\n# comment\n3 2\n255\n";
+  pgm += std::string{'\x00', '\xff', '\x80', '\xff', '\xff', '\x00'};
+  MapServerParams p;
+  p.resolution = 0.5;
+  p.origin = {-1.0, 2.0};
+  const OccupancyGrid g = DecodeMapServerImage(pgm, p, "t.pgm");
+  EXPECT_EQ(g.width(), 3);
+  EXPECT_EQ(g.height(), 2);
+  EXPECT_EQ(g.at({0, 1}), OccupancyGrid::kOccupied);  // top-left pixel is the upper row
+  EXPECT_EQ(g.at({1, 1}), OccupancyGrid::kFree);
+  EXPECT_EQ(g.at({2, 1}), OccupancyGrid::kUnknown);   // occupancy 0.5: between thresholds
+  EXPECT_EQ(g.at({2, 0}), OccupancyGrid::kOccupied);
+  EXPECT_EQ(g.CellOf({-0.9, 2.1}), (CellIndex{0, 0}));
+}
+
+TEST(MapServerFormat, NegateAndAsciiPgm) {
+  MapServerParams p;
+  p.negate = true;
+  const OccupancyGrid g = DecodeMapServerImage("P2 2 1 255 0 255", p, "t.pgm");
+  EXPECT_EQ(g.at({0, 0}), OccupancyGrid::kFree);
+  EXPECT_EQ(g.at({1, 0}), OccupancyGrid::kOccupied);
+}
+
+TEST(MapServerFormat, LoadsYamlWithRelativeImage) {
+  const std::string dir = testing::MakeTempDir();
+  Write(dir, "m.pgm", std::string("P5 2 2 255\n") + std::string{'\x00', '\xff', '\xff', '\xff'});
+  const std::string yaml = Write(dir, "m.yaml", "image: m.pgm\nresolution: 0.1\norigin: [1.0, 2.0, 0.0]\n");
+  const OccupancyGrid g = LoadMapServerMap(yaml);
+  EXPECT_EQ(g.width(), 2);
+  EXPECT_DOUBLE_EQ(g.resolution(), 0.1);
+  EXPECT_EQ(g.at({0, 1}), OccupancyGrid::kOccupied);
+}
+
+TEST(MapServerFormat, BadFilesNameTheProblem) {
+  const std::string dir = testing::MakeTempDir();
+  auto [code, msg] = ErrorOf([&] { LoadMapServerMap(dir + "/missing.yaml"); });
+  EXPECT_EQ(code, ErrorCode::kNotFound);
+  EXPECT_NE(msg.find("missing.yaml"), std::string::npos);
+
+  const std::string no_res = Write(dir, "a.yaml", "image: m.pgm\norigin: [0, 0, 0]\n");
+  std::tie(code, msg) = ErrorOf([&] { LoadMapServerMap(no_res); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("resolution"), std::string::npos) << msg;
+
+  const std::string malformed = Write(dir, "b.yaml", "image: [unclosed\n");
+  std::tie(code, msg) = ErrorOf([&] { LoadMapServerMap(malformed); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("malformed YAML"), std::string::npos) << msg;
+
+  Write(dir, "bad.pgm", "this is not an image");
+  const std::string bad_image = Write(dir, "c.yaml", "image: bad.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  std::tie(code, msg) = ErrorOf([&] { LoadMapServerMap(bad_image); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("not a PGM"), std::string::npos) << msg;
+
+  Write(dir, "short.pgm", "P5 10 10 255\nabc");
+  const std::string truncated = Write(dir, "d.yaml", "image: short.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  std::tie(code, msg) = ErrorOf([&] { LoadMapServerMap(truncated); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("truncated"), std::string::npos) << msg;
+
+  const std::string no_image = Write(dir, "e.yaml", "image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  std::tie(code, msg) = ErrorOf([&] { LoadMapServerMap(no_image); });
+  EXPECT_EQ(code, ErrorCode::kNotFound);
+  EXPECT_NE(msg.find("nowhere.pgm"), std::string::npos) << msg;
+}
+
+TEST(World, DefaultWarehouseParsesAndItsGoalsAreReachable) {
+  const World w = DefaultWorld();
+  EXPECT_EQ(w.name, "warehouse");
+  EXPECT_EQ(w.map.width(), 200);
+  EXPECT_NEAR(w.map.size_x(), 10.0, 1e-9);
+  EXPECT_EQ(w.laser.beams, 683);
+  EXPECT_NEAR(w.laser.fov, 240 * M_PI / 180, 1e-9);
+  EXPECT_NEAR(w.robot.radius, 0.20, 1e-12);
+  ASSERT_EQ(w.goals.size(), 3u);
+  // The elevator shaft is solid.
+  EXPECT_TRUE(w.map.IsOccupied(w.map.CellOf({8.5, 1.5})));
+  MapStore maps;
+  maps.Set(w.map, w.name);
+  planning::PlanningEngine engine(maps, {{w.robot.radius + 0.1, true}, "astar", 0.5});
+  engine.Register(std::make_unique<planning::GridAStarPlanner>());
+  Point2 from = w.start.translation();
+  for (const auto& g : w.goals) {
+    EXPECT_NO_THROW(engine.ComputePath(from, g.translation(), "", {})) << FormatPoint(g.translation());
+    from = g.translation();
+  }
+}
+
+TEST(World, BadWorldFilesNameTheField) {
+  const std::string dir = testing::MakeTempDir();
+  auto [code, msg] = ErrorOf([&] { LoadWorldFile(dir + "/none.yaml"); });
+  EXPECT_EQ(code, ErrorCode::kNotFound);
+  EXPECT_NE(msg.find("world file"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "a.yaml", "name: x\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("'map'"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "b.yaml", "map: {size: [5, 5]}\nrobot: {radius: -1}\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("robot.radius"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "c.yaml", "map: {size: [5, 5], boxes: [[1, 2, 3]]}\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("map.boxes[0]"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "d.yaml", "map: {size: [5, 5]}\nrobot: {start: [9, 9]}\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("robot.start"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "e.yaml", "map: {size: [5, 5]\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("malformed YAML"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "f.yaml", "map: {size: [5, .nan]}\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("map.size[1]"), std::string::npos) << msg;
+}
+
+TEST(TextFile, WritesAtomically) {
+  const std::string dir = testing::MakeTempDir();
+  WriteFileAtomically(dir + "/f.txt", "one");
+  WriteFileAtomically(dir + "/f.txt", "two");
+  EXPECT_EQ(ReadTextFile(dir + "/f.txt", "file"), "two");
+  size_t files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 1u);  // no temporary left behind
+}
+
+}  // namespace
+}  // namespace navd

@@ -1,0 +1,204 @@
+// A*, Dijkstra, inflation and the planning engine's checks, on small hand-made grids.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "services/common/error.h"
+#include "services/common/map_store.h"
+#include "services/planning/costmap.h"
+#include "services/planning/grid_astar_planner.h"
+#include "services/planning/planning_engine.h"
+
+namespace navd::planning {
+namespace {
+
+std::shared_ptr<const OccupancyGrid> Grid(int w, int h, double res = 1.0) {
+  return std::make_shared<OccupancyGrid>(w, h, res, Point2(0, 0));
+}
+
+CellPath PlanCells(const Costmap& cm, CellIndex s, CellIndex g, bool dijkstra = false, double diagonal = 1.0) {
+  return GridAStarPlanner(dijkstra).Plan(cm, s, g, {{"diagonal", diagonal}, {"smooth", 0}}, {});
+}
+
+double CellPathLength(const CellPath& p) {
+  double len = 0;
+  for (size_t i = 1; i < p.cells.size(); ++i)
+    len += std::hypot(p.cells[i].x - p.cells[i - 1].x, p.cells[i].y - p.cells[i - 1].y);
+  return len;
+}
+
+TEST(Costmap, InflatesByRadiusAndNoFurther) {
+  auto g = std::make_shared<OccupancyGrid>(21, 21, 0.1, Point2(0, 0));
+  auto grid = std::const_pointer_cast<OccupancyGrid>(g);
+  grid->set({10, 10}, OccupancyGrid::kOccupied);
+  Costmap cm(g, {0.3, true});
+  EXPECT_TRUE(cm.IsLethal({10, 10}));
+  EXPECT_TRUE(cm.IsLethal({13, 10}));   // 0.3 m away
+  EXPECT_FALSE(cm.IsLethal({14, 10}));  // 0.4 m
+  EXPECT_TRUE(cm.IsLethal({12, 12}));   // 0.28 m
+  EXPECT_FALSE(cm.IsLethal({13, 12}));  // 0.36 m
+}
+
+TEST(Costmap, UnknownSpacePolicy) {
+  auto grid = std::make_shared<OccupancyGrid>(5, 5, 1.0, Point2(0, 0));
+  grid->set({2, 2}, OccupancyGrid::kUnknown);
+  EXPECT_TRUE(Costmap(grid, {0.0, true}).IsLethal({2, 2}));
+  EXPECT_FALSE(Costmap(grid, {0.0, false}).IsLethal({2, 2}));
+}
+
+TEST(GridAStar, OpenGridPathIsOctileOptimal) {
+  auto g = Grid(30, 20);
+  Costmap cm(g, {0.0, true});
+  const CellPath p = PlanCells(cm, {0, 0}, {25, 10});
+  ASSERT_FALSE(p.cells.empty());
+  EXPECT_EQ(p.cells.front(), (CellIndex{0, 0}));
+  EXPECT_EQ(p.cells.back(), (CellIndex{25, 10}));
+  EXPECT_NEAR(CellPathLength(p), 15 + 10 * std::sqrt(2.0), 1e-6);
+}
+
+TEST(GridAStar, FourConnectedPathIsManhattan) {
+  auto g = Grid(30, 20);
+  Costmap cm(g, {0.0, true});
+  EXPECT_NEAR(CellPathLength(PlanCells(cm, {0, 0}, {25, 10}, false, 0.0)), 35.0, 1e-9);
+}
+
+TEST(GridAStar, DijkstraFindsTheSameLengthWithMoreExpansions) {
+  auto grid = std::make_shared<OccupancyGrid>(40, 40, 1.0, Point2(0, 0));
+  for (int y = 0; y < 30; ++y) grid->set({20, y}, OccupancyGrid::kOccupied);
+  Costmap cm(grid, {0.0, true});
+  const CellPath a = PlanCells(cm, {2, 2}, {38, 2});
+  const CellPath d = PlanCells(cm, {2, 2}, {38, 2}, true);
+  ASSERT_FALSE(a.cells.empty());
+  EXPECT_NEAR(CellPathLength(a), CellPathLength(d), 1e-4);
+  EXPECT_LT(a.expansions, d.expansions);
+}
+
+TEST(GridAStar, DoesNotCutCorners) {
+  auto grid = std::make_shared<OccupancyGrid>(3, 3, 1.0, Point2(0, 0));
+  // Two cells touching diagonally block the diagonal between them.
+  grid->set({1, 0}, OccupancyGrid::kOccupied);
+  grid->set({0, 1}, OccupancyGrid::kOccupied);
+  Costmap cm(grid, {0.0, true});
+  EXPECT_TRUE(PlanCells(cm, {0, 0}, {2, 2}).cells.empty());
+}
+
+TEST(GridAStar, WallWithoutGapHasNoPath) {
+  auto grid = std::make_shared<OccupancyGrid>(10, 10, 1.0, Point2(0, 0));
+  for (int y = 0; y < 10; ++y) grid->set({5, y}, OccupancyGrid::kOccupied);
+  Costmap cm(grid, {0.0, true});
+  EXPECT_TRUE(PlanCells(cm, {1, 1}, {8, 8}).cells.empty());
+}
+
+TEST(GridAStar, StopsWhenAsked) {
+  auto g = Grid(300, 300);
+  Costmap cm(g, {0.0, true});
+  try {
+    GridAStarPlanner().Plan(cm, {0, 0}, {299, 299}, {{"diagonal", 1}, {"smooth", 0}}, [] { return true; });
+    FAIL() << "expected a deadline error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kDeadlineExceeded);
+  }
+}
+
+class EngineTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    OccupancyGrid grid(100, 100, 0.1, Point2(0, 0));
+    grid.FillBox({4.0, 0.0}, {4.2, 8.0});  // a wall with a 2 m gap at the top
+    maps.Set(std::move(grid), "test");
+    engine.Register(std::make_unique<GridAStarPlanner>(false));
+    engine.Register(std::make_unique<GridAStarPlanner>(true));
+  }
+  ErrorCode CodeOf(const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const Error& e) {
+      message = e.what();
+      return e.code();
+    }
+    return ErrorCode::kInternal;
+  }
+  MapStore maps;
+  PlanningEngine engine{maps, PlanningEngineOptions{{0.3, true}, "astar", 0.5}};
+  std::string message;
+};
+
+TEST_F(EngineTest, PlansAroundTheWallWithShortcutPath) {
+  const PathPlan p = engine.ComputePath({1, 1}, {8, 1}, "", {});
+  EXPECT_EQ(p.planner, "astar");
+  EXPECT_EQ(p.points.front(), Point2(1, 1));
+  EXPECT_EQ(p.points.back(), Point2(8, 1));
+  EXPECT_LE(p.points.size(), 5u);  // straight segments, not a staircase of cells
+  // Around the wall's end at y=8 plus inflation: at least 2 * hypot(3, 7.3).
+  EXPECT_GT(p.length, 2 * std::hypot(3.0, 7.3) - 0.1);
+  EXPECT_LT(p.length, 2 * std::hypot(3.3, 7.5) + 0.3);
+  auto cm = engine.CurrentCostmap();
+  for (size_t i = 1; i < p.points.size(); ++i) EXPECT_TRUE(cm->SegmentFree(p.points[i - 1], p.points[i]));
+}
+
+TEST_F(EngineTest, RejectsNonFiniteCoordinates) {
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({NAN, 1}, {8, 1}, "", {}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("start.x"), std::string::npos) << message;
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, INFINITY}, "", {}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("goal.y"), std::string::npos) << message;
+}
+
+TEST_F(EngineTest, RejectsGoalOutsideTheMap) {
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {12, 1}, "", {}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("goal"), std::string::npos);
+  EXPECT_NE(message.find("outside the map"), std::string::npos) << message;
+}
+
+TEST_F(EngineTest, RejectsGoalInsideAnObstacleOrItsInflation) {
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {4.1, 3}, "", {}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("inside an obstacle"), std::string::npos) << message;
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {3.85, 3}, "", {}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("goal"), std::string::npos) << message;
+}
+
+TEST_F(EngineTest, RejectsUnknownPlannerAndOption) {
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "rrt_magic", {}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("rrt_magic"), std::string::npos);
+  EXPECT_NE(message.find("astar"), std::string::npos) << "lists the known planners: " << message;
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "astar", {{"speed", 1}}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("speed"), std::string::npos) << message;
+}
+
+TEST_F(EngineTest, MovesAStartInTheInflationZoneOut) {
+  const PathPlan p = engine.ComputePath({3.85, 1}, {1, 1}, "astar", {});
+  EXPECT_EQ(p.points.front(), Point2(3.85, 1));
+  EXPECT_EQ(p.points.back(), Point2(1, 1));
+}
+
+TEST_F(EngineTest, ReportsNoPathAsNotFound) {
+  OccupancyGrid grid(100, 100, 0.1, Point2(0, 0));
+  grid.FillBox({4.0, 0.0}, {4.2, 10.0});
+  maps.Set(std::move(grid), "closed");
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "", {}); }), ErrorCode::kNotFound);
+}
+
+TEST_F(EngineTest, ListsPlannersWithOptions) {
+  const auto planners = engine.Planners();
+  ASSERT_EQ(planners.size(), 2u);
+  EXPECT_EQ(planners[0].name, "astar");
+  EXPECT_TRUE(planners[0].is_default);
+  EXPECT_EQ(planners[1].name, "dijkstra");
+  bool has_smooth = false;
+  for (const auto& o : planners[0].options) has_smooth |= o.name == "smooth";
+  EXPECT_TRUE(has_smooth);
+}
+
+TEST(Engine, WithoutAMapFailsPrecondition) {
+  MapStore maps;
+  PlanningEngine engine(maps, {});
+  engine.Register(std::make_unique<GridAStarPlanner>());
+  try {
+    engine.ComputePath({1, 1}, {2, 2}, "", {});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kFailedPrecondition);
+  }
+}
+
+}  // namespace
+}  // namespace navd::planning
