@@ -110,6 +110,8 @@ int main(int argc, char** argv) {
   truth->add_option("--namespace", ns, "Robot namespace");
   truth->add_option("--wait", wait, "Seconds to wait for a sample");
   truth->add_flag("--json", json_out, "Print one JSON object");
+  std::string truth_goal;
+  truth->add_option("--to", truth_goal, "Also print the true distance to this X,Y");
 
   try {
     app.parse(argc, argv);
@@ -127,15 +129,22 @@ int main(int argc, char** argv) {
       const auto s = telemetry.WaitForSimStatus(wait);
       if (!s) throw std::runtime_error("no simulator status on DDS domain " + std::to_string(domain) + " within " +
                                        std::to_string(wait) + " s");
+      std::optional<double> error;
+      if (!truth_goal.empty()) {
+        const auto g = ParseTuple(truth_goal, "--to", 2, 3);
+        error = std::hypot(s->x() - g[0], s->y() - g[1]);
+      }
       if (json_out) {
-        std::printf("%s\n", json{{"x", s->x()}, {"y", s->y()}, {"theta", s->theta()}, {"collisions", s->collisions()},
-                                 {"in_collision", s->in_collision()}, {"distance_travelled", s->distance_travelled()},
-                                 {"sim_time", s->header().stamp().sec() + s->header().stamp().nanosec() * 1e-9}}
-                                .dump()
-                                .c_str());
+        json j{{"x", s->x()}, {"y", s->y()}, {"theta", s->theta()}, {"collisions", s->collisions()},
+               {"in_collision", s->in_collision()}, {"distance_travelled", s->distance_travelled()},
+               {"sim_time", s->header().stamp().sec() + s->header().stamp().nanosec() * 1e-9}};
+        if (error) j["error"] = *error;
+        std::printf("%s\n", j.dump().c_str());
       } else {
-        std::printf("true pose (%.3f, %.3f, %.3f)  collisions %u  travelled %.2f m\n", s->x(), s->y(), s->theta(),
+        std::printf("true pose (%.3f, %.3f, %.3f)  collisions %u  travelled %.2f m", s->x(), s->y(), s->theta(),
                     s->collisions(), s->distance_travelled());
+        if (error) std::printf("  error to goal %.3f m", *error);
+        std::printf("\n");
       }
       return 0;
     }
