@@ -37,20 +37,13 @@ bool Client::WaitForConnected(double timeout) {
 }
 
 grpc::health::v1::HealthCheckResponse::ServingStatus Client::Health(const std::string& service) {
-  grpc::ClientContext ctx;
-  Prepare(ctx, options_.timeout);
   grpc::health::v1::HealthCheckRequest req;
   req.set_service(service);
-  grpc::health::v1::HealthCheckResponse resp;
-  const grpc::Status s = health_->Check(&ctx, req, &resp);
-  if (!s.ok()) Fail(s);
-  return resp.status();
+  return Call(*health_, &grpc::health::v1::Health::Stub::Check, req).status();
 }
 
 v1::ComputePathResponse Client::ComputePath(double start_x, double start_y, double goal_x, double goal_y,
                                             const std::string& planner, const std::map<std::string, double>& options) {
-  grpc::ClientContext ctx;
-  Prepare(ctx, options_.timeout);
   v1::ComputePathRequest req;
   req.mutable_start()->set_x(start_x);
   req.mutable_start()->set_y(start_y);
@@ -58,62 +51,35 @@ v1::ComputePathResponse Client::ComputePath(double start_x, double start_y, doub
   req.mutable_goal()->set_y(goal_y);
   req.set_planner(planner);
   for (const auto& [k, v] : options) (*req.mutable_options())[k] = v;
-  v1::ComputePathResponse resp;
-  const grpc::Status s = planning_->ComputePath(&ctx, req, &resp);
-  if (!s.ok()) Fail(s);
-  return resp;
+  return Call(*planning_, &v1::PlanningService::Stub::ComputePath, req);
 }
 
 v1::ListPlannersResponse Client::ListPlanners() {
-  grpc::ClientContext ctx;
-  Prepare(ctx, options_.timeout);
-  v1::ListPlannersResponse resp;
-  const grpc::Status s = planning_->ListPlanners(&ctx, v1::ListPlannersRequest(), &resp);
-  if (!s.ok()) Fail(s);
-  return resp;
+  return Call(*planning_, &v1::PlanningService::Stub::ListPlanners, v1::ListPlannersRequest());
 }
 
 v1::GetPoseResponse Client::GetPose() {
-  grpc::ClientContext ctx;
-  Prepare(ctx, options_.timeout);
-  v1::GetPoseResponse resp;
-  const grpc::Status s = localization_->GetPose(&ctx, v1::GetPoseRequest(), &resp);
-  if (!s.ok()) Fail(s);
-  return resp;
+  return Call(*localization_, &v1::LocalizationService::Stub::GetPose, v1::GetPoseRequest());
 }
 
 void Client::SetPose(double x, double y, double theta) {
-  grpc::ClientContext ctx;
-  Prepare(ctx, options_.timeout);
   v1::SetPoseRequest req;
   req.mutable_pose()->set_x(x);
   req.mutable_pose()->set_y(y);
   req.mutable_pose()->set_theta(theta);
-  v1::SetPoseResponse resp;
-  const grpc::Status s = localization_->SetPose(&ctx, req, &resp);
-  if (!s.ok()) Fail(s);
+  Call(*localization_, &v1::LocalizationService::Stub::SetPose, req);
 }
 
 v1::GetMapResponse Client::GetMap(bool info_only) {
-  grpc::ClientContext ctx;
-  Prepare(ctx, options_.timeout);
   v1::GetMapRequest req;
   req.set_info_only(info_only);
-  v1::GetMapResponse resp;
-  const grpc::Status s = mapping_->GetMap(&ctx, req, &resp);
-  if (!s.ok()) Fail(s);
-  return resp;
+  return Call(*mapping_, &v1::MappingService::Stub::GetMap, req);
 }
 
 v1::MapInfo Client::LoadMap(const std::string& path) {
-  grpc::ClientContext ctx;
-  Prepare(ctx, options_.timeout);
   v1::LoadMapRequest req;
   req.set_path(path);
-  v1::LoadMapResponse resp;
-  const grpc::Status s = mapping_->LoadMap(&ctx, req, &resp);
-  if (!s.ok()) Fail(s);
-  return resp.info();
+  return Call(*mapping_, &v1::MappingService::Stub::LoadMap, req).info();
 }
 
 v1::NavigationResult Client::NavigateTo(const v1::NavigateToRequest& request, const FeedbackCallback& on_feedback,
@@ -152,21 +118,11 @@ v1::NavigationResult Client::NavigateTo(double x, double y, std::optional<double
 }
 
 bool Client::Cancel() {
-  grpc::ClientContext ctx;
-  Prepare(ctx, options_.timeout);
-  v1::CancelResponse resp;
-  const grpc::Status s = navigation_->Cancel(&ctx, v1::CancelRequest(), &resp);
-  if (!s.ok()) Fail(s);
-  return resp.was_active();
+  return Call(*navigation_, &v1::NavigationService::Stub::Cancel, v1::CancelRequest()).was_active();
 }
 
 v1::GetStatusResponse Client::GetStatus() {
-  grpc::ClientContext ctx;
-  Prepare(ctx, options_.timeout);
-  v1::GetStatusResponse resp;
-  const grpc::Status s = navigation_->GetStatus(&ctx, v1::GetStatusRequest(), &resp);
-  if (!s.ok()) Fail(s);
-  return resp;
+  return Call(*navigation_, &v1::NavigationService::Stub::GetStatus, v1::GetStatusRequest());
 }
 
 }  // namespace navd

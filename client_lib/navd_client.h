@@ -69,6 +69,17 @@ class Client {
 
  private:
   void Prepare(grpc::ClientContext& context, double timeout) const;
+  // One unary call with the default deadline; throws ClientError on failure.
+  template <typename Stub, typename Request, typename Response>
+  Response Call(Stub& stub, grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*),
+                const Request& request) const {
+    grpc::ClientContext context;
+    Prepare(context, options_.timeout);
+    Response response;
+    const grpc::Status status = (stub.*method)(&context, request, &response);
+    if (!status.ok()) Fail(status);
+    return response;
+  }
   [[noreturn]] void Fail(const grpc::Status& status) const;
 
   ClientOptions options_;

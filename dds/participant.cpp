@@ -84,13 +84,19 @@ Topic* Participant::TopicFor(const std::string& name, TypeSupport& type) {
   return topic;
 }
 
-DataWriter* Participant::CreateWriter(const std::string& topic, TypeSupport type, Reliability reliability, int depth) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  DataWriterQos qos = DATAWRITER_QOS_DEFAULT;
+// Reader and writer QoS share these fields: keep-last history of `depth`, volatile durability.
+template <typename Qos>
+Qos EndpointQos(Qos qos, Reliability reliability, int depth) {
   qos.reliability().kind = reliability == Reliability::kReliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
   qos.history().kind = KEEP_LAST_HISTORY_QOS;
   qos.history().depth = depth;
   qos.durability().kind = VOLATILE_DURABILITY_QOS;
+  return qos;
+}
+
+DataWriter* Participant::CreateWriter(const std::string& topic, TypeSupport type, Reliability reliability, int depth) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const DataWriterQos qos = EndpointQos(DATAWRITER_QOS_DEFAULT, reliability, depth);
   DataWriter* w = publisher_->create_datawriter(TopicFor(topic, type), qos);
   if (!w) throw std::runtime_error("cannot create DDS writer on " + topic);
   return w;
@@ -99,11 +105,7 @@ DataWriter* Participant::CreateWriter(const std::string& topic, TypeSupport type
 DataReader* Participant::CreateReader(const std::string& topic, TypeSupport type, Reliability reliability, int depth,
                                       DataReaderListener* listener) {
   std::lock_guard<std::mutex> lock(mutex_);
-  DataReaderQos qos = DATAREADER_QOS_DEFAULT;
-  qos.reliability().kind = reliability == Reliability::kReliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
-  qos.history().kind = KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = depth;
-  qos.durability().kind = VOLATILE_DURABILITY_QOS;
+  const DataReaderQos qos = EndpointQos(DATAREADER_QOS_DEFAULT, reliability, depth);
   DataReader* r = subscriber_->create_datareader(TopicFor(topic, type), qos, listener);
   if (!r) throw std::runtime_error("cannot create DDS reader on " + topic);
   return r;

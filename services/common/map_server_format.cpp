@@ -10,6 +10,7 @@
 
 #include "services/common/error.h"
 #include "services/common/text_file.h"
+#include "services/common/yaml_document.h"
 
 namespace navd {
 namespace {
@@ -100,13 +101,7 @@ OccupancyGrid DecodeMapServerImage(const std::string& bytes, const MapServerPara
 
 OccupancyGrid LoadMapServerMap(const std::string& yaml_path) {
   const std::string text = ReadTextFile(yaml_path, "map file");
-  YAML::Node doc;
-  try {
-    doc = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw Error(ErrorCode::kInvalidArgument, yaml_path + ": malformed YAML: " + e.what());
-  }
-  if (!doc.IsMap()) throw Error(ErrorCode::kInvalidArgument, yaml_path + ": expected a YAML mapping");
+  const YAML::Node doc = ParseYamlMapping(text, yaml_path);
   auto require = [&](const char* key) {
     if (!doc[key]) throw Error(ErrorCode::kInvalidArgument, yaml_path + ": missing field '" + key + "'");
     return doc[key];

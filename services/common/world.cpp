@@ -7,6 +7,7 @@
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
 #include "services/common/text_file.h"
+#include "services/common/yaml_document.h"
 
 extern "C" const char navd_default_world_yaml[];
 
@@ -80,13 +81,7 @@ class WorldParser {
   }
 
   World Parse(const std::string& text, const std::string& base_dir) const {
-    YAML::Node doc;
-    try {
-      doc = YAML::Load(text);
-    } catch (const YAML::Exception& e) {
-      throw Error(ErrorCode::kInvalidArgument, source_ + ": malformed YAML: " + e.what());
-    }
-    if (!doc.IsMap()) throw Error(ErrorCode::kInvalidArgument, source_ + ": expected a YAML mapping");
+    const YAML::Node doc = ParseYamlMapping(text, source_);
     World w;
     w.source = source_;
     try {
@@ -160,17 +155,12 @@ World DefaultWorld() { return ParseWorld(navd_default_world_yaml, "<embedded war
 
 OccupancyGrid LoadAnyMapFile(const std::string& path, std::string* name) {
   const std::string text = ReadTextFile(path, "map file");
-  YAML::Node doc;
-  try {
-    doc = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw Error(ErrorCode::kInvalidArgument, path + ": malformed YAML: " + e.what());
-  }
-  if (doc.IsMap() && doc["image"]) {
+  const YAML::Node doc = ParseYamlMapping(text, path);
+  if (doc["image"]) {
     if (name) *name = std::filesystem::path(path).stem().string();
     return LoadMapServerMap(path);
   }
-  if (doc.IsMap() && doc["map"]) {
+  if (doc["map"]) {
     World w = ParseWorld(text, path, std::filesystem::path(path).parent_path().string());
     if (name) *name = w.name;
     return std::move(w.map);

@@ -3,6 +3,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 #include <thread>
@@ -13,6 +14,16 @@ std::string NavdBinary() { return NAVD_BINARY; }
 std::string NavsimBinary() { return NAVSIM_BINARY; }
 std::string NavctlBinary() { return NAVCTL_BINARY; }
 std::string SourceDir() { return NAVD_SOURCE_DIR; }
+
+::testing::AssertionResult RobotStandsStill(const Telemetry& telemetry, double gap) {
+  const auto a = telemetry.WaitForSimStatus(5.0);
+  std::this_thread::sleep_for(std::chrono::duration<double>(gap));
+  const auto b = telemetry.WaitForSimStatus(5.0);
+  if (!a || !b) return ::testing::AssertionFailure() << "no simulator status over DDS";
+  const double moved = std::hypot(a->x() - b->x(), a->y() - b->y());
+  if (moved >= 1e-3) return ::testing::AssertionFailure() << "the robot moved " << moved << " m in " << gap << " s";
+  return ::testing::AssertionSuccess();
+}
 
 NavdStack::NavdStack(const StackOptions& o) : domain_(ReserveDomain()), dir_(MakeTempDir()) {
   const std::string domain = std::to_string(domain_);

@@ -5,7 +5,10 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "client_lib/navd_client.h"
+#include "client_lib/telemetry.h"
 #include "tests/support/process.h"
 
 namespace navd::testing {
@@ -41,6 +44,10 @@ class NavdStack {
   std::unique_ptr<Process> navd_;
   std::unique_ptr<Client> client_;
 };
+
+// Success when two simulator status samples `gap` seconds apart show the true position moved
+// less than a millimetre.
+::testing::AssertionResult RobotStandsStill(const Telemetry& telemetry, double gap = 0.3);
 
 // Paths of the built binaries and the source tree (set by CMake).
 std::string NavdBinary();
