@@ -5,7 +5,11 @@
 namespace navd {
 
 Client::Client(const ClientOptions& options)
-    : options_(options), channel_(grpc::CreateChannel(options.server, grpc::InsecureChannelCredentials())) {
+    : options_(options) {
+  grpc::ChannelArguments args;
+  // Maps travel whole in GetMap: a 4000 x 4000 grid is 16 MB, past gRPC's 4 MB default.
+  args.SetMaxReceiveMessageSize(256 * 1024 * 1024);
+  channel_ = grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
   health_ = grpc::health::v1::Health::NewStub(channel_);
   planning_ = v1::PlanningService::NewStub(channel_);
   localization_ = v1::LocalizationService::NewStub(channel_);

@@ -76,6 +76,10 @@ class Writer {
       : writer_(participant.CreateWriter(topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()), reliability,
                                          depth)) {}
   bool Write(const Message& m) { return writer_->write(const_cast<Message*>(&m)); }
+  // Blocks until every matched reliable reader acknowledged what was written, or `timeout_s`.
+  bool WaitForAcknowledgments(double timeout_s) {
+    return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(timeout_s)) == ReturnCode_t::RETCODE_OK;
+  }
   // Number of matched readers, for waiting on discovery.
   int matched() const {
     eprosima::fastdds::dds::PublicationMatchedStatus s;

@@ -19,9 +19,9 @@ ControlLoop::~ControlLoop() { Stop(); }
 void ControlLoop::Start() { thread_ = std::thread([this] { Run(); }); }
 
 void ControlLoop::Stop() {
-  stop_ = true;
+  if (stop_.exchange(true)) return;  // already stopped
   if (thread_.joinable()) thread_.join();
-  bridge_.PublishCommand({});
+  bridge_.StopRobot();
 }
 
 void ControlLoop::Run() {

@@ -46,6 +46,11 @@ void DdsBridge::PublishCommand(const Twist2& twist) {
   cmd_writer_->Write(m);
 }
 
+void DdsBridge::StopRobot() {
+  PublishCommand({});
+  cmd_writer_->WaitForAcknowledgments(1.0);
+}
+
 void DdsBridge::PublishStatus(const navigation::NavigationStatus& status, const localization::PoseEstimate& pose,
                               const std::string& localizer, double now) {
   navd_msgs::msg::dds_::NavStatus_ m;

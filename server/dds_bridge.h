@@ -31,6 +31,8 @@ class DdsBridge {
   uint64_t odometry_count() const { return odom_reader_->count(); }
 
   void PublishCommand(const Twist2& twist);
+  // Sends a zero command and waits (bounded) until the robot side acknowledged it; for shutdown.
+  void StopRobot();
   void PublishStatus(const navigation::NavigationStatus& status, const localization::PoseEstimate& pose,
                      const std::string& localizer, double now);
 

@@ -7,11 +7,16 @@
 #include <fastrtps/utils/IPLocator.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
 #include <thread>
 
 #include "dds/participant.h"
 #include "dds/topics.h"
 #include "geometry_msgsPubSubTypes.h"
+#include "tests/support/navd_fixture.h"
 #include "tests/support/process.h"
 
 namespace navd::testing {
@@ -52,6 +57,42 @@ TEST(DdsLoopback, ParticipantsAnnounceOnlyLoopbackUnicastLocators) {
     EXPECT_EQ(IPLocator::toIPv4string(loc), "127.0.0.1");
   for (const auto& loc : builtin.initialPeersList) EXPECT_EQ(IPLocator::toIPv4string(loc), "127.0.0.1");
   EXPECT_TRUE(qos.wire_protocol().default_multicast_locator_list.empty());
+}
+
+// Local addresses (hex, as in /proc/net/*) of the sockets process `pid` holds, from the kernel's
+// tables: what it can send from, whatever its configuration says.
+std::vector<std::string> SocketAddresses(pid_t pid, const std::string& table) {
+  std::set<std::string> inodes;
+  for (const auto& fd : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/fd")) {
+    std::error_code ec;
+    const std::string target = std::filesystem::read_symlink(fd.path(), ec).string();
+    if (target.rfind("socket:[", 0) == 0) inodes.insert(target.substr(8, target.size() - 9));
+  }
+  std::vector<std::string> out;
+  std::ifstream in("/proc/" + std::to_string(pid) + "/net/" + table);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::istringstream f(line);
+    std::string slot, local, remote, state, queues, timer, retr, uid, timeout, inode;
+    f >> slot >> local >> remote >> state >> queues >> timer >> retr >> uid >> timeout >> inode;
+    if (inodes.count(inode)) out.push_back(local.substr(0, local.find(':')));
+  }
+  return out;
+}
+
+TEST(DdsLoopback, NavdAndNavsimSocketsAreBoundToLoopbackOnly) {
+  NavdStack stack;
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  for (Process* p : {&stack.navd(), stack.sim()}) {
+    const auto udp = SocketAddresses(p->pid(), "udp");
+    EXPECT_GE(udp.size(), 2u) << "DDS sockets expected";
+    for (const auto& a : udp) EXPECT_EQ(a, "0100007F") << "UDP socket not on 127.0.0.1";
+    EXPECT_TRUE(SocketAddresses(p->pid(), "udp6").empty()) << "no IPv6 DDS sockets";
+    for (const auto& a : SocketAddresses(p->pid(), "tcp")) EXPECT_EQ(a, "0100007F");
+    // gRPC listens on an IPv4-mapped IPv6 socket: ::ffff:127.0.0.1.
+    for (const auto& a : SocketAddresses(p->pid(), "tcp6")) EXPECT_EQ(a, "0000000000000000FFFF00000100007F");
+  }
 }
 
 TEST(DdsLoopback, TypeNamesFollowRos2Conventions) {
