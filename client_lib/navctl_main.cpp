@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -61,7 +62,15 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   navd::ClientOptions client_options;
   app.add_option("--server", client_options.server, "navd address HOST:PORT");
-  app.add_option("--deadline", client_options.timeout, "Deadline of each call, seconds");
+  // NaN slips past CLI11's number checks, so seconds get their own.
+  const CLI::Validator seconds(
+      [](std::string& s) {
+        char* end = nullptr;
+        const double v = std::strtod(s.c_str(), &end);
+        return std::isfinite(v) && v >= 0 ? std::string() : "must be a finite number of seconds >= 0";
+      },
+      "SECONDS");
+  app.add_option("--deadline", client_options.timeout, "Deadline of each call, seconds")->check(seconds);
 
   auto* health = app.add_subcommand("health", "Check navd's grpc.health.v1 status");
 
@@ -80,7 +89,7 @@ int main(int argc, char** argv) {
   double timeout = 0;
   bool preempt = false;
   navigate->add_option("--to", to, "Goal X,Y[,THETA]")->required();
-  navigate->add_option("--timeout", timeout, "Give up (and cancel) after S seconds");
+  navigate->add_option("--timeout", timeout, "Give up (and cancel) after S seconds")->check(seconds);
   navigate->add_option("--planner", planner, "Planner name");
   navigate->add_flag("--preempt", preempt, "Replace an active goal instead of being rejected");
   navigate->add_flag("--json", json_out, "Print the result as one JSON object");
@@ -108,7 +117,7 @@ int main(int argc, char** argv) {
   double wait = 5.0;
   truth->add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
   truth->add_option("--namespace", ns, "Robot namespace");
-  truth->add_option("--wait", wait, "Seconds to wait for a sample");
+  truth->add_option("--wait", wait, "Seconds to wait for a sample")->check(seconds);
   truth->add_flag("--json", json_out, "Print one JSON object");
   std::string truth_goal;
   truth->add_option("--to", truth_goal, "Also print the true distance to this X,Y");
@@ -283,7 +292,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (load_map->parsed()) {
-      const auto m = client.LoadMap(map_path);
+      // navd resolves paths in its own working directory; send ours, absolute.
+      const auto m = client.LoadMap(std::filesystem::absolute(map_path).string());
       std::printf("loaded map '%s': %ux%u cells at %.3f m\n", m.name().c_str(), m.width(), m.height(), m.resolution());
       return 0;
     }

@@ -47,7 +47,10 @@ DomainParticipantQos MakeQos(const ParticipantOptions& o) {
     qos.wire_protocol().default_unicast_locator_list.push_back(lo);
     builtin.initialPeersList.push_back(lo);
   }
-  for (const auto& peer : o.peers) builtin.initialPeersList.push_back(UdpLocator(peer));
+  for (const auto& peer : o.peers) {
+    if (!IPLocator::isIPv4(peer)) throw std::invalid_argument("DDS peer '" + peer + "' is not an IPv4 address");
+    builtin.initialPeersList.push_back(UdpLocator(peer));
+  }
   // Keeps discovery brisk so tests and CLI calls do not wait long for matches.
   builtin.discovery_config.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(1, 0);
   builtin.discovery_config.initial_announcements.count = 5;
@@ -109,6 +112,16 @@ DataReader* Participant::CreateReader(const std::string& topic, TypeSupport type
   DataReader* r = subscriber_->create_datareader(TopicFor(topic, type), qos, listener);
   if (!r) throw std::runtime_error("cannot create DDS reader on " + topic);
   return r;
+}
+
+void Participant::DeleteReader(DataReader* reader) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (reader) subscriber_->delete_datareader(reader);
+}
+
+void Participant::DeleteWriter(DataWriter* writer) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (writer) publisher_->delete_datawriter(writer);
 }
 
 }  // namespace navd::dds

@@ -54,6 +54,9 @@ class Participant {
   eprosima::fastdds::dds::DataReader* CreateReader(const std::string& topic, eprosima::fastdds::dds::TypeSupport type,
                                                    Reliability reliability, int depth,
                                                    eprosima::fastdds::dds::DataReaderListener* listener);
+  // Deletes a reader; waits for a listener callback in progress, so the listener may be freed after.
+  void DeleteReader(eprosima::fastdds::dds::DataReader* reader);
+  void DeleteWriter(eprosima::fastdds::dds::DataWriter* writer);
   int domain() const { return domain_; }
 
  private:
@@ -73,8 +76,12 @@ class Writer {
  public:
   using Message = typename PubSubType::type;
   Writer(Participant& participant, const std::string& topic, Reliability reliability, int depth = 10)
-      : writer_(participant.CreateWriter(topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()), reliability,
+      : participant_(participant),
+        writer_(participant.CreateWriter(topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()), reliability,
                                          depth)) {}
+  ~Writer() { participant_.DeleteWriter(writer_); }
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
   bool Write(const Message& m) { return writer_->write(const_cast<Message*>(&m)); }
   // Blocks until every matched reliable reader acknowledged what was written, or `timeout_s`.
   bool WaitForAcknowledgments(double timeout_s) {
@@ -88,6 +95,7 @@ class Writer {
   }
 
  private:
+  Participant& participant_;
   eprosima::fastdds::dds::DataWriter* writer_;
 };
 
@@ -101,11 +109,14 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener {
 
   Reader(Participant& participant, const std::string& topic, Reliability reliability, Callback callback = {},
          int depth = 10)
-      : callback_(std::move(callback)) {
+      : participant_(participant), callback_(std::move(callback)) {
     reader_ = participant.CreateReader(topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()), reliability,
                                        depth, this);
   }
-  ~Reader() override { reader_->set_listener(nullptr); }
+  // Must go before its Participant. Deleting the reader waits for a running callback.
+  ~Reader() override { participant_.DeleteReader(reader_); }
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
 
   std::optional<Message> Latest() const {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -131,6 +142,7 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener {
   }
 
  private:
+  Participant& participant_;
   Callback callback_;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
   mutable std::mutex mutex_;

@@ -28,37 +28,43 @@ void ControlLoop::Run() {
   const double period = 1.0 / options_.rate;
   double next = clock_.Now();
   uint64_t tick = 0;
-  auto last_tick = std::chrono::steady_clock::now();
+  double last_seen = next;
+  auto last_advance = std::chrono::steady_clock::now();
   while (!stop_) {
     // Bounded waits keep the loop responsive to Stop() when simulated time stalls.
-    if (!clock_.SleepUntil(next, 0.05)) {
-      // Simulated time has stopped (the simulator died or hangs): that is stale sensors too.
-      const auto wall = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(wall - last_tick).count() > options_.sensor_timeout) {
-        StaleTick();
-        last_tick = wall;
-      }
+    const bool reached = clock_.SleepUntil(next, 0.05);
+    const double now = clock_.Now();
+    const auto wall = std::chrono::steady_clock::now();
+    if (now != last_seen) {
+      last_seen = now;
+      last_advance = wall;
+    }
+    if (now < next - 2 * period) next = now;  // the clock went back (simulator restarted)
+    if (!reached) {
+      // Time has not moved for longer than the sensor timeout: the simulator died or hangs, which
+      // is stale sensors too. Its time is extrapolated so the navigator's stale timeout runs.
+      const double frozen = std::chrono::duration<double>(wall - last_advance).count();
+      if (frozen > options_.sensor_timeout) StaleTick(now + frozen);
       continue;
     }
-    last_tick = std::chrono::steady_clock::now();
-    const double now = clock_.Now();
     next += period;
-    if (now - next > period) next = now + period;  // fell behind (or the clock jumped): do not burst
-    Tick(tick++);
+    if (now - next > period) next = now + period;  // fell behind: do not burst
+    Tick(tick++, now);
   }
 }
 
-void ControlLoop::StaleTick() {
-  executive_.Step(false);
-  bridge_.PublishCommand({});
-  bridge_.PublishStatus(executive_.navigator().Status(), localizer_.Estimate(), localizer_.name(), clock_.Now());
+void ControlLoop::StaleTick(double now) {
+  const bool was_active = executive_.navigator().Status().active;
+  executive_.Step(false, now);
+  if (was_active) bridge_.PublishCommand({});
+  bridge_.PublishStatus(executive_.navigator().Status(), localizer_.Estimate(), localizer_.name(), now);
 }
 
-void ControlLoop::Tick(uint64_t tick) {
+void ControlLoop::Tick(uint64_t tick, double now) {
   if (auto odom = bridge_.LatestOdometry()) localizer_.AddOdometry(*odom);
-  const bool fresh = clock_.Now() - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
+  const bool fresh = now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
   const bool was_active = executive_.navigator().Status().active;
-  const WheelSpeeds wheels = executive_.Step(fresh);
+  const WheelSpeeds wheels = executive_.Step(fresh, now);
   const navigation::NavigationStatus status = executive_.navigator().Status();
   if (status.active) {
     bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));
@@ -67,7 +73,7 @@ void ControlLoop::Tick(uint64_t tick) {
     bridge_.PublishCommand({});
     zero_commands_left_ = was_active ? kZeroCommandsAfterGoal : zero_commands_left_ - 1;
   }
-  if (tick % 2 == 0) bridge_.PublishStatus(status, localizer_.Estimate(), localizer_.name(), clock_.Now());
+  if (tick % 2 == 0) bridge_.PublishStatus(status, localizer_.Estimate(), localizer_.name(), now);
 }
 
 }  // namespace navd::server

@@ -27,9 +27,10 @@ class ControlLoop {
 
  private:
   void Run();
-  void Tick(uint64_t tick);
-  // Runs when the clock has not advanced for sensor_timeout wall seconds.
-  void StaleTick();
+  // One step at clock time `now` (seconds).
+  void Tick(uint64_t tick, double now);
+  // Runs when the clock has not advanced for sensor_timeout wall seconds; `now` is extrapolated.
+  void StaleTick(double now);
 
   ControlLoopOptions options_;
   Clock& clock_;

@@ -52,7 +52,12 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   planning.Register(std::make_unique<planning::GridAStarPlanner>(true));
   planning.CurrentCostmap();  // built now rather than on the first request
 
-  localization::OdometryLocalizer localizer(initial_pose);
+  if (!map->grid.ContainsPoint(initial_pose.translation())) {
+    throw Error(ErrorCode::kInvalidArgument, "initial pose " + FormatPoint(initial_pose.translation()) +
+                                                 " lies outside the map");
+  }
+  localization::OdometryLocalizer localizer;
+  localizer.SetPose(initial_pose, Eigen::Matrix3d::Zero());  // checks it, too
 
   std::unique_ptr<Clock> clock;
   SimClock* sim_clock = nullptr;
@@ -64,10 +69,10 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
     clock = std::make_unique<SystemClock>();
   }
 
-  navigation::PathFollowerParams follower;
-  follower.wheel_base = robot.wheel_base;
-  follower.max_wheel_speed = robot.max_wheel_speed;
-  navigation::NavigationExecutive executive(planning, localizer, *clock, follower);
+  navigation::NavigatorOptions navigator;
+  navigator.follower.wheel_base = robot.wheel_base;
+  navigator.follower.max_wheel_speed = robot.max_wheel_speed;
+  navigation::NavigationExecutive executive(planning, localizer, *clock, navigator);
 
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock);

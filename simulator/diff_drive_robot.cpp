@@ -12,24 +12,6 @@ void DiffDriveRobot::Command(const Twist2& twist) {
   target_ = ClampWheels(ToWheels(twist, d_.wheel_base), d_.max_wheel_speed);
 }
 
-bool DiffDriveRobot::Collides(const Point2& p, const OccupancyGrid& map) const {
-  const double r = d_.radius;
-  const CellIndex lo = map.CellOf(p - Point2(r, r)), hi = map.CellOf(p + Point2(r, r));
-  for (int y = lo.y; y <= hi.y; ++y) {
-    for (int x = lo.x; x <= hi.x; ++x) {
-      const CellIndex c{x, y};
-      const Point2 centre = map.CellCenter(c);
-      const double h = map.resolution() / 2;
-      // Distance from p to the cell's square.
-      const double dx = std::max(std::abs(p.x() - centre.x()) - h, 0.0);
-      const double dy = std::max(std::abs(p.y() - centre.y()) - h, 0.0);
-      if (dx * dx + dy * dy >= r * r) continue;
-      if (!map.Contains(c) || map.IsOccupied(c)) return true;
-    }
-  }
-  return false;
-}
-
 bool DiffDriveRobot::Step(double dt, const OccupancyGrid& map) {
   // Wheels approach their targets within the acceleration limit; each achieves its speed with
   // multiplicative noise (motor and floor variation).
@@ -44,7 +26,7 @@ bool DiffDriveRobot::Step(double dt, const OccupancyGrid& map) {
   const double right = wheels_.right * (1.0 + d_.actuator_noise * unit(rng_));
 
   const Pose2 next = IntegrateDiffDrive(pose_, left * dt, right * dt, d_.wheel_base);
-  const bool blocked = Collides(next.translation(), map);
+  const bool blocked = map.DiscHitsObstacle(next.translation(), d_.radius);
   double d_left = left * dt, d_right = right * dt;
   if (blocked) {
     // The robot stays where it is; its wheels stall.

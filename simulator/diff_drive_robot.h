@@ -31,9 +31,6 @@ class DiffDriveRobot {
   double distance_travelled() const { return distance_; }
   const RobotDescription& description() const { return d_; }
 
-  // True when a disc of the robot's radius at `p` overlaps an occupied (or unknown) cell or leaves the map.
-  bool Collides(const Point2& p, const OccupancyGrid& map) const;
-
  private:
   RobotDescription d_;
   std::mt19937_64& rng_;

@@ -69,6 +69,9 @@ int Run(int argc, char** argv) {
   app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
   app.add_option("--namespace", ns, "Robot namespace for topics (rt/<ns>/scan ...)");
   app.add_option("--duration", duration, "Stop after this many simulated seconds (0: run until signalled)");
+  double command_timeout = 0.5;
+  app.add_option("--command-timeout", command_timeout, "Stop the robot after this long without cmd_vel, s")
+      ->check(CLI::PositiveNumber);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -78,6 +81,7 @@ int Run(int argc, char** argv) {
   World world = world_path.empty() ? DefaultWorld() : LoadWorldFile(world_path);
   sim::SimulationOptions options;
   options.seed = seed;
+  options.command_timeout = command_timeout;
   sim::Simulation simulation(std::move(world), options);
   const auto& w = simulation.world();
 
@@ -99,6 +103,10 @@ int Run(int argc, char** argv) {
   std::optional<Twist2> pending;
   navd::dds::Reader<msgs_geo::Twist_PubSubType> cmd_reader(
       participant, navd::dds::TopicName(ns, navd::dds::kCmdVel), Reliability::kReliable, [&](const msgs_geo::Twist_& m) {
+        if (!std::isfinite(m.linear().x()) || !std::isfinite(m.angular().z())) {
+          spdlog::warn("navsim: ignored a cmd_vel with non-finite values");
+          return;
+        }
         std::lock_guard<std::mutex> lock(cmd_mutex);
         pending = Twist2{m.linear().x(), m.angular().z()};
       });

@@ -1,5 +1,7 @@
 #include "simulator/simulation.h"
 
+#include <cmath>
+
 namespace navd::sim {
 
 Simulation::Simulation(World world, const SimulationOptions& options)
@@ -10,6 +12,7 @@ Simulation::Simulation(World world, const SimulationOptions& options)
       laser_(world_.laser) {}
 
 void Simulation::Command(const Twist2& twist) {
+  if (!std::isfinite(twist.v) || !std::isfinite(twist.omega)) return;  // never act on NaN/inf
   robot_.Command(twist);
   last_command_ = now_;
   watchdog_stopped_ = false;

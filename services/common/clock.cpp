@@ -33,7 +33,9 @@ bool SimClock::SleepUntil(double t, double max_wall_wait) {
 void SimClock::Set(double t) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (t <= now_) return;
+    // Samples arrive out of order now and then: older ones are dropped. A jump back by more than
+    // a second is a restarted simulator, whose time is followed from there.
+    if (t <= now_ && now_ - t < 1.0) return;
     now_ = t;
   }
   started_ = true;

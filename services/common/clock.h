@@ -31,7 +31,8 @@ class SimClock : public Clock {
  public:
   double Now() const override;
   bool SleepUntil(double t, double max_wall_wait) override;
-  // Fed from rt/clock. Time never runs backwards; older stamps are ignored.
+  // Fed from rt/clock. Slightly older stamps (reordering) are ignored; a jump back of more than
+  // a second (a restarted simulator) resets the clock.
   void Set(double t);
   // True once a clock message has arrived.
   bool started() const { return started_.load(); }

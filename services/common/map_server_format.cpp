@@ -31,14 +31,16 @@ bool NextToken(const std::string& s, size_t& pos, std::string& token) {
   return !token.empty();
 }
 
-int ParsePositive(const std::string& token, const std::string& what, const std::string& source) {
+// A PGM header or raster integer of at least `min`.
+int ParseInt(const std::string& token, const std::string& what, const std::string& source, int min) {
   try {
     size_t used = 0;
     const int v = std::stoi(token, &used);
-    if (used == token.size() && v > 0) return v;
+    if (used == token.size() && v >= min) return v;
   } catch (const std::exception&) {
   }
-  throw Error(ErrorCode::kInvalidArgument, source + ": PGM " + what + " '" + token + "' is not a positive integer");
+  throw Error(ErrorCode::kInvalidArgument, source + ": PGM " + what + " '" + token + "' is not an integer >= " +
+                                               std::to_string(min));
 }
 
 }  // namespace
@@ -50,14 +52,16 @@ OccupancyGrid DecodeMapServerImage(const std::string& bytes, const MapServerPara
     throw Error(ErrorCode::kInvalidArgument, source + ": not a PGM image (expected P5 or P2 header)");
   }
   if (!NextToken(bytes, pos, tok)) throw Error(ErrorCode::kInvalidArgument, source + ": PGM header truncated (width)");
-  const int width = ParsePositive(tok, "width", source);
+  const int width = ParseInt(tok, "width", source, 1);
   if (!NextToken(bytes, pos, tok)) throw Error(ErrorCode::kInvalidArgument, source + ": PGM header truncated (height)");
-  const int height = ParsePositive(tok, "height", source);
+  const int height = ParseInt(tok, "height", source, 1);
   if (!NextToken(bytes, pos, tok)) throw Error(ErrorCode::kInvalidArgument, source + ": PGM header truncated (maxval)");
-  const int maxval = ParsePositive(tok, "maxval", source);
+  const int maxval = ParseInt(tok, "maxval", source, 1);
   if (maxval > 255) throw Error(ErrorCode::kInvalidArgument, source + ": 16-bit PGM images are not supported");
-  if (static_cast<long long>(width) * height > 100'000'000LL) {
-    throw Error(ErrorCode::kInvalidArgument, source + ": PGM image too large");
+  if (static_cast<long long>(width) * height > OccupancyGrid::kMaxCells) {
+    throw Error(ErrorCode::kInvalidArgument, source + ": PGM image of " + std::to_string(width) + "x" +
+                                                 std::to_string(height) + " exceeds navd's limit of " +
+                                                 std::to_string(OccupancyGrid::kMaxCells) + " cells");
   }
 
   std::vector<int> pixels(static_cast<size_t>(width) * height);
@@ -71,7 +75,13 @@ OccupancyGrid DecodeMapServerImage(const std::string& bytes, const MapServerPara
   } else {
     for (auto& px : pixels) {
       if (!NextToken(bytes, pos, tok)) throw Error(ErrorCode::kInvalidArgument, source + ": PGM raster truncated");
-      px = std::stoi(tok);
+      px = ParseInt(tok, "pixel", source, 0);
+    }
+  }
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    if (pixels[i] > maxval) {
+      throw Error(ErrorCode::kInvalidArgument, source + ": PGM pixel " + std::to_string(i) + " exceeds maxval " +
+                                                   std::to_string(maxval));
     }
   }
 
@@ -128,6 +138,13 @@ OccupancyGrid LoadMapServerMap(const std::string& yaml_path) {
     throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'resolution' must be a positive number");
   }
   if (!p.origin.allFinite()) throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'origin' must be finite");
+  if (!(p.occupied_thresh >= 0.0 && p.occupied_thresh <= 1.0)) {
+    throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'occupied_thresh' must be within [0, 1]");
+  }
+  if (!(p.free_thresh >= 0.0 && p.free_thresh < p.occupied_thresh)) {
+    throw Error(ErrorCode::kInvalidArgument,
+                yaml_path + ": field 'free_thresh' must be within [0, occupied_thresh)");
+  }
   if (p.mode != "trinary" && p.mode != "scale" && p.mode != "raw") {
     throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'mode' must be trinary, scale or raw");
   }

@@ -9,9 +9,36 @@ OccupancyGrid::OccupancyGrid(int width, int height, double resolution, Point2 or
     : width_(width), height_(height), resolution_(resolution), origin_(origin),
       cells_(static_cast<size_t>(width) * height, fill) {}
 
+namespace {
+// Casting a double beyond int's range is undefined; NaN lands at the low end.
+int ClampToCell(double v) {
+  constexpr double kLimit = 1e9;
+  if (!(v > -kLimit)) return static_cast<int>(-kLimit);
+  if (!(v < kLimit)) return static_cast<int>(kLimit);
+  return static_cast<int>(v);
+}
+}  // namespace
+
 CellIndex OccupancyGrid::CellOf(const Point2& p) const {
-  return {static_cast<int>(std::floor((p.x() - origin_.x()) / resolution_)),
-          static_cast<int>(std::floor((p.y() - origin_.y()) / resolution_))};
+  return {ClampToCell(std::floor((p.x() - origin_.x()) / resolution_)),
+          ClampToCell(std::floor((p.y() - origin_.y()) / resolution_))};
+}
+
+bool OccupancyGrid::DiscHitsObstacle(const Point2& p, double radius) const {
+  if (!p.allFinite()) return true;
+  const CellIndex lo = CellOf(p - Point2(radius, radius)), hi = CellOf(p + Point2(radius, radius));
+  const double h = resolution_ / 2;
+  for (int y = lo.y; y <= hi.y; ++y) {
+    for (int x = lo.x; x <= hi.x; ++x) {
+      const Point2 centre = CellCenter({x, y});
+      // Distance from p to the cell's square.
+      const double dx = std::max(std::abs(p.x() - centre.x()) - h, 0.0);
+      const double dy = std::max(std::abs(p.y() - centre.y()) - h, 0.0);
+      if (dx * dx + dy * dy >= radius * radius) continue;
+      if (!Contains({x, y}) || IsOccupied({x, y})) return true;
+    }
+  }
+  return false;
 }
 
 Point2 OccupancyGrid::CellCenter(const CellIndex& c) const {

@@ -22,6 +22,9 @@ class OccupancyGrid {
   static constexpr int8_t kOccupied = 100;
   // Cells at or above this value count as obstacles (map_server's occupied_thresh of 0.65).
   static constexpr int8_t kOccupiedThreshold = 65;
+  // Largest grid navd accepts (e.g. 5000 x 5000): planners allocate several bytes per cell per
+  // request, so bigger maps would exhaust memory under concurrent requests.
+  static constexpr long long kMaxCells = 25'000'000;
 
   OccupancyGrid() = default;
   // resolution: metres per cell; origin: map-frame position of cell (0,0)'s lower-left corner.
@@ -40,13 +43,18 @@ class OccupancyGrid {
   bool IsOccupied(const CellIndex& c) const { return at(c) >= kOccupiedThreshold; }
   size_t Flat(const CellIndex& c) const { return static_cast<size_t>(c.y) * width_ + c.x; }
 
-  // The cell containing p (may lie outside the grid; check Contains).
+  // The cell containing p (may lie outside the grid; check Contains). Far-away and non-finite
+  // points map to cells far outside rather than overflowing.
   CellIndex CellOf(const Point2& p) const;
   Point2 CellCenter(const CellIndex& c) const;
   // True when p lies inside the grid's extent.
   bool ContainsPoint(const Point2& p) const { return Contains(CellOf(p)); }
   double size_x() const { return width_ * resolution_; }
   double size_y() const { return height_ * resolution_; }
+
+  // True when a disc of `radius` metres centred at p overlaps an occupied cell or leaves the grid
+  // (the robot footprint test of the simulator and of world checks).
+  bool DiscHitsObstacle(const Point2& p, double radius) const;
 
   // Marks every cell whose centre lies in the axis-aligned box [min, max] (map frame) as occupied.
   void FillBox(const Point2& min, const Point2& max, int8_t value = kOccupied);

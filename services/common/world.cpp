@@ -41,6 +41,13 @@ class WorldParser {
     if (v < 0) Fail(field, "must not be negative");
     return v;
   }
+  int Integer(const YAML::Node& n, const std::string& field, int min, int max) const {
+    const double v = Number(n, field);
+    if (v != std::floor(v) || v < min || v > max) {
+      Fail(field, "must be a whole number from " + std::to_string(min) + " to " + std::to_string(max));
+    }
+    return static_cast<int>(v);
+  }
   std::vector<double> Numbers(const YAML::Node& n, const std::string& field, size_t min, size_t max) const {
     if (!n.IsSequence() || n.size() < min || n.size() > max) {
       Fail(field, "must be a list of " + std::to_string(min) + (min == max ? "" : "-" + std::to_string(max)) + " numbers");
@@ -58,16 +65,17 @@ class WorldParser {
     const double res = m["resolution"] ? Positive(m["resolution"], "map.resolution") : 0.05;
     if (!m["size"]) Fail("map.size", "is missing (expected [width_m, height_m])");
     const auto size = Numbers(m["size"], "map.size", 2, 2);
-    if (size[0] <= 0 || size[1] <= 0 || size[0] / res > 20000 || size[1] / res > 20000) {
-      Fail("map.size", "must be positive and at most 20000 cells per side");
+    const long long cells_x = std::llround(size[0] / res), cells_y = std::llround(size[1] / res);
+    if (cells_x < 1 || cells_y < 1 || cells_x * cells_y > OccupancyGrid::kMaxCells) {
+      Fail("map.size", "must span at least one cell and at most " + std::to_string(OccupancyGrid::kMaxCells) +
+                           " cells at this resolution");
     }
     Point2 origin = Point2::Zero();
     if (m["origin"]) {
       const auto o = Numbers(m["origin"], "map.origin", 2, 3);
       origin = {o[0], o[1]};
     }
-    OccupancyGrid grid(static_cast<int>(std::lround(size[0] / res)), static_cast<int>(std::lround(size[1] / res)),
-                       res, origin, OccupancyGrid::kFree);
+    OccupancyGrid grid(static_cast<int>(cells_x), static_cast<int>(cells_y), res, origin, OccupancyGrid::kFree);
     if (m["boxes"]) {
       if (!m["boxes"].IsSequence()) Fail("map.boxes", "must be a list of [x_min, y_min, x_max, y_max]");
       for (size_t i = 0; i < m["boxes"].size(); ++i) {
@@ -111,7 +119,7 @@ class WorldParser {
       if (r["max_wheel_speed"]) d.max_wheel_speed = Positive(r["max_wheel_speed"], "robot.max_wheel_speed");
       if (r["max_wheel_accel"]) d.max_wheel_accel = Positive(r["max_wheel_accel"], "robot.max_wheel_accel");
       if (r["encoder_ticks_per_rev"]) {
-        d.encoder_ticks_per_rev = static_cast<int>(Positive(r["encoder_ticks_per_rev"], "robot.encoder_ticks_per_rev"));
+        d.encoder_ticks_per_rev = Integer(r["encoder_ticks_per_rev"], "robot.encoder_ticks_per_rev", 1, 1'000'000);
       }
       if (r["actuator_noise"]) d.actuator_noise = NonNegative(r["actuator_noise"], "robot.actuator_noise");
       if (r["encoder_noise"]) d.encoder_noise = NonNegative(r["encoder_noise"], "robot.encoder_noise");
@@ -122,7 +130,7 @@ class WorldParser {
       if (l["fov_deg"]) d.fov = Positive(l["fov_deg"], "laser.fov_deg") * M_PI / 180.0;
       if (l["range_min"]) d.range_min = NonNegative(l["range_min"], "laser.range_min");
       if (l["range_max"]) d.range_max = Positive(l["range_max"], "laser.range_max");
-      if (l["beams"]) d.beams = static_cast<int>(Positive(l["beams"], "laser.beams"));
+      if (l["beams"]) d.beams = Integer(l["beams"], "laser.beams", 1, 100'000);
       if (l["rate_hz"]) d.rate = Positive(l["rate_hz"], "laser.rate_hz");
       if (l["noise"]) d.noise = NonNegative(l["noise"], "laser.noise");
       if (d.fov > 2 * M_PI) Fail("laser.fov_deg", "must be at most 360");
@@ -133,6 +141,10 @@ class WorldParser {
       for (size_t i = 0; i < g.size(); ++i) w.goals.push_back(PoseOf(g[i], "goals[" + std::to_string(i) + "]"));
     }
     if (!w.map.ContainsPoint(w.start.translation())) Fail("robot.start", "lies outside the map");
+    if (w.map.DiscHitsObstacle(w.start.translation(), w.robot.radius)) {
+      Fail("robot.start", "puts the robot (radius " + std::to_string(w.robot.radius).substr(0, 4) +
+                              " m) inside or against an obstacle");
+    }
     return w;
   }
 

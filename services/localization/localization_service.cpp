@@ -23,24 +23,15 @@ grpc::Status LocalizationService::SetPose(grpc::ServerContext*, const v1::SetPos
                                           v1::SetPoseResponse*) {
   return GuardedCall([&] {
     if (!request->has_pose()) throw Error(ErrorCode::kInvalidArgument, "pose is missing");
-    const Pose2 pose = FromProto(request->pose());
-    if (!std::isfinite(pose.x)) throw Error(ErrorCode::kInvalidArgument, "pose.x is not a finite number");
-    if (!std::isfinite(pose.y)) throw Error(ErrorCode::kInvalidArgument, "pose.y is not a finite number");
-    if (!std::isfinite(pose.theta)) throw Error(ErrorCode::kInvalidArgument, "pose.theta is not a finite number");
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
     if (request->covariance_size() != 0) {
       if (request->covariance_size() != 9) {
         throw Error(ErrorCode::kInvalidArgument, "covariance must have 9 entries (row-major 3x3), got " +
                                                      std::to_string(request->covariance_size()));
       }
-      for (int i = 0; i < 9; ++i) {
-        if (!std::isfinite(request->covariance(i))) {
-          throw Error(ErrorCode::kInvalidArgument, "covariance[" + std::to_string(i) + "] is not finite");
-        }
-        cov(i / 3, i % 3) = request->covariance(i);
-      }
+      for (int i = 0; i < 9; ++i) cov(i / 3, i % 3) = request->covariance(i);
     }
-    localizer_.SetPose({pose.x, pose.y, NormalizeAngle(pose.theta)}, cov);
+    localizer_.SetPose(FromProto(request->pose()), cov);
   });
 }
 

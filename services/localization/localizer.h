@@ -27,9 +27,15 @@ class Localizer {
   virtual ~Localizer() = default;
   virtual std::string name() const = 0;
   virtual void AddOdometry(const OdometryReading& reading) = 0;
-  // Re-anchors the estimate at `pose` (map frame).
-  virtual void SetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) = 0;
+  // Re-anchors the estimate at `pose` (map frame) with `covariance` of (x, y, theta). Throws
+  // navd::Error(kInvalidArgument) naming the field for non-finite values or a covariance that is
+  // not symmetric with a non-negative diagonal.
+  void SetPose(const Pose2& pose, const Eigen::Matrix3d& covariance);
   virtual PoseEstimate Estimate() const = 0;
+
+ protected:
+  // Called by SetPose with checked values; theta already in (-pi, pi].
+  virtual void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) = 0;
 };
 
 }  // namespace navd::localization

@@ -16,7 +16,7 @@ void OdometryLocalizer::AddOdometry(const OdometryReading& reading) {
   last_ = reading;
 }
 
-void OdometryLocalizer::SetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
+void OdometryLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!have_reading_) {
     initial_pose_ = pose;

@@ -13,10 +13,11 @@ class OdometryLocalizer : public Localizer {
   explicit OdometryLocalizer(const Pose2& initial_pose = {});
   std::string name() const override { return "odometry"; }
   void AddOdometry(const OdometryReading& reading) override;
-  void SetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
   PoseEstimate Estimate() const override;
 
  private:
+  void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+
   mutable std::mutex mutex_;
   Pose2 initial_pose_;
   Pose2 map_from_odom_;

@@ -7,8 +7,8 @@
 namespace navd::navigation {
 
 NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, const localization::Localizer& localizer,
-                                         const Clock& clock, const PathFollowerParams& params)
-    : planning_(planning), localizer_(localizer), clock_(clock), navigator_(params) {}
+                                         const Clock& clock, const NavigatorOptions& options)
+    : planning_(planning), localizer_(localizer), clock_(clock), navigator_(options) {}
 
 uint64_t NavigationExecutive::Navigate(const NavigateRequest& r, const planning::StopRequested& stop) {
   if (r.use_goal_heading && !std::isfinite(r.goal.theta)) {
@@ -26,9 +26,9 @@ uint64_t NavigationExecutive::Navigate(const NavigateRequest& r, const planning:
   return navigator_.Start(goal, plan.points, plan.length, clock_.Now(), r.preempt);
 }
 
-WheelSpeeds NavigationExecutive::Step(bool sensors_fresh) {
+WheelSpeeds NavigationExecutive::Step(bool sensors_fresh, double now) {
   const localization::PoseEstimate estimate = localizer_.Estimate();
-  return navigator_.Step(estimate.pose, clock_.Now(), sensors_fresh && estimate.valid);
+  return navigator_.Step(estimate.pose, now, sensors_fresh && estimate.valid);
 }
 
 }  // namespace navd::navigation

@@ -22,15 +22,15 @@ struct NavigateRequest {
 class NavigationExecutive {
  public:
   NavigationExecutive(planning::PlanningEngine& planning, const localization::Localizer& localizer,
-                      const Clock& clock, const PathFollowerParams& params);
+                      const Clock& clock, const NavigatorOptions& options);
 
   // Throws navd::Error: kInvalidArgument (non-finite goal, goal outside the map or blocked,
   // unknown planner), kFailedPrecondition (no pose yet, or a goal active without preempt),
   // kNotFound (no path). Returns the goal id.
   uint64_t Navigate(const NavigateRequest& request, const planning::StopRequested& stop = {});
   bool Cancel(uint64_t goal_id = 0) { return navigator_.Cancel(goal_id); }
-  // One control step at the daemon's clock time; returns the wheel command.
-  WheelSpeeds Step(bool sensors_fresh);
+  // One control step at daemon clock time `now` (seconds); returns the wheel command (m/s).
+  WheelSpeeds Step(bool sensors_fresh, double now);
 
   const Navigator& navigator() const { return navigator_; }
 

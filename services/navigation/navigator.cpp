@@ -1,6 +1,7 @@
 #include "services/navigation/navigator.h"
 
 #include <chrono>
+#include <cstdio>
 
 #include "services/common/error.h"
 
@@ -65,6 +66,9 @@ uint64_t Navigator::Start(const NavigationGoal& goal, const std::vector<Point2>&
                       static_cast<uint32_t>(follower_.waypoint_count()), now};
   started_at_ = now;
   path_length_ = path_length;
+  best_remaining_ = status_.feedback.distance_remaining;
+  best_remaining_at_ = now;
+  stale_since_ = -1.0;
   BumpLocked();
   return status_.goal_id;
 }
@@ -105,10 +109,22 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
     return {};
   }
   if (!sensors_fresh) {
+    if (stale_since_ < 0) stale_since_ = now;
+    if (now - stale_since_ > options_.stale_timeout) {
+      char msg[64];
+      std::snprintf(msg, sizeof msg, "sensors stale for more than %.1f s", options_.stale_timeout);
+      FinishLocked(Outcome::kFailed, msg, pose, now);
+      return {};
+    }
     status_.feedback.state = NavigationState::kStoppedStaleSensors;
     status_.feedback.stamp = now;
     BumpLocked();
     return {};
+  }
+  if (stale_since_ >= 0) {
+    // Time spent stopped for stale sensors is not the robot's lack of progress.
+    best_remaining_at_ += now - stale_since_;
+    stale_since_ = -1.0;
   }
   const FollowerCommand cmd = follower_.Step(pose);
   if (cmd.state == FollowerState::kArrived) {
@@ -118,6 +134,17 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
   status_.feedback = {FromFollower(cmd.state), pose, follower_.DistanceRemaining(pose),
                       static_cast<uint32_t>(follower_.waypoint_index()),
                       static_cast<uint32_t>(follower_.waypoint_count()), now};
+  if (status_.feedback.distance_remaining < best_remaining_ - options_.progress_distance ||
+      cmd.state == FollowerState::kFinalRotation) {
+    best_remaining_ = status_.feedback.distance_remaining;
+    best_remaining_at_ = now;
+  } else if (now - best_remaining_at_ > options_.progress_timeout) {
+    char msg[96];
+    std::snprintf(msg, sizeof msg, "no progress for %.0f s (%.2f m still to go): the robot seems stuck",
+                  options_.progress_timeout, status_.feedback.distance_remaining);
+    FinishLocked(Outcome::kFailed, msg, pose, now);
+    return {};
+  }
   BumpLocked();
   return cmd.wheels;
 }

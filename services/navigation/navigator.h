@@ -54,9 +54,19 @@ struct NavigationStatus {
   uint64_t sequence = 0;         // increments on every change
 };
 
+struct NavigatorOptions {
+  PathFollowerParams follower;
+  // A goal fails when the distance left has not shrunk by progress_distance for progress_timeout
+  // seconds (the robot is stuck, e.g. pushing against an unmapped obstacle)...
+  double progress_timeout = 30.0;   // s
+  double progress_distance = 0.05;  // m
+  // ...or when sensors stayed stale this long.
+  double stale_timeout = 10.0;      // s
+};
+
 class Navigator {
  public:
-  explicit Navigator(const PathFollowerParams& params) : follower_(params) {}
+  explicit Navigator(const NavigatorOptions& options = {}) : options_(options), follower_(options.follower) {}
 
   // Starts following `path` (start first) to `goal`. When a goal is active: throws
   // navd::Error(kFailedPrecondition) unless preempt, in which case the old goal ends PREEMPTED.
@@ -79,9 +89,13 @@ class Navigator {
   void FinishLocked(Outcome outcome, const std::string& message, const Pose2& pose, double now);
   void BumpLocked();
 
+  NavigatorOptions options_;
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
   PathFollower follower_;
+  double best_remaining_ = 0.0;     // smallest distance left so far (progress check)
+  double best_remaining_at_ = 0.0;  // when it was reached
+  double stale_since_ = -1.0;       // when sensors went stale; < 0 while fresh
   NavigationStatus status_;
   std::vector<std::pair<uint64_t, NavigationResult>> results_;  // recent results by goal id
   double started_at_ = 0.0;

@@ -20,7 +20,11 @@ std::vector<PlannerOptionSpec> GridAStarPlanner::options() const {
 
 CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
                                 const PlannerOptions& options, const StopRequested& stop) const {
-  const bool diagonal = options.at("diagonal") != 0.0;
+  const double diagonal_option = options.at("diagonal");
+  if (diagonal_option != 0.0 && diagonal_option != 1.0) {
+    throw Error(ErrorCode::kInvalidArgument, "options: 'diagonal' must be 0 or 1");
+  }
+  const bool diagonal = diagonal_option != 0.0;
   const int w = costmap.width(), h = costmap.height();
   const size_t n = static_cast<size_t>(w) * h;
   constexpr float kInf = std::numeric_limits<float>::infinity();

@@ -28,18 +28,19 @@ double PathLength(const std::vector<Point2>& points) {
   return len;
 }
 
-std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point2>& points) {
+std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point2>& points,
+                                 const StopRequested& stop) {
   if (points.size() <= 2) return points;
   std::vector<Point2> out{points.front()};
   size_t anchor = 0;
   while (anchor < points.size() - 1) {
-    // Farthest visible point; scanning backwards finds it with one check per candidate.
+    // Extend the segment while the next point stays visible: each check costs the segment's
+    // length, so the whole pass is linear in path length times segment length, never quadratic
+    // in the number of points.
     size_t next = anchor + 1;
-    for (size_t j = points.size() - 1; j > anchor + 1; --j) {
-      if (costmap.SegmentFree(points[anchor], points[j])) {
-        next = j;
-        break;
-      }
+    while (next + 1 < points.size() && costmap.SegmentFree(points[anchor], points[next + 1])) ++next;
+    if (stop && stop()) {
+      throw Error(ErrorCode::kDeadlineExceeded, "path smoothing stopped: deadline exceeded or cancelled");
     }
     out.push_back(points[next]);
     anchor = next;
@@ -84,6 +85,9 @@ PlannerOptions PlanningEngine::ResolveOptions(const GlobalPlanner& planner,
                   "options: planner '" + planner.name() + "' has no option '" + name + "'");
     }
     if (!std::isfinite(value)) throw Error(ErrorCode::kInvalidArgument, "options: '" + name + "' is not finite");
+    if (name == "smooth" && value != 0.0 && value != 1.0) {
+      throw Error(ErrorCode::kInvalidArgument, "options: 'smooth' must be 0 or 1");
+    }
     resolved[name] = value;
   }
   return resolved;
@@ -183,11 +187,11 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     // The first hop may leave the inflation zone, which the shortcut test would reject; keep it.
     if (start_cell != grid.CellOf(start)) {
       std::vector<Point2> rest(plan.points.begin() + 1, plan.points.end());
-      rest = ShortcutPath(*costmap, rest);
+      rest = ShortcutPath(*costmap, rest, stop);
       plan.points.resize(1);
       plan.points.insert(plan.points.end(), rest.begin(), rest.end());
     } else {
-      plan.points = ShortcutPath(*costmap, plan.points);
+      plan.points = ShortcutPath(*costmap, plan.points, stop);
     }
   }
   plan.length = PathLength(plan.points);

@@ -70,8 +70,9 @@ class PlanningEngine {
 // Length of a polyline, metres.
 double PathLength(const std::vector<Point2>& points);
 
-// Greedy line-of-sight shortcutting: from each kept point, jump to the farthest later point the
-// costmap sees free on the straight segment.
-std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point2>& points);
+// Greedy line-of-sight shortcutting: from each kept point, follow the path while the straight
+// segment from that point stays free on the costmap. Throws kDeadlineExceeded when stop() turns true.
+std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point2>& points,
+                                 const StopRequested& stop = {});
 
 }  // namespace navd::planning

@@ -1,10 +1,6 @@
-// navd's DDS policy, checked on the wire: participants in loopback mode discover each other and
-// exchange ROS 2-layout samples, and every locator they announce is unicast on 127.0.0.1.
+// navd's DDS policy: participants in loopback mode discover each other and exchange ROS 2-layout
+// samples, and the kernel shows every socket of a running navd and navsim bound to 127.0.0.1.
 #include <gtest/gtest.h>
-
-#include <fastdds/dds/domain/DomainParticipantListener.hpp>
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
-#include <fastrtps/utils/IPLocator.h>
 
 #include <chrono>
 #include <filesystem>
@@ -22,9 +18,7 @@
 namespace navd::testing {
 namespace {
 
-using eprosima::fastrtps::rtps::IPLocator;
-
-TEST(DdsLoopback, ParticipantsAnnounceOnlyLoopbackUnicastLocators) {
+TEST(DdsLoopback, LoopbackParticipantsDiscoverEachOtherAndExchangeSamples) {
   const int domain = ReserveDomain();
   dds::Participant a({domain, dds::Network::kLoopback, "a"});
   dds::Participant b({domain, dds::Network::kLoopback, "b"});
@@ -42,21 +36,6 @@ TEST(DdsLoopback, ParticipantsAnnounceOnlyLoopbackUnicastLocators) {
   ASSERT_TRUE(reader.Latest());
   EXPECT_DOUBLE_EQ(reader.Latest()->linear().x(), 0.25);
   EXPECT_DOUBLE_EQ(reader.Latest()->angular().z(), -0.5);
-
-  // What participant `a` tells the network about itself.
-  eprosima::fastdds::dds::DomainParticipantQos qos;
-  auto* factory = eprosima::fastdds::dds::DomainParticipantFactory::get_instance();
-  auto* probe = factory->lookup_participant(domain);
-  ASSERT_NE(probe, nullptr);
-  probe->get_qos(qos);
-  const auto& builtin = qos.wire_protocol().builtin;
-  EXPECT_TRUE(builtin.metatrafficMulticastLocatorList.empty());
-  EXPECT_FALSE(qos.transport().use_builtin_transports);
-  for (const auto& loc : builtin.metatrafficUnicastLocatorList) EXPECT_EQ(IPLocator::toIPv4string(loc), "127.0.0.1");
-  for (const auto& loc : qos.wire_protocol().default_unicast_locator_list)
-    EXPECT_EQ(IPLocator::toIPv4string(loc), "127.0.0.1");
-  for (const auto& loc : builtin.initialPeersList) EXPECT_EQ(IPLocator::toIPv4string(loc), "127.0.0.1");
-  EXPECT_TRUE(qos.wire_protocol().default_multicast_locator_list.empty());
 }
 
 // Local addresses (hex, as in /proc/net/*) of the sockets process `pid` holds, from the kernel's

@@ -49,7 +49,9 @@ void ThreeGoals(double rate) {
 TEST(NavigationE2E, ThreeGoalsInTheDefaultWorldAtRate10) { ThreeGoals(10.0); }
 
 TEST(NavigationE2E, StreamReportsProgressAndCancelStopsTheRobot) {
-  NavdStack stack;
+  StackOptions options;
+  options.sim_args = {"--command-timeout", "60"};  // only navd's stop can halt the robot
+  NavdStack stack(options);
   TelemetryOptions topts;
   topts.dds.domain = stack.domain();
   topts.dds.name = "e2e-test";

@@ -14,7 +14,7 @@
 namespace navd::testing {
 
 struct StackOptions {
-  double rate = 10.0;                  // navsim --rate
+  double rate = 5.0;                   // navsim --rate
   bool use_sim_time = true;            // navd --use-sim-time
   bool start_sim = true;
   std::vector<std::string> navd_args;  // extra arguments

@@ -20,6 +20,7 @@ Process::Process(const std::vector<std::string>& argv, const std::string& log_pa
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  const pid_t parent = getpid();
   pid_ = fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
@@ -31,6 +32,7 @@ Process::Process(const std::vector<std::string>& argv, const std::string& log_pa
     }
     // The child dies with the test process, even if the test crashes.
     prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);  // the parent died before prctl took effect
     execv(args[0], args.data());
     _exit(127);
   }

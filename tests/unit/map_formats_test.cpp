@@ -94,6 +94,25 @@ TEST(MapServerFormat, BadFilesNameTheProblem) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("truncated"), std::string::npos) << msg;
 
+  Write(dir, "garbage.pgm", "P2 2 1 255 12 x7");
+  const std::string garbage = Write(dir, "f.yaml", "image: garbage.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  std::tie(code, msg) = ErrorOf([&] { LoadMapServerMap(garbage); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("pixel 'x7'"), std::string::npos) << msg;
+
+  Write(dir, "bright.pgm", "P2 2 1 100 12 200");
+  const std::string bright = Write(dir, "g.yaml", "image: bright.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
+  std::tie(code, msg) = ErrorOf([&] { LoadMapServerMap(bright); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("exceeds maxval"), std::string::npos) << msg;
+
+  Write(dir, "ok.pgm", "P2 1 1 255 0");
+  const std::string thresh =
+      Write(dir, "h.yaml", "image: ok.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nfree_thresh: 0.9\n");
+  std::tie(code, msg) = ErrorOf([&] { LoadMapServerMap(thresh); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("free_thresh"), std::string::npos) << msg;
+
   const std::string no_image = Write(dir, "e.yaml", "image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n");
   std::tie(code, msg) = ErrorOf([&] { LoadMapServerMap(no_image); });
   EXPECT_EQ(code, ErrorCode::kNotFound);
@@ -151,6 +170,27 @@ TEST(World, BadWorldFilesNameTheField) {
   std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "f.yaml", "map: {size: [5, .nan]}\n")); });
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("map.size[1]"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "g.yaml", "map: {size: [0.01, 5]}\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("map.size"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] {
+    LoadWorldFile(Write(dir, "h.yaml", "map: {size: [5, 5]}\nrobot: {start: [1, 1], encoder_ticks_per_rev: 0.5}\n"));
+  });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("robot.encoder_ticks_per_rev"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "i.yaml", "map: {size: [5, 5]}\nlaser: {beams: 1e12}\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("laser.beams"), std::string::npos) << msg;
+
+  std::tie(code, msg) = ErrorOf([&] {
+    LoadWorldFile(Write(dir, "j.yaml", "map: {size: [5, 5], boxes: [[2, 2, 3, 3]]}\nrobot: {start: [2.5, 2.5]}\n"));
+  });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("robot.start"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("obstacle"), std::string::npos) << msg;
 }
 
 TEST(TextFile, WritesAtomically) {

@@ -3,8 +3,10 @@
 
 #include <cmath>
 
+#include "services/common/clock.h"
 #include "services/common/diff_drive.h"
 #include "services/common/error.h"
+#include "services/localization/odometry_localizer.h"
 #include "services/navigation/navigator.h"
 #include "services/navigation/path_follower.h"
 
@@ -104,7 +106,7 @@ TEST(PathFollower, ClosedLoopReachesTheGoal) {
 }
 
 TEST(Navigator, RejectsASecondGoalUnlessPreempting) {
-  Navigator nav({});
+  Navigator nav;
   nav.Step({0, 0, 0}, 0.0, true);
   const uint64_t first = nav.Start({{2, 0, 0}, false}, {{0, 0}, {2, 0}}, 2.0, 0.0, false);
   try {
@@ -124,7 +126,7 @@ TEST(Navigator, RejectsASecondGoalUnlessPreempting) {
 }
 
 TEST(Navigator, StopsOnStaleSensorsAndResumes) {
-  Navigator nav({});
+  Navigator nav;
   nav.Step({0, 0, 0}, 0.0, true);
   nav.Start({{2, 0, 0}, false}, {{0, 0}, {2, 0}}, 2.0, 0.0, false);
   const WheelSpeeds stale = nav.Step({0, 0, 0}, 0.1, false);
@@ -137,7 +139,7 @@ TEST(Navigator, StopsOnStaleSensorsAndResumes) {
 }
 
 TEST(Navigator, SucceedsAtTheGoal) {
-  Navigator nav({});
+  Navigator nav;
   nav.Step({0, 0, 0}, 0.0, true);
   const uint64_t id = nav.Start({{1, 0, 0}, false}, {{0, 0}, {1, 0}}, 1.0, 0.0, false);
   nav.Step({0.5, 0, 0}, 1.0, true);
@@ -146,6 +148,65 @@ TEST(Navigator, SucceedsAtTheGoal) {
   EXPECT_EQ(nav.ResultOf(id)->outcome, Outcome::kSucceeded);
   EXPECT_NEAR(nav.ResultOf(id)->elapsed, 2.0, 1e-12);
   EXPECT_FALSE(nav.Status().active);
+}
+
+TEST(Navigator, FailsWhenTheRobotMakesNoProgress) {
+  NavigatorOptions o;
+  o.progress_timeout = 5.0;
+  Navigator nav(o);
+  nav.Step({0, 0, 0}, 0.0, true);
+  const uint64_t id = nav.Start({{3, 0, 0}, false}, {{0, 0}, {3, 0}}, 3.0, 0.0, false);
+  for (double t = 0.0; t < 6.0 && nav.Status().active; t += 0.05) nav.Step({0.5, 0, 0}, t, true);  // stuck
+  ASSERT_TRUE(nav.ResultOf(id));
+  EXPECT_EQ(nav.ResultOf(id)->outcome, Outcome::kFailed);
+  EXPECT_NE(nav.ResultOf(id)->message.find("no progress"), std::string::npos);
+}
+
+TEST(Navigator, FailsWhenSensorsStayStale) {
+  NavigatorOptions o;
+  o.stale_timeout = 2.0;
+  Navigator nav(o);
+  nav.Step({0, 0, 0}, 0.0, true);
+  const uint64_t id = nav.Start({{3, 0, 0}, false}, {{0, 0}, {3, 0}}, 3.0, 0.0, false);
+  for (double t = 0.0; t < 1.5; t += 0.05) nav.Step({0, 0, 0}, t, false);
+  EXPECT_TRUE(nav.Status().active);  // still holding the goal
+  for (double t = 1.5; t < 3.0; t += 0.05) nav.Step({0, 0, 0}, t, false);
+  ASSERT_TRUE(nav.ResultOf(id));
+  EXPECT_EQ(nav.ResultOf(id)->outcome, Outcome::kFailed);
+  EXPECT_NE(nav.ResultOf(id)->message.find("stale"), std::string::npos);
+}
+
+TEST(OdometryLocalizer, AnchorsOdometryAtTheInitialPoseAndRejectsBadPoses) {
+  localization::OdometryLocalizer loc;
+  loc.SetPose({1.0, 2.0, M_PI / 2}, Eigen::Matrix3d::Zero());
+  EXPECT_FALSE(loc.Estimate().valid);
+  loc.AddOdometry({{5.0, 5.0, 0.0}, Eigen::Matrix3d::Zero(), 0.0});  // odom frame starts anywhere
+  loc.AddOdometry({{6.0, 5.0, 0.0}, Eigen::Matrix3d::Zero(), 1.0});  // 1 m forward
+  const auto e = loc.Estimate();
+  EXPECT_NEAR(e.pose.x, 1.0, 1e-12);
+  EXPECT_NEAR(e.pose.y, 3.0, 1e-12);
+  EXPECT_NEAR(e.pose.theta, M_PI / 2, 1e-12);
+  try {
+    loc.SetPose({NAN, 0, 0}, Eigen::Matrix3d::Zero());
+    FAIL();
+  } catch (const Error& err) {
+    EXPECT_EQ(err.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(err.what()).find("pose.x"), std::string::npos);
+  }
+  Eigen::Matrix3d bad = Eigen::Matrix3d::Identity();
+  bad(0, 0) = -1;
+  EXPECT_THROW(loc.SetPose({0, 0, 0}, bad), Error);
+}
+
+TEST(SimClock, FollowsTimeIgnoresReorderingAndResetsOnRestart) {
+  SimClock clock;
+  clock.Set(10.0);
+  clock.Set(9.9);  // a reordered sample
+  EXPECT_EQ(clock.Now(), 10.0);
+  clock.Set(0.2);  // the simulator restarted
+  EXPECT_EQ(clock.Now(), 0.2);
+  EXPECT_FALSE(clock.SleepUntil(1.0, 0.01));
+  EXPECT_TRUE(clock.SleepUntil(0.1, 0.01));
 }
 
 }  // namespace

@@ -153,7 +153,7 @@ TEST_F(EngineTest, RejectsGoalInsideAnObstacleOrItsInflation) {
   EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {4.1, 3}, "", {}); }), ErrorCode::kInvalidArgument);
   EXPECT_NE(message.find("inside an obstacle"), std::string::npos) << message;
   EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {3.85, 3}, "", {}); }), ErrorCode::kInvalidArgument);
-  EXPECT_NE(message.find("goal"), std::string::npos) << message;
+  EXPECT_NE(message.find("goal (3.85, 3.00) is within 0.30 m of an obstacle"), std::string::npos) << message;
 }
 
 TEST_F(EngineTest, RejectsUnknownPlannerAndOption) {
@@ -162,6 +162,14 @@ TEST_F(EngineTest, RejectsUnknownPlannerAndOption) {
   EXPECT_NE(message.find("astar"), std::string::npos) << "lists the known planners: " << message;
   EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "astar", {{"speed", 1}}); }), ErrorCode::kInvalidArgument);
   EXPECT_NE(message.find("speed"), std::string::npos) << message;
+}
+
+TEST_F(EngineTest, RejectsOptionValuesOutsideTheirDomain) {
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "astar", {{"diagonal", 0.5}}); }),
+            ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("diagonal"), std::string::npos) << message;
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "astar", {{"smooth", 7}}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("smooth"), std::string::npos) << message;
 }
 
 TEST_F(EngineTest, MovesAStartInTheInflationZoneOut) {

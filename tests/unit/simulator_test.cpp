@@ -35,7 +35,16 @@ TEST(LaserScanner, ScanHasUrg04lxGeometry) {
   const auto ranges = laser.Scan(w.start, w.map, rng);
   EXPECT_EQ(ranges.size(), 683u);
   EXPECT_NEAR(laser.angle_max() - laser.angle_min(), 240 * M_PI / 180, 1e-9);
-  for (float r : ranges) EXPECT_LE(r, 5.0f);
+  // In the corridor, walls are close on both sides: most beams return; those that do not read
+  // range_max + 1.
+  int returns = 0;
+  for (float r : ranges) {
+    if (r < 4.0f) ++returns;
+    else EXPECT_EQ(r, 5.0f);
+  }
+  EXPECT_GT(returns, 400);
+  // Beam at +90 deg (index 512 of 683 spanning -120..120) sees the corridor's left wall at x = 0.1.
+  EXPECT_NEAR(ranges[(683 - 1) * 210 / 240], 0.7, 0.05);
 }
 
 TEST(Simulation, SensorsRunAtTheirOwnRates) {
@@ -86,6 +95,16 @@ TEST(Simulation, OdometryTracksTruthWithNoiselessEncoders) {
   EXPECT_NEAR(odom.y, truth.y, 0.005);
   EXPECT_NEAR(odom.theta, truth.theta, 0.01);
   EXPECT_GT(sim.robot().odom_covariance()(0, 0), 0.0);
+}
+
+TEST(Simulation, IgnoresNonFiniteCommands) {
+  Simulation sim(BoxWorld(), {});
+  sim.Command({NAN, 0.0});
+  sim.Command({0.1, INFINITY});
+  for (int i = 0; i < 20; ++i) sim.Step();
+  EXPECT_TRUE(sim.robot().true_pose().finite());
+  EXPECT_EQ(sim.robot().true_pose().x, 2.0);
+  EXPECT_EQ(sim.robot().collisions(), 0u);
 }
 
 TEST(Simulation, SameSeedSameRun) {
