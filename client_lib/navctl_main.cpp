@@ -8,6 +8,11 @@
 
 #include "client_lib/navd_client.h"
 #include "client_lib/telemetry.h"
+#include "services/common/map_store.h"
+#include "services/common/movingai_format.h"
+#include "services/common/world.h"
+#include "services/planning/planner_catalog.h"
+#include "services/planning/scenario_benchmark.h"
 
 namespace {
 
@@ -55,6 +60,56 @@ const char* StateText(navd::v1::NavigationState s) {
   }
 }
 
+// `navctl plan --map FILE [--scen FILE]`: plans in this process with navd's planning library.
+int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, const std::string& from,
+                   const std::string& to, std::vector<std::string> planners, bool json_out) {
+  navd::MapStore maps;
+  std::string name;
+  const auto snapshot = maps.Set(navd::LoadAnyMapFile(map_path, &name), name);
+  navd::planning::PlanningEngineOptions options;
+  // MovingAI benchmarks plan for a point robot on 1 m cells: no inflation.
+  options.costmap.inflation_radius = 0.0;
+  navd::planning::PlanningEngine engine(maps, options);
+  navd::planning::RegisterDefaultPlanners(engine);
+  if (planners.empty()) {
+    for (const auto& p : engine.Planners()) planners.push_back(p.name);
+  }
+  if (scen_path.empty()) {
+    if (from.empty() || to.empty()) throw std::invalid_argument("plan --map needs --scen, or --from and --to");
+    const auto a = ParseTuple(from, "--from", 2, 2), b = ParseTuple(to, "--to", 2, 2);
+    for (const auto& p : planners) {
+      const auto r = engine.ComputePath({a[0], a[1]}, {b[0], b[1]}, p, {});
+      std::printf("%s: %zu waypoints, length %.4f m, %.3f ms, %lu expansions\n", r.planner.c_str(), r.points.size(),
+                  r.length, r.planning_time * 1e3, static_cast<unsigned long>(r.expansions));
+    }
+    return 0;
+  }
+  const auto scenarios = navd::LoadMovingAiScenarios(scen_path);
+  json reports = json::array();
+  bool all_passed = true;
+  for (const auto& p : planners) {
+    const auto report = navd::planning::RunScenarios(engine, snapshot->grid, scenarios, p, [&](size_t done, size_t total) {
+      if (!json_out && (done % 50 == 0 || done == total)) {
+        std::fprintf(stderr, "\r  %s: %zu/%zu scenarios", p.c_str(), done, total);
+        if (done == total) std::fprintf(stderr, "\r\033[K");
+      }
+    });
+    all_passed &= report.passed == report.total;
+    if (json_out) {
+      reports.push_back({{"planner", report.planner}, {"passed", report.passed}, {"total", report.total},
+                         {"any_angle", report.any_angle}, {"median_ms", report.median_ms}, {"p99_ms", report.p99_ms}});
+    } else {
+      std::printf("%s\n", report.Summary().c_str());
+      for (size_t i = 0; i < report.mismatches.size() && i < 5; ++i) {
+        const auto& m = report.mismatches[i];
+        std::printf("  scenario %zu: expected %.5f, got %.5f %s\n", m.index, m.expected, m.actual, m.error.c_str());
+      }
+    }
+  }
+  if (json_out) std::printf("%s\n", json{{"map", map_path}, {"scenarios", scenarios.size()}, {"results", reports}}.dump().c_str());
+  return all_passed ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -74,12 +129,15 @@ int main(int argc, char** argv) {
 
   auto* health = app.add_subcommand("health", "Check navd's grpc.health.v1 status");
 
-  auto* plan = app.add_subcommand("plan", "Plan a path");
-  std::string from, to, planner;
+  auto* plan = app.add_subcommand("plan", "Plan a path on navd, or offline on a map file (--map)");
+  std::string from, to, planner, offline_map, scen;
+  std::vector<std::string> plan_planners;
   bool json_out = false;
-  plan->add_option("--from", from, "Start X,Y (map frame, metres)")->required();
-  plan->add_option("--to", to, "Goal X,Y")->required();
-  plan->add_option("--planner", planner, "Planner name (see 'planners')");
+  plan->add_option("--from", from, "Start X,Y (map frame, metres)");
+  plan->add_option("--to", to, "Goal X,Y");
+  plan->add_option("--planner", plan_planners, "Planner name (see 'planners'); offline batches accept several");
+  plan->add_option("--map", offline_map, "Plan offline, without a server, on this map file (MovingAI .map, map_server or world YAML)");
+  plan->add_option("--scen", scen, "With --map: run every scenario of this MovingAI .scen file and judge optimality");
   plan->add_flag("--json", json_out, "Print one JSON object");
 
   auto* planners = app.add_subcommand("planners", "List planners");
@@ -156,6 +214,14 @@ int main(int argc, char** argv) {
         std::printf("\n");
       }
       return 0;
+    }
+
+    if (plan->parsed() && !offline_map.empty()) return RunOfflinePlan(offline_map, scen, from, to, plan_planners, json_out);
+    if (plan->parsed()) {
+      if (from.empty() || to.empty()) throw std::invalid_argument("plan needs --from and --to (or --map with --scen)");
+      if (!scen.empty()) throw std::invalid_argument("--scen needs --map");
+      if (plan_planners.size() > 1) throw std::invalid_argument("plan on a server takes one --planner");
+      planner = plan_planners.empty() ? "" : plan_planners[0];
     }
 
     navd::Client client(client_options);

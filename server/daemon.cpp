@@ -18,7 +18,7 @@
 #include "services/mapping/mapping_service.h"
 #include "services/navigation/navigation_executive.h"
 #include "services/navigation/navigation_service.h"
-#include "services/planning/grid_astar_planner.h"
+#include "services/planning/planner_catalog.h"
 #include "services/planning/planning_engine.h"
 #include "services/planning/planning_service.h"
 
@@ -48,8 +48,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   planning::PlanningEngineOptions planning_options;
   planning_options.costmap.inflation_radius = robot.radius + o.inflation_margin;
   planning::PlanningEngine planning(maps, planning_options);
-  planning.Register(std::make_unique<planning::GridAStarPlanner>(false));
-  planning.Register(std::make_unique<planning::GridAStarPlanner>(true));
+  planning::RegisterDefaultPlanners(planning);
   planning.CurrentCostmap();  // built now rather than on the first request
 
   if (!map->grid.ContainsPoint(initial_pose.translation())) {

@@ -6,6 +6,7 @@
 
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
+#include "services/common/movingai_format.h"
 #include "services/common/text_file.h"
 #include "services/common/yaml_document.h"
 
@@ -167,6 +168,10 @@ World DefaultWorld() { return ParseWorld(navd_default_world_yaml, "<embedded war
 
 OccupancyGrid LoadAnyMapFile(const std::string& path, std::string* name) {
   const std::string text = ReadTextFile(path, "map file");
+  if (text.rfind("type ", 0) == 0) {  // a MovingAI .map starts with its type line
+    if (name) *name = std::filesystem::path(path).stem().string();
+    return ParseMovingAiMap(text, path);
+  }
   const YAML::Node doc = ParseYamlMapping(text, path);
   if (doc["image"]) {
     if (name) *name = std::filesystem::path(path).stem().string();
@@ -178,7 +183,7 @@ OccupancyGrid LoadAnyMapFile(const std::string& path, std::string* name) {
     return std::move(w.map);
   }
   throw Error(ErrorCode::kInvalidArgument,
-              path + ": neither a map_server YAML (no 'image' field) nor a world file (no 'map' field)");
+              path + ": neither a map_server YAML (no 'image' field), a world file (no 'map' field) nor a MovingAI map");
 }
 
 }  // namespace navd

@@ -49,8 +49,8 @@ World LoadWorldFile(const std::string& path);
 // The embedded default world (worlds/warehouse.yaml, compiled in).
 World DefaultWorld();
 
-// Loads either a world YAML (has a `map:` key) or a map_server YAML (has `image:`), as navd's
-// --world/--map and LoadMap accept. Returns the map and its name.
+// Loads a world YAML (has a `map:` key), a map_server YAML (has `image:`) or a MovingAI `.map`
+// (starts with `type`), as navd's --map and LoadMap accept. Returns the map and its name.
 OccupancyGrid LoadAnyMapFile(const std::string& path, std::string* name = nullptr);
 
 }  // namespace navd

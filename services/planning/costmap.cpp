@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "services/common/grid_traversal.h"
+
 namespace navd::planning {
 
 Costmap::Costmap(std::shared_ptr<const OccupancyGrid> grid_ptr, const CostmapOptions& options)
@@ -37,13 +39,8 @@ Costmap::Costmap(std::shared_ptr<const OccupancyGrid> grid_ptr, const CostmapOpt
 }
 
 bool Costmap::SegmentFree(const Point2& a, const Point2& b) const {
-  const double len = (b - a).norm();
-  const int steps = std::max(1, static_cast<int>(std::ceil(len / (0.25 * grid_->resolution()))));
-  for (int i = 0; i <= steps; ++i) {
-    const CellIndex c = grid_->CellOf(a + (b - a) * (static_cast<double>(i) / steps));
-    if (!grid_->Contains(c) || IsLethal(c)) return false;
-  }
-  return true;
+  return TraverseSegment(*grid_, a, b,
+                         [this](const CellIndex& c, double) { return grid_->Contains(c) && !IsLethal(c); });
 }
 
 }  // namespace navd::planning

@@ -56,7 +56,8 @@ void PlanningEngine::Register(std::unique_ptr<GlobalPlanner> planner) { planners
 std::vector<PlannerInfo> PlanningEngine::Planners() const {
   std::vector<PlannerInfo> out;
   for (const auto& p : planners_) {
-    PlannerInfo info{p->name(), p->description(), p->options(), p->name() == options_.default_planner};
+    PlannerInfo info{p->name(), p->description(), p->options(), p->name() == options_.default_planner,
+                     p->any_angle()};
     info.options.insert(info.options.end(), CommonOptions().begin(), CommonOptions().end());
     out.push_back(std::move(info));
   }
@@ -179,13 +180,22 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
   PathPlan plan;
   plan.planner = planner.name();
   plan.expansions = cells.expansions;
+  // Cell centres, joined to the exact start and goal. The end cells' own centres are dropped when
+  // the exact points see their neighbours directly (always for grid steps; any-angle planners
+  // checked visibility from the centres only).
+  const bool recovered = start_cell != grid.CellOf(start);
   plan.points.push_back(start);
-  for (size_t i = 1; i + 1 < cells.cells.size(); ++i) plan.points.push_back(grid.CellCenter(cells.cells[i]));
-  if (start_cell != grid.CellOf(start)) plan.points.insert(plan.points.begin() + 1, grid.CellCenter(start_cell));
+  for (const CellIndex& c : cells.cells) plan.points.push_back(grid.CellCenter(c));
   plan.points.push_back(goal);
+  if (plan.points.size() > 3 && costmap->SegmentFree(plan.points[plan.points.size() - 3], goal)) {
+    plan.points.erase(plan.points.end() - 2);
+  }
+  if (!recovered && plan.points.size() > 2 && costmap->SegmentFree(start, plan.points[2])) {
+    plan.points.erase(plan.points.begin() + 1);
+  }
   if (options.at("smooth") != 0.0) {
     // The first hop may leave the inflation zone, which the shortcut test would reject; keep it.
-    if (start_cell != grid.CellOf(start)) {
+    if (recovered) {
       std::vector<Point2> rest(plan.points.begin() + 1, plan.points.end());
       rest = ShortcutPath(*costmap, rest, stop);
       plan.points.resize(1);

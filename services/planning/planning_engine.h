@@ -36,6 +36,7 @@ struct PlannerInfo {
   std::string description;
   std::vector<PlannerOptionSpec> options;
   bool is_default = false;
+  bool any_angle = false;
 };
 
 class PlanningEngine {

@@ -4,7 +4,11 @@
 
 #include "services/common/map_store.h"
 #include "services/common/world.h"
+#include <random>
+
 #include "services/planning/grid_astar_planner.h"
+#include "services/planning/planner_catalog.h"
+#include "services/planning/theta_star_planner.h"
 #include "services/planning/planning_engine.h"
 
 namespace {
@@ -26,8 +30,7 @@ void BM_Plan(benchmark::State& state, const std::string& planner) {
   MapStore maps;
   maps.Set(Warehouse().map, "warehouse");
   planning::PlanningEngine engine(maps, {{0.30, true}, "astar", 0.5});
-  engine.Register(std::make_unique<planning::GridAStarPlanner>(false));
-  engine.Register(std::make_unique<planning::GridAStarPlanner>(true));
+  planning::RegisterDefaultPlanners(engine);
   engine.CurrentCostmap();
   const Point2 start = Warehouse().start.translation();
   const Point2 goal = Warehouse().goals[0].translation();  // across the arena
@@ -41,6 +44,57 @@ void BM_Plan(benchmark::State& state, const std::string& planner) {
 }
 BENCHMARK_CAPTURE(BM_Plan, astar, std::string("astar"))->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Plan, dijkstra, std::string("dijkstra"))->Unit(benchmark::kMicrosecond);
+
+// A 512 x 512 maze of 1-cell corridors (depth-first carving, fixed seed): the hardest kind of map
+// for grid search, as in the MovingAI maze set.
+std::shared_ptr<const OccupancyGrid> Maze512() {
+  static const auto maze = [] {
+    auto g = std::make_shared<OccupancyGrid>(512, 512, 1.0, Point2::Zero(), OccupancyGrid::kOccupied);
+    std::mt19937 rng(3);
+    const int n = 255;  // maze nodes per side, at odd coordinates 1..509
+    std::vector<uint8_t> seen(n * n, 0);
+    std::vector<std::pair<int, int>> stack{{0, 0}};
+    seen[0] = 1;
+    g->set({1, 1}, OccupancyGrid::kFree);
+    while (!stack.empty()) {
+      auto [x, y] = stack.back();
+      std::vector<std::pair<int, int>> next;
+      for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx >= 0 && ny >= 0 && nx < n && ny < n && !seen[ny * n + nx]) next.push_back({nx, ny});
+      }
+      if (next.empty()) {
+        stack.pop_back();
+        continue;
+      }
+      auto [nx, ny] = next[rng() % next.size()];
+      seen[ny * n + nx] = 1;
+      g->set({2 * nx + 1, 2 * ny + 1}, OccupancyGrid::kFree);
+      g->set({x + nx + 1, y + ny + 1}, OccupancyGrid::kFree);
+      stack.push_back({nx, ny});
+    }
+    return g;
+  }();
+  return maze;
+}
+
+// Raw search speed: expansions per second of the planner alone, corner to corner of the maze.
+void BM_MazeSearch(benchmark::State& state, const std::string& name) {
+  planning::Costmap costmap(Maze512(), {0.0, true});
+  std::unique_ptr<planning::GlobalPlanner> planner;
+  if (name == "thetastar") planner = std::make_unique<planning::ThetaStarPlanner>();
+  else planner = std::make_unique<planning::GridAStarPlanner>(name == "dijkstra");
+  uint64_t expansions = 0;
+  for (auto _ : state) {
+    const auto path = planner->Plan(costmap, {1, 1}, {509, 509}, {{"diagonal", 1.0}, {"smooth", 0.0}}, {});
+    expansions += path.expansions;
+    benchmark::DoNotOptimize(path);
+  }
+  state.counters["expansions_per_s"] = benchmark::Counter(static_cast<double>(expansions), benchmark::Counter::kIsRate);
+}
+BENCHMARK_CAPTURE(BM_MazeSearch, astar, std::string("astar"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MazeSearch, dijkstra, std::string("dijkstra"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MazeSearch, thetastar, std::string("thetastar"))->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include "services/common/map_store.h"
 #include "services/planning/costmap.h"
 #include "services/planning/grid_astar_planner.h"
+#include "services/planning/planner_catalog.h"
 #include "services/planning/planning_engine.h"
 
 namespace navd::planning {
@@ -106,8 +107,7 @@ class EngineTest : public ::testing::Test {
     OccupancyGrid grid(100, 100, 0.1, Point2(0, 0));
     grid.FillBox({4.0, 0.0}, {4.2, 8.0});  // a wall with a 2 m gap at the top
     maps.Set(std::move(grid), "test");
-    engine.Register(std::make_unique<GridAStarPlanner>(false));
-    engine.Register(std::make_unique<GridAStarPlanner>(true));
+    RegisterDefaultPlanners(engine);
   }
   ErrorCode CodeOf(const std::function<void()>& f) {
     try {
@@ -187,7 +187,7 @@ TEST_F(EngineTest, ReportsNoPathAsNotFound) {
 
 TEST_F(EngineTest, ListsPlannersWithOptions) {
   const auto planners = engine.Planners();
-  ASSERT_EQ(planners.size(), 2u);
+  ASSERT_EQ(planners.size(), 3u);
   EXPECT_EQ(planners[0].name, "astar");
   EXPECT_TRUE(planners[0].is_default);
   EXPECT_EQ(planners[1].name, "dijkstra");

@@ -1,0 +1,14 @@
+#include "services/planning/planner_catalog.h"
+
+#include "services/planning/grid_astar_planner.h"
+#include "services/planning/theta_star_planner.h"
+
+namespace navd::planning {
+
+void RegisterDefaultPlanners(PlanningEngine& engine) {
+  engine.Register(std::make_unique<GridAStarPlanner>(false));
+  engine.Register(std::make_unique<GridAStarPlanner>(true));
+  engine.Register(std::make_unique<ThetaStarPlanner>());
+}
+
+}  // namespace navd::planning

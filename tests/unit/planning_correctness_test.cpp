@@ -1,0 +1,149 @@
+// Planner correctness: MovingAI scenarios (optimal lengths), and property tests on random maps
+// (collision-free, right endpoints, unreachable goals reported, Theta* no longer than A*).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <queue>
+#include <random>
+
+#include "services/common/error.h"
+#include "services/common/map_store.h"
+#include "services/common/movingai_format.h"
+#include "services/planning/planner_catalog.h"
+#include "services/planning/scenario_benchmark.h"
+#include "services/planning/theta_star_planner.h"
+
+namespace navd::planning {
+namespace {
+
+std::string SharedData() { return std::string(NAVD_SOURCE_DIR) + "/../shared/data/movingai"; }
+
+TEST(MovingAi, ParsesMapsAndScenarios) {
+  const OccupancyGrid g = ParseMovingAiMap("type octile\nheight 2\nwidth 3\nmap\n.T.\n@.G\n", "t.map");
+  EXPECT_EQ(g.width(), 3);
+  EXPECT_EQ(g.height(), 2);
+  EXPECT_DOUBLE_EQ(g.resolution(), 1.0);
+  EXPECT_TRUE(g.IsOccupied({1, 1}));   // 'T' on the top row
+  EXPECT_TRUE(g.IsOccupied({0, 0}));   // '@' on the bottom row
+  EXPECT_FALSE(g.IsOccupied({2, 0}));  // 'G' is passable
+  EXPECT_EQ(MovingAiCellCenter(g, 1, 0), Point2(1.5, 1.5));
+  try {
+    ParseMovingAiMap("type octile\nheight 2\nwidth 3\nmap\n.T.\n@.\n", "bad.map");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.map:6"), std::string::npos) << e.what();
+  }
+}
+
+class ScenarioTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ScenarioTest, ArenaScenariosAreSolvedOptimally) {
+  const std::string map = SharedData() + "/arena.map";
+  ASSERT_TRUE(std::filesystem::exists(map)) << "shared data missing: " << map;
+  MapStore maps;
+  const auto snapshot = maps.Set(LoadMovingAiMap(map), "arena");
+  PlanningEngineOptions options;
+  options.costmap.inflation_radius = 0.0;
+  PlanningEngine engine(maps, options);
+  RegisterDefaultPlanners(engine);
+  const auto scenarios = LoadMovingAiScenarios(map + ".scen");
+  const ScenarioReport r = RunScenarios(engine, snapshot->grid, scenarios, GetParam());
+  EXPECT_EQ(r.passed, r.total) << r.Summary();
+  for (const auto& m : r.mismatches)
+    ADD_FAILURE() << "scenario " << m.index << ": expected " << m.expected << " got " << m.actual << " " << m.error;
+  EXPECT_EQ(r.total, 160u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Planners, ScenarioTest, ::testing::Values("astar", "dijkstra", "thetastar"));
+
+// Random maps: obstacles as random rectangles on a 60 x 60 grid of 0.1 m cells.
+std::shared_ptr<const MapSnapshot> RandomMap(MapStore& maps, std::mt19937& rng) {
+  OccupancyGrid g(60, 60, 0.1, Point2::Zero());
+  std::uniform_real_distribution<double> pos(0.0, 6.0), size(0.1, 1.5);
+  for (int i = 0; i < 25; ++i) {
+    const Point2 a(pos(rng), pos(rng));
+    g.FillBox(a, a + Point2(size(rng), size(rng)));
+  }
+  return maps.Set(std::move(g), "random");
+}
+
+// Cells reachable from `start` by the 8-connected no-corner-cutting rule on the costmap.
+std::vector<uint8_t> Reachable(const Costmap& cm, CellIndex start) {
+  std::vector<uint8_t> seen(cm.grid().cells().size(), 0);
+  std::queue<CellIndex> q;
+  q.push(start);
+  seen[cm.grid().Flat(start)] = 1;
+  auto free = [&](int x, int y) { return cm.grid().Contains({x, y}) && !cm.IsLethal({x, y}); };
+  while (!q.empty()) {
+    const CellIndex c = q.front();
+    q.pop();
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy) {
+        const CellIndex n{c.x + dx, c.y + dy};
+        if ((dx == 0 && dy == 0) || !free(n.x, n.y) || seen[cm.grid().Flat(n)]) continue;
+        if (dx != 0 && dy != 0 && (!free(c.x + dx, c.y) || !free(c.x, c.y + dy))) continue;
+        seen[cm.grid().Flat(n)] = 1;
+        q.push(n);
+      }
+  }
+  return seen;
+}
+
+TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> pos(0.05, 5.95);
+  int planned = 0, unreachable = 0;
+  for (int m = 0; m < 30; ++m) {
+    MapStore maps;
+    RandomMap(maps, rng);
+    PlanningEngine engine(maps, {{0.15, true}, "astar", 0.5});
+    RegisterDefaultPlanners(engine);
+    const auto cm = engine.CurrentCostmap();
+    for (int q = 0; q < 10; ++q) {
+      const Point2 s(pos(rng), pos(rng)), g(pos(rng), pos(rng));
+      const CellIndex sc = cm->grid().CellOf(s), gc = cm->grid().CellOf(g);
+      if (cm->IsLethal(sc) || cm->IsLethal(gc)) continue;
+      const bool reachable = Reachable(*cm, sc)[cm->grid().Flat(gc)] != 0;
+      double astar_length = -1;
+      for (const std::string planner : {"astar", "dijkstra", "thetastar"}) {
+        for (const double smooth : {0.0, 1.0}) {
+          try {
+            const PathPlan p = engine.ComputePath(s, g, planner, {{"smooth", smooth}});
+            EXPECT_TRUE(reachable) << planner << " found a path to an unreachable goal";
+            EXPECT_EQ(p.points.front(), s);
+            EXPECT_EQ(p.points.back(), g);
+            for (size_t i = 1; i < p.points.size(); ++i)
+              EXPECT_TRUE(cm->SegmentFree(p.points[i - 1], p.points[i]))
+                  << planner << " smooth " << smooth << " segment " << i << " of " << p.points.size() - 1 << ": "
+                  << FormatPoint(p.points[i - 1]) << " -> " << FormatPoint(p.points[i]);
+            if (planner == "astar" && smooth == 0.0) astar_length = p.length;
+            if (planner == "thetastar" && smooth == 0.0) EXPECT_LE(p.length, astar_length + 1e-9);
+            ++planned;
+          } catch (const Error& e) {
+            EXPECT_FALSE(reachable) << planner << ": " << e.what();
+            EXPECT_EQ(e.code(), ErrorCode::kNotFound);
+            ++unreachable;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(planned, 500);
+  EXPECT_GT(unreachable, 0);  // the random maps do wall some goals off
+}
+
+TEST(ThetaStar, LineOfSightRespectsDiagonalCorners) {
+  auto grid = std::make_shared<OccupancyGrid>(4, 4, 1.0, Point2::Zero());
+  grid->set({1, 2}, OccupancyGrid::kOccupied);
+  Costmap cm(grid, {0.0, true});
+  EXPECT_TRUE(CellsSeeEachOther(cm, {0, 0}, {3, 0}));
+  EXPECT_FALSE(CellsSeeEachOther(cm, {0, 3}, {3, 0}));  // passes through (1,2)'s corner
+  grid->set({1, 2}, OccupancyGrid::kFree);
+  grid->set({2, 2}, OccupancyGrid::kOccupied);
+  grid->set({1, 1}, OccupancyGrid::kOccupied);
+  Costmap cm2(grid, {0.0, true});
+  EXPECT_FALSE(CellsSeeEachOther(cm2, {0, 0}, {3, 3}));  // squeezes between diagonal blocks
+}
+
+}  // namespace
+}  // namespace navd::planning
