@@ -58,6 +58,21 @@ v1::ComputePathResponse Client::ComputePath(double start_x, double start_y, doub
   return Call(*planning_, &v1::PlanningService::Stub::ComputePath, req);
 }
 
+v1::ComputePathResponse Client::ComputePathThroughPoses(double start_x, double start_y,
+                                                        const std::vector<std::pair<double, double>>& waypoints,
+                                                        const std::string& planner) {
+  v1::ComputePathThroughPosesRequest req;
+  req.mutable_start()->set_x(start_x);
+  req.mutable_start()->set_y(start_y);
+  for (const auto& [x, y] : waypoints) {
+    auto* w = req.add_waypoints();
+    w->set_x(x);
+    w->set_y(y);
+  }
+  req.set_planner(planner);
+  return Call(*planning_, &v1::PlanningService::Stub::ComputePathThroughPoses, req);
+}
+
 v1::ListPlannersResponse Client::ListPlanners() {
   return Call(*planning_, &v1::PlanningService::Stub::ListPlanners, v1::ListPlannersRequest());
 }

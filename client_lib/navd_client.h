@@ -45,6 +45,10 @@ class Client {
   v1::ComputePathResponse ComputePath(double start_x, double start_y, double goal_x, double goal_y,
                                       const std::string& planner = "",
                                       const std::map<std::string, double>& options = {});
+  // start = (x, y); waypoints visited in order, the last being the goal.
+  v1::ComputePathResponse ComputePathThroughPoses(double start_x, double start_y,
+                                                  const std::vector<std::pair<double, double>>& waypoints,
+                                                  const std::string& planner = "");
   v1::ListPlannersResponse ListPlanners();
 
   v1::GetPoseResponse GetPose();

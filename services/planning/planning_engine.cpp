@@ -209,4 +209,35 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
   return plan;
 }
 
+PathPlan PlanningEngine::ComputePathThroughPoses(const Point2& start, const std::vector<Point2>& waypoints,
+                                                const std::string& planner,
+                                                const std::map<std::string, double>& options,
+                                                const StopRequested& stop) {
+  if (waypoints.empty()) throw Error(ErrorCode::kInvalidArgument, "waypoints is empty");
+  PathPlan total;
+  Point2 from = start;
+  for (size_t i = 0; i < waypoints.size(); ++i) {
+    PathPlan leg;
+    try {
+      leg = ComputePath(from, waypoints[i], planner, options, stop);
+    } catch (const Error& e) {
+      // Leg i's "goal" is waypoints[i]; its "start" is the previous waypoint (or the start).
+      std::string message = e.what();
+      const std::string goal_name = "waypoints[" + std::to_string(i) + "]";
+      const std::string start_name = i == 0 ? "start" : "waypoints[" + std::to_string(i - 1) + "]";
+      if (message.rfind("goal", 0) == 0) message = goal_name + message.substr(4);
+      else if (message.rfind("start", 0) == 0) message = start_name + message.substr(5);
+      else if (e.code() == ErrorCode::kNotFound) message = "leg to " + goal_name + ": " + message;
+      throw Error(e.code(), message);
+    }
+    total.points.insert(total.points.end(), leg.points.begin() + (i == 0 ? 0 : 1), leg.points.end());
+    total.length += leg.length;
+    total.planning_time += leg.planning_time;
+    total.expansions += leg.expansions;
+    total.planner = leg.planner;
+    from = waypoints[i];
+  }
+  return total;
+}
+
 }  // namespace navd::planning

@@ -53,6 +53,12 @@ class PlanningEngine {
   PathPlan ComputePath(const Point2& start, const Point2& goal, const std::string& planner,
                        const std::map<std::string, double>& options, const StopRequested& stop = {});
 
+  // Plans start -> waypoints[0] -> ... as one path (legs joined, shared points once). Errors are
+  // those of ComputePath with the field renamed to the waypoint (`waypoints[2]`).
+  PathPlan ComputePathThroughPoses(const Point2& start, const std::vector<Point2>& waypoints,
+                                   const std::string& planner, const std::map<std::string, double>& options,
+                                   const StopRequested& stop = {});
+
   // The costmap of the current map (built on first use after a map change).
   std::shared_ptr<const Costmap> CurrentCostmap();
 

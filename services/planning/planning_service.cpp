@@ -4,19 +4,39 @@
 
 namespace navd::planning {
 
+namespace {
+void ToProto(const PathPlan& plan, v1::ComputePathResponse* response) {
+  for (const auto& p : plan.points) navd::ToProto(p, response->add_path());
+  response->set_length(plan.length);
+  response->set_planning_time(plan.planning_time);
+  response->set_planner(plan.planner);
+  response->set_expansions(plan.expansions);
+}
+}  // namespace
+
 grpc::Status PlanningService::ComputePath(grpc::ServerContext* context, const v1::ComputePathRequest* request,
                                           v1::ComputePathResponse* response) {
   return GuardedCall([&] {
     if (!request->has_start()) throw Error(ErrorCode::kInvalidArgument, "start is missing");
     if (!request->has_goal()) throw Error(ErrorCode::kInvalidArgument, "goal is missing");
     const std::map<std::string, double> options(request->options().begin(), request->options().end());
-    const PathPlan plan = engine_.ComputePath(FromProto(request->start()), FromProto(request->goal()),
-                                              request->planner(), options, StopWhenDone(context));
-    for (const auto& p : plan.points) ToProto(p, response->add_path());
-    response->set_length(plan.length);
-    response->set_planning_time(plan.planning_time);
-    response->set_planner(plan.planner);
-    response->set_expansions(plan.expansions);
+    ToProto(engine_.ComputePath(FromProto(request->start()), FromProto(request->goal()), request->planner(), options,
+                                StopWhenDone(context)),
+            response);
+  });
+}
+
+grpc::Status PlanningService::ComputePathThroughPoses(grpc::ServerContext* context,
+                                                      const v1::ComputePathThroughPosesRequest* request,
+                                                      v1::ComputePathResponse* response) {
+  return GuardedCall([&] {
+    if (!request->has_start()) throw Error(ErrorCode::kInvalidArgument, "start is missing");
+    std::vector<Point2> waypoints;
+    for (const auto& w : request->waypoints()) waypoints.push_back(FromProto(w));
+    const std::map<std::string, double> options(request->options().begin(), request->options().end());
+    ToProto(engine_.ComputePathThroughPoses(FromProto(request->start()), waypoints, request->planner(), options,
+                                            StopWhenDone(context)),
+            response);
   });
 }
 

@@ -10,6 +10,8 @@ class PlanningService final : public v1::PlanningService::Service {
   explicit PlanningService(PlanningEngine& engine) : engine_(engine) {}
   grpc::Status ComputePath(grpc::ServerContext* context, const v1::ComputePathRequest* request,
                            v1::ComputePathResponse* response) override;
+  grpc::Status ComputePathThroughPoses(grpc::ServerContext* context, const v1::ComputePathThroughPosesRequest* request,
+                                       v1::ComputePathResponse* response) override;
   grpc::Status ListPlanners(grpc::ServerContext* context, const v1::ListPlannersRequest* request,
                             v1::ListPlannersResponse* response) override;
 

@@ -59,6 +59,13 @@ TEST_F(BadInput, NonFiniteCoordinates) {
   ExpectError([&] { client().SetPose(1, INFINITY, 0); }, grpc::StatusCode::INVALID_ARGUMENT, {"pose.y"});
 }
 
+TEST_F(BadInput, WaypointInsideAnObstacleIsNamed) {
+  ExpectError([&] { client().ComputePathThroughPoses(0.8, 1, {{3.0, 2.6}, {8.5, 1.5}, {8.8, 8.8}}); },
+              grpc::StatusCode::INVALID_ARGUMENT, {"waypoints[1]", "inside an obstacle"});
+  const auto ok = client().ComputePathThroughPoses(0.8, 1, {{3.0, 2.6}, {8.8, 8.8}});
+  EXPECT_GT(ok.length(), 10.0);
+}
+
 TEST_F(BadInput, UnknownPlanner) {
   ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "warp_drive"); }, grpc::StatusCode::INVALID_ARGUMENT,
               {"planner", "warp_drive", "astar"});

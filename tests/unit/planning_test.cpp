@@ -185,6 +185,19 @@ TEST_F(EngineTest, ReportsNoPathAsNotFound) {
   EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "", {}); }), ErrorCode::kNotFound);
 }
 
+TEST_F(EngineTest, PlansThroughWaypointsAndNamesTheBadOne) {
+  const PathPlan a = engine.ComputePath({1, 1}, {8, 1}, "", {});
+  const PathPlan b = engine.ComputePath({8, 1}, {8, 9}, "", {});
+  const PathPlan through = engine.ComputePathThroughPoses({1, 1}, {{8, 1}, {8, 9}}, "", {});
+  EXPECT_NEAR(through.length, a.length + b.length, 1e-9);
+  EXPECT_EQ(through.points.size(), a.points.size() + b.points.size() - 1);
+  EXPECT_EQ(CodeOf([&] { engine.ComputePathThroughPoses({1, 1}, {{8, 1}, {4.1, 3}, {8, 9}}, "", {}); }),
+            ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("waypoints[1]"), std::string::npos) << message;
+  EXPECT_EQ(CodeOf([&] { engine.ComputePathThroughPoses({1, 1}, {}, "", {}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("waypoints"), std::string::npos) << message;
+}
+
 TEST_F(EngineTest, ListsPlannersWithOptions) {
   const auto planners = engine.Planners();
   ASSERT_EQ(planners.size(), 3u);
