@@ -25,6 +25,8 @@ class Costmap {
   int width() const { return grid_->width(); }
   int height() const { return grid_->height(); }
   bool IsLethal(const CellIndex& c) const { return lethal_[grid_->Flat(c)] != 0; }
+  // Row-major lethal flags (1 = lethal), for search inner loops.
+  const uint8_t* lethal_data() const { return lethal_.data(); }
   // True when the straight segment a-b (map frame) crosses no lethal cell and stays in the map;
   // at an exact corner crossing both side cells must be free.
   bool SegmentFree(const Point2& a, const Point2& b) const;

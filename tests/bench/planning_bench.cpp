@@ -36,13 +36,16 @@ void BM_Plan(benchmark::State& state, const std::string& planner) {
   const Point2 goal = Warehouse().goals[0].translation();  // across the arena
   uint64_t expansions = 0;
   for (auto _ : state) {
-    const auto plan = engine.ComputePath(start, goal, planner, {});
+    const bool raw = planner.size() > 4 && planner.substr(planner.size() - 4) == ":raw";
+    const auto plan = engine.ComputePath(start, goal, raw ? planner.substr(0, planner.size() - 4) : planner,
+                                         {{"smooth", raw ? 0.0 : 1.0}});
     expansions = plan.expansions;
     benchmark::DoNotOptimize(plan);
   }
   state.counters["expansions"] = static_cast<double>(expansions);
 }
 BENCHMARK_CAPTURE(BM_Plan, astar, std::string("astar"))->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Plan, astar_unsmoothed, std::string("astar:raw"))->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Plan, dijkstra, std::string("dijkstra"))->Unit(benchmark::kMicrosecond);
 
 // A 512 x 512 maze of 1-cell corridors (depth-first carving, fixed seed): the hardest kind of map
