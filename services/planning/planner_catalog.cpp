@@ -1,5 +1,6 @@
 #include "services/planning/planner_catalog.h"
 
+#include "services/planning/dstar_lite.h"
 #include "services/planning/grid_astar_planner.h"
 #include "services/planning/theta_star_planner.h"
 
@@ -9,6 +10,7 @@ void RegisterDefaultPlanners(PlanningEngine& engine) {
   engine.Register(std::make_unique<GridAStarPlanner>(false));
   engine.Register(std::make_unique<GridAStarPlanner>(true));
   engine.Register(std::make_unique<ThetaStarPlanner>());
+  engine.Register(std::make_unique<DStarLitePlanner>());
 }
 
 }  // namespace navd::planning

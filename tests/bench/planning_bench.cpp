@@ -6,6 +6,7 @@
 #include "services/common/world.h"
 #include <random>
 
+#include "services/planning/dstar_lite.h"
 #include "services/planning/grid_astar_planner.h"
 #include "services/planning/planner_catalog.h"
 #include "services/planning/theta_star_planner.h"
@@ -98,6 +99,84 @@ void BM_MazeSearch(benchmark::State& state, const std::string& name) {
 BENCHMARK_CAPTURE(BM_MazeSearch, astar, std::string("astar"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MazeSearch, dijkstra, std::string("dijkstra"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MazeSearch, thetastar, std::string("thetastar"))->Unit(benchmark::kMillisecond);
+
+// Seed 002's comparison of A* and D*: plan on a 512 x 512 map with 20% random obstacles, then 1%
+// of the cells change (random toggles) and the plan is repaired. Reports time and states
+// processed (expansions) for D* Lite's repair against A* planning again from scratch.
+struct ReplanCase {
+  std::shared_ptr<OccupancyGrid> before, after;
+  std::vector<std::pair<CellIndex, bool>> changes;
+};
+
+const ReplanCase& Replan512() {
+  static const ReplanCase c = [] {
+    ReplanCase rc;
+    rc.before = std::make_shared<OccupancyGrid>(512, 512, 1.0, Point2::Zero());
+    std::mt19937 rng(9);
+    std::uniform_int_distribution<int> coord(0, 511);
+    for (int i = 0; i < 512 * 512 / 5; ++i) rc.before->set({coord(rng), coord(rng)}, OccupancyGrid::kOccupied);
+    rc.before->set({0, 0}, OccupancyGrid::kFree);
+    rc.before->set({511, 511}, OccupancyGrid::kFree);
+    rc.after = std::make_shared<OccupancyGrid>(*rc.before);
+    while (rc.changes.size() < 512 * 512 / 100) {
+      const CellIndex cell{coord(rng), coord(rng)};
+      if (cell == CellIndex{0, 0} || cell == CellIndex{511, 511}) continue;
+      const bool block = rc.after->at(cell) == OccupancyGrid::kFree;
+      rc.after->set(cell, block ? OccupancyGrid::kOccupied : OccupancyGrid::kFree);
+      rc.changes.push_back({cell, block});
+    }
+    return rc;
+  }();
+  return c;
+}
+
+void BM_Replan_AStarFromScratch(benchmark::State& state) {
+  const ReplanCase& rc = Replan512();
+  planning::Costmap after(rc.after, {0.0, true});
+  uint64_t expansions = 0;
+  for (auto _ : state) {
+    const auto p = planning::GridAStarPlanner().Plan(after, {0, 0}, {511, 511}, {{"diagonal", 1.0}}, {});
+    expansions = p.expansions;
+    benchmark::DoNotOptimize(p);
+  }
+  state.counters["states_processed"] = static_cast<double>(expansions);
+}
+BENCHMARK(BM_Replan_AStarFromScratch)->Unit(benchmark::kMillisecond);
+
+void BM_Replan_DStarLiteInitial(benchmark::State& state) {
+  const ReplanCase& rc = Replan512();
+  planning::Costmap before(rc.before, {0.0, true});
+  uint64_t expansions = 0;
+  for (auto _ : state) {
+    planning::DStarLite dstar(before, {0, 0}, {511, 511});
+    dstar.ComputeShortestPath();
+    expansions = dstar.expansions();
+    benchmark::DoNotOptimize(dstar);
+  }
+  state.counters["states_processed"] = static_cast<double>(expansions);
+}
+BENCHMARK(BM_Replan_DStarLiteInitial)->Unit(benchmark::kMillisecond);
+
+void BM_Replan_DStarLiteRepair(benchmark::State& state) {
+  const ReplanCase& rc = Replan512();
+  planning::Costmap before(rc.before, {0.0, true});
+  uint64_t expansions = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto dstar = std::make_unique<planning::DStarLite>(before, CellIndex{0, 0}, CellIndex{511, 511});
+    dstar->ComputeShortestPath();
+    const uint64_t initial = dstar->expansions();
+    state.ResumeTiming();
+    for (const auto& [cell, blocked] : rc.changes) dstar->SetBlocked(cell, blocked);
+    dstar->ComputeShortestPath();
+    expansions = dstar->expansions() - initial;
+    state.PauseTiming();
+    dstar.reset();
+    state.ResumeTiming();
+  }
+  state.counters["states_processed"] = static_cast<double>(expansions);
+}
+BENCHMARK(BM_Replan_DStarLiteRepair)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

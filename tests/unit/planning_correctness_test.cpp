@@ -9,6 +9,8 @@
 #include "services/common/error.h"
 #include "services/common/map_store.h"
 #include "services/common/movingai_format.h"
+#include "services/planning/dstar_lite.h"
+#include "services/planning/grid_astar_planner.h"
 #include "services/planning/planner_catalog.h"
 #include "services/planning/scenario_benchmark.h"
 #include "services/planning/theta_star_planner.h"
@@ -54,7 +56,7 @@ TEST_P(ScenarioTest, ArenaScenariosAreSolvedOptimally) {
   EXPECT_EQ(r.total, 160u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Planners, ScenarioTest, ::testing::Values("astar", "dijkstra", "thetastar"));
+INSTANTIATE_TEST_SUITE_P(Planners, ScenarioTest, ::testing::Values("astar", "dijkstra", "thetastar", "dstar_lite"));
 
 // Random maps: obstacles as random rectangles on a 60 x 60 grid of 0.1 m cells.
 std::shared_ptr<const MapSnapshot> RandomMap(MapStore& maps, std::mt19937& rng) {
@@ -105,7 +107,7 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
       if (cm->IsLethal(sc) || cm->IsLethal(gc)) continue;
       const bool reachable = Reachable(*cm, sc)[cm->grid().Flat(gc)] != 0;
       double astar_length = -1;
-      for (const std::string planner : {"astar", "dijkstra", "thetastar"}) {
+      for (const std::string planner : {"astar", "dijkstra", "thetastar", "dstar_lite"}) {
         for (const double smooth : {0.0, 1.0}) {
           try {
             const PathPlan p = engine.ComputePath(s, g, planner, {{"smooth", smooth}});
@@ -130,6 +132,59 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
   }
   EXPECT_GT(planned, 500);
   EXPECT_GT(unreachable, 0);  // the random maps do wall some goals off
+}
+
+double CellPathCost(const std::vector<CellIndex>& cells) {
+  double c = 0;
+  for (size_t i = 1; i < cells.size(); ++i)
+    c += (cells[i].x != cells[i - 1].x && cells[i].y != cells[i - 1].y) ? M_SQRT2 : 1.0;
+  return c;
+}
+
+// After random cell changes and robot moves, D* Lite's repaired plan costs exactly what a fresh A*
+// on the changed map costs, and it is a valid path on that map.
+TEST(DStarLite, ReplanningMatchesPlanningFromScratch) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 20; ++trial) {
+    auto grid = std::make_shared<OccupancyGrid>(40, 40, 1.0, Point2::Zero());
+    std::uniform_int_distribution<int> coord(0, 39);
+    for (int i = 0; i < 250; ++i) grid->set({coord(rng), coord(rng)}, OccupancyGrid::kOccupied);
+    CellIndex start{0, 0}, goal{39, 39};
+    grid->set(start, OccupancyGrid::kFree);
+    grid->set(goal, OccupancyGrid::kFree);
+    DStarLite dstar(Costmap(grid, {0.0, true}), start, goal);
+    dstar.ComputeShortestPath();
+    for (int round = 0; round < 5; ++round) {
+      // Move the robot a few steps along its path, then change 16 cells (1%).
+      const auto path = dstar.Path();
+      if (path.size() > 4) {
+        start = path[3];
+        dstar.MoveStart(start);
+      }
+      for (int i = 0; i < 16; ++i) {
+        const CellIndex c{coord(rng), coord(rng)};
+        if (c == start || c == goal) continue;
+        const bool block = grid->at(c) == OccupancyGrid::kFree;
+        grid->set(c, block ? OccupancyGrid::kOccupied : OccupancyGrid::kFree);
+        dstar.SetBlocked(c, block);
+      }
+      const bool found = dstar.ComputeShortestPath();
+      const Costmap fresh(grid, {0.0, true});
+      const CellPath astar = GridAStarPlanner().Plan(fresh, start, goal, {{"diagonal", 1.0}}, {});
+      ASSERT_EQ(found, !astar.cells.empty()) << "trial " << trial << " round " << round;
+      if (!found) break;
+      const auto repaired = dstar.Path();
+      ASSERT_FALSE(repaired.empty());
+      EXPECT_EQ(repaired.front(), start);
+      EXPECT_EQ(repaired.back(), goal);
+      EXPECT_NEAR(CellPathCost(repaired), CellPathCost(astar.cells), 1e-9) << "trial " << trial << " round " << round;
+      EXPECT_NEAR(dstar.PathCost(), CellPathCost(astar.cells), 1e-9);
+      for (size_t i = 1; i < repaired.size(); ++i) {
+        EXPECT_FALSE(fresh.IsLethal(repaired[i]));
+        EXPECT_LE(std::abs(repaired[i].x - repaired[i - 1].x) + std::abs(repaired[i].y - repaired[i - 1].y), 2);
+      }
+    }
+  }
 }
 
 TEST(ThetaStar, LineOfSightRespectsDiagonalCorners) {

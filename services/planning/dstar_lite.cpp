@@ -1,0 +1,173 @@
+#include "services/planning/dstar_lite.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "services/common/error.h"
+
+namespace navd::planning {
+namespace {
+const OctileCost kInf = OctileCost::Infinite();
+constexpr OctileCost kStraight{1, 0};
+constexpr OctileCost kDiagonal{0, 1};
+constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+}  // namespace
+
+DStarLite::DStarLite(const Costmap& costmap, const CellIndex& start, const CellIndex& goal)
+    : width_(costmap.width()), height_(costmap.height()),
+      blocked_(costmap.lethal_data(), costmap.lethal_data() + static_cast<size_t>(width_) * height_),
+      g_(blocked_.size(), kInf), rhs_(blocked_.size(), kInf), queued_key_(blocked_.size()),
+      in_queue_(blocked_.size(), 0), start_(start), goal_(goal), last_(start) {
+  rhs_[Index(goal)] = OctileCost{};
+  Push(Index(goal));
+}
+
+OctileCost DStarLite::Heuristic(int32_t a, int32_t b) const {
+  return OctileCost::Distance(a % width_ - b % width_, a / width_ - b / width_);
+}
+
+DStarLite::Key DStarLite::CalculateKey(int32_t s) const {
+  const OctileCost m = Min(g_[s], rhs_[s]);
+  return {m + Heuristic(Index(start_), s) + km_, m};
+}
+
+void DStarLite::Push(int32_t u) {
+  const Key k = CalculateKey(u);
+  queued_key_[u] = k;
+  in_queue_[u] = 1;
+  heap_.push_back({k, u});
+  std::push_heap(heap_.begin(), heap_.end());
+}
+
+template <typename F>
+void DStarLite::ForEachEdge(int32_t u, F&& f) const {
+  const int x = u % width_, y = u / width_;
+  if (!Free(x, y)) return;  // a blocked cell has no traversable edges
+  for (int k = 0; k < 8; ++k) {
+    const int nx = x + kDx[k], ny = y + kDy[k];
+    if (!Free(nx, ny)) continue;
+    if (k >= 4 && (!Free(x + kDx[k], y) || !Free(x, y + kDy[k]))) continue;  // no corner cutting
+    f(ny * width_ + nx, k >= 4 ? kDiagonal : kStraight);
+  }
+}
+
+void DStarLite::RecomputeRhs(int32_t u) {
+  if (u == Index(goal_)) return;
+  OctileCost best = kInf;
+  ForEachEdge(u, [&](int32_t s, const OctileCost& c) { best = Min(best, c + g_[s]); });
+  rhs_[u] = best;
+}
+
+void DStarLite::UpdateQueue(int32_t u) {
+  if (g_[u] == rhs_[u]) {
+    in_queue_[u] = 0;  // consistent: any queued entry is stale
+  } else if (!in_queue_[u] || !(queued_key_[u] == CalculateKey(u))) {
+    Push(u);
+  }
+}
+
+void DStarLite::UpdateVertex(int32_t u) {
+  RecomputeRhs(u);
+  UpdateQueue(u);
+}
+
+bool DStarLite::ComputeShortestPath(const StopRequested& stop) {
+  const int32_t s_start = Index(start_);
+  while (!heap_.empty()) {
+    const QueueEntry top = heap_.front();
+    if (!in_queue_[top.node] || !(queued_key_[top.node] == top.key)) {  // stale entry
+      std::pop_heap(heap_.begin(), heap_.end());
+      heap_.pop_back();
+      continue;
+    }
+    // Stop once nothing queued can lower the start's cost (exact comparison: see OctileCost).
+    if (!(top.key < CalculateKey(s_start)) && rhs_[s_start] == g_[s_start]) break;
+    if ((++expansions_ & 1023) == 1 && stop && stop()) {
+      throw Error(ErrorCode::kDeadlineExceeded, "planning stopped after " + std::to_string(expansions_) +
+                                                    " expansions: deadline exceeded or cancelled");
+    }
+    const int32_t u = top.node;
+    const Key k_new = CalculateKey(u);
+    std::pop_heap(heap_.begin(), heap_.end());
+    heap_.pop_back();
+    in_queue_[u] = 0;
+    if (top.key < k_new) {
+      Push(u);  // its key rose since it was queued (k_m grew): requeue
+    } else if (rhs_[u] < g_[u]) {
+      // Overconsistent: settle it; neighbours can only improve through it (the paper's optimised
+      // version: an O(1) min instead of recomputing their rhs).
+      g_[u] = rhs_[u];
+      const int32_t goal = Index(goal_);
+      ForEachEdge(u, [&](int32_t s, const OctileCost& c) {
+        if (s != goal) rhs_[s] = Min(rhs_[s], c + g_[u]);
+        UpdateQueue(s);
+      });
+    } else {
+      // Underconsistent: raise it; only neighbours whose rhs came through it need recomputing.
+      const OctileCost g_old = g_[u];
+      g_[u] = kInf;
+      ForEachEdge(u, [&](int32_t s, const OctileCost& c) {
+        if (rhs_[s] == c + g_old) RecomputeRhs(s);
+        UpdateQueue(s);
+      });
+      UpdateVertex(u);
+    }
+  }
+  return !g_[s_start].infinite();
+}
+
+void DStarLite::SetBlocked(const CellIndex& cell, bool blocked) {
+  const int32_t c = Index(cell);
+  if (blocked_[c] == static_cast<uint8_t>(blocked)) return;
+  // Edges that change: those of the cell itself and the diagonals that squeeze past its corners,
+  // all of which start at the cell or one of its 8 neighbours. Their rhs values are recomputed.
+  blocked_[c] = blocked;
+  if (blocked) g_[c] = kInf;
+  UpdateVertex(c);
+  for (int k = 0; k < 8; ++k) {
+    const int nx = cell.x + kDx[k], ny = cell.y + kDy[k];
+    if (nx >= 0 && ny >= 0 && nx < width_ && ny < height_) UpdateVertex(ny * width_ + nx);
+  }
+}
+
+void DStarLite::MoveStart(const CellIndex& start) {
+  km_ = km_ + Heuristic(Index(last_), Index(start));
+  last_ = start;
+  start_ = start;
+}
+
+std::vector<CellIndex> DStarLite::Path() const {
+  std::vector<CellIndex> path;
+  int32_t s = Index(start_);
+  if (g_[s].infinite()) return path;
+  const int32_t goal = Index(goal_);
+  path.push_back(start_);
+  // Descend g: each step to the neighbour minimising c + g (at most one step per cell).
+  for (size_t steps = 0; s != goal && steps < blocked_.size(); ++steps) {
+    OctileCost best = kInf;
+    int32_t next = -1;
+    ForEachEdge(s, [&](int32_t n, const OctileCost& c) {
+      if (c + g_[n] < best) {
+        best = c + g_[n];
+        next = n;
+      }
+    });
+    if (next < 0) return {};
+    s = next;
+    path.push_back(Cell(s));
+  }
+  return s == goal ? path : std::vector<CellIndex>{};
+}
+
+CellPath DStarLitePlanner::Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
+                                const PlannerOptions&, const StopRequested& stop) const {
+  DStarLite search(costmap, start, goal);
+  CellPath result;
+  if (search.ComputeShortestPath(stop)) result.cells = search.Path();
+  result.expansions = search.expansions();
+  return result;
+}
+
+}  // namespace navd::planning
