@@ -103,14 +103,18 @@ BENCHMARK_CAPTURE(BM_MazeSearch, thetastar, std::string("thetastar"))->Unit(benc
 // Seed 002's comparison of A* and D*: plan on a 512 x 512 map with 20% random obstacles, then 1%
 // of the cells change (random toggles) and the plan is repaired. Reports time and states
 // processed (expansions) for D* Lite's repair against A* planning again from scratch.
+// Two kinds of change: `local` puts all changed cells within 60 cells of the robot (what its
+// sensors discover as it drives, the case D* Lite is built for); otherwise they are spread over
+// the whole map.
 struct ReplanCase {
   std::shared_ptr<OccupancyGrid> before, after;
   std::vector<std::pair<CellIndex, bool>> changes;
+  CellIndex start{0, 0}, goal{511, 511};
 };
 
-const ReplanCase& Replan512() {
-  static const ReplanCase c = [] {
-    ReplanCase rc;
+ReplanCase MakeReplanCase(bool local) {
+  ReplanCase rc;
+  {
     rc.before = std::make_shared<OccupancyGrid>(512, 512, 1.0, Point2::Zero());
     std::mt19937 rng(9);
     std::uniform_int_distribution<int> coord(0, 511);
@@ -118,52 +122,68 @@ const ReplanCase& Replan512() {
     rc.before->set({0, 0}, OccupancyGrid::kFree);
     rc.before->set({511, 511}, OccupancyGrid::kFree);
     rc.after = std::make_shared<OccupancyGrid>(*rc.before);
+    if (local) {
+      rc.start = {128, 128};
+      rc.before->set(rc.start, OccupancyGrid::kFree);
+      rc.after->set(rc.start, OccupancyGrid::kFree);
+    }
+    std::uniform_int_distribution<int> near(-60, 60);
+    std::vector<uint8_t> changed(512 * 512, 0);
     while (rc.changes.size() < 512 * 512 / 100) {
-      const CellIndex cell{coord(rng), coord(rng)};
-      if (cell == CellIndex{0, 0} || cell == CellIndex{511, 511}) continue;
+      const CellIndex cell = local ? CellIndex{rc.start.x + near(rng), rc.start.y + near(rng)}
+                                   : CellIndex{coord(rng), coord(rng)};
+      if (!rc.after->Contains(cell) || cell == rc.start || cell == rc.goal || changed[rc.after->Flat(cell)]) continue;
+      if (local && std::hypot(cell.x - rc.start.x, cell.y - rc.start.y) > 60) continue;
+      changed[rc.after->Flat(cell)] = 1;
       const bool block = rc.after->at(cell) == OccupancyGrid::kFree;
       rc.after->set(cell, block ? OccupancyGrid::kOccupied : OccupancyGrid::kFree);
       rc.changes.push_back({cell, block});
     }
-    return rc;
-  }();
-  return c;
+  }
+  return rc;
 }
 
-void BM_Replan_AStarFromScratch(benchmark::State& state) {
-  const ReplanCase& rc = Replan512();
+const ReplanCase& Replan512(bool local) {
+  static const ReplanCase spread = MakeReplanCase(false), near = MakeReplanCase(true);
+  return local ? near : spread;
+}
+
+void BM_Replan_AStarFromScratch(benchmark::State& state, bool local) {
+  const ReplanCase& rc = Replan512(local);
   planning::Costmap after(rc.after, {0.0, true});
   uint64_t expansions = 0;
   for (auto _ : state) {
-    const auto p = planning::GridAStarPlanner().Plan(after, {0, 0}, {511, 511}, {{"diagonal", 1.0}}, {});
+    const auto p = planning::GridAStarPlanner().Plan(after, rc.start, rc.goal, {{"diagonal", 1.0}}, {});
     expansions = p.expansions;
     benchmark::DoNotOptimize(p);
   }
   state.counters["states_processed"] = static_cast<double>(expansions);
 }
-BENCHMARK(BM_Replan_AStarFromScratch)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Replan_AStarFromScratch, spread, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Replan_AStarFromScratch, local, true)->Unit(benchmark::kMillisecond);
 
-void BM_Replan_DStarLiteInitial(benchmark::State& state) {
-  const ReplanCase& rc = Replan512();
+void BM_Replan_DStarLiteInitial(benchmark::State& state, bool local) {
+  const ReplanCase& rc = Replan512(local);
   planning::Costmap before(rc.before, {0.0, true});
   uint64_t expansions = 0;
   for (auto _ : state) {
-    planning::DStarLite dstar(before, {0, 0}, {511, 511});
+    planning::DStarLite dstar(before, rc.start, rc.goal);
     dstar.ComputeShortestPath();
     expansions = dstar.expansions();
     benchmark::DoNotOptimize(dstar);
   }
   state.counters["states_processed"] = static_cast<double>(expansions);
 }
-BENCHMARK(BM_Replan_DStarLiteInitial)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Replan_DStarLiteInitial, spread, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Replan_DStarLiteInitial, local, true)->Unit(benchmark::kMillisecond);
 
-void BM_Replan_DStarLiteRepair(benchmark::State& state) {
-  const ReplanCase& rc = Replan512();
+void BM_Replan_DStarLiteRepair(benchmark::State& state, bool local) {
+  const ReplanCase& rc = Replan512(local);
   planning::Costmap before(rc.before, {0.0, true});
   uint64_t expansions = 0;
   for (auto _ : state) {
     state.PauseTiming();
-    auto dstar = std::make_unique<planning::DStarLite>(before, CellIndex{0, 0}, CellIndex{511, 511});
+    auto dstar = std::make_unique<planning::DStarLite>(before, rc.start, rc.goal);
     dstar->ComputeShortestPath();
     const uint64_t initial = dstar->expansions();
     state.ResumeTiming();
@@ -176,7 +196,8 @@ void BM_Replan_DStarLiteRepair(benchmark::State& state) {
   }
   state.counters["states_processed"] = static_cast<double>(expansions);
 }
-BENCHMARK(BM_Replan_DStarLiteRepair)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Replan_DStarLiteRepair, spread, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Replan_DStarLiteRepair, local, true)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
