@@ -18,7 +18,8 @@
 namespace navd::planning {
 namespace {
 
-std::string SharedData() { return std::string(NAVD_SOURCE_DIR) + "/../shared/data/movingai"; }
+// A copy of ../shared/data/movingai/arena.map(.scen) (Dragon Age: Origins, 160 scenarios).
+std::string MovingAiData() { return std::string(NAVD_SOURCE_DIR) + "/tests/data/movingai"; }
 
 TEST(MovingAi, ParsesMapsAndScenarios) {
   const OccupancyGrid g = ParseMovingAiMap("type octile\nheight 2\nwidth 3\nmap\n.T.\n@.G\n", "t.map");
@@ -40,8 +41,8 @@ TEST(MovingAi, ParsesMapsAndScenarios) {
 class ScenarioTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ScenarioTest, ArenaScenariosAreSolvedOptimally) {
-  const std::string map = SharedData() + "/arena.map";
-  ASSERT_TRUE(std::filesystem::exists(map)) << "shared data missing: " << map;
+  const std::string map = MovingAiData() + "/arena.map";
+  ASSERT_TRUE(std::filesystem::exists(map)) << "test data missing: " << map;
   MapStore maps;
   const auto snapshot = maps.Set(LoadMovingAiMap(map), "arena");
   PlanningEngineOptions options;
