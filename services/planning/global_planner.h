@@ -35,9 +35,11 @@ class GlobalPlanner {
   virtual std::string name() const = 0;
   virtual std::string description() const = 0;
   virtual std::vector<PlannerOptionSpec> options() const = 0;
-  // Any-angle planners return paths shorter than the 8-connected grid optimum; they are judged by
-  // "no longer than optimal" instead of "optimal".
-  virtual bool any_angle() const { return false; }
+  // What the planner minimises, so benchmarks judge it fairly: the 8-connected grid length
+  // (must match MovingAI optima), an any-angle length (must not exceed them), or a cost that
+  // trades length for clearance (not judged on length).
+  enum class Objective { kGridLength, kAnyAngleLength, kCost };
+  virtual Objective objective() const { return Objective::kGridLength; }
   // start and goal are free cells of the costmap. Throws navd::Error(kDeadlineExceeded) when
   // stop() turns true.
   virtual CellPath Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,

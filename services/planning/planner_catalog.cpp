@@ -2,6 +2,7 @@
 
 #include "services/planning/dstar_lite.h"
 #include "services/planning/grid_astar_planner.h"
+#include "services/planning/path_transform_planner.h"
 #include "services/planning/theta_star_planner.h"
 
 namespace navd::planning {
@@ -11,6 +12,8 @@ void RegisterDefaultPlanners(PlanningEngine& engine) {
   engine.Register(std::make_unique<GridAStarPlanner>(true));
   engine.Register(std::make_unique<ThetaStarPlanner>());
   engine.Register(std::make_unique<DStarLitePlanner>());
+  engine.Register(std::make_unique<PathTransformPlanner>(true));
+  engine.Register(std::make_unique<PathTransformPlanner>(false));
 }
 
 }  // namespace navd::planning

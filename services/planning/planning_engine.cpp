@@ -57,7 +57,7 @@ std::vector<PlannerInfo> PlanningEngine::Planners() const {
   std::vector<PlannerInfo> out;
   for (const auto& p : planners_) {
     PlannerInfo info{p->name(), p->description(), p->options(), p->name() == options_.default_planner,
-                     p->any_angle()};
+                     p->objective()};
     info.options.insert(info.options.end(), CommonOptions().begin(), CommonOptions().end());
     out.push_back(std::move(info));
   }

@@ -36,7 +36,7 @@ struct PlannerInfo {
   std::string description;
   std::vector<PlannerOptionSpec> options;
   bool is_default = false;
-  bool any_angle = false;
+  GlobalPlanner::Objective objective = GlobalPlanner::Objective::kGridLength;
 };
 
 class PlanningEngine {

@@ -1,7 +1,7 @@
 #pragma once
 // Runs MovingAI scenarios through the planning engine and judges each path against the file's
 // optimal octile length: grid planners must match it to the precision the file prints, any-angle
-// planners must not exceed it. Used by `navctl plan --map --scen` and the correctness tests.
+// planners must not exceed it, and cost-minimising planners must find a path. Used by `navctl plan --map --scen` and the correctness tests.
 // Lengths in metres (MovingAI cells are 1 m); times in wall milliseconds.
 #include <functional>
 #include <string>
@@ -21,9 +21,9 @@ struct ScenarioMismatch {
 
 struct ScenarioReport {
   std::string planner;
-  bool any_angle = false;
+  GlobalPlanner::Objective objective = GlobalPlanner::Objective::kGridLength;
   size_t total = 0;
-  size_t passed = 0;       // optimal (grid planners) or no longer than optimal (any-angle)
+  size_t passed = 0;       // optimal (grid length), no longer than optimal (any-angle), or found (cost)
   double median_ms = 0.0;
   double p99_ms = 0.0;
   std::vector<ScenarioMismatch> mismatches;

@@ -16,7 +16,7 @@ class ThetaStarPlanner : public GlobalPlanner {
     return "Theta*: any-angle A* with line-of-sight parent updates on the inflated grid";
   }
   std::vector<PlannerOptionSpec> options() const override { return {}; }
-  bool any_angle() const override { return true; }
+  Objective objective() const override { return Objective::kAnyAngleLength; }
   CellPath Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal, const PlannerOptions& options,
                 const StopRequested& stop) const override;
 };

@@ -6,6 +6,7 @@
 #include <queue>
 #include <random>
 
+#include "services/common/distance_field.h"
 #include "services/common/error.h"
 #include "services/common/map_store.h"
 #include "services/common/movingai_format.h"
@@ -57,7 +58,8 @@ TEST_P(ScenarioTest, ArenaScenariosAreSolvedOptimally) {
   EXPECT_EQ(r.total, 160u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Planners, ScenarioTest, ::testing::Values("astar", "dijkstra", "thetastar", "dstar_lite"));
+INSTANTIATE_TEST_SUITE_P(Planners, ScenarioTest, ::testing::Values("astar", "dijkstra", "thetastar", "dstar_lite",
+                                                              "distance_transform", "path_transform"));
 
 // Random maps: obstacles as random rectangles on a 60 x 60 grid of 0.1 m cells.
 std::shared_ptr<const MapSnapshot> RandomMap(MapStore& maps, std::mt19937& rng) {
@@ -108,7 +110,8 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
       if (cm->IsLethal(sc) || cm->IsLethal(gc)) continue;
       const bool reachable = Reachable(*cm, sc)[cm->grid().Flat(gc)] != 0;
       double astar_length = -1;
-      for (const std::string planner : {"astar", "dijkstra", "thetastar", "dstar_lite"}) {
+      for (const std::string planner : {"astar", "dijkstra", "thetastar", "dstar_lite", "distance_transform",
+                                        "path_transform"}) {
         for (const double smooth : {0.0, 1.0}) {
           try {
             const PathPlan p = engine.ComputePath(s, g, planner, {{"smooth", smooth}});
@@ -186,6 +189,55 @@ TEST(DStarLite, ReplanningMatchesPlanningFromScratch) {
       }
     }
   }
+}
+
+TEST(DistanceField, MatchesBruteForce) {
+  std::mt19937 rng(2);
+  OccupancyGrid g(37, 23, 0.1, Point2::Zero());
+  std::uniform_int_distribution<int> x(0, 36), y(0, 22);
+  for (int i = 0; i < 30; ++i) g.set({x(rng), y(rng)}, OccupancyGrid::kOccupied);
+  g.set({5, 5}, OccupancyGrid::kUnknown);
+  const DistanceField field(g);
+  const DistanceField with_unknown(g, true);
+  for (int cy = 0; cy < 23; ++cy)
+    for (int cx = 0; cx < 37; ++cx) {
+      double best = INFINITY, best_u = INFINITY;
+      for (int oy = 0; oy < 23; ++oy)
+        for (int ox = 0; ox < 37; ++ox) {
+          const double d = std::hypot(cx - ox, cy - oy) * 0.1;
+          if (g.IsOccupied({ox, oy})) best = std::min(best, d);
+          if (g.IsOccupied({ox, oy}) || g.at({ox, oy}) < 0) best_u = std::min(best_u, d);
+        }
+      ASSERT_NEAR(field.at({cx, cy}), best, 1e-9) << cx << "," << cy;
+      ASSERT_NEAR(with_unknown.at({cx, cy}), best_u, 1e-9) << cx << "," << cy;
+    }
+  EXPECT_TRUE(std::isinf(DistanceField(OccupancyGrid(4, 4, 1.0, Point2::Zero())).at({1, 1})));
+}
+
+// The path transform trades length for clearance: through a wide room with a pillar near the
+// straight line, it keeps farther from obstacles than the shortest path, and a larger alpha more so.
+TEST(PathTransform, KeepsClearanceThatTheShortestPathDoesNot) {
+  MapStore maps;
+  OccupancyGrid g(100, 60, 0.1, Point2::Zero());
+  g.FillBox({4.8, 2.6}, {5.2, 3.4});  // a pillar just above the straight line y = 2.5
+  maps.Set(std::move(g), "room");
+  PlanningEngine engine(maps, {{0.0, true}, "astar", 0.5});
+  RegisterDefaultPlanners(engine);
+  const DistanceField field(engine.CurrentCostmap()->grid());
+  auto min_clearance = [&](const PathPlan& p) {
+    double c = INFINITY;
+    for (size_t i = 1; i < p.points.size(); ++i)
+      for (int k = 0; k <= 20; ++k) {
+        const Point2 q = p.points[i - 1] + (p.points[i] - p.points[i - 1]) * (k / 20.0);
+        c = std::min(c, field.at(engine.CurrentCostmap()->grid().CellOf(q)));
+      }
+    return c;
+  };
+  const PathPlan shortest = engine.ComputePath({1, 2.5}, {9, 2.5}, "astar", {{"smooth", 0}});
+  const PathPlan careful = engine.ComputePath({1, 2.5}, {9, 2.5}, "path_transform", {{"smooth", 0}, {"alpha", 4.0}});
+  EXPECT_GT(min_clearance(careful), min_clearance(shortest) + 0.2);
+  EXPECT_GT(careful.length, shortest.length);
+  EXPECT_LT(careful.length, shortest.length * 1.5);
 }
 
 TEST(ThetaStar, LineOfSightRespectsDiagonalCorners) {
