@@ -62,17 +62,20 @@ const char* StateText(navd::v1::NavigationState s) {
 
 // `navctl plan --map FILE [--scen FILE]`: plans in this process with navd's planning library.
 int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, const std::string& from,
-                   const std::string& to, std::vector<std::string> planners, bool json_out) {
+                   const std::string& to, std::vector<std::string> planners, bool json_out, double inflation) {
   navd::MapStore maps;
   std::string name;
   const auto snapshot = maps.Set(navd::LoadAnyMapFile(map_path, &name), name);
   navd::planning::PlanningEngineOptions options;
-  // MovingAI benchmarks plan for a point robot on 1 m cells: no inflation.
-  options.costmap.inflation_radius = 0.0;
+  // MovingAI benchmarks plan for a point robot on 1 m cells: no inflation. Other maps are for
+  // navd's robot: its radius plus the daemon's 0.10 m margin.
+  const bool movingai = std::filesystem::path(map_path).extension() == ".map";
+  options.costmap.inflation_radius = inflation >= 0 ? inflation : movingai ? 0.0 : navd::RobotDescription().radius + 0.10;
   navd::planning::PlanningEngine engine(maps, options);
   navd::planning::RegisterDefaultPlanners(engine);
-  if (planners.empty()) {
-    for (const auto& p : engine.Planners()) planners.push_back(p.name);
+  if (planners.empty()) {  // every planner but the time-budgeted sampling ones (name them to run them)
+    for (const auto& p : engine.Planners())
+      if (!p.time_budgeted) planners.push_back(p.name);
   }
   if (scen_path.empty()) {
     if (from.empty() || to.empty()) throw std::invalid_argument("plan --map needs --scen, or --from and --to");
@@ -139,6 +142,9 @@ int main(int argc, char** argv) {
   plan->add_option("--map", offline_map, "Plan offline, without a server, on this map file (MovingAI .map, map_server or world YAML)");
   plan->add_option("--scen", scen, "With --map: run every scenario of this MovingAI .scen file and judge optimality");
   plan->add_flag("--json", json_out, "Print one JSON object");
+  double offline_inflation = -1.0;
+  plan->add_option("--inflation", offline_inflation,
+                   "With --map: obstacle inflation radius, m (default 0 for MovingAI maps, robot radius + 0.10 otherwise)");
 
   auto* planners = app.add_subcommand("planners", "List planners");
   planners->add_flag("--json", json_out, "Print one JSON object");
@@ -216,7 +222,9 @@ int main(int argc, char** argv) {
       return 0;
     }
 
-    if (plan->parsed() && !offline_map.empty()) return RunOfflinePlan(offline_map, scen, from, to, plan_planners, json_out);
+    if (plan->parsed() && !offline_map.empty()) {
+      return RunOfflinePlan(offline_map, scen, from, to, plan_planners, json_out, offline_inflation);
+    }
     if (plan->parsed()) {
       if (from.empty() || to.empty()) throw std::invalid_argument("plan needs --from and --to (or --map with --scen)");
       if (!scen.empty()) throw std::invalid_argument("--scen needs --map");

@@ -26,7 +26,11 @@ using StopRequested = std::function<bool()>;
 
 struct CellPath {
   std::vector<CellIndex> cells;  // start first, goal last; empty when no path exists
-  uint64_t expansions = 0;
+  // Continuous planners (OMPL) also give exact map-frame points, which replace the cells' centres.
+  std::vector<Point2> points;
+  // The points follow a motion model (Dubins, Reeds-Shepp curves): no shortcutting afterwards.
+  bool kinematic = false;
+  uint64_t expansions = 0;        // search nodes expanded, or roadmap/tree vertices
 };
 
 class GlobalPlanner {
@@ -40,6 +44,8 @@ class GlobalPlanner {
   // trades length for clearance (not judged on length).
   enum class Objective { kGridLength, kAnyAngleLength, kCost };
   virtual Objective objective() const { return Objective::kGridLength; }
+  // Sampling planners that spend a time budget per query; batch runs skip them unless named.
+  virtual bool time_budgeted() const { return false; }
   // start and goal are free cells of the costmap. Throws navd::Error(kDeadlineExceeded) when
   // stop() turns true.
   virtual CellPath Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,

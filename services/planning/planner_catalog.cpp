@@ -2,6 +2,7 @@
 
 #include "services/planning/dstar_lite.h"
 #include "services/planning/grid_astar_planner.h"
+#include "services/planning/ompl_planner.h"
 #include "services/planning/path_transform_planner.h"
 #include "services/planning/theta_star_planner.h"
 
@@ -14,6 +15,11 @@ void RegisterDefaultPlanners(PlanningEngine& engine) {
   engine.Register(std::make_unique<DStarLitePlanner>());
   engine.Register(std::make_unique<PathTransformPlanner>(true));
   engine.Register(std::make_unique<PathTransformPlanner>(false));
+  for (const auto a : {OmplPlanner::Algorithm::kRrtConnect, OmplPlanner::Algorithm::kRrtStar,
+                       OmplPlanner::Algorithm::kPrmStar, OmplPlanner::Algorithm::kInformedRrtStar,
+                       OmplPlanner::Algorithm::kBitStar}) {
+    engine.Register(std::make_unique<OmplPlanner>(a));
+  }
 }
 
 }  // namespace navd::planning

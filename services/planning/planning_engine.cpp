@@ -57,7 +57,7 @@ std::vector<PlannerInfo> PlanningEngine::Planners() const {
   std::vector<PlannerInfo> out;
   for (const auto& p : planners_) {
     PlannerInfo info{p->name(), p->description(), p->options(), p->name() == options_.default_planner,
-                     p->objective()};
+                     p->objective(), p->time_budgeted()};
     info.options.insert(info.options.end(), CommonOptions().begin(), CommonOptions().end());
     out.push_back(std::move(info));
   }
@@ -185,15 +185,19 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
   // checked visibility from the centres only).
   const bool recovered = start_cell != grid.CellOf(start);
   plan.points.push_back(start);
-  for (const CellIndex& c : cells.cells) plan.points.push_back(grid.CellCenter(c));
+  if (!cells.points.empty()) {
+    plan.points.insert(plan.points.end(), cells.points.begin(), cells.points.end());
+  } else {
+    for (const CellIndex& c : cells.cells) plan.points.push_back(grid.CellCenter(c));
+  }
   plan.points.push_back(goal);
-  if (plan.points.size() > 3 && costmap->SegmentFree(plan.points[plan.points.size() - 3], goal)) {
+  if (!cells.kinematic && plan.points.size() > 3 && costmap->SegmentFree(plan.points[plan.points.size() - 3], goal)) {
     plan.points.erase(plan.points.end() - 2);
   }
-  if (!recovered && plan.points.size() > 2 && costmap->SegmentFree(start, plan.points[2])) {
+  if (!cells.kinematic && !recovered && plan.points.size() > 2 && costmap->SegmentFree(start, plan.points[2])) {
     plan.points.erase(plan.points.begin() + 1);
   }
-  if (options.at("smooth") != 0.0) {
+  if (options.at("smooth") != 0.0 && !cells.kinematic) {
     // The first hop may leave the inflation zone, which the shortcut test would reject; keep it.
     if (recovered) {
       std::vector<Point2> rest(plan.points.begin() + 1, plan.points.end());

@@ -37,6 +37,7 @@ struct PlannerInfo {
   std::vector<PlannerOptionSpec> options;
   bool is_default = false;
   GlobalPlanner::Objective objective = GlobalPlanner::Objective::kGridLength;
+  bool time_budgeted = false;
 };
 
 class PlanningEngine {

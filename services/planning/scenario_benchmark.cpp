@@ -29,7 +29,7 @@ std::string ScenarioReport::Summary() const {
   char buf[160];
   const char* verdict = objective == GlobalPlanner::Objective::kGridLength       ? "optimal"
                         : objective == GlobalPlanner::Objective::kAnyAngleLength ? "no longer than optimal"
-                                                                                  : "found (cost-aware, not length-optimal)";
+                                                                                  : "found (not judged on length)";
   std::snprintf(buf, sizeof buf, "%s: %zu/%zu %s, median %.3f ms, p99 %.3f ms", planner.c_str(), passed, total,
                 verdict, median_ms, p99_ms);
   return buf;

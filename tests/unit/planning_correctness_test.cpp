@@ -10,6 +10,7 @@
 #include "services/common/error.h"
 #include "services/common/map_store.h"
 #include "services/common/movingai_format.h"
+#include "services/common/world.h"
 #include "services/planning/dstar_lite.h"
 #include "services/planning/grid_astar_planner.h"
 #include "services/planning/planner_catalog.h"
@@ -238,6 +239,46 @@ TEST(PathTransform, KeepsClearanceThatTheShortestPathDoesNot) {
   EXPECT_GT(min_clearance(careful), min_clearance(shortest) + 0.2);
   EXPECT_GT(careful.length, shortest.length);
   EXPECT_LT(careful.length, shortest.length * 1.5);
+}
+
+// OMPL planners on the warehouse: collision-free (exact segment test) paths from start to goal,
+// honouring the time budget and cancellation, in SE(2) and for car-like robots.
+TEST(OmplPlanners, FindCollisionFreePathsInTheWarehouse) {
+  MapStore maps;
+  maps.Set(DefaultWorld().map, "warehouse");
+  PlanningEngine engine(maps, {{0.30, true}, "astar", 0.5});
+  RegisterDefaultPlanners(engine);
+  const auto cm = engine.CurrentCostmap();
+  const Point2 s(0.8, 1.0), g(8.8, 8.8);
+  const double astar = engine.ComputePath(s, g, "astar", {}).length;
+  for (const std::string planner : {"rrt_connect", "rrt_star", "prm_star", "informed_rrt_star", "bit_star"}) {
+    const PathPlan p = engine.ComputePath(s, g, planner, {{"time_limit", 0.2}});
+    EXPECT_EQ(p.points.front(), s);
+    EXPECT_EQ(p.points.back(), g);
+    for (size_t i = 1; i < p.points.size(); ++i)
+      EXPECT_TRUE(cm->SegmentFree(p.points[i - 1], p.points[i])) << planner << " segment " << i;
+    EXPECT_LT(p.length, 1.6 * astar) << planner;
+    EXPECT_LT(p.planning_time, 2.0) << planner;
+  }
+  // Reeds-Shepp with a turning radius: a feasible curve sampled along its length.
+  const PathPlan rs = engine.ComputePath({0.8, 2.0}, {0.8, 8.0}, "rrt_connect",
+                                         {{"space", 2}, {"turning_radius", 0.3}, {"start_yaw", M_PI / 2},
+                                          {"goal_yaw", M_PI / 2}});  // smoothing must leave curves alone
+  EXPECT_GT(rs.points.size(), 10u);
+  EXPECT_GE(rs.length, 6.0 - 1e-6);
+  // Cancellation before any solution: DEADLINE_EXCEEDED.
+  try {
+    engine.ComputePath(s, g, "rrt_star", {{"time_limit", 5.0}}, [] { return true; });
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kDeadlineExceeded);
+  }
+  try {
+    engine.ComputePath(s, g, "rrt_star", {{"space", 7}});
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("space"), std::string::npos);
+  }
 }
 
 TEST(ThetaStar, LineOfSightRespectsDiagonalCorners) {
