@@ -60,9 +60,25 @@ const char* StateText(navd::v1::NavigationState s) {
   }
 }
 
+// "--option NAME=VALUE" flags into planner options.
+std::map<std::string, double> ParseOptions(const std::vector<std::string>& texts) {
+  std::map<std::string, double> out;
+  for (const auto& t : texts) {
+    const size_t eq = t.find('=');
+    char* end = nullptr;
+    const double v = eq == std::string::npos ? 0.0 : std::strtod(t.c_str() + eq + 1, &end);
+    if (eq == std::string::npos || eq == 0 || end == t.c_str() + eq + 1 || *end != '\0') {
+      throw std::invalid_argument("--option '" + t + "' is not NAME=NUMBER");
+    }
+    out[t.substr(0, eq)] = v;
+  }
+  return out;
+}
+
 // `navctl plan --map FILE [--scen FILE]`: plans in this process with navd's planning library.
 int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, const std::string& from,
-                   const std::string& to, std::vector<std::string> planners, bool json_out, double inflation) {
+                   const std::string& to, std::vector<std::string> planners, bool json_out, double inflation,
+                   const std::map<std::string, double>& planner_options) {
   navd::MapStore maps;
   std::string name;
   const auto snapshot = maps.Set(navd::LoadAnyMapFile(map_path, &name), name);
@@ -81,7 +97,7 @@ int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, co
     if (from.empty() || to.empty()) throw std::invalid_argument("plan --map needs --scen, or --from and --to");
     const auto a = ParseTuple(from, "--from", 2, 2), b = ParseTuple(to, "--to", 2, 2);
     for (const auto& p : planners) {
-      const auto r = engine.ComputePath({a[0], a[1]}, {b[0], b[1]}, p, {});
+      const auto r = engine.ComputePath({a[0], a[1]}, {b[0], b[1]}, p, planner_options);
       std::printf("%s: %zu waypoints, length %.4f m, %.3f ms, %lu expansions\n", r.planner.c_str(), r.points.size(),
                   r.length, r.planning_time * 1e3, static_cast<unsigned long>(r.expansions));
     }
@@ -142,6 +158,8 @@ int main(int argc, char** argv) {
   plan->add_option("--map", offline_map, "Plan offline, without a server, on this map file (MovingAI .map, map_server or world YAML)");
   plan->add_option("--scen", scen, "With --map: run every scenario of this MovingAI .scen file and judge optimality");
   plan->add_flag("--json", json_out, "Print one JSON object");
+  std::vector<std::string> option_texts;
+  plan->add_option("--option", option_texts, "Planner option NAME=VALUE (see 'planners'), repeatable");
   double offline_inflation = -1.0;
   plan->add_option("--inflation", offline_inflation,
                    "With --map: obstacle inflation radius, m (default 0 for MovingAI maps, robot radius + 0.10 otherwise)");
@@ -223,7 +241,8 @@ int main(int argc, char** argv) {
     }
 
     if (plan->parsed() && !offline_map.empty()) {
-      return RunOfflinePlan(offline_map, scen, from, to, plan_planners, json_out, offline_inflation);
+      return RunOfflinePlan(offline_map, scen, from, to, plan_planners, json_out, offline_inflation,
+                            ParseOptions(option_texts));
     }
     if (plan->parsed()) {
       if (from.empty() || to.empty()) throw std::invalid_argument("plan needs --from and --to (or --map with --scen)");
@@ -240,7 +259,7 @@ int main(int argc, char** argv) {
     }
     if (plan->parsed()) {
       const auto a = ParseTuple(from, "--from", 2, 2), b = ParseTuple(to, "--to", 2, 2);
-      const auto r = client.ComputePath(a[0], a[1], b[0], b[1], planner);
+      const auto r = client.ComputePath(a[0], a[1], b[0], b[1], planner, ParseOptions(option_texts));
       if (json_out) {
         json path = json::array();
         for (const auto& p : r.path()) path.push_back({p.x(), p.y()});
