@@ -28,8 +28,11 @@ struct CellPath {
   std::vector<CellIndex> cells;  // start first, goal last; empty when no path exists
   // Continuous planners (OMPL) also give exact map-frame points, which replace the cells' centres.
   std::vector<Point2> points;
-  // The points follow a motion model (Dubins, Reeds-Shepp curves): no shortcutting afterwards.
-  bool kinematic = false;
+  // The points' shape matters (Dubins/Reeds-Shepp curves, a smooth gradient path with speeds):
+  // no shortcutting afterwards.
+  bool keep_shape = false;
+  // Per point of `points`: the planner's speed limit as a fraction of the robot's top speed.
+  std::vector<double> speed_limits;
   uint64_t expansions = 0;        // search nodes expanded, or roadmap/tree vertices
 };
 

@@ -44,7 +44,7 @@ CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
     return kTieBreak * (diagonal ? (dx + dy) + (M_SQRT2 - 2.0) * std::min(dx, dy) : dx + dy);
   };
 
-  thread_local QuaternaryHeap open;
+  thread_local QuaternaryHeap<> open;
   open.clear();
   const int32_t s = static_cast<int32_t>(start.y) * w + start.x;
   const int32_t t = static_cast<int32_t>(goal.y) * w + goal.x;

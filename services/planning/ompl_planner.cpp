@@ -184,7 +184,7 @@ CellPath OmplPlanner::Plan(const Costmap& costmap, const CellIndex& start, const
     result.points.push_back({se2->getX(), se2->getY()});
     result.cells.push_back(grid.CellOf(result.points.back()));
   }
-  result.kinematic = space_kind != 0;
+  result.keep_shape = space_kind != 0;
   ob::PlannerData data(si);
   setup.getPlannerData(data);
   result.expansions = static_cast<uint64_t>(data.numVertices());

@@ -48,7 +48,7 @@ CellPath PathTransformPlanner::Plan(const Costmap& costmap, const CellIndex& sta
     if (alpha == 0.0) return length;
     return length * (1.0 + alpha * 0.5 * (discomfort[from] + discomfort[to]));
   };
-  QuaternaryHeap open;
+  QuaternaryHeap<> open;
   const int32_t g = goal.y * w + goal.x, s = start.y * w + start.x;
   value[g] = 0.0;
   open.push(0.0, g);

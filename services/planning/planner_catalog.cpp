@@ -4,6 +4,7 @@
 #include "services/planning/grid_astar_planner.h"
 #include "services/planning/ompl_planner.h"
 #include "services/planning/path_transform_planner.h"
+#include "services/planning/voronoi_fast_marching_planner.h"
 #include "services/planning/theta_star_planner.h"
 
 namespace navd::planning {
@@ -15,6 +16,7 @@ void RegisterDefaultPlanners(PlanningEngine& engine) {
   engine.Register(std::make_unique<DStarLitePlanner>());
   engine.Register(std::make_unique<PathTransformPlanner>(true));
   engine.Register(std::make_unique<PathTransformPlanner>(false));
+  engine.Register(std::make_unique<VoronoiFastMarchingPlanner>());
   for (const auto a : {OmplPlanner::Algorithm::kRrtConnect, OmplPlanner::Algorithm::kRrtStar,
                        OmplPlanner::Algorithm::kPrmStar, OmplPlanner::Algorithm::kInformedRrtStar,
                        OmplPlanner::Algorithm::kBitStar}) {

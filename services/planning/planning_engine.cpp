@@ -191,13 +191,13 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     for (const CellIndex& c : cells.cells) plan.points.push_back(grid.CellCenter(c));
   }
   plan.points.push_back(goal);
-  if (!cells.kinematic && plan.points.size() > 3 && costmap->SegmentFree(plan.points[plan.points.size() - 3], goal)) {
+  if (!cells.keep_shape && plan.points.size() > 3 && costmap->SegmentFree(plan.points[plan.points.size() - 3], goal)) {
     plan.points.erase(plan.points.end() - 2);
   }
-  if (!cells.kinematic && !recovered && plan.points.size() > 2 && costmap->SegmentFree(start, plan.points[2])) {
+  if (!cells.keep_shape && !recovered && plan.points.size() > 2 && costmap->SegmentFree(start, plan.points[2])) {
     plan.points.erase(plan.points.begin() + 1);
   }
-  if (options.at("smooth") != 0.0 && !cells.kinematic) {
+  if (options.at("smooth") != 0.0 && !cells.keep_shape) {
     // The first hop may leave the inflation zone, which the shortcut test would reject; keep it.
     if (recovered) {
       std::vector<Point2> rest(plan.points.begin() + 1, plan.points.end());
@@ -207,6 +207,12 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     } else {
       plan.points = ShortcutPath(*costmap, plan.points, stop);
     }
+  }
+  if (!cells.speed_limits.empty()) {
+    // Speeds belong to cells.points, which keep their shape: start and goal take their neighbours'.
+    plan.speed_limits.push_back(cells.speed_limits.front());
+    plan.speed_limits.insert(plan.speed_limits.end(), cells.speed_limits.begin(), cells.speed_limits.end());
+    plan.speed_limits.push_back(cells.speed_limits.back());
   }
   plan.length = PathLength(plan.points);
   plan.planning_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -235,6 +241,10 @@ PathPlan PlanningEngine::ComputePathThroughPoses(const Point2& start, const std:
       throw Error(e.code(), message);
     }
     total.points.insert(total.points.end(), leg.points.begin() + (i == 0 ? 0 : 1), leg.points.end());
+    if (!leg.speed_limits.empty()) {
+      total.speed_limits.insert(total.speed_limits.end(), leg.speed_limits.begin() + (i == 0 ? 0 : 1),
+                                leg.speed_limits.end());
+    }
     total.length += leg.length;
     total.planning_time += leg.planning_time;
     total.expansions += leg.expansions;

@@ -25,6 +25,7 @@ struct PlanningEngineOptions {
 
 struct PathPlan {
   std::vector<Point2> points;  // start first, goal last
+  std::vector<double> speed_limits;  // per point, fraction of top speed; empty unless the planner gives them
   double length = 0.0;         // metres
   double planning_time = 0.0;  // wall seconds
   uint64_t expansions = 0;

@@ -11,6 +11,7 @@ void ToProto(const PathPlan& plan, v1::ComputePathResponse* response) {
   response->set_planning_time(plan.planning_time);
   response->set_planner(plan.planner);
   response->set_expansions(plan.expansions);
+  for (double v : plan.speed_limits) response->add_speed_limits(v);
 }
 }  // namespace
 

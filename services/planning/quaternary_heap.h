@@ -8,10 +8,11 @@
 
 namespace navd::planning {
 
+template <typename Key = double>
 class QuaternaryHeap {
  public:
   struct Entry {
-    double key;
+    Key key;
     int32_t node;
   };
 
@@ -20,7 +21,7 @@ class QuaternaryHeap {
   void clear() { heap_.clear(); }
   const Entry& top() const { return heap_.front(); }
 
-  void push(double key, int32_t node) {
+  void push(Key key, int32_t node) {
     size_t i = heap_.size();
     heap_.push_back({key, node});
     const Entry e = heap_[i];

@@ -16,6 +16,7 @@
 #include "services/planning/planner_catalog.h"
 #include "services/planning/scenario_benchmark.h"
 #include "services/planning/theta_star_planner.h"
+#include "services/planning/voronoi_fast_marching_planner.h"
 
 namespace navd::planning {
 namespace {
@@ -137,6 +138,17 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
   }
   EXPECT_GT(planned, 500);
   EXPECT_GT(unreachable, 0);  // the random maps do wall some goals off
+}
+
+// Points every `spacing` metres along a polyline.
+std::vector<Point2> DensifyPolyline(const std::vector<Point2>& path, double spacing) {
+  std::vector<Point2> out;
+  for (size_t i = 1; i < path.size(); ++i) {
+    const int n = std::max(1, static_cast<int>((path[i] - path[i - 1]).norm() / spacing));
+    for (int k = 0; k < n; ++k) out.push_back(path[i - 1] + (path[i] - path[i - 1]) * (double(k) / n));
+  }
+  out.push_back(path.back());
+  return out;
 }
 
 double CellPathCost(const std::vector<CellIndex>& cells) {
@@ -278,6 +290,53 @@ TEST(OmplPlanners, FindCollisionFreePathsInTheWarehouse) {
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("space"), std::string::npos);
+  }
+}
+
+TEST(FastMarching, ArrivalTimesApproximateEuclideanDistance) {
+  const int n = 101;
+  const std::vector<double> speed(n * n, 1.0);
+  const auto t = FastMarch(n, n, 0.1, speed, {50, 50});
+  EXPECT_DOUBLE_EQ(t[50 * n + 50], 0.0);
+  EXPECT_NEAR(t[50 * n + 100], 5.0, 1e-5);  // along an axis the scheme is exact (float times)
+  // Diagonals: first-order fast marching overestimates by a few percent.
+  const double diagonal = t[100 * n + 100], exact = std::hypot(5.0, 5.0);
+  EXPECT_GT(diagonal, exact);
+  EXPECT_LT(diagonal, exact * 1.1);
+  // Half speed: twice the time.
+  std::vector<double> slow(n * n, 0.5);
+  EXPECT_NEAR(FastMarch(n, n, 0.1, slow, {50, 50})[50 * n + 100], 10.0, 1e-5);
+}
+
+TEST(VoronoiFastMarching, SmoothSafePathWithSpeedLimits) {
+  MapStore maps;
+  maps.Set(DefaultWorld().map, "warehouse");
+  PlanningEngine engine(maps, {{0.30, true}, "astar", 0.5});
+  RegisterDefaultPlanners(engine);
+  const auto cm = engine.CurrentCostmap();
+  const DistanceField field(cm->grid());
+  const Point2 s(0.8, 1.0), g(8.8, 8.8);
+  const PathPlan vfm = engine.ComputePath(s, g, "voronoi_fast_marching", {});
+  const PathPlan astar = engine.ComputePath(s, g, "astar", {});
+  EXPECT_EQ(vfm.points.front(), s);
+  EXPECT_EQ(vfm.points.back(), g);
+  ASSERT_EQ(vfm.speed_limits.size(), vfm.points.size());
+  double mean_clearance_vfm = 0, mean_clearance_astar = 0;
+  for (size_t i = 0; i < vfm.points.size(); ++i) {
+    if (i > 0) EXPECT_TRUE(cm->SegmentFree(vfm.points[i - 1], vfm.points[i])) << i;
+    EXPECT_GT(vfm.speed_limits[i], 0.0);
+    EXPECT_LE(vfm.speed_limits[i], 1.0);
+    mean_clearance_vfm += field.at(cm->grid().CellOf(vfm.points[i])) / vfm.points.size();
+  }
+  const auto dense = DensifyPolyline(astar.points, 0.05);
+  for (const auto& p : dense) mean_clearance_astar += field.at(cm->grid().CellOf(p)) / dense.size();
+  EXPECT_GT(mean_clearance_vfm, mean_clearance_astar + 0.1);
+  EXPECT_LT(vfm.length, 1.5 * astar.length);
+  // Smooth: no sharp turns between consecutive steps.
+  for (size_t i = 2; i + 1 < vfm.points.size(); ++i) {
+    const Point2 a = vfm.points[i - 1] - vfm.points[i - 2], b = vfm.points[i] - vfm.points[i - 1];
+    if (a.norm() < 1e-6 || b.norm() < 1e-6) continue;
+    EXPECT_GT(a.normalized().dot(b.normalized()), std::cos(M_PI / 3)) << "turn at point " << i;
   }
 }
 
