@@ -47,6 +47,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   // --- Services -----------------------------------------------------------------------------
   planning::PlanningEngineOptions planning_options;
   planning_options.costmap.inflation_radius = robot.radius + o.inflation_margin;
+  planning_options.costmap.decay_radius = o.cost_decay;
   planning::PlanningEngine planning(maps, planning_options);
   planning::RegisterDefaultPlanners(planning);
   planning.CurrentCostmap();  // built now rather than on the first request

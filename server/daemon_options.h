@@ -17,6 +17,7 @@ struct DaemonOptions {
   double control_rate = 20.0;       // Hz, in the daemon's clock
   double sensor_timeout = 0.5;      // s without odometry before the robot is stopped
   double inflation_margin = 0.10;   // m added to the robot radius for planning
+  double cost_decay = 0.50;         // m of decaying cost beyond the inflation (keeps paths off walls)
   bool initial_pose_set = false;    // --initial-pose given
   double initial_pose[3] = {0, 0, 0};
 };

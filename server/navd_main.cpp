@@ -27,6 +27,10 @@ int main(int argc, char** argv) {
   app.add_option("--namespace", o.robot_namespace, "Robot namespace for topics (rt/<ns>/scan ...)");
   app.add_flag("--use-sim-time", o.use_sim_time, "Follow the simulator's rt/clock instead of the system clock");
   app.add_option("--control-rate", o.control_rate, "Control loop rate, Hz")->check(CLI::Range(1.0, 200.0));
+  app.add_option("--inflation-margin", o.inflation_margin, "Metres added to the robot radius for lethal inflation")
+      ->check(CLI::Range(0.0, 5.0));
+  app.add_option("--cost-decay", o.cost_decay, "Metres of decaying cost beyond the inflation (0: none)")
+      ->check(CLI::Range(0.0, 10.0));
   std::vector<double> initial;
   app.add_option("--initial-pose", initial, "Initial pose X Y THETA in the map frame (default: the world's start)")
       ->expected(3);

@@ -1,7 +1,9 @@
 #pragma once
-// A planning costmap: the occupancy grid with obstacles grown by the robot's radius plus a safety
-// margin (Nav2's inflation layer, lethal part only). A cell is lethal when its centre lies within
-// `inflation_radius` metres of an occupied cell's centre; unknown cells are lethal unless allowed.
+// A planning costmap, like Nav2's inflation layer: cells within `inflation_radius` metres (centre
+// to centre) of an occupied cell are lethal; beyond that, within `decay_radius` more, a cost falls
+// off exponentially with distance, cost = 252 * exp(-cost_scaling * (d - inflation_radius)), so
+// cost-aware planners keep clear of walls when there is room. Unknown cells are lethal unless
+// allowed. Costs are 0..252 (free..nearly lethal); lethal cells are flagged separately.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -13,10 +15,14 @@ namespace navd::planning {
 struct CostmapOptions {
   double inflation_radius = 0.30;  // metres: robot radius + margin
   bool unknown_is_lethal = true;
+  double decay_radius = 0.0;       // metres of decaying cost beyond the inflation radius (0: none)
+  double cost_scaling = 3.0;       // 1/m, Nav2's cost_scaling_factor
 };
 
 class Costmap {
  public:
+  static constexpr uint8_t kMaxCost = 252;
+
   // Shares ownership of the grid, so a costmap outlives a map swap.
   Costmap(std::shared_ptr<const OccupancyGrid> grid, const CostmapOptions& options);
 
@@ -27,14 +33,21 @@ class Costmap {
   bool IsLethal(const CellIndex& c) const { return lethal_[grid_->Flat(c)] != 0; }
   // Row-major lethal flags (1 = lethal), for search inner loops.
   const uint8_t* lethal_data() const { return lethal_.data(); }
+  // Decaying cost of a non-lethal cell, 0..kMaxCost; all zero without decay.
+  uint8_t cost(const CellIndex& c) const { return cost_.empty() ? 0 : cost_[grid_->Flat(c)]; }
+  // Row-major costs, or nullptr when the costmap has no decay layer.
+  const uint8_t* cost_data() const { return cost_.empty() ? nullptr : cost_.data(); }
   // True when the straight segment a-b (map frame) crosses no lethal cell and stays in the map;
   // at an exact corner crossing both side cells must be free.
   bool SegmentFree(const Point2& a, const Point2& b) const;
+  // The highest cost on the segment a-b (0 without decay); only meaningful when SegmentFree.
+  uint8_t SegmentMaxCost(const Point2& a, const Point2& b) const;
 
  private:
   std::shared_ptr<const OccupancyGrid> grid_;
   CostmapOptions options_;
   std::vector<uint8_t> lethal_;
+  std::vector<uint8_t> cost_;
 };
 
 }  // namespace navd::planning

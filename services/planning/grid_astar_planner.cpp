@@ -17,7 +17,8 @@ std::string GridAStarPlanner::description() const {
 }
 
 std::vector<PlannerOptionSpec> GridAStarPlanner::options() const {
-  return {{"diagonal", 1.0, "1: 8-connected moves, 0: 4-connected"}};
+  return {{"diagonal", 1.0, "1: 8-connected moves, 0: 4-connected"},
+          {"cost_weight", 1.0, "step cost = length * (1 + cost_weight * cost / 252) on the costmap's decay layer (>= 0)"}};
 }
 
 CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
@@ -27,6 +28,10 @@ CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
     throw Error(ErrorCode::kInvalidArgument, "options: 'diagonal' must be 0 or 1");
   }
   const bool diagonal = diagonal_option != 0.0;
+  const double cost_weight = options.at("cost_weight");
+  if (!(cost_weight >= 0.0)) throw Error(ErrorCode::kInvalidArgument, "options: 'cost_weight' must be >= 0");
+  const uint8_t* cost = cost_weight > 0.0 ? costmap.cost_data() : nullptr;
+  const double per_cost = cost_weight / Costmap::kMaxCost;
   const int w = costmap.width(), h = costmap.height();
   const size_t n = static_cast<size_t>(w) * h;
   // Doubles: distinct 8-connected path lengths a + b*sqrt(2) can differ by ~1e-5 on large maps,
@@ -77,7 +82,10 @@ CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
       if (k >= 4 && (!free(x + kDx[k], y) || !free(x, y + kDy[k]))) continue;  // no corner cutting
       const int32_t ni = ny * w + nx;
       if (ws.closed(ni)) continue;
-      const double ng = g_current + (k >= 4 ? M_SQRT2 : 1.0);
+      double step = k >= 4 ? M_SQRT2 : 1.0;
+      // Lengths stay the heuristic's lower bound: penalties only add.
+      if (cost) step *= 1.0 + per_cost * 0.5 * (cost[current] + cost[ni]);
+      const double ng = g_current + step;
       if (ng < ws.g(ni)) {
         ws.Set(ni, ng, current);
         open.push(ng + heuristic(nx, ny), ni);

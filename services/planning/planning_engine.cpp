@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <queue>
+#include <algorithm>
 
 #include "services/common/error.h"
 
@@ -37,8 +38,17 @@ std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point
     // Extend the segment while the next point stays visible: each check costs the segment's
     // length, so the whole pass is linear in path length times segment length, never quadratic
     // in the number of points.
+    // With a decay layer a shortcut may not run closer to obstacles (higher cost) than the stretch
+    // of path it replaces, so smoothing keeps the clearance cost-aware planners chose.
     size_t next = anchor + 1;
-    while (next + 1 < points.size() && costmap.SegmentFree(points[anchor], points[next + 1])) ++next;
+    uint8_t replaced_max = std::max(costmap.SegmentMaxCost(points[anchor], points[anchor]),
+                                    costmap.SegmentMaxCost(points[anchor], points[next]));
+    while (next + 1 < points.size() && costmap.SegmentFree(points[anchor], points[next + 1])) {
+      const uint8_t stretch = std::max(replaced_max, costmap.SegmentMaxCost(points[next], points[next + 1]));
+      if (costmap.SegmentMaxCost(points[anchor], points[next + 1]) > stretch) break;
+      replaced_max = stretch;
+      ++next;
+    }
     if (stop && stop()) {
       throw Error(ErrorCode::kDeadlineExceeded, "path smoothing stopped: deadline exceeded or cancelled");
     }

@@ -93,7 +93,7 @@ void BM_MazeSearch(benchmark::State& state, const std::string& name) {
   else planner = std::make_unique<planning::GridAStarPlanner>(name == "dijkstra");
   uint64_t expansions = 0;
   for (auto _ : state) {
-    const auto path = planner->Plan(costmap, {1, 1}, {509, 509}, {{"diagonal", 1.0}, {"smooth", 0.0}}, {});
+    const auto path = planner->Plan(costmap, {1, 1}, {509, 509}, {{"diagonal", 1.0}, {"cost_weight", 0.0}, {"smooth", 0.0}}, {});
     expansions += path.expansions;
     benchmark::DoNotOptimize(path);
   }
@@ -156,7 +156,7 @@ void BM_Replan_AStarFromScratch(benchmark::State& state, bool local) {
   planning::Costmap after(rc.after, {0.0, true});
   uint64_t expansions = 0;
   for (auto _ : state) {
-    const auto p = planning::GridAStarPlanner().Plan(after, rc.start, rc.goal, {{"diagonal", 1.0}}, {});
+    const auto p = planning::GridAStarPlanner().Plan(after, rc.start, rc.goal, {{"diagonal", 1.0}, {"cost_weight", 0.0}}, {});
     expansions = p.expansions;
     benchmark::DoNotOptimize(p);
   }

@@ -187,7 +187,7 @@ TEST(DStarLite, ReplanningMatchesPlanningFromScratch) {
       }
       const bool found = dstar.ComputeShortestPath();
       const Costmap fresh(grid, {0.0, true});
-      const CellPath astar = GridAStarPlanner().Plan(fresh, start, goal, {{"diagonal", 1.0}}, {});
+      const CellPath astar = GridAStarPlanner().Plan(fresh, start, goal, {{"diagonal", 1.0}, {"cost_weight", 0.0}}, {});
       ASSERT_EQ(found, !astar.cells.empty()) << "trial " << trial << " round " << round;
       if (!found) break;
       const auto repaired = dstar.Path();
@@ -229,6 +229,31 @@ TEST(DistanceField, MatchesBruteForce) {
 
 // The path transform trades length for clearance: through a wide room with a pillar near the
 // straight line, it keeps farther from obstacles than the shortest path, and a larger alpha more so.
+// With the decay layer, A* (and the shortcuts after it) keep off the walls where there is room.
+TEST(CostAwareAStar, KeepsClearanceInTheWarehouse) {
+  MapStore maps;
+  maps.Set(DefaultWorld().map, "warehouse");
+  PlanningEngine plain(maps, {{0.30, true}, "astar", 0.5});
+  PlanningEngine aware(maps, {{0.30, true, 0.5, 3.0}, "astar", 0.5});
+  RegisterDefaultPlanners(plain);
+  RegisterDefaultPlanners(aware);
+  const DistanceField field(plain.CurrentCostmap()->grid());
+  auto mean_clearance = [&](const PathPlan& p) {
+    const auto dense = DensifyPolyline(p.points, 0.05);
+    double sum = 0;
+    for (const auto& q : dense) sum += std::min(1.0, field.at(plain.CurrentCostmap()->grid().CellOf(q)));
+    return sum / dense.size();
+  };
+  const PathPlan a = plain.ComputePath({0.8, 1.0}, {8.8, 8.8}, "astar", {});
+  const PathPlan b = aware.ComputePath({0.8, 1.0}, {8.8, 8.8}, "astar", {});
+  const PathPlan c = aware.ComputePath({0.8, 1.0}, {8.8, 8.8}, "astar", {{"cost_weight", 0}, {"smooth", 0}});
+  const PathPlan a_raw = plain.ComputePath({0.8, 1.0}, {8.8, 8.8}, "astar", {{"smooth", 0}});
+  EXPECT_GT(mean_clearance(b), mean_clearance(a) + 0.05);
+  EXPECT_LT(b.length, 1.25 * a.length);
+  EXPECT_NEAR(c.length, a_raw.length, 1e-9);  // weight 0: the plain shortest cell path
+  for (size_t i = 1; i < b.points.size(); ++i) EXPECT_TRUE(aware.CurrentCostmap()->SegmentFree(b.points[i - 1], b.points[i]));
+}
+
 TEST(PathTransform, KeepsClearanceThatTheShortestPathDoesNot) {
   MapStore maps;
   OccupancyGrid g(100, 60, 0.1, Point2::Zero());

@@ -18,7 +18,7 @@ std::shared_ptr<const OccupancyGrid> Grid(int w, int h, double res = 1.0) {
 }
 
 CellPath PlanCells(const Costmap& cm, CellIndex s, CellIndex g, bool dijkstra = false, double diagonal = 1.0) {
-  return GridAStarPlanner(dijkstra).Plan(cm, s, g, {{"diagonal", diagonal}, {"smooth", 0}}, {});
+  return GridAStarPlanner(dijkstra).Plan(cm, s, g, {{"diagonal", diagonal}, {"cost_weight", 0}, {"smooth", 0}}, {});
 }
 
 double CellPathLength(const CellPath& p) {
@@ -38,6 +38,18 @@ TEST(Costmap, InflatesByRadiusAndNoFurther) {
   EXPECT_FALSE(cm.IsLethal({14, 10}));  // 0.4 m
   EXPECT_TRUE(cm.IsLethal({12, 12}));   // 0.28 m
   EXPECT_FALSE(cm.IsLethal({13, 12}));  // 0.36 m
+}
+
+TEST(Costmap, CostDecaysExponentiallyBeyondTheInflation) {
+  auto grid = std::make_shared<OccupancyGrid>(41, 1, 0.1, Point2(0, 0));
+  grid->set({0, 0}, OccupancyGrid::kOccupied);
+  Costmap cm(grid, {0.3, true, 0.5, 3.0});
+  EXPECT_TRUE(cm.IsLethal({3, 0}));
+  EXPECT_FALSE(cm.IsLethal({4, 0}));
+  EXPECT_EQ(cm.cost({4, 0}), std::lround(252 * std::exp(-3.0 * 0.1)));
+  EXPECT_EQ(cm.cost({7, 0}), std::lround(252 * std::exp(-3.0 * 0.4)));
+  EXPECT_EQ(cm.cost({8, 0}), 0);  // 0.8 m: beyond inflation + decay
+  EXPECT_EQ(Costmap(grid, {0.3, true}).cost({4, 0}), 0);  // no decay layer by default
 }
 
 TEST(Costmap, UnknownSpacePolicy) {
@@ -94,7 +106,7 @@ TEST(GridAStar, StopsWhenAsked) {
   auto g = Grid(300, 300);
   Costmap cm(g, {0.0, true});
   try {
-    GridAStarPlanner().Plan(cm, {0, 0}, {299, 299}, {{"diagonal", 1}, {"smooth", 0}}, [] { return true; });
+    GridAStarPlanner().Plan(cm, {0, 0}, {299, 299}, {{"diagonal", 1}, {"cost_weight", 0}, {"smooth", 0}}, [] { return true; });
     FAIL() << "expected a deadline error";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kDeadlineExceeded);
