@@ -31,14 +31,14 @@ bool Costmap::SegmentFree(const Point2& a, const Point2& b) const {
                          [this](const CellIndex& c, double) { return grid_->Contains(c) && !IsLethal(c); });
 }
 
-uint8_t Costmap::SegmentMaxCost(const Point2& a, const Point2& b) const {
-  if (cost_.empty()) return 0;
-  uint8_t worst = 0;
-  TraverseSegment(*grid_, a, b, [&](const CellIndex& c, double) {
-    if (grid_->Contains(c)) worst = std::max(worst, cost(c));
+int Costmap::SegmentMaxCost(const Point2& a, const Point2& b) const {
+  int worst = 0;
+  const bool free = TraverseSegment(*grid_, a, b, [&](const CellIndex& c, double) {
+    if (!grid_->Contains(c) || IsLethal(c)) return false;
+    if (!cost_.empty()) worst = std::max<int>(worst, cost_[grid_->Flat(c)]);
     return true;
   });
-  return worst;
+  return free ? worst : -1;
 }
 
 }  // namespace navd::planning

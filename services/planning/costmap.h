@@ -40,8 +40,9 @@ class Costmap {
   // True when the straight segment a-b (map frame) crosses no lethal cell and stays in the map;
   // at an exact corner crossing both side cells must be free.
   bool SegmentFree(const Point2& a, const Point2& b) const;
-  // The highest cost on the segment a-b (0 without decay); only meaningful when SegmentFree.
-  uint8_t SegmentMaxCost(const Point2& a, const Point2& b) const;
+  // The highest cost on the segment a-b (0 without decay), or -1 when it is not SegmentFree: both
+  // answers from one traversal.
+  int SegmentMaxCost(const Point2& a, const Point2& b) const;
 
  private:
   std::shared_ptr<const OccupancyGrid> grid_;

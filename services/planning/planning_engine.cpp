@@ -41,12 +41,17 @@ std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point
     // With a decay layer a shortcut may not run closer to obstacles (higher cost) than the stretch
     // of path it replaces, so smoothing keeps the clearance cost-aware planners chose.
     size_t next = anchor + 1;
-    uint8_t replaced_max = std::max(costmap.SegmentMaxCost(points[anchor], points[anchor]),
-                                    costmap.SegmentMaxCost(points[anchor], points[next]));
-    while (next + 1 < points.size() && costmap.SegmentFree(points[anchor], points[next + 1])) {
-      const uint8_t stretch = std::max(replaced_max, costmap.SegmentMaxCost(points[next], points[next + 1]));
-      if (costmap.SegmentMaxCost(points[anchor], points[next + 1]) > stretch) break;
-      replaced_max = stretch;
+    const bool costs = costmap.cost_data() != nullptr;
+    int replaced_max = costs ? costmap.SegmentMaxCost(points[anchor], points[next]) : 0;
+    while (next + 1 < points.size()) {
+      if (!costs) {
+        if (!costmap.SegmentFree(points[anchor], points[next + 1])) break;
+      } else {
+        const int stretch = std::max(replaced_max, costmap.SegmentMaxCost(points[next], points[next + 1]));
+        const int shortcut = costmap.SegmentMaxCost(points[anchor], points[next + 1]);
+        if (shortcut < 0 || shortcut > stretch) break;
+        replaced_max = stretch;
+      }
       ++next;
     }
     if (stop && stop()) {

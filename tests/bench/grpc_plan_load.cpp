@@ -1,7 +1,7 @@
 // Load test of PlanningService.ComputePath over real gRPC on loopback: starts a navd on the
 // embedded warehouse (free port, own DDS domain), then N client threads each send requests between
 // random free points for a bounded time. Prints requests/s and latency percentiles.
-//   build/tests/grpc_plan_load [--clients N] [--seconds S] [--max-requests M]
+//   build/tests/grpc_plan_load [--clients N] [--seconds S] [--max-requests M] [--cost-decay M]
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -23,12 +23,15 @@ int main(int argc, char** argv) {
   app.add_option("--clients", clients)->check(CLI::Range(1, 64));
   app.add_option("--seconds", seconds)->check(CLI::Range(0.5, 120.0));
   app.add_option("--max-requests", max_requests)->check(CLI::PositiveNumber);
+  std::string cost_decay = "0.5";
+  app.add_option("--cost-decay", cost_decay, "navd --cost-decay (0: shortest paths, no decay layer)");
   CLI11_PARSE(app, argc, argv);
 
   using namespace navd;
   navd::testing::StackOptions options;
   options.start_sim = false;  // planning needs only the map
   options.use_sim_time = false;
+  options.navd_args = {"--cost-decay", cost_decay};
   navd::testing::NavdStack stack(options);
 
   // Random query points on cells free of the inflated obstacles, fixed seed.
