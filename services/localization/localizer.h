@@ -1,8 +1,9 @@
 #pragma once
-// The interface of pose estimators: they consume odometry (and, later, scans) and report the
-// robot's pose in the map frame with a covariance. Units: metres, radians, seconds.
+// The interface of pose estimators: they consume odometry and laser scans and report the robot's
+// pose in the map frame with a covariance. Units: metres, radians, seconds.
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "services/common/pose2.h"
 
@@ -15,11 +16,25 @@ struct OdometryReading {
   double stamp = 0.0;
 };
 
+// A planar laser scan in the robot frame (the scanner sits at the robot's centre, facing forward):
+// beam i points at angle_min + i * angle_increment; ranges outside [range_min, range_max] are no
+// returns.
+struct ScanReading {
+  std::vector<float> ranges;
+  double angle_min = 0.0;
+  double angle_increment = 0.0;
+  double range_min = 0.0;
+  double range_max = 0.0;
+  double stamp = 0.0;
+};
+
 struct PoseEstimate {
   Pose2 pose;                                             // map frame
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();   // (x, y, theta)
   double stamp = 0.0;
   bool valid = false;                                     // false until the first reading
+  // How well the sensors agree with the map, 0 (lost) to 1; 1 for pure odometry, which cannot tell.
+  double quality = 1.0;
 };
 
 class Localizer {
@@ -27,6 +42,9 @@ class Localizer {
   virtual ~Localizer() = default;
   virtual std::string name() const = 0;
   virtual void AddOdometry(const OdometryReading& reading) = 0;
+  // Scans correct the estimate in localisers that use them; others ignore them. Returns whether
+  // the scan was used (malformed scans are rejected, never applied).
+  virtual bool AddScan(const ScanReading& scan) { return false; }
   // Re-anchors the estimate at `pose` (map frame) with `covariance` of (x, y, theta). Throws
   // navd::Error(kInvalidArgument) naming the field for non-finite values or a covariance that is
   // not symmetric with a non-negative diagonal.

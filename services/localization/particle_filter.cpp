@@ -1,0 +1,259 @@
+#include "services/localization/particle_filter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+
+#include "services/common/distance_field.h"
+
+namespace navd::localization {
+
+ParticleFilterLocalizer::ParticleFilterLocalizer(const OccupancyGrid& map, const ParticleFilterOptions& options)
+    : map_(map), o_(options), rng_(options.seed) {
+  // The likelihood field, once per map.
+  const DistanceField field(map_);
+  surface_distance_.resize(field.values().size());
+  const double half = map_.resolution() / 2;
+  for (size_t i = 0; i < surface_distance_.size(); ++i) {
+    const double d = field.values()[i];
+    surface_distance_[i] = static_cast<float>(d <= 0.0 ? -half : std::min(d - half, o_.max_distance));
+  }
+  const double rand = o_.z_rand / o_.range_max;
+  log_likelihood_table_.resize(static_cast<size_t>(o_.max_distance * 1000) + 2);
+  for (size_t mm = 0; mm < log_likelihood_table_.size(); ++mm) {
+    const double d = mm / 1000.0;
+    log_likelihood_table_[mm] =
+        static_cast<float>(std::log(o_.z_hit * std::exp(-d * d / (2 * o_.sigma_hit * o_.sigma_hit)) + rand));
+  }
+  log_outside_ = static_cast<float>(std::log(rand));
+  for (size_t i = 0; i < map_.cells().size(); ++i)
+    if (map_.cells()[i] == OccupancyGrid::kFree) free_cells_.push_back(static_cast<int32_t>(i));
+}
+
+size_t ParticleFilterLocalizer::particle_count() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return particles_.size();
+}
+
+Pose2 ParticleFilterLocalizer::RandomFreePose() {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  if (free_cells_.empty()) return {};
+  const int32_t i = free_cells_[static_cast<size_t>(u(rng_) * free_cells_.size()) % free_cells_.size()];
+  const Point2 c = map_.CellCenter({i % map_.width(), i / map_.width()});
+  const double r = map_.resolution();
+  return {c.x() + (u(rng_) - 0.5) * r, c.y() + (u(rng_) - 0.5) * r, NormalizeAngle(u(rng_) * 2 * M_PI)};
+}
+
+void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const double sx = covariance(0, 0) > 0 ? std::sqrt(covariance(0, 0)) : o_.initial_sigma_xy;
+  const double sy = covariance(1, 1) > 0 ? std::sqrt(covariance(1, 1)) : o_.initial_sigma_xy;
+  const double st = covariance(2, 2) > 0 ? std::sqrt(covariance(2, 2)) : o_.initial_sigma_theta;
+  std::normal_distribution<double> n(0.0, 1.0);
+  const int count = std::clamp(2 * o_.min_particles, o_.min_particles, o_.max_particles);
+  particles_.assign(count, {});
+  for (auto& p : particles_) {
+    p.pose = {pose.x + sx * n(rng_), pose.y + sy * n(rng_), NormalizeAngle(pose.theta + st * n(rng_))};
+    p.weight = 1.0 / count;
+  }
+  last_odom_ = latest_odom_;
+  moved_since_scan_ = true;
+  w_slow_ = w_fast_ = 0.0;
+  initialised_ = true;
+  UpdateEstimate();
+}
+
+void ParticleFilterLocalizer::ScatterUniformly() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  particles_.assign(o_.max_particles, {});
+  for (auto& p : particles_) p = {RandomFreePose(), 1.0 / o_.max_particles};
+  last_odom_ = latest_odom_;
+  moved_since_scan_ = true;
+  w_slow_ = w_fast_ = 0.0;
+  initialised_ = true;
+  UpdateEstimate();
+}
+
+void ParticleFilterLocalizer::AddOdometry(const OdometryReading& reading) {
+  if (!reading.pose.finite()) return;  // never let a NaN into the particles
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!have_odom_) {
+    last_odom_ = latest_odom_ = reading.pose;
+    have_odom_ = true;
+  }
+  latest_odom_ = reading.pose;
+  estimate_.stamp = reading.stamp;
+  const Pose2 delta = last_odom_.inverse() * latest_odom_;
+  if (std::hypot(delta.x, delta.y) >= o_.update_min_distance || std::abs(delta.theta) >= o_.update_min_angle) {
+    if (initialised_) MoveParticles(last_odom_, latest_odom_);
+    last_odom_ = latest_odom_;
+    moved_since_scan_ = true;
+    if (initialised_) UpdateEstimate();
+  }
+}
+
+void ParticleFilterLocalizer::MoveParticles(const Pose2& from, const Pose2& to) {
+  // sample_motion_model_odometry: rotate, translate, rotate, each with noise.
+  const double dx = to.x - from.x, dy = to.y - from.y;
+  const double trans = std::hypot(dx, dy);
+  // Backwards motion is a translation with the robot's heading, not a half turn.
+  double rot1 = trans < 0.01 ? 0.0 : NormalizeAngle(std::atan2(dy, dx) - from.theta);
+  double signed_trans = trans;
+  if (std::abs(rot1) > M_PI / 2) {
+    rot1 = NormalizeAngle(rot1 + M_PI);
+    signed_trans = -trans;
+  }
+  const double rot2 = NormalizeAngle(to.theta - from.theta - rot1);
+  const double s_rot1 = std::sqrt(o_.alpha1 * rot1 * rot1 + o_.alpha2 * trans * trans);
+  const double s_trans = std::sqrt(o_.alpha3 * trans * trans + o_.alpha4 * (rot1 * rot1 + rot2 * rot2));
+  const double s_rot2 = std::sqrt(o_.alpha1 * rot2 * rot2 + o_.alpha2 * trans * trans);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (auto& p : particles_) {
+    const double r1 = rot1 + s_rot1 * n(rng_);
+    const double t = signed_trans + s_trans * n(rng_);
+    const double r2 = rot2 + s_rot2 * n(rng_);
+    p.pose.x += t * std::cos(p.pose.theta + r1);
+    p.pose.y += t * std::sin(p.pose.theta + r1);
+    p.pose.theta = NormalizeAngle(p.pose.theta + r1 + r2);
+  }
+}
+
+bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
+  if (scan.ranges.empty() || !std::isfinite(scan.angle_min) || !std::isfinite(scan.angle_increment) ||
+      !std::isfinite(scan.range_max) || !(scan.range_max > scan.range_min)) {
+    return false;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!initialised_ || !have_odom_ || !moved_since_scan_) return false;
+  // Beam end points in the robot frame, on an even subset of beams; no-returns (NaN, inf, out of
+  // range) carry no information in a likelihood field and are skipped.
+  std::vector<Point2> ends;
+  const size_t step = std::max<size_t>(1, scan.ranges.size() / static_cast<size_t>(std::max(1, o_.beams)));
+  for (size_t i = 0; i < scan.ranges.size(); i += step) {
+    const double r = scan.ranges[i];
+    if (!std::isfinite(r) || r < scan.range_min || r >= scan.range_max) continue;
+    const double a = scan.angle_min + i * scan.angle_increment;
+    ends.push_back({r * std::cos(a), r * std::sin(a)});
+  }
+  if (ends.size() < 5) return false;  // too little to judge by
+
+  // Sensor log-likelihood of each particle, summed over the beams.
+  std::vector<double> sensor(particles_.size());
+  for (size_t k = 0; k < particles_.size(); ++k) {
+    const Pose2& p = particles_[k].pose;
+    const double c = std::cos(p.theta), s = std::sin(p.theta);
+    double sum = 0.0;
+    for (const Point2& e : ends) sum += LogLikelihoodAt(p.x + c * e.x() - s * e.y(), p.y + s * e.x() + c * e.y());
+    sensor[k] = sum;
+  }
+  // The belief's expected per-beam log-likelihood: how well the scan fits where the filter thinks
+  // the robot is. Augmented MCL tracks it on two time scales; quality compares it with a perfect fit.
+  double expected = 0.0;
+  for (size_t k = 0; k < particles_.size(); ++k) expected += particles_[k].weight * sensor[k];
+  const double beam_log_likelihood = expected / ends.size();
+  const double w_avg = std::exp(beam_log_likelihood);
+  if (w_slow_ == 0.0) w_slow_ = w_fast_ = w_avg;
+  w_slow_ += o_.alpha_slow * (w_avg - w_slow_);
+  w_fast_ += o_.alpha_fast * (w_avg - w_fast_);
+  estimate_.quality = std::exp(beam_log_likelihood - std::log(o_.z_hit + o_.z_rand / o_.range_max));
+
+  // Posterior weights, normalised in log space.
+  double best = -std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < particles_.size(); ++k) {
+    sensor[k] += std::log(std::max(particles_[k].weight, 1e-300));
+    best = std::max(best, sensor[k]);
+  }
+  double total = 0.0;
+  for (size_t k = 0; k < particles_.size(); ++k) total += (particles_[k].weight = std::exp(sensor[k] - best));
+  double sum_sq = 0.0;
+  for (auto& p : particles_) {
+    p.weight /= total;
+    sum_sq += p.weight * p.weight;
+  }
+  const double effective = 1.0 / sum_sq;
+  const double inject = std::max(0.0, 1.0 - w_fast_ / w_slow_);
+  if (effective < particles_.size() / 2.0 || inject > 0.0) Resample();
+  moved_since_scan_ = false;
+  UpdateEstimate();
+  return true;
+}
+
+float ParticleFilterLocalizer::LogLikelihoodAt(double x, double y) const {
+  const double res = map_.resolution();
+  const double gx = (x - map_.origin().x()) / res - 0.5, gy = (y - map_.origin().y()) / res - 0.5;
+  const int w = map_.width(), h = map_.height();
+  if (!(gx >= -0.5 && gy >= -0.5 && gx < w - 0.5 && gy < h - 0.5)) return log_outside_;
+  const int x0 = std::clamp(static_cast<int>(std::floor(gx)), 0, w - 2), y0 = std::clamp(static_cast<int>(std::floor(gy)), 0, h - 2);
+  const double fx = std::clamp(gx - x0, 0.0, 1.0), fy = std::clamp(gy - y0, 0.0, 1.0);
+  const float* row0 = &surface_distance_[static_cast<size_t>(y0) * w + x0];
+  const float* row1 = row0 + w;
+  const double d = (1 - fy) * ((1 - fx) * row0[0] + fx * row0[1]) + fy * ((1 - fx) * row1[0] + fx * row1[1]);
+  const size_t mm = std::min(static_cast<size_t>(std::abs(d) * 1000.0), log_likelihood_table_.size() - 1);
+  return log_likelihood_table_[mm];
+}
+
+void ParticleFilterLocalizer::Resample() {
+  // KLD-sampling (Fox 2003): draw until the particle count bounds the KL error of the belief's
+  // histogram, given the number of histogram bins the draws have hit so far.
+  const double inject = std::max(0.0, 1.0 - w_fast_ / w_slow_);
+  std::vector<double> cdf(particles_.size());
+  double acc = 0.0;
+  for (size_t k = 0; k < particles_.size(); ++k) cdf[k] = (acc += particles_[k].weight);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Particle> next;
+  next.reserve(o_.max_particles);
+  std::unordered_set<int64_t> bins;
+  size_t target = o_.min_particles;
+  while (next.size() < static_cast<size_t>(o_.max_particles) && next.size() < target) {
+    Pose2 pose;
+    if (u(rng_) < inject) {
+      pose = RandomFreePose();
+    } else {
+      const size_t k = std::lower_bound(cdf.begin(), cdf.end(), u(rng_) * acc) - cdf.begin();
+      pose = particles_[std::min(k, particles_.size() - 1)].pose;
+    }
+    next.push_back({pose, 0.0});
+    const int64_t bx = static_cast<int64_t>(std::floor(pose.x / o_.kld_bin_xy));
+    const int64_t by = static_cast<int64_t>(std::floor(pose.y / o_.kld_bin_xy));
+    const int64_t bt = static_cast<int64_t>(std::floor((pose.theta + M_PI) / o_.kld_bin_theta));
+    if (bins.insert((bx * 73856093) ^ (by * 19349663) ^ (bt * 83492791)).second && bins.size() > 1) {
+      const double k = static_cast<double>(bins.size() - 1);
+      const double a = 2.0 / (9.0 * k);
+      const double n = k / (2.0 * o_.kld_error) * std::pow(1.0 - a + std::sqrt(a) * o_.kld_z, 3);
+      target = std::max<size_t>(o_.min_particles, static_cast<size_t>(std::ceil(n)));
+    }
+  }
+  for (auto& p : next) p.weight = 1.0 / next.size();
+  particles_.swap(next);
+  if (inject > 0.0) w_slow_ = w_fast_ = 0.5 * (w_slow_ + w_fast_);  // do not keep injecting on stale averages
+}
+
+void ParticleFilterLocalizer::UpdateEstimate() {
+  double x = 0, y = 0, c = 0, s = 0;
+  for (const auto& p : particles_) {
+    x += p.weight * p.pose.x;
+    y += p.weight * p.pose.y;
+    c += p.weight * std::cos(p.pose.theta);
+    s += p.weight * std::sin(p.pose.theta);
+  }
+  const Pose2 mean{x, y, std::atan2(s, c)};
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : particles_) {
+    const Eigen::Vector3d d(p.pose.x - mean.x, p.pose.y - mean.y, NormalizeAngle(p.pose.theta - mean.theta));
+    cov += p.weight * d * d.transpose();
+  }
+  estimate_.pose = mean;
+  estimate_.covariance = cov;
+  estimate_.valid = initialised_ && have_odom_;
+}
+
+PoseEstimate ParticleFilterLocalizer::Estimate() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  PoseEstimate e = estimate_;
+  e.valid = initialised_ && have_odom_;
+  // Between filter updates, carry the estimate along with the odometry since the last one.
+  e.pose = e.pose * (last_odom_.inverse() * latest_odom_);
+  return e;
+}
+
+}  // namespace navd::localization

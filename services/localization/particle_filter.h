@@ -1,0 +1,93 @@
+#pragma once
+// Adaptive Monte Carlo localisation, as users know it from ROS's AMCL (Thrun, Burgard and Fox,
+// "Probabilistic Robotics", ch. 4 and 8): a particle filter over the robot's map pose with
+//  - the odometry motion model (sample_motion_model_odometry, noise alpha1..alpha4),
+//  - the likelihood-field sensor model on the map's exact distance field (z_hit Gaussian of the
+//    distance from a beam's end to the nearest obstacle, plus z_rand), on a subset of beams,
+//  - KLD-sampling to size the particle set to the spread of the belief,
+//  - augmented MCL (w_slow, w_fast) to inject uniformly drawn particles when the sensors stop
+//    agreeing with the map (recovery from a wrong pose or a kidnapping).
+// Units: metres, radians; poses in the map frame; odometry in the odom frame.
+#include <mutex>
+#include <random>
+#include <vector>
+
+#include "services/common/occupancy_grid.h"
+#include "services/localization/localizer.h"
+
+namespace navd::localization {
+
+struct ParticleFilterOptions {
+  int min_particles = 500;
+  int max_particles = 5000;
+  double kld_error = 0.01;          // KLD bound epsilon
+  double kld_z = 2.326;             // upper standard normal quantile for 1 - delta = 0.99
+  double kld_bin_xy = 0.25;         // m
+  double kld_bin_theta = 10.0 * M_PI / 180.0;  // rad
+  // Odometry noise (AMCL's odom_alpha1..4): rotation from rotation, rotation from translation,
+  // translation from translation, translation from rotation.
+  double alpha1 = 0.1, alpha2 = 0.1, alpha3 = 0.1, alpha4 = 0.1;
+  // Likelihood field.
+  int beams = 90;                   // beams used per scan, evenly spread
+  double sigma_hit = 0.07;           // m
+  double z_hit = 0.95;
+  double z_rand = 0.05;
+  double max_distance = 2.0;        // m: distances beyond count as this far
+  double range_max = 4.0;           // m: the z_rand density is 1 / range_max
+  // Filter only after the robot moved this much (AMCL update_min_d / update_min_a).
+  double update_min_distance = 0.05;  // m
+  double update_min_angle = 0.05;     // rad
+  // Augmented MCL averaging rates.
+  double alpha_slow = 0.001, alpha_fast = 0.1;
+  // Initial spread around a SetPose without covariance.
+  double initial_sigma_xy = 0.1, initial_sigma_theta = 0.1;
+  uint64_t seed = 1;
+};
+
+class ParticleFilterLocalizer : public Localizer {
+ public:
+  ParticleFilterLocalizer(const OccupancyGrid& map, const ParticleFilterOptions& options = {});
+  std::string name() const override { return "amcl"; }
+  void AddOdometry(const OdometryReading& reading) override;
+  bool AddScan(const ScanReading& scan) override;
+  PoseEstimate Estimate() const override;
+
+  // Scatters particles uniformly over the free space (global localisation, no prior).
+  void ScatterUniformly();
+  size_t particle_count() const;
+
+ private:
+  struct Particle {
+    Pose2 pose;
+    double weight;
+  };
+  void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+  void MoveParticles(const Pose2& from, const Pose2& to);
+  void Resample();
+  Pose2 RandomFreePose();
+  void UpdateEstimate();
+
+  const OccupancyGrid map_;
+  ParticleFilterOptions o_;
+  // Approximate distance from each cell centre to the nearest obstacle *surface* (centre distance
+  // minus half a cell; minus half a cell inside obstacles), interpolated bilinearly at each beam's
+  // end so the fit is not quantised to cells (which biased the estimate by up to half a cell).
+  std::vector<float> surface_distance_;
+  std::vector<float> log_likelihood_table_;  // log(z_hit * N(d) + z_rand / range) by |d| in mm
+  float log_outside_ = 0.0f;                 // a beam ending outside the map
+  float LogLikelihoodAt(double x, double y) const;
+  std::vector<int32_t> free_cells_;
+
+  mutable std::mutex mutex_;
+  std::mt19937_64 rng_;
+  std::vector<Particle> particles_;
+  bool have_odom_ = false;
+  Pose2 last_odom_;                     // odometry at the last filter update
+  Pose2 latest_odom_;
+  bool moved_since_scan_ = true;
+  double w_slow_ = 0.0, w_fast_ = 0.0;
+  PoseEstimate estimate_;
+  bool initialised_ = false;
+};
+
+}  // namespace navd::localization
