@@ -62,6 +62,10 @@ void ControlLoop::StaleTick(double now) {
 
 void ControlLoop::Tick(uint64_t tick, double now) {
   if (auto odom = bridge_.LatestOdometry()) localizer_.AddOdometry(*odom);
+  if (bridge_.scan_count() != scans_seen_) {
+    scans_seen_ = bridge_.scan_count();
+    if (auto scan = bridge_.LatestScan()) localizer_.AddScan(*scan);
+  }
   const bool fresh = now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
   const bool was_active = executive_.navigator().Status().active;
   const WheelSpeeds wheels = executive_.Step(fresh, now);

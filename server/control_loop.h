@@ -40,6 +40,7 @@ class ControlLoop {
   std::atomic<bool> stop_{false};
   std::thread thread_;
   int zero_commands_left_ = 0;
+  uint64_t scans_seen_ = 0;
 };
 
 }  // namespace navd::server

@@ -14,6 +14,7 @@ struct DaemonOptions {
   dds::ParticipantOptions dds;
   std::string robot_namespace;
   bool use_sim_time = false;
+  std::string localizer = "amcl";   // amcl | odometry
   double control_rate = 20.0;       // Hz, in the daemon's clock
   double sensor_timeout = 0.5;      // s without odometry before the robot is stopped
   double inflation_margin = 0.10;   // m added to the robot radius for planning

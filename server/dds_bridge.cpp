@@ -39,6 +39,19 @@ std::optional<localization::OdometryReading> DdsBridge::LatestOdometry() const {
   return r;
 }
 
+std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
+  const auto m = scan_reader_->Latest();
+  if (!m) return std::nullopt;
+  localization::ScanReading s;
+  s.ranges = m->ranges();
+  s.angle_min = m->angle_min();
+  s.angle_increment = m->angle_increment();
+  s.range_min = m->range_min();
+  s.range_max = m->range_max();
+  s.stamp = dds::FromTime(m->header().stamp());
+  return s;
+}
+
 void DdsBridge::PublishCommand(const Twist2& twist) {
   geometry_msgs::msg::dds_::Twist_ m;
   m.linear().x(twist.v);

@@ -30,6 +30,10 @@ class DdsBridge {
   double last_odometry_arrival() const { return last_odom_arrival_.load(); }
   uint64_t odometry_count() const { return odom_reader_->count(); }
 
+  // The newest scan and how many have arrived (to tell a new one from the last).
+  std::optional<localization::ScanReading> LatestScan() const;
+  uint64_t scan_count() const { return scan_reader_->count(); }
+
   void PublishCommand(const Twist2& twist);
   // Sends a zero command and waits (bounded) until the robot side acknowledged it; for shutdown.
   void StopRobot();

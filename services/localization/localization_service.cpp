@@ -16,6 +16,7 @@ grpc::Status LocalizationService::GetPose(grpc::ServerContext*, const v1::GetPos
       for (int c = 0; c < 3; ++c) response->add_covariance(e.covariance(r, c));
     ToProto(e.stamp, response->mutable_stamp());
     response->set_localizer(localizer_.name());
+    response->set_quality(e.quality);
   });
 }
 

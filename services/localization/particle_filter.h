@@ -75,6 +75,7 @@ class ParticleFilterLocalizer : public Localizer {
   std::vector<float> surface_distance_;
   std::vector<float> log_likelihood_table_;  // log(z_hit * N(d) + z_rand / range) by |d| in mm
   float log_outside_ = 0.0f;                 // a beam ending outside the map
+  double inv_resolution_ = 1.0;
   float LogLikelihoodAt(double x, double y) const;
   std::vector<int32_t> free_cells_;
 

@@ -39,6 +39,10 @@ void ThreeGoals(double rate) {
     EXPECT_LT(error, 0.25) << "true pose (" << truth->x() << ", " << truth->y() << ")";
     EXPECT_EQ(truth->collisions(), 0u) << "the simulator reported a collision";
   }
+  // The particle filter localised the robot on the laser scans.
+  const auto pose = stack.client().GetPose();
+  EXPECT_EQ(pose.localizer(), "amcl");
+  EXPECT_GT(pose.quality(), 0.5);
   // navd's own telemetry flowed over DDS too.
   EXPECT_GT(telemetry.status_count(), 0u);
   const auto status = telemetry.LatestStatus();
@@ -47,6 +51,28 @@ void ThreeGoals(double rate) {
 }
 
 TEST(NavigationE2E, ThreeGoalsInTheDefaultWorldAtRate10) { ThreeGoals(10.0); }
+
+// navd starts with a wrong pose (0.25 m and 0.12 rad off). The particle filter corrects it from
+// the laser while the robot drives, so the robot still arrives where it was sent; dead reckoning
+// would carry the initial error to the goal.
+TEST(NavigationE2E, LaserLocalisationCorrectsAWrongInitialPose) {
+  StackOptions options;
+  options.navd_args = {"--initial-pose", "1.0", "1.15", "1.45"};  // truth: (0.8, 1.0, 1.5708)
+  NavdStack stack(options);
+  TelemetryOptions topts;
+  topts.dds.domain = stack.domain();
+  topts.dds.name = "e2e-test";
+  Telemetry telemetry(topts);
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  const auto result = stack.client().NavigateTo(3.0, 2.6, std::nullopt, {}, 120.0);
+  ASSERT_EQ(result.outcome(), v1::SUCCEEDED) << result.message() << stack.Logs();
+  const auto truth = telemetry.WaitForSimStatus(5.0);
+  ASSERT_TRUE(truth);
+  const double error = std::hypot(truth->x() - 3.0, truth->y() - 2.6);
+  std::printf("wrong initial pose: true position error at the goal %.3f m\n", error);
+  EXPECT_LT(error, 0.12);
+  EXPECT_EQ(truth->collisions(), 0u);
+}
 
 TEST(NavigationE2E, StreamReportsProgressAndCancelStopsTheRobot) {
   StackOptions options;
