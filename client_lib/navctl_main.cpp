@@ -183,6 +183,11 @@ int main(int argc, char** argv) {
   std::string pose_text;
   set_pose->add_option("pose", pose_text, "X,Y,THETA")->required();
 
+  auto* relocalize = app.add_subcommand("relocalize", "Forget the pose and search the whole map for it");
+  auto* localizers = app.add_subcommand("localizers", "List localisation methods, or select one");
+  std::string select_method;
+  localizers->add_option("--select", select_method, "Method to answer for the pose (amcl, odometry)");
+
   auto* cancel = app.add_subcommand("cancel", "Cancel the active navigation");
   auto* status = app.add_subcommand("status", "Print navigation status");
   status->add_flag("--json", json_out, "Print one JSON object");
@@ -348,6 +353,17 @@ int main(int argc, char** argv) {
       const auto p = ParseTuple(pose_text, "pose", 3, 3);
       client.SetPose(p[0], p[1], p[2]);
       std::printf("pose set to (%.3f, %.3f, %.3f)\n", p[0], p[1], p[2]);
+      return 0;
+    }
+    if (relocalize->parsed()) {
+      client.GlobalRelocalize();
+      std::printf("relocalising: the estimate settles as the robot moves\n");
+      return 0;
+    }
+    if (localizers->parsed()) {
+      if (!select_method.empty()) client.SelectMethod(select_method);
+      const auto m = client.ListMethods();
+      for (const auto& name : m.methods()) std::printf("%s%s\n", name.c_str(), name == m.selected() ? " (selected)" : "");
       return 0;
     }
     if (cancel->parsed()) {

@@ -89,6 +89,40 @@ void Client::SetPose(double x, double y, double theta) {
   Call(*localization_, &v1::LocalizationService::Stub::SetPose, req);
 }
 
+void Client::GlobalRelocalize() {
+  Call(*localization_, &v1::LocalizationService::Stub::GlobalRelocalize, v1::GlobalRelocalizeRequest());
+}
+
+v1::ListMethodsResponse Client::ListMethods() {
+  return Call(*localization_, &v1::LocalizationService::Stub::ListMethods, v1::ListMethodsRequest());
+}
+
+void Client::SelectMethod(const std::string& method) {
+  v1::SelectMethodRequest req;
+  req.set_method(method);
+  Call(*localization_, &v1::LocalizationService::Stub::SelectMethod, req);
+}
+
+void Client::StreamPose(double rate_hz, const std::function<bool(const v1::GetPoseResponse&)>& on_pose,
+                        double timeout) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, timeout);
+  v1::StreamPoseRequest req;
+  req.set_rate_hz(rate_hz);
+  auto reader = localization_->StreamPose(&ctx, req);
+  v1::GetPoseResponse pose;
+  while (reader->Read(&pose)) {
+    if (!on_pose(pose)) {
+      ctx.TryCancel();
+      break;
+    }
+  }
+  const grpc::Status s = reader->Finish();
+  if (!s.ok() && s.error_code() != grpc::StatusCode::CANCELLED && s.error_code() != grpc::StatusCode::DEADLINE_EXCEEDED) {
+    Fail(s);
+  }
+}
+
 v1::GetMapResponse Client::GetMap(bool info_only) {
   v1::GetMapRequest req;
   req.set_info_only(info_only);

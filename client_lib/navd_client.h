@@ -53,6 +53,11 @@ class Client {
 
   v1::GetPoseResponse GetPose();
   void SetPose(double x, double y, double theta);
+  void GlobalRelocalize();
+  v1::ListMethodsResponse ListMethods();
+  void SelectMethod(const std::string& method);
+  // Streams pose estimates at `rate_hz` to `on_pose` until it returns false or `timeout` passes.
+  void StreamPose(double rate_hz, const std::function<bool(const v1::GetPoseResponse&)>& on_pose, double timeout);
 
   v1::GetMapResponse GetMap(bool info_only = false);
   v1::MapInfo LoadMap(const std::string& path);

@@ -14,6 +14,7 @@
 #include "services/common/text_file.h"
 #include "services/common/world.h"
 #include "services/localization/localization_service.h"
+#include "services/localization/localizer_selector.h"
 #include "services/localization/odometry_localizer.h"
 #include "services/localization/particle_filter.h"
 #include "services/mapping/mapping_service.h"
@@ -57,15 +58,11 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
     throw Error(ErrorCode::kInvalidArgument, "initial pose " + FormatPoint(initial_pose.translation()) +
                                                  " lies outside the map");
   }
-  std::unique_ptr<localization::Localizer> localizer_ptr;
-  if (o.localizer == "amcl") {
-    localizer_ptr = std::make_unique<localization::ParticleFilterLocalizer>(map->grid);
-  } else if (o.localizer == "odometry") {
-    localizer_ptr = std::make_unique<localization::OdometryLocalizer>();
-  } else {
-    throw Error(ErrorCode::kInvalidArgument, "localizer '" + o.localizer + "' is not amcl or odometry");
-  }
-  localization::Localizer& localizer = *localizer_ptr;
+  // Every localiser runs; --localizer (or SelectMethod) picks the one that answers.
+  localization::LocalizerSelector localizer;
+  localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid));
+  localizer.Add(std::make_unique<localization::OdometryLocalizer>());
+  localizer.Select(o.localizer);
   localizer.SetPose(initial_pose, Eigen::Matrix3d::Zero());  // checks it, too
 
   std::unique_ptr<Clock> clock;

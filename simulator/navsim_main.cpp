@@ -85,7 +85,11 @@ int Run(int argc, char** argv) {
   sim::Simulation simulation(std::move(world), options);
   const auto& w = simulation.world();
 
-  navd::dds::Participant participant({domain, navd::dds::ParseNetwork(network), "navsim"});
+  navd::dds::ParticipantOptions dds_options;
+  dds_options.domain = domain;
+  dds_options.network = navd::dds::ParseNetwork(network);
+  dds_options.name = "navsim";
+  navd::dds::Participant participant(dds_options);
   using navd::dds::Reliability;
   navd::dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock_writer(participant, navd::dds::kClock,
                                                                         Reliability::kBestEffort, 1);

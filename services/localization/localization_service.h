@@ -1,20 +1,28 @@
 #pragma once
-// gRPC adapter of navd.v1.LocalizationService over a Localizer.
+// gRPC adapter of navd.v1.LocalizationService over the LocalizerSelector.
 #include "navd/v1/localization.grpc.pb.h"
-#include "services/localization/localizer.h"
+#include "services/localization/localizer_selector.h"
 
 namespace navd::localization {
 
 class LocalizationService final : public v1::LocalizationService::Service {
  public:
-  explicit LocalizationService(Localizer& localizer) : localizer_(localizer) {}
+  explicit LocalizationService(LocalizerSelector& localizer) : localizer_(localizer) {}
   grpc::Status GetPose(grpc::ServerContext* context, const v1::GetPoseRequest* request,
                        v1::GetPoseResponse* response) override;
   grpc::Status SetPose(grpc::ServerContext* context, const v1::SetPoseRequest* request,
                        v1::SetPoseResponse* response) override;
+  grpc::Status GlobalRelocalize(grpc::ServerContext* context, const v1::GlobalRelocalizeRequest* request,
+                                v1::GlobalRelocalizeResponse* response) override;
+  grpc::Status ListMethods(grpc::ServerContext* context, const v1::ListMethodsRequest* request,
+                           v1::ListMethodsResponse* response) override;
+  grpc::Status SelectMethod(grpc::ServerContext* context, const v1::SelectMethodRequest* request,
+                            v1::SelectMethodResponse* response) override;
+  grpc::Status StreamPose(grpc::ServerContext* context, const v1::StreamPoseRequest* request,
+                          grpc::ServerWriter<v1::GetPoseResponse>* writer) override;
 
  private:
-  Localizer& localizer_;
+  LocalizerSelector& localizer_;
 };
 
 }  // namespace navd::localization

@@ -50,6 +50,9 @@ class Localizer {
   // not symmetric with a non-negative diagonal.
   void SetPose(const Pose2& pose, const Eigen::Matrix3d& covariance);
   virtual PoseEstimate Estimate() const = 0;
+  // Forgets the pose and searches the whole map for it (seed 000's "wake-up"). Returns false for
+  // localisers that cannot.
+  virtual bool GlobalRelocalize() { return false; }
 
  protected:
   // Called by SetPose with checked values; theta already in (-pi, pi].

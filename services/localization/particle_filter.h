@@ -20,6 +20,7 @@ namespace navd::localization {
 struct ParticleFilterOptions {
   int min_particles = 500;
   int max_particles = 5000;
+  int global_particles = 30000;     // scattered for global relocalisation; resampling trims them
   double kld_error = 0.01;          // KLD bound epsilon
   double kld_z = 2.326;             // upper standard normal quantile for 1 - delta = 0.99
   double kld_bin_xy = 0.25;         // m
@@ -37,6 +38,9 @@ struct ParticleFilterOptions {
   // Filter only after the robot moved this much (AMCL update_min_d / update_min_a).
   double update_min_distance = 0.05;  // m
   double update_min_angle = 0.05;     // rad
+  // Likelihood exponent while the belief's position spread exceeds tempering_spread (metres).
+  double tempering = 0.05;
+  double tempering_spread = 0.5;
   // Augmented MCL averaging rates.
   double alpha_slow = 0.001, alpha_fast = 0.1;
   // Initial spread around a SetPose without covariance.
@@ -54,6 +58,10 @@ class ParticleFilterLocalizer : public Localizer {
 
   // Scatters particles uniformly over the free space (global localisation, no prior).
   void ScatterUniformly();
+  bool GlobalRelocalize() override {
+    ScatterUniformly();
+    return true;
+  }
   size_t particle_count() const;
 
  private:

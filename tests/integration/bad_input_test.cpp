@@ -111,6 +111,21 @@ TEST_F(BadInput, NavigateWhileNavigatingIsRejectedOrPreempts) {
   EXPECT_EQ(second.outcome(), v1::SUCCEEDED) << second.message();
 }
 
+TEST_F(BadInput, LocalisationMethodsCanBeListedSelectedAndStreamed) {
+  const auto methods = client().ListMethods();
+  ASSERT_EQ(methods.methods_size(), 2);
+  EXPECT_EQ(methods.selected(), "amcl");
+  ExpectError([&] { client().SelectMethod("gps"); }, grpc::StatusCode::INVALID_ARGUMENT, {"method", "gps", "amcl"});
+  client().SelectMethod("odometry");
+  EXPECT_EQ(client().GetPose().localizer(), "odometry");
+  client().SelectMethod("amcl");
+  int poses = 0;
+  client().StreamPose(20.0, [&](const v1::GetPoseResponse& p) { return ++poses < 5 && p.localizer() == "amcl"; }, 5.0);
+  EXPECT_EQ(poses, 5);
+  EXPECT_NO_THROW(client().GlobalRelocalize());
+  EXPECT_TRUE(std::isfinite(client().GetPose().pose().x()));
+}
+
 TEST_F(BadInput, ServesTheMapAndHealth) {
   const auto map = client().GetMap();
   EXPECT_EQ(map.info().width(), 200u);

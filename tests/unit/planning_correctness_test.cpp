@@ -125,7 +125,9 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
                   << planner << " smooth " << smooth << " segment " << i << " of " << p.points.size() - 1 << ": "
                   << FormatPoint(p.points[i - 1]) << " -> " << FormatPoint(p.points[i]);
             if (planner == "astar" && smooth == 0.0) astar_length = p.length;
-            if (planner == "thetastar" && smooth == 0.0) EXPECT_LE(p.length, astar_length + 1e-9);
+            if (planner == "thetastar" && smooth == 0.0) {
+              EXPECT_LE(p.length, astar_length + 1e-9);
+            }
             ++planned;
           } catch (const Error& e) {
             EXPECT_FALSE(reachable) << planner << ": " << e.what();
@@ -348,7 +350,9 @@ TEST(VoronoiFastMarching, SmoothSafePathWithSpeedLimits) {
   ASSERT_EQ(vfm.speed_limits.size(), vfm.points.size());
   double mean_clearance_vfm = 0, mean_clearance_astar = 0;
   for (size_t i = 0; i < vfm.points.size(); ++i) {
-    if (i > 0) EXPECT_TRUE(cm->SegmentFree(vfm.points[i - 1], vfm.points[i])) << i;
+    if (i > 0) {
+      EXPECT_TRUE(cm->SegmentFree(vfm.points[i - 1], vfm.points[i])) << i;
+    }
     EXPECT_GT(vfm.speed_limits[i], 0.0);
     EXPECT_LE(vfm.speed_limits[i], 1.0);
     mean_clearance_vfm += field.at(cm->grid().CellOf(vfm.points[i])) / vfm.points.size();
