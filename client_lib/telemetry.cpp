@@ -15,6 +15,8 @@ Telemetry::Telemetry(const TelemetryOptions& o, StatusCallback on_status) : part
       participant_, dds::TopicName(o.robot_namespace, dds::kSimStatus), Reliability::kReliable);
   truth_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>>(
       participant_, dds::TopicName(o.robot_namespace, dds::kGroundTruth), Reliability::kBestEffort);
+  pose_ = std::make_unique<dds::Reader<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>>(
+      participant_, dds::TopicName(o.robot_namespace, dds::kPose), Reliability::kReliable);
 }
 
 std::optional<navsim_msgs::msg::dds_::SimStatus_> Telemetry::WaitForSimStatus(double timeout) const {

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "dds/participant.h"
+#include "geometry_msgsPubSubTypes.h"
 #include "nav_msgsPubSubTypes.h"
 #include "navd_msgsPubSubTypes.h"
 #include "navsim_msgsPubSubTypes.h"
@@ -24,6 +25,8 @@ class Telemetry {
   std::optional<navd_msgs::msg::dds_::NavStatus_> LatestStatus() const { return status_->Latest(); }
   std::optional<navsim_msgs::msg::dds_::SimStatus_> LatestSimStatus() const { return sim_status_->Latest(); }
   std::optional<nav_msgs::msg::dds_::Odometry_> LatestGroundTruth() const { return truth_->Latest(); }
+  std::optional<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_> LatestPose() const { return pose_->Latest(); }
+  uint64_t pose_count() const { return pose_->count(); }
   uint64_t status_count() const { return status_->count(); }
   uint64_t sim_status_count() const { return sim_status_->count(); }
 
@@ -35,6 +38,7 @@ class Telemetry {
   std::unique_ptr<dds::Reader<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_;
   std::unique_ptr<dds::Reader<navsim_msgs::msg::dds_::SimStatus_PubSubType>> sim_status_;
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> truth_;
+  std::unique_ptr<dds::Reader<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_;
 };
 
 }  // namespace navd

@@ -15,5 +15,6 @@ inline constexpr const char* kCmdVel = "cmd_vel";       // geometry_msgs/Twist
 inline constexpr const char* kGroundTruth = "ground_truth";  // nav_msgs/Odometry, simulator truth
 inline constexpr const char* kSimStatus = "sim/status";      // navsim_msgs/SimStatus
 inline constexpr const char* kNavStatus = "navd/status";     // navd_msgs/NavStatus
+inline constexpr const char* kPose = "pose";                 // geometry_msgs/PoseWithCovarianceStamped, map frame
 
 }  // namespace navd::dds

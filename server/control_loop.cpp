@@ -77,7 +77,9 @@ void ControlLoop::Tick(uint64_t tick, double now) {
     bridge_.PublishCommand({});
     zero_commands_left_ = was_active ? kZeroCommandsAfterGoal : zero_commands_left_ - 1;
   }
-  if (tick % 2 == 0) bridge_.PublishStatus(status, localizer_.Estimate(), localizer_.name(), now);
+  const localization::PoseEstimate estimate = localizer_.Estimate();
+  if (estimate.valid) bridge_.PublishPose(estimate, now);
+  if (tick % 2 == 0) bridge_.PublishStatus(status, estimate, localizer_.name(), now);
 }
 
 }  // namespace navd::server

@@ -24,6 +24,8 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
       participant_, dds::TopicName(ns, dds::kCmdVel), Reliability::kReliable, 5);
   status_writer_ = std::make_unique<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kNavStatus), Reliability::kReliable, 5);
+  pose_writer_ = std::make_unique<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>>(
+      participant_, dds::TopicName(ns, dds::kPose), Reliability::kReliable, 5);
 }
 
 std::optional<localization::OdometryReading> DdsBridge::LatestOdometry() const {
@@ -57,6 +59,17 @@ void DdsBridge::PublishCommand(const Twist2& twist) {
   m.linear().x(twist.v);
   m.angular().z(twist.omega);
   cmd_writer_->Write(m);
+}
+
+void DdsBridge::PublishPose(const localization::PoseEstimate& pose, double now) {
+  geometry_msgs::msg::dds_::PoseWithCovarianceStamped_ m;
+  m.header().stamp(dds::ToTime(now));
+  m.header().frame_id("map");
+  m.pose().pose(dds::ToPose(pose.pose));
+  const int idx[3] = {0, 1, 5};  // x, y, yaw in ROS's 6x6 order
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m.pose().covariance()[idx[r] * 6 + idx[c]] = pose.covariance(r, c);
+  pose_writer_->Write(m);
 }
 
 void DdsBridge::StopRobot() {

@@ -39,6 +39,8 @@ class DdsBridge {
   void StopRobot();
   void PublishStatus(const navigation::NavigationStatus& status, const localization::PoseEstimate& pose,
                      const std::string& localizer, double now);
+  // The pose estimate on rt/<ns>/pose, as AMCL publishes amcl_pose (x, y, yaw covariance in ROS order).
+  void PublishPose(const localization::PoseEstimate& pose, double now);
 
  private:
   dds::Participant participant_;
@@ -49,6 +51,7 @@ class DdsBridge {
   std::unique_ptr<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>> clock_reader_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;
+  std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_writer_;
 };
 
 }  // namespace navd::server

@@ -39,7 +39,7 @@ struct ParticleFilterOptions {
   double update_min_distance = 0.05;  // m
   double update_min_angle = 0.05;     // rad
   // Likelihood exponent while the belief's position spread exceeds tempering_spread (metres).
-  double tempering = 0.05;
+  double tempering = 0.01;
   double tempering_spread = 0.5;
   // Augmented MCL averaging rates.
   double alpha_slow = 0.001, alpha_fast = 0.1;

@@ -43,7 +43,11 @@ void ThreeGoals(double rate) {
   const auto pose = stack.client().GetPose();
   EXPECT_EQ(pose.localizer(), "amcl");
   EXPECT_GT(pose.quality(), 0.5);
-  // navd's own telemetry flowed over DDS too.
+  // navd's own telemetry flowed over DDS too: the pose (map frame) and the status.
+  EXPECT_GT(telemetry.pose_count(), 0u);
+  ASSERT_TRUE(telemetry.LatestPose());
+  EXPECT_EQ(telemetry.LatestPose()->header().frame_id(), "map");
+  EXPECT_NEAR(telemetry.LatestPose()->pose().pose().position().x(), world.goals.back().x, 0.2);
   EXPECT_GT(telemetry.status_count(), 0u);
   const auto status = telemetry.LatestStatus();
   ASSERT_TRUE(status);
