@@ -109,6 +109,29 @@ OccupancyGrid DecodeMapServerImage(const std::string& bytes, const MapServerPara
   return grid;
 }
 
+void SaveMapServerMap(const OccupancyGrid& grid, const std::string& yaml_path) {
+  const std::filesystem::path yaml(yaml_path);
+  const std::filesystem::path pgm = std::filesystem::path(yaml).replace_extension(".pgm");
+  std::string image = "P5\n# navd map\n" + std::to_string(grid.width()) + " " + std::to_string(grid.height()) + "\n255\n";
+  const size_t header = image.size();
+  image.resize(header + grid.cells().size());
+  for (int y = 0; y < grid.height(); ++y)
+    for (int x = 0; x < grid.width(); ++x) {
+      const int8_t v = grid.at({x, y});
+      unsigned char px = 205;
+      if (v >= OccupancyGrid::kOccupiedThreshold) px = 0;
+      else if (v >= 0 && v < 20) px = 254;
+      image[header + static_cast<size_t>(grid.height() - 1 - y) * grid.width() + x] = static_cast<char>(px);  // top row first
+    }
+  std::ostringstream meta;
+  meta.precision(10);
+  meta << "image: " << pgm.filename().string() << "\nresolution: " << grid.resolution() << "\norigin: ["
+       << grid.origin().x() << ", " << grid.origin().y() << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\n"
+       << "free_thresh: 0.196\nmode: trinary\n";
+  WriteFileAtomically(pgm.string(), image);
+  WriteFileAtomically(yaml.string(), meta.str());
+}
+
 OccupancyGrid LoadMapServerMap(const std::string& yaml_path) {
   const std::string text = ReadTextFile(yaml_path, "map file");
   const YAML::Node doc = ParseYamlMapping(text, yaml_path);

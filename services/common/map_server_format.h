@@ -10,6 +10,11 @@ namespace navd {
 // path: the map_server YAML. Relative image paths resolve against the YAML's folder.
 OccupancyGrid LoadMapServerMap(const std::string& yaml_path);
 
+// Writes `grid` as map_server YAML + PGM (trinary: occupied >= 65 black, free < 20 white (254),
+// else unknown grey (205), as ROS's map_saver does). The PGM goes beside the YAML, named after it;
+// both files are written atomically.
+void SaveMapServerMap(const OccupancyGrid& grid, const std::string& yaml_path);
+
 // Decodes an 8-bit PGM (P5 binary or P2 ASCII) into map cells as map_server's trinary/scale/raw
 // modes do. `source` names the file in error messages.
 struct MapServerParams {

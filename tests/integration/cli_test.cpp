@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "client_lib/telemetry.h"
+#include "services/common/map_server_format.h"
 #include "tests/support/navd_fixture.h"
 
 namespace navd::testing {
@@ -88,6 +89,38 @@ TEST(Navctl, HealthPlanPoseNavigateAgainstRealDaemons) {
     active = stack.client().GetStatus().active();
   }
   EXPECT_FALSE(active) << "navd kept the goal after navctl gave up";
+}
+
+// navd-replay builds a map from a CARMEN log's poses: a square room seen from its centre.
+TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
+  const std::string dir = MakeTempDir();
+  {
+    std::ofstream log(dir + "/room.log");
+    for (int k = 0; k < 8; ++k) {
+      const double heading = k * M_PI / 4;
+      log << "FLASER 181";
+      for (int i = 0; i <= 180; ++i) {
+        // Distance from (0, 0) to the walls of the square |x|, |y| <= 2 along this beam.
+        const double a = heading - M_PI / 2 + i * M_PI / 180;
+        log << " " << 2.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
+      }
+      log << " 0 0 " << heading << " 0 0 " << heading << " " << k << " host " << k << "\n";
+    }
+    log << "FLASER 2 1.0\n";  // malformed: line 9
+  }
+  const auto ok = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--out", dir + "/room.yaml"});
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("skipped 1 malformed"), std::string::npos) << ok.output;
+  const OccupancyGrid map = LoadMapServerMap(dir + "/room.yaml");
+  EXPECT_TRUE(map.IsOccupied(map.CellOf({2.02, 0.5})));
+  EXPECT_EQ(map.at(map.CellOf({0.5, 0.5})), OccupancyGrid::kFree);
+
+  const auto strict = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--out", dir + "/x.yaml", "--strict"});
+  EXPECT_NE(strict.exit_code, 0);
+  EXPECT_NE(strict.output.find("room.log:9"), std::string::npos) << strict.output;
+  const auto missing = RunCommand({NavdReplayBinary(), "--log", dir + "/none.log", "--out", dir + "/x.yaml"});
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_EQ(Lines(missing.output), 1) << missing.output;
 }
 
 TEST(Daemons, BadWorldAndMapFilesExitNonZeroWithOneLine) {

@@ -53,6 +53,24 @@ TEST(Deploy, DockerfileCopiesExistingPathsAndNamesBuiltBinaries) {
   EXPECT_GE(binaries, 3);  // navd, navsim, navctl
 }
 
+// The image builds with tests off, so every other folder the top-level CMakeLists adds must be
+// copied into the build stage.
+TEST(Deploy, DockerfileCopiesEverySourceFolderTheBuildNeeds) {
+  const std::string root = SourceDir();
+  const std::string dockerfile = Read(root + "/deploy/Dockerfile");
+  const std::string cmake = Read(root + "/CMakeLists.txt");
+  const std::regex subdir(R"(add_subdirectory\((\w+)\))");
+  int folders = 0;
+  for (std::sregex_iterator it(cmake.begin(), cmake.end(), subdir), end; it != end; ++it) {
+    const std::string folder = (*it)[1].str();
+    if (folder == "tests") continue;
+    ++folders;
+    EXPECT_NE(dockerfile.find("COPY " + folder + " " + folder), std::string::npos)
+        << "deploy/Dockerfile does not copy " << folder << "/";
+  }
+  EXPECT_GE(folders, 7);
+}
+
 TEST(Deploy, ComposeRunsBothDaemonsFromTheDockerfile) {
   const std::string root = SourceDir();
   const std::string compose = Read(root + "/deploy/compose.yaml");

@@ -13,6 +13,7 @@ namespace navd::testing {
 std::string NavdBinary() { return NAVD_BINARY; }
 std::string NavsimBinary() { return NAVSIM_BINARY; }
 std::string NavctlBinary() { return NAVCTL_BINARY; }
+std::string NavdReplayBinary() { return NAVD_REPLAY_BINARY; }
 std::string SourceDir() { return NAVD_SOURCE_DIR; }
 
 ::testing::AssertionResult RobotStandsStill(const Telemetry& telemetry, double gap) {

@@ -53,6 +53,7 @@ class NavdStack {
 std::string NavdBinary();
 std::string NavsimBinary();
 std::string NavctlBinary();
+std::string NavdReplayBinary();
 std::string SourceDir();
 
 }  // namespace navd::testing

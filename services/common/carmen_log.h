@@ -1,0 +1,41 @@
+#pragma once
+// Reader of CARMEN logs (the format of the classic public 2-D laser datasets): `FLASER` laser scans
+// with the laser's pose (corrected, in "corrected" logs) and odometry pose, and `ODOM` odometry.
+// Plain or gzip-compressed. Front lasers are assumed to span 180 degrees, centred on the heading,
+// as the CARMEN logs of SICK LMS scanners do. Metres, radians, seconds.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "services/common/pose2.h"
+
+namespace navd {
+
+struct CarmenScan {
+  std::vector<float> ranges;
+  Pose2 pose;        // laser pose (corrected poses in corrected logs)
+  Pose2 odometry;    // odometry pose at the scan
+  double timestamp = 0.0;
+  int line = 0;
+};
+
+struct CarmenOdometry {
+  Pose2 pose;
+  double timestamp = 0.0;
+  int line = 0;
+};
+
+struct CarmenLog {
+  std::vector<CarmenScan> scans;
+  std::vector<CarmenOdometry> odometry;
+  int skipped_lines = 0;   // malformed lines skipped (when not strict)
+};
+
+// Reads `path` (".gz" or plain). Malformed FLASER/ODOM lines throw navd::Error naming the file and
+// line when `strict`, else are skipped and counted. Unknown message types are ignored.
+CarmenLog ReadCarmenLog(const std::string& path, bool strict = false);
+
+// Beam i of an n-beam CARMEN front scan points at -pi/2 + i * pi / (n - 1) in the laser frame.
+inline double CarmenBeamAngle(size_t i, size_t n) { return -M_PI / 2 + (n > 1 ? i * M_PI / (n - 1) : 0.0); }
+
+}  // namespace navd

@@ -1,0 +1,105 @@
+// Occupancy grid mapping with known poses, the CARMEN log reader, and map_server writing.
+#include <gtest/gtest.h>
+
+#include <zlib.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "services/common/carmen_log.h"
+#include "services/common/error.h"
+#include "services/common/map_server_format.h"
+#include "services/common/world.h"
+#include "services/mapping/occupancy_grid_mapper.h"
+#include "simulator/laser_scanner.h"
+#include "tests/support/process.h"
+
+namespace navd {
+namespace {
+
+// Scans of navsim's warehouse from known poses rebuild its walls and its free space.
+TEST(OccupancyGridMapper, RebuildsTheWarehouseFromKnownPoses) {
+  const World world = DefaultWorld();
+  LaserDescription laser = world.laser;
+  laser.noise = 0.0;
+  sim::LaserScanner scanner(laser);
+  std::mt19937_64 rng(1);
+  mapping::OccupancyGridMapper mapper({0, 0}, {10, 10});
+  for (const Pose2& p : {Pose2{0.8, 1.0, M_PI / 2}, Pose2{0.8, 5.0, -M_PI / 2}, Pose2{0.8, 8.0, 0.0},
+                         Pose2{3.0, 2.6, 0.0}, Pose2{3.0, 2.6, M_PI}, Pose2{5.0, 5.0, 0.0}, Pose2{8.5, 8.5, M_PI}}) {
+    std::vector<float> ranges = scanner.Scan(p, world.map, rng);
+    for (auto& r : ranges)
+      if (r > laser.range_max) r = 50.0f;  // no return: only clears
+    mapper.AddScan(p, ranges, scanner.angle_min(), scanner.increment());
+  }
+  const OccupancyGrid g = mapper.ToGrid();
+  int agree = 0, disagree = 0;
+  for (int y = 0; y < g.height(); ++y)
+    for (int x = 0; x < g.width(); ++x) {
+      const int8_t v = g.at({x, y});
+      if (v < 0 || (v > 20 && v < 65)) continue;  // unknown or undecided
+      (v >= 65) == world.map.IsOccupied({x, y}) ? ++agree : ++disagree;
+    }
+  EXPECT_GT(agree, 5000);
+  EXPECT_LT(disagree, agree / 50);  // under 2% (wall faces seen at grazing angles)
+  EXPECT_LT(g.at(g.CellOf({0.8, 3.0})), 20);    // corridor: free
+  EXPECT_GE(g.at(g.CellOf({1.55, 3.0})), 65);   // corridor wall: occupied
+}
+
+TEST(MapServerFormat, SavesAtomicallyAndReadsBack) {
+  const std::string dir = testing::MakeTempDir();
+  OccupancyGrid g(4, 3, 0.1, Point2(-1.0, 2.0), OccupancyGrid::kUnknown);
+  g.set({0, 0}, 100);
+  g.set({1, 0}, 0);
+  g.set({2, 2}, 10);
+  SaveMapServerMap(g, dir + "/m.yaml");
+  const OccupancyGrid back = LoadMapServerMap(dir + "/m.yaml");
+  EXPECT_EQ(back.width(), 4);
+  EXPECT_NEAR(back.origin().x(), -1.0, 1e-9);
+  EXPECT_EQ(back.at({0, 0}), OccupancyGrid::kOccupied);
+  EXPECT_EQ(back.at({1, 0}), OccupancyGrid::kFree);
+  EXPECT_EQ(back.at({2, 2}), OccupancyGrid::kFree);
+  EXPECT_EQ(back.at({3, 1}), OccupancyGrid::kUnknown);
+  size_t files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 2u);  // m.yaml and m.pgm, no temporaries
+}
+
+std::string WriteGz(const std::string& path, const std::string& text) {
+  gzFile f = gzopen(path.c_str(), "wb");
+  gzwrite(f, text.data(), static_cast<unsigned>(text.size()));
+  gzclose(f);
+  return path;
+}
+
+TEST(CarmenLog, ReadsScansAndOdometryFromGzipAndReportsBadLines) {
+  const std::string dir = testing::MakeTempDir();
+  const std::string text =
+      "# comment\n"
+      "PARAM robot_frontlaser_offset 0.0 nohost 0\n"
+      "ODOM 1 2 0.5 0 0 0 10.0 host 10.0\n"
+      "FLASER 3 1.0 2.0 3.0 0.5 0.25 1.57 0.4 0.2 1.5 11.0 host 11.0\n"
+      "FLASER 3 1.0 oops 3.0 0.5 0.25 1.57 0.4 0.2 1.5 12.0 host 12.0\n";
+  const std::string path = WriteGz(dir + "/t.log.gz", text);
+  const CarmenLog log = ReadCarmenLog(path);
+  ASSERT_EQ(log.scans.size(), 1u);
+  EXPECT_EQ(log.scans[0].ranges.size(), 3u);
+  EXPECT_FLOAT_EQ(log.scans[0].ranges[2], 3.0f);
+  EXPECT_NEAR(log.scans[0].pose.theta, 1.57, 1e-12);
+  EXPECT_NEAR(log.scans[0].odometry.x, 0.4, 1e-12);
+  EXPECT_DOUBLE_EQ(log.scans[0].timestamp, 11.0);
+  ASSERT_EQ(log.odometry.size(), 1u);
+  EXPECT_EQ(log.skipped_lines, 1);
+  try {
+    ReadCarmenLog(path, true);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("t.log.gz:5"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ReadCarmenLog(dir + "/missing.log"), Error);
+  EXPECT_NEAR(CarmenBeamAngle(0, 181), -M_PI / 2, 1e-12);
+  EXPECT_NEAR(CarmenBeamAngle(180, 181), M_PI / 2, 1e-12);
+}
+
+}  // namespace
+}  // namespace navd
