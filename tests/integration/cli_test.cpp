@@ -168,10 +168,7 @@ TEST(Daemons, NavdStopsTheRobotAndExitsCleanlyOnSigterm) {
   nav.join();
   EXPECT_NE(stack.navd().Log().find("stopped"), std::string::npos);
   // navsim heard the stop before its watchdog could: check it is standing still.
-  TelemetryOptions topts;
-  topts.dds.domain = stack.domain();
-  Telemetry telemetry(topts);
-  EXPECT_TRUE(RobotStandsStill(telemetry));
+  EXPECT_TRUE(RobotStandsStill(*stack.MakeTelemetry()));
 }
 
 TEST(Daemons, NavdStopsAndReportsWhenSensorsGoStale) {

@@ -16,10 +16,8 @@ void ThreeGoals(double rate) {
   StackOptions options;
   options.rate = rate;
   NavdStack stack(options);
-  TelemetryOptions topts;
-  topts.dds.domain = stack.domain();
-  topts.dds.name = "e2e-test";
-  Telemetry telemetry(topts);
+  const auto telemetry_ptr = stack.MakeTelemetry();
+  const Telemetry& telemetry = *telemetry_ptr;
   ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
 
   const World world = DefaultWorld();
@@ -63,10 +61,8 @@ TEST(NavigationE2E, LaserLocalisationCorrectsAWrongInitialPose) {
   StackOptions options;
   options.navd_args = {"--initial-pose", "1.0", "1.15", "1.45"};  // truth: (0.8, 1.0, 1.5708)
   NavdStack stack(options);
-  TelemetryOptions topts;
-  topts.dds.domain = stack.domain();
-  topts.dds.name = "e2e-test";
-  Telemetry telemetry(topts);
+  const auto telemetry_ptr = stack.MakeTelemetry();
+  const Telemetry& telemetry = *telemetry_ptr;
   ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
   const auto result = stack.client().NavigateTo(3.0, 2.6, std::nullopt, {}, 120.0);
   ASSERT_EQ(result.outcome(), v1::SUCCEEDED) << result.message() << stack.Logs();
@@ -82,10 +78,8 @@ TEST(NavigationE2E, StreamReportsProgressAndCancelStopsTheRobot) {
   StackOptions options;
   options.sim_args = {"--command-timeout", "60"};  // only navd's stop can halt the robot
   NavdStack stack(options);
-  TelemetryOptions topts;
-  topts.dds.domain = stack.domain();
-  topts.dds.name = "e2e-test";
-  Telemetry telemetry(topts);
+  const auto telemetry_ptr = stack.MakeTelemetry();
+  const Telemetry& telemetry = *telemetry_ptr;
   ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
 
   std::thread canceller([&] {

@@ -61,6 +61,13 @@ NavdStack::~NavdStack() {
   if (sim_) sim_->Stop(SIGTERM, 10.0);
 }
 
+std::unique_ptr<Telemetry> NavdStack::MakeTelemetry() const {
+  TelemetryOptions o;
+  o.dds.domain = domain_;
+  o.dds.name = "navd-test";
+  return std::make_unique<Telemetry>(o);
+}
+
 bool NavdStack::WaitForPose(double timeout) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
   while (std::chrono::steady_clock::now() < end) {

@@ -31,6 +31,8 @@ class NavdStack {
   int domain() const { return domain_; }
   const std::string& dir() const { return dir_; }
   Process& navd() { return *navd_; }
+  // A DDS subscriber to this stack's telemetry and simulator truth (the test's own participant).
+  std::unique_ptr<Telemetry> MakeTelemetry() const;
   Process* sim() { return sim_.get(); }
   // Waits until navd reports a pose (odometry flowing). Returns false on timeout.
   bool WaitForPose(double timeout);
