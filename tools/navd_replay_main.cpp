@@ -1,7 +1,13 @@
 // navd-replay: runs navd's library code over a recorded CARMEN log, as fast as it can.
 //   navd-replay --log FILE[.gz] --mode map --out MAP.yaml [--resolution 0.05]
+//   navd-replay --log FILE[.gz] --mode localize --out EST.tum [--map MAP.yaml] [--odom-noise T,R]
+//               [--seed N]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
-// map_server YAML + PGM, atomically.
+// map_server YAML + PGM, atomically. `localize` runs the particle filter on the log's scans with
+// odometry made from the corrected poses and corrupted by a seeded noise model (per step between
+// scans: translation scaled by 1 + N(0, T); heading error N(0, R * distance) plus N(0, T * |turn|)),
+// writes one TUM line (t x y z qx qy qz qw) per scan and prints the error against the corrected
+// poses. Without --map it first builds the map from those poses.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
@@ -10,11 +16,82 @@
 #include "services/common/carmen_log.h"
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
+#include "services/common/text_file.h"
+#include "services/common/world.h"
+#include "services/localization/particle_filter.h"
 #include "services/mapping/occupancy_grid_mapper.h"
+
+#include <random>
 
 namespace {
 
+navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution);
+
 int BuildMap(const navd::CarmenLog& log, const std::string& out, double resolution) {
+  const navd::OccupancyGrid grid = MapFromLog(log, resolution);
+  navd::SaveMapServerMap(grid, out);
+  std::printf("map: %dx%d cells at %.3f m, origin (%.2f, %.2f), from %zu scans -> %s\n", grid.width(), grid.height(),
+              grid.resolution(), grid.origin().x(), grid.origin().y(), log.scans.size(), out.c_str());
+  return 0;
+}
+
+int Localize(const navd::CarmenLog& log, const std::string& out, const navd::OccupancyGrid& map,
+             double trans_noise, double rot_noise, uint64_t seed, double motion_noise) {
+  using namespace navd;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  localization::ParticleFilterOptions o;
+  o.seed = seed;
+  o.range_max = 20.0;  // the z_rand density of a long-range (SICK) scanner's useful range
+  o.alpha1 = o.alpha2 = o.alpha3 = o.alpha4 = motion_noise;
+  localization::ParticleFilterLocalizer pf(map, o);
+  Pose2 odom;  // starts at the origin of its own frame
+  pf.AddOdometry({odom, Eigen::Matrix3d::Zero(), log.scans.front().timestamp});
+  pf.SetPose(log.scans.front().pose, Eigen::Matrix3d::Zero());
+  std::string tum;
+  double sq_pos = 0.0, sq_head = 0.0, worst = 0.0;
+  for (size_t k = 0; k < log.scans.size(); ++k) {
+    const CarmenScan& s = log.scans[k];
+    if (k > 0) {
+      // The true step between scans, corrupted.
+      const Pose2 step = log.scans[k - 1].pose.inverse() * s.pose;
+      const double dist = std::hypot(step.x, step.y);
+      const double scale = 1.0 + trans_noise * n(rng);
+      const double dtheta = step.theta + rot_noise * dist * n(rng) + trans_noise * std::abs(step.theta) * n(rng);
+      odom = odom * Pose2{step.x * scale, step.y * scale, dtheta};
+      pf.AddOdometry({odom, Eigen::Matrix3d::Zero(), s.timestamp});
+    }
+    localization::ScanReading scan;
+    scan.ranges = s.ranges;
+    scan.angle_min = CarmenBeamAngle(0, s.ranges.size());
+    scan.angle_increment = CarmenBeamAngle(1, s.ranges.size()) - scan.angle_min;
+    scan.range_min = 0.05;
+    // Beams beyond the mapper's usable range found no walls in the map: judging them would pull the
+    // estimate away from the truth.
+    scan.range_max = navd::mapping::MapperOptions().usable_range;
+    scan.stamp = s.timestamp;
+    pf.AddScan(scan);
+    const Pose2 e = pf.Estimate().pose;
+    const double ep = std::hypot(e.x - s.pose.x, e.y - s.pose.y), eh = std::abs(NormalizeAngle(e.theta - s.pose.theta));
+    sq_pos += ep * ep;
+    sq_head += eh * eh;
+    worst = std::max(worst, ep);
+    char line[160];
+    std::snprintf(line, sizeof line, "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n", s.timestamp, e.x, e.y, std::sin(e.theta / 2),
+                  std::cos(e.theta / 2));
+    tum += line;
+    if ((k + 1) % 100 == 0 || k + 1 == log.scans.size()) std::fprintf(stderr, "\r  localised %zu/%zu scans", k + 1, log.scans.size());
+  }
+  std::fprintf(stderr, "\n");
+  WriteFileAtomically(out, tum);
+  const double n_scans = static_cast<double>(log.scans.size());
+  std::printf("localize: %zu scans, position RMSE %.4f m, heading RMSE %.4f rad, worst %.3f m%s -> %s\n",
+              log.scans.size(), std::sqrt(sq_pos / n_scans), std::sqrt(sq_head / n_scans), worst,
+              worst > 0.5 ? " (lost at times)" : ", never lost", out.c_str());
+  return 0;
+}
+
+navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   navd::mapping::MapperOptions o;
   o.resolution = resolution;
   // The map covers every beam's end (cut at the usable range), with a margin.
@@ -39,11 +116,7 @@ int BuildMap(const navd::CarmenLog& log, const std::string& out, double resoluti
     }
   }
   std::fprintf(stderr, "\n");
-  const navd::OccupancyGrid grid = mapper.ToGrid();
-  navd::SaveMapServerMap(grid, out);
-  std::printf("map: %dx%d cells at %.3f m, origin (%.2f, %.2f), from %zu scans -> %s\n", grid.width(), grid.height(),
-              grid.resolution(), grid.origin().x(), grid.origin().y(), log.scans.size(), out.c_str());
-  return 0;
+  return mapper.ToGrid();
 }
 
 }  // namespace
@@ -54,8 +127,18 @@ int main(int argc, char** argv) {
   double resolution = 0.05;
   bool strict = false;
   app.add_option("--log", log_path, "CARMEN log (.log or .log.gz)")->required();
-  app.add_option("--mode", mode, "map: build a map from the log's corrected poses")->check(CLI::IsMember({"map"}));
-  app.add_option("--out", out, "Output: map_server YAML (the PGM goes beside it)")->required();
+  app.add_option("--mode", mode, "map: build a map from the log's corrected poses; localize: particle filter")
+      ->check(CLI::IsMember({"map", "localize"}));
+  app.add_option("--out", out, "Output: map_server YAML (map) or TUM trajectory (localize)")->required();
+  std::string map_path, odom_noise = "0.05,0.035";
+  uint64_t seed = 1;
+  app.add_option("--map", map_path, "localize: map to localise on (default: built from the log's poses)");
+  app.add_option("--odom-noise", odom_noise, "localize: T,R = relative translation noise, rad of heading noise per metre");
+  app.add_option("--seed", seed, "localize: seed of the odometry noise and the filter");
+  double motion_noise = 0.02;
+  app.add_option("--motion-noise", motion_noise,
+                 "localize: the filter's odometry noise alpha1..4 (variance per unit of motion squared)")
+      ->check(CLI::Range(0.0, 10.0));
   app.add_option("--resolution", resolution, "Map resolution, metres")->check(CLI::Range(0.005, 10.0));
   app.add_flag("--strict", strict, "Stop at the first malformed line instead of skipping it");
   try {
@@ -67,7 +150,17 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     const navd::CarmenLog log = navd::ReadCarmenLog(log_path, strict);
     if (log.skipped_lines > 0) std::fprintf(stderr, "navd-replay: skipped %d malformed lines\n", log.skipped_lines);
-    const int rc = BuildMap(log, out, resolution);
+    int rc;
+    if (mode == "map") {
+      rc = BuildMap(log, out, resolution);
+    } else {
+      double t = 0, r = 0;
+      if (std::sscanf(odom_noise.c_str(), "%lf,%lf", &t, &r) != 2 || !(t >= 0) || !(r >= 0)) {
+        throw std::invalid_argument("--odom-noise '" + odom_noise + "' is not T,R with T, R >= 0");
+      }
+      const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
+      rc = Localize(log, out, map, t, r, seed, motion_noise);
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double span = log.scans.back().timestamp - log.scans.front().timestamp;
     std::printf("replayed %.0f s of log in %.2f s (%.0fx real time)\n", span, wall, wall > 0 ? span / wall : 0.0);

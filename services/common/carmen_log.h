@@ -35,7 +35,12 @@ struct CarmenLog {
 // line when `strict`, else are skipped and counted. Unknown message types are ignored.
 CarmenLog ReadCarmenLog(const std::string& path, bool strict = false);
 
-// Beam i of an n-beam CARMEN front scan points at -pi/2 + i * pi / (n - 1) in the laser frame.
-inline double CarmenBeamAngle(size_t i, size_t n) { return -M_PI / 2 + (n > 1 ? i * M_PI / (n - 1) : 0.0); }
+// Beam i of an n-beam CARMEN front scan points at -pi/2 + i * increment in the laser frame. The
+// SICK scanners of these logs step by 1, 0.5 or 0.25 degrees from -90: 180 or 181 beams are
+// 1 degree apart, 360 or 361 beams half a degree.
+inline double CarmenBeamAngle(size_t i, size_t n) {
+  const size_t even = n - (n % 2);
+  return -M_PI / 2 + (even > 0 ? i * M_PI / even : 0.0);
+}
 
 }  // namespace navd

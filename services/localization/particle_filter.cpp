@@ -61,6 +61,7 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   moved_since_scan_ = true;
   w_slow_ = w_fast_ = 0.0;
   initialised_ = true;
+  global_mode_ = false;
   UpdateEstimate();
 }
 
@@ -68,6 +69,7 @@ void ParticleFilterLocalizer::ScatterUniformly() {
   std::lock_guard<std::mutex> lock(mutex_);
   particles_.assign(o_.global_particles, {});
   for (auto& p : particles_) p = {RandomFreePose(), 1.0 / o_.global_particles};
+  global_mode_ = true;
   last_odom_ = latest_odom_;
   moved_since_scan_ = true;
   w_slow_ = w_fast_ = 0.0;
@@ -158,12 +160,15 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   w_fast_ += o_.alpha_fast * (w_avg - w_fast_);
   estimate_.quality = std::exp(beam_log_likelihood - std::log(o_.z_hit + o_.z_rand / o_.range_max));
 
-  // Posterior weights, normalised in log space. While the belief is spread wide (global
-  // relocalisation) the likelihood is tempered: beams are far from independent, and at full
-  // strength one scan collapses the set onto whichever hypothesis fits best by chance, before the
-  // robot has seen enough to tell look-alike places apart.
+  // Posterior weights, normalised in log space. During global relocalisation, until the belief
+  // has gathered (spread under tempering_spread), the likelihood is tempered: beams are far from
+  // independent, and at full strength one scan collapses the set onto whichever hypothesis fits
+  // best by chance, before the robot has seen enough to tell look-alike places apart. Tracking is
+  // never tempered (a spread cloud after a long odometry step, or after random injection, must
+  // still be pulled together by the scan).
   const double spread = std::sqrt(std::max(0.0, estimate_.covariance(0, 0) + estimate_.covariance(1, 1)));
-  const double temper = spread > o_.tempering_spread ? o_.tempering : 1.0;
+  if (global_mode_ && spread < o_.tempering_spread) global_mode_ = false;
+  const double temper = global_mode_ ? o_.tempering : 1.0;
   double best = -std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < particles_.size(); ++k) {
     sensor[k] = temper * sensor[k] + std::log(std::max(particles_[k].weight, 1e-300));

@@ -2,6 +2,8 @@
 // exit codes, one-line errors.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -121,6 +123,29 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   const auto missing = RunCommand({NavdReplayBinary(), "--log", dir + "/none.log", "--out", dir + "/x.yaml"});
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_EQ(Lines(missing.output), 1) << missing.output;
+}
+
+// Real laser data: the Intel Research Lab log in ../shared/data (present wherever CI runs). The
+// map is built from the log's corrected poses; the odometry is corrupted (5%, 2 deg/m, seeded).
+TEST(NavdReplay, LocalisesOnTheIntelLog) {
+  const std::string log = SourceDir() + "/../shared/data/carmen/intel-corrected.log.gz";
+  if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
+  const std::string dir = MakeTempDir();
+  const auto r = RunCommand({NavdReplayBinary(), "--log", log, "--mode", "localize", "--out", dir + "/est.tum"}, 120.0);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  double rmse = -1, heading = -1;
+  const size_t at = r.output.find("position RMSE ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + at, "position RMSE %lf m, heading RMSE %lf rad", &rmse, &heading), 2);
+  std::printf("Intel log: position RMSE %.4f m, heading RMSE %.4f rad\n", rmse, heading);
+  EXPECT_LE(rmse, 0.055);
+  EXPECT_LE(heading, 0.02);
+  EXPECT_NE(r.output.find("never lost"), std::string::npos) << r.output;
+  // One TUM line per scan.
+  std::ifstream tum(dir + "/est.tum");
+  int lines = 0;
+  for (std::string line; std::getline(tum, line);) ++lines;
+  EXPECT_EQ(lines, 910);
 }
 
 TEST(Daemons, BadWorldAndMapFilesExitNonZeroWithOneLine) {

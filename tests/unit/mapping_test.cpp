@@ -99,6 +99,7 @@ TEST(CarmenLog, ReadsScansAndOdometryFromGzipAndReportsBadLines) {
   EXPECT_THROW(ReadCarmenLog(dir + "/missing.log"), Error);
   EXPECT_NEAR(CarmenBeamAngle(0, 181), -M_PI / 2, 1e-12);
   EXPECT_NEAR(CarmenBeamAngle(180, 181), M_PI / 2, 1e-12);
+  EXPECT_NEAR(CarmenBeamAngle(179, 180), M_PI / 2 - M_PI / 180, 1e-12);  // 1 degree steps
 }
 
 }  // namespace
