@@ -5,14 +5,13 @@
 #include <limits>
 
 #include "services/common/error.h"
+#include "services/planning/grid_moves.h"
 
 namespace navd::planning {
 namespace {
 const OctileCost kInf = OctileCost::Infinite();
 constexpr OctileCost kStraight{1, 0};
 constexpr OctileCost kDiagonal{0, 1};
-constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
-constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
 }  // namespace
 
 DStarLite::DStarLite(const Costmap& costmap, const CellIndex& start, const CellIndex& goal)
@@ -45,12 +44,8 @@ template <typename F>
 void DStarLite::ForEachEdge(int32_t u, F&& f) const {
   const int x = u % width_, y = u / width_;
   if (!Free(x, y)) return;  // a blocked cell has no traversable edges
-  for (int k = 0; k < 8; ++k) {
-    const int nx = x + kDx[k], ny = y + kDy[k];
-    if (!Free(nx, ny)) continue;
-    if (k >= 4 && (!Free(x + kDx[k], y) || !Free(x, y + kDy[k]))) continue;  // no corner cutting
-    f(ny * width_ + nx, k >= 4 ? kDiagonal : kStraight);
-  }
+  ForEachMove(x, y, [this](int cx, int cy) { return Free(cx, cy); },
+              [&](int nx, int ny, bool diagonal) { f(ny * width_ + nx, diagonal ? kDiagonal : kStraight); });
 }
 
 void DStarLite::RecomputeRhs(int32_t u) {
@@ -126,8 +121,8 @@ void DStarLite::SetBlocked(const CellIndex& cell, bool blocked) {
   blocked_[c] = blocked;
   if (blocked) g_[c] = kInf;
   UpdateVertex(c);
-  for (int k = 0; k < 8; ++k) {
-    const int nx = cell.x + kDx[k], ny = cell.y + kDy[k];
+  for (const GridMove& m : kGridMoves) {
+    const int nx = cell.x + m.dx, ny = cell.y + m.dy;
     if (nx >= 0 && ny >= 0 && nx < width_ && ny < height_) UpdateVertex(ny * width_ + nx);
   }
 }

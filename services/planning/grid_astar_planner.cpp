@@ -6,6 +6,7 @@
 #include <queue>
 
 #include "services/common/error.h"
+#include "services/planning/grid_moves.h"
 #include "services/planning/quaternary_heap.h"
 #include "services/planning/search_workspace.h"
 
@@ -56,9 +57,6 @@ CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
   ws.Set(s, 0.0, -1);
   open.push(heuristic(start.x, start.y), s);
 
-  static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
-  static constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-  const int moves = diagonal ? 8 : 4;
   auto free = [&](int x, int y) {
     return x >= 0 && y >= 0 && x < w && y < h && !lethal[static_cast<size_t>(y) * w + x];
   };
@@ -76,13 +74,10 @@ CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
     if (current == t) break;
     const int x = current % w, y = current / w;
     const double g_current = ws.g(current);
-    for (int k = 0; k < moves; ++k) {
-      const int nx = x + kDx[k], ny = y + kDy[k];
-      if (!free(nx, ny)) continue;
-      if (k >= 4 && (!free(x + kDx[k], y) || !free(x, y + kDy[k]))) continue;  // no corner cutting
+    const auto relax = [&](int nx, int ny, bool diagonal) {
       const int32_t ni = ny * w + nx;
-      if (ws.closed(ni)) continue;
-      double step = k >= 4 ? M_SQRT2 : 1.0;
+      if (ws.closed(ni)) return;
+      double step = diagonal ? M_SQRT2 : 1.0;
       // Lengths stay the heuristic's lower bound: penalties only add.
       if (cost) step *= 1.0 + per_cost * 0.5 * (cost[current] + cost[ni]);
       const double ng = g_current + step;
@@ -90,7 +85,9 @@ CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
         ws.Set(ni, ng, current);
         open.push(ng + heuristic(nx, ny), ni);
       }
-    }
+    };
+    if (diagonal) ForEachMove<8>(x, y, free, relax);
+    else ForEachMove<4>(x, y, free, relax);
   }
   if (!ws.closed(t)) return result;
   for (int32_t i = t; i != -1; i = ws.parent(i)) result.cells.push_back({i % w, i / w});

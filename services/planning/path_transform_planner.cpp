@@ -6,6 +6,7 @@
 
 #include "services/common/distance_field.h"
 #include "services/common/error.h"
+#include "services/planning/grid_moves.h"
 #include "services/planning/quaternary_heap.h"
 
 namespace navd::planning {
@@ -41,10 +42,8 @@ CellPath PathTransformPlanner::Plan(const Costmap& costmap, const CellIndex& sta
   const uint8_t* lethal = costmap.lethal_data();
   auto free = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && !lethal[static_cast<size_t>(y) * w + x]; };
   std::vector<double> value(static_cast<size_t>(w) * h, std::numeric_limits<double>::infinity());
-  static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
-  static constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-  auto step_cost = [&](int32_t from, int32_t to, int k) {
-    const double length = (k >= 4 ? M_SQRT2 : 1.0) * res;
+  auto step_cost = [&](int32_t from, int32_t to, bool diagonal) {
+    const double length = (diagonal ? M_SQRT2 : 1.0) * res;
     if (alpha == 0.0) return length;
     return length * (1.0 + alpha * 0.5 * (discomfort[from] + discomfort[to]));
   };
@@ -62,17 +61,14 @@ CellPath PathTransformPlanner::Plan(const Costmap& costmap, const CellIndex& sta
     // The whole transform is the navigation function; it is complete once the start is settled.
     if (e.node == s) break;
     const int x = e.node % w, y = e.node / w;
-    for (int k = 0; k < 8; ++k) {
-      const int nx = x + kDx[k], ny = y + kDy[k];
-      if (!free(nx, ny)) continue;
-      if (k >= 4 && (!free(x + kDx[k], y) || !free(x, y + kDy[k]))) continue;
+    ForEachMove(x, y, free, [&](int nx, int ny, bool diagonal) {
       const int32_t n = ny * w + nx;
-      const double v = e.key + step_cost(e.node, n, k);
+      const double v = e.key + step_cost(e.node, n, diagonal);
       if (v < value[n]) {
         value[n] = v;
         open.push(v, n);
       }
-    }
+    });
   }
   if (!std::isfinite(value[s])) return result;
   // Steepest descent from the start: to the neighbour minimising step cost + value.
@@ -82,18 +78,15 @@ CellPath PathTransformPlanner::Plan(const Costmap& costmap, const CellIndex& sta
     const int x = c % w, y = c / w;
     int32_t best = -1;
     double best_v = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 8; ++k) {
-      const int nx = x + kDx[k], ny = y + kDy[k];
-      if (!free(nx, ny)) continue;
-      if (k >= 4 && (!free(x + kDx[k], y) || !free(x, y + kDy[k]))) continue;
+    ForEachMove(x, y, free, [&](int nx, int ny, bool diagonal) {
       const int32_t n = ny * w + nx;
       // The predecessor Dijkstra used: value[c] = step + value[n]; values strictly fall.
-      const double through = step_cost(c, n, k) + value[n];
+      const double through = step_cost(c, n, diagonal) + value[n];
       if (value[n] < value[c] && through < best_v) {
         best_v = through;
         best = n;
       }
-    }
+    });
     if (best < 0) return {};  // cannot happen for a settled start; guards against loops
     c = best;
     result.cells.push_back({c % w, c / w});

@@ -6,6 +6,7 @@
 #include <queue>
 
 #include "services/common/error.h"
+#include "services/planning/grid_moves.h"
 
 namespace navd::planning {
 
@@ -37,8 +38,6 @@ CellPath ThetaStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
   parent[s] = s;
   open.push({dist(start, goal), 0.0, s});
 
-  static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
-  static constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
   CellPath result;
   while (!open.empty()) {
     const Entry e = open.top();
@@ -52,12 +51,9 @@ CellPath ThetaStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
     if (e.index == t) break;
     const CellIndex c = cell(e.index);
     const CellIndex p = cell(parent[e.index]);
-    for (int k = 0; k < 8; ++k) {
-      const int nx = c.x + kDx[k], ny = c.y + kDy[k];
-      if (!free(nx, ny)) continue;
-      if (k >= 4 && (!free(c.x + kDx[k], c.y) || !free(c.x, c.y + kDy[k]))) continue;
+    ForEachMove(c.x, c.y, free, [&](int nx, int ny, bool diagonal) {
       const int32_t ni = index(nx, ny);
-      if (closed[ni]) continue;
+      if (closed[ni]) return;
       const CellIndex nc{nx, ny};
       // Path 2 (through the parent) when the parent sees the neighbour; else path 1 (grid step).
       double candidate;
@@ -66,7 +62,7 @@ CellPath ThetaStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
         candidate = g[parent[e.index]] + dist(p, nc);
         via = parent[e.index];
       } else {
-        candidate = g[e.index] + (k >= 4 ? M_SQRT2 : 1.0);
+        candidate = g[e.index] + (diagonal ? M_SQRT2 : 1.0);
         via = e.index;
       }
       if (candidate < g[ni]) {
@@ -74,7 +70,7 @@ CellPath ThetaStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
         parent[ni] = via;
         open.push({candidate + dist(nc, goal), candidate, ni});
       }
-    }
+    });
   }
   if (!closed[t]) return result;
   for (int32_t i = t;; i = parent[i]) {
