@@ -42,6 +42,21 @@ class WorldParser {
     if (v < 0) Fail(field, "must not be negative");
     return v;
   }
+  // A misspelt key would otherwise be a silent default: name it, and what is allowed there.
+  void CheckKeys(const YAML::Node& n, const std::string& where, std::initializer_list<const char*> allowed) const {
+    for (const auto& kv : n) {
+      if (!kv.first.IsScalar()) Fail(where.empty() ? "(top level)" : where, "has a key that is not a plain name");
+      const std::string key = kv.first.as<std::string>();
+      bool known = false;
+      std::string list;
+      for (const char* a : allowed) {
+        known |= key == a;
+        list += (list.empty() ? "" : ", ") + std::string(a);
+      }
+      if (!known) Fail(where.empty() ? key : where + "." + key, "is not a known field (expected " + list + ")");
+    }
+  }
+
   int Integer(const YAML::Node& n, const std::string& field, int min, int max) const {
     const double v = Number(n, field);
     if (v != std::floor(v) || v < min || v > max) {
@@ -63,6 +78,7 @@ class WorldParser {
   }
 
   OccupancyGrid InlineMap(const YAML::Node& m) const {
+    CheckKeys(m, "map", {"resolution", "size", "origin", "boxes"});
     const double res = m["resolution"] ? Positive(m["resolution"], "map.resolution") : 0.05;
     if (!m["size"]) Fail("map.size", "is missing (expected [width_m, height_m])");
     const auto size = Numbers(m["size"], "map.size", 2, 2);
@@ -91,6 +107,7 @@ class WorldParser {
 
   World Parse(const std::string& text, const std::string& base_dir) const {
     const YAML::Node doc = ParseYamlMapping(text, source_);
+    CheckKeys(doc, "", {"name", "map", "robot", "laser", "goals"});
     World w;
     w.source = source_;
     try {
@@ -112,6 +129,8 @@ class WorldParser {
 
     if (const YAML::Node r = doc["robot"]) {
       if (!r.IsMap()) Fail("robot", "must be a mapping");
+      CheckKeys(r, "robot", {"start", "radius", "wheel_base", "wheel_radius", "max_wheel_speed", "max_wheel_accel",
+                             "encoder_ticks_per_rev", "actuator_noise", "encoder_noise"});
       auto& d = w.robot;
       if (r["start"]) w.start = PoseOf(r["start"], "robot.start");
       if (r["radius"]) d.radius = Positive(r["radius"], "robot.radius");
@@ -127,6 +146,7 @@ class WorldParser {
     }
     if (const YAML::Node l = doc["laser"]) {
       if (!l.IsMap()) Fail("laser", "must be a mapping");
+      CheckKeys(l, "laser", {"fov_deg", "range_min", "range_max", "beams", "rate_hz", "noise"});
       auto& d = w.laser;
       if (l["fov_deg"]) d.fov = Positive(l["fov_deg"], "laser.fov_deg") * M_PI / 180.0;
       if (l["range_min"]) d.range_min = NonNegative(l["range_min"], "laser.range_min");

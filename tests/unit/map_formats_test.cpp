@@ -171,6 +171,15 @@ TEST(World, BadWorldFilesNameTheField) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("map.size[1]"), std::string::npos) << msg;
 
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "k.yaml", "map: {size: [5, 5]}\nrobot: {radious: 0.3}\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("robot.radious"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("radius"), std::string::npos) << msg;  // says what is allowed
+
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "l.yaml", "map: {size: [5, 5]}\nsonar: {count: 16}\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("'sonar'"), std::string::npos) << msg;
+
   std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "g.yaml", "map: {size: [0.01, 5]}\n")); });
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("map.size"), std::string::npos) << msg;
