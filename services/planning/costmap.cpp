@@ -9,7 +9,8 @@
 namespace navd::planning {
 
 Costmap::Costmap(std::shared_ptr<const OccupancyGrid> grid_ptr, const CostmapOptions& options)
-    : grid_(std::move(grid_ptr)), options_(options), lethal_(grid_->cells().size(), 0) {
+    : grid_(std::move(grid_ptr)), options_(options), lethal_(grid_->cells().size(), 0),
+      distance_(grid_->cells().size()) {
   // Distances to the nearest obstacle (exact) decide both layers: one pass, any radius.
   const DistanceField field(*grid_, options.unknown_is_lethal);
   const double lethal_within = options.inflation_radius + 1e-9;
@@ -17,6 +18,7 @@ Costmap::Costmap(std::shared_ptr<const OccupancyGrid> grid_ptr, const CostmapOpt
   if (options.decay_radius > 0) cost_.assign(lethal_.size(), 0);
   for (size_t i = 0; i < lethal_.size(); ++i) {
     const double d = field.values()[i];
+    distance_[i] = static_cast<float>(d);
     if (d <= lethal_within) {
       lethal_[i] = 1;
     } else if (d < decay_until) {

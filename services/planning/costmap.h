@@ -35,6 +35,9 @@ class Costmap {
   const uint8_t* lethal_data() const { return lethal_.data(); }
   // Decaying cost of a non-lethal cell, 0..kMaxCost; all zero without decay.
   uint8_t cost(const CellIndex& c) const { return cost_.empty() ? 0 : cost_[grid_->Flat(c)]; }
+  // Metres from the cell's centre to the nearest obstacle's (infinity when there is none), kept
+  // from construction so planners that weigh clearance do not recompute it per request.
+  double distance(size_t flat_index) const { return distance_[flat_index]; }
   // Row-major costs, or nullptr when the costmap has no decay layer.
   const uint8_t* cost_data() const { return cost_.empty() ? nullptr : cost_.data(); }
   // True when the straight segment a-b (map frame) crosses no lethal cell and stays in the map;
@@ -49,6 +52,7 @@ class Costmap {
   CostmapOptions options_;
   std::vector<uint8_t> lethal_;
   std::vector<uint8_t> cost_;
+  std::vector<float> distance_;
 };
 
 }  // namespace navd::planning

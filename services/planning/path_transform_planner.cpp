@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "services/common/distance_field.h"
 #include "services/common/error.h"
 #include "services/planning/grid_moves.h"
 #include "services/planning/quaternary_heap.h"
@@ -34,9 +33,8 @@ CellPath PathTransformPlanner::Plan(const Costmap& costmap, const CellIndex& sta
   const double res = grid.resolution();
   std::vector<double> discomfort;
   if (alpha > 0.0) {
-    const DistanceField field(grid, costmap.options().unknown_is_lethal);
-    discomfort.resize(field.values().size());
-    for (size_t i = 0; i < discomfort.size(); ++i) discomfort[i] = std::max(0.0, 1.0 - field.values()[i] / influence);
+    discomfort.resize(grid.cells().size());
+    for (size_t i = 0; i < discomfort.size(); ++i) discomfort[i] = std::max(0.0, 1.0 - costmap.distance(i) / influence);
   }
   // Dijkstra from the goal over free cells (8-connected, no corner cutting): the transform.
   const uint8_t* lethal = costmap.lethal_data();

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "services/common/distance_field.h"
 #include "services/common/error.h"
 #include "services/planning/quaternary_heap.h"
 
@@ -83,21 +82,18 @@ CellPath VoronoiFastMarchingPlanner::Plan(const Costmap& costmap, const CellInde
   const OccupancyGrid& grid = costmap.grid();
   const int w = costmap.width(), h = costmap.height();
   const double res = grid.resolution();
-  // EVT of the enlarged obstacles: the costmap's lethal cells as an occupancy grid.
-  OccupancyGrid enlarged(w, h, res, grid.origin(), OccupancyGrid::kFree);
+  // EVT of the enlarged obstacles: the lethal set is every point within the inflation radius of
+  // an obstacle, so the distance to it is the costmap's obstacle distance minus that radius.
   const uint8_t* lethal = costmap.lethal_data();
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (lethal[static_cast<size_t>(y) * w + x]) enlarged.set({x, y}, OccupancyGrid::kOccupied);
-  const DistanceField evt(enlarged);
+  const double inflation = costmap.options().inflation_radius;
   // Speed: the logarithm of the EVT, saturating at `saturation` metres of clearance.
   const double top = std::log1p(saturation);
-  std::vector<double> speed(evt.values().size());
+  std::vector<double> speed(grid.cells().size());
   for (size_t i = 0; i < speed.size(); ++i) {
     if (lethal[i]) {
       speed[i] = 0.0;
     } else {
-      const double d = std::min(evt.values()[i], saturation);
+      const double d = std::min(std::max(0.0, costmap.distance(i) - inflation), saturation);
       speed[i] = std::max(min_speed, std::log1p(d) / top);
     }
   }
