@@ -14,6 +14,13 @@ inline constexpr const char* kOdom = "odom";            // nav_msgs/Odometry
 inline constexpr const char* kCmdVel = "cmd_vel";       // geometry_msgs/Twist
 inline constexpr const char* kGroundTruth = "ground_truth";  // nav_msgs/Odometry, simulator truth
 inline constexpr const char* kSimStatus = "sim/status";      // navsim_msgs/SimStatus
+inline constexpr const char* kCmdAccel = "cmd_accel";   // geometry_msgs/Accel (unicycle inputs u1, u2)
+inline constexpr const char* kSonar = "sonar";           // sensor_msgs/Range, frame_id sonar_<i>
+inline constexpr const char* kIr = "ir";                 // sensor_msgs/Range, frame_id ir_<i>
+inline constexpr const char* kJointStates = "joint_states";  // sensor_msgs/JointState, wheel encoders
+inline constexpr const char* kBumper = "bumper";         // navsim_msgs/BumperState
+inline constexpr const char* kWorldState = "rt/sim/world_state";  // navsim_msgs/WorldState, global
+inline constexpr const char* kCollisions = "rt/sim/collisions";   // navsim_msgs/CollisionEvent, global
 inline constexpr const char* kNavStatus = "navd/status";     // navd_msgs/NavStatus
 inline constexpr const char* kPose = "pose";                 // geometry_msgs/PoseWithCovarianceStamped, map frame
 

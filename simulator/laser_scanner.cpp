@@ -2,29 +2,35 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-
-#include "services/common/grid_traversal.h"
 
 namespace navd::sim {
 
-double LaserScanner::CastRay(const OccupancyGrid& map, const Point2& origin, double angle, double max_range) {
-  double hit = max_range;
-  TraverseSegment(map, origin, origin + max_range * Point2(std::cos(angle), std::sin(angle)),
-                  [&](const CellIndex& c, double t) {
-                    if (map.Contains(c) && !map.IsOccupied(c)) return true;
-                    hit = std::min(hit, t);
-                    return false;
-                  });
-  return hit;
+std::vector<const Disc*> DiscsWithin(const std::vector<Disc>& discs, const Point2& origin, double max_range, int self) {
+  std::vector<const Disc*> out;
+  for (const Disc& d : discs) {
+    if (d.id != self && Distance(d.centre, origin) < max_range + d.radius) out.push_back(&d);
+  }
+  return out;
 }
 
-std::vector<float> LaserScanner::Scan(const Pose2& pose, const OccupancyGrid& map, std::mt19937_64& rng) const {
+double CastAgainstWorld(const RayCaster& world, const std::vector<const Disc*>& nearby, const Point2& origin,
+                        double angle, double max_range) {
+  double r = world.Cast(origin, angle, max_range);
+  if (!nearby.empty()) {
+    const Point2 dir(std::cos(angle), std::sin(angle));
+    for (const Disc* d : nearby) r = std::min(r, RayDiscDistance(origin, dir, *d));
+  }
+  return r;
+}
+
+std::vector<float> LaserScanner::Scan(const Pose2& pose, const RayCaster& world, const std::vector<Disc>& discs,
+                                      int self, std::mt19937_64& rng) const {
   std::vector<float> ranges(d_.beams);
   std::normal_distribution<double> noise(0.0, d_.noise);
+  const auto nearby = DiscsWithin(discs, pose.translation(), d_.range_max, self);
   for (int i = 0; i < d_.beams; ++i) {
     const double a = pose.theta + angle_min() + i * increment();
-    const double r = CastRay(map, pose.translation(), a, d_.range_max);
+    const double r = CastAgainstWorld(world, nearby, pose.translation(), a, d_.range_max);
     if (r >= d_.range_max) {
       ranges[i] = static_cast<float>(d_.range_max + 1.0);  // no return
     } else {

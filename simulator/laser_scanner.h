@@ -1,12 +1,13 @@
 #pragma once
-// A planar laser range finder (default: Hokuyo URG-04LX): rays cast through the occupancy grid
-// cell by cell (Amanatides-Woo traversal), Gaussian range noise, max-range readings reported as
-// range_max + 1 so consumers can tell "no return". Angles in the robot frame, counter-clockwise.
+// A planar laser range finder (default: Hokuyo URG-04LX): one ray per beam against the static
+// world and every disc around (people, moving obstacles, other robots), Gaussian range noise,
+// max-range readings reported as range_max + 1 so consumers can tell "no return". Angles in the
+// robot frame, counter-clockwise; the scanner sits at the robot's centre.
 #include <random>
 #include <vector>
 
-#include "services/common/occupancy_grid.h"
 #include "services/common/world.h"
+#include "simulator/ray_caster.h"
 
 namespace navd::sim {
 
@@ -14,17 +15,23 @@ class LaserScanner {
  public:
   explicit LaserScanner(const LaserDescription& description) : d_(description) {}
   // Ranges for a scanner at `pose` (map frame), beam i at angle angle_min() + i * increment().
-  std::vector<float> Scan(const Pose2& pose, const OccupancyGrid& map, std::mt19937_64& rng) const;
+  // Discs with id == `self` (the robot carrying the scanner) are not seen.
+  std::vector<float> Scan(const Pose2& pose, const RayCaster& world, const std::vector<Disc>& discs, int self,
+                          std::mt19937_64& rng) const;
   double angle_min() const { return -d_.fov / 2; }
   double angle_max() const { return d_.fov / 2; }
   double increment() const { return d_.beams > 1 ? d_.fov / (d_.beams - 1) : 0.0; }
   const LaserDescription& description() const { return d_; }
 
-  // Distance from `origin` along `angle` (map frame) to the first occupied cell, or max_range.
-  static double CastRay(const OccupancyGrid& map, const Point2& origin, double angle, double max_range);
-
  private:
   LaserDescription d_;
 };
+
+// Distance along `angle` from `origin` to the nearest of the static world and the discs (except
+// `self`), at most max_range. Shared by the laser and the range sensors.
+double CastAgainstWorld(const RayCaster& world, const std::vector<const Disc*>& nearby, const Point2& origin,
+                        double angle, double max_range);
+// The discs (except `self`) that a sensor at `origin` with reach `max_range` could see.
+std::vector<const Disc*> DiscsWithin(const std::vector<Disc>& discs, const Point2& origin, double max_range, int self);
 
 }  // namespace navd::sim

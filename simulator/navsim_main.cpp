@@ -1,12 +1,14 @@
-// navsim: the simulated robot process. Loads a world, steps it at --rate times real time, and
-// talks ROS 2-layout DDS: publishes rt/clock, rt/scan, rt/odom, rt/ground_truth and
-// rt/sim/status, subscribes rt/cmd_vel.
+// navsim: the simulator process. Loads a scenario (or a world file: one robot), steps it at --rate
+// times real time, and talks ROS 2-layout DDS: rt/clock and the world's truth globally; per robot
+// (rt/<robot>/...) scan, sonar, ir, odom, joint_states, bumper, ground_truth and sim/status out,
+// cmd_vel and cmd_accel in. Optionally records one robot as a CARMEN log.
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <mutex>
 #include <thread>
 
 #include "dds/conversions.h"
@@ -18,6 +20,7 @@
 #include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
 #include "services/common/error.h"
+#include "simulator/carmen_recorder.h"
 #include "simulator/simulation.h"
 
 namespace {
@@ -27,6 +30,10 @@ void OnSignal(int) { g_stop = true; }
 
 using namespace navd;
 namespace msgs_geo = geometry_msgs::msg::dds_;
+namespace msgs_sim = navsim_msgs::msg::dds_;
+namespace msgs_sensor = sensor_msgs::msg::dds_;
+using navd::dds::Reliability;
+using navd::dds::TopicName;
 
 std_msgs::msg::dds_::Header_ Header(double t, const std::string& frame) {
   std_msgs::msg::dds_::Header_ h;
@@ -43,145 +50,326 @@ void FillCovariance(const Eigen::Matrix3d& c, std::array<double, 36>& out) {
     for (int k = 0; k < 3; ++k) out[idx[r] * 6 + idx[k]] = c(r, k);
 }
 
-nav_msgs::msg::dds_::Odometry_ MakeOdometry(double t, const Pose2& pose, const Twist2& twist,
+nav_msgs::msg::dds_::Odometry_ MakeOdometry(double t, const Pose2& pose, const sim::BodyTwist& twist,
                                              const Eigen::Matrix3d& cov, const std::string& frame) {
   nav_msgs::msg::dds_::Odometry_ m;
   m.header(Header(t, frame));
   m.child_frame_id("base_link");
   m.pose().pose(navd::dds::ToPose(pose));
   FillCovariance(cov, m.pose().covariance());
-  m.twist().twist().linear().x(twist.v);
+  m.twist().twist().linear().x(twist.vx);
+  m.twist().twist().linear().y(twist.vy);
   m.twist().twist().angular().z(twist.omega);
   return m;
 }
 
+// One robot's DDS endpoints. Commands arrive on DDS threads and wait in `pending` until the
+// simulation thread applies them between steps.
+class RobotTopics {
+ public:
+  RobotTopics(navd::dds::Participant& p, const sim::SimulatedRobot& robot)
+      : ns_(robot.name()),
+        scan_(p, TopicName(ns_, navd::dds::kScan), Reliability::kBestEffort, 5),
+        sonar_(p, TopicName(ns_, navd::dds::kSonar), Reliability::kBestEffort, 32),
+        ir_(p, TopicName(ns_, navd::dds::kIr), Reliability::kBestEffort, 8),
+        odom_(p, TopicName(ns_, navd::dds::kOdom), Reliability::kBestEffort, 5),
+        joints_(p, TopicName(ns_, navd::dds::kJointStates), Reliability::kBestEffort, 5),
+        bumper_(p, TopicName(ns_, navd::dds::kBumper), Reliability::kBestEffort, 5),
+        truth_(p, TopicName(ns_, navd::dds::kGroundTruth), Reliability::kBestEffort, 5),
+        status_(p, TopicName(ns_, navd::dds::kSimStatus), Reliability::kReliable, 10),
+        cmd_vel_(p, TopicName(ns_, navd::dds::kCmdVel), Reliability::kReliable,
+                 [this](const msgs_geo::Twist_& m) {
+                   if (!std::isfinite(m.linear().x()) || !std::isfinite(m.linear().y()) ||
+                       !std::isfinite(m.angular().z())) {
+                     spdlog::warn("navsim: ignored a {} with non-finite values", TopicName(ns_, navd::dds::kCmdVel));
+                     return;
+                   }
+                   std::lock_guard<std::mutex> lock(mutex_);
+                   velocity_ = sim::BodyTwist{m.linear().x(), m.linear().y(), m.angular().z()};
+                   accel_.reset();
+                 }),
+        cmd_accel_(p, TopicName(ns_, navd::dds::kCmdAccel), Reliability::kReliable,
+                   [this](const msgs_geo::Accel_& m) {
+                     if (!std::isfinite(m.linear().x()) || !std::isfinite(m.angular().z())) {
+                       spdlog::warn("navsim: ignored a {} with non-finite values", TopicName(ns_, navd::dds::kCmdAccel));
+                       return;
+                     }
+                     std::lock_guard<std::mutex> lock(mutex_);
+                     accel_ = std::make_pair(m.linear().x(), m.angular().z());
+                     velocity_.reset();
+                   }) {
+    if (const auto& l = robot.laser()) {
+      scan_msg_.angle_min(static_cast<float>(l->angle_min()));
+      scan_msg_.angle_max(static_cast<float>(l->angle_max()));
+      scan_msg_.angle_increment(static_cast<float>(l->increment()));
+      scan_msg_.scan_time(static_cast<float>(1.0 / l->description().rate));
+      scan_msg_.time_increment(static_cast<float>(1.0 / l->description().rate / l->description().beams));
+      scan_msg_.range_min(static_cast<float>(l->description().range_min));
+      scan_msg_.range_max(static_cast<float>(l->description().range_max));
+    }
+  }
+
+  void ApplyCommands(sim::Simulation& simulation, size_t index) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (velocity_) simulation.Command(index, *velocity_);
+    if (accel_) simulation.CommandAcceleration(index, accel_->first, accel_->second);
+    velocity_.reset();
+    accel_.reset();
+  }
+
+  void Publish(double t, const sim::SimulatedRobot& robot, const sim::RobotReadings& in, bool truth, bool status,
+               double real_time_factor) {
+    const auto& base = robot.base();
+    if (in.scan) {
+      scan_msg_.header(Header(t, "base_scan"));
+      scan_msg_.ranges(*in.scan);
+      scan_.Write(scan_msg_);
+    }
+    if (in.sonar) PublishRanges(t, "sonar", 0, *robot.sonar(), *in.sonar, sonar_);
+    if (in.ir) PublishRanges(t, "ir", 1, *robot.ir(), *in.ir, ir_);
+    if (in.odom) odom_.Write(MakeOdometry(t, base.odom_pose(), base.odom_twist(), base.odom_covariance(), "odom"));
+    if (in.encoders) {
+      msgs_sensor::JointState_ j;
+      j.header(Header(t, "base_link"));
+      const auto angles = base.wheel_angles();
+      const auto speeds = base.wheel_speeds();
+      for (size_t i = 0; i < angles.size(); ++i) {
+        j.name().push_back(angles.size() == 2 ? (i == 0 ? "left_wheel" : "right_wheel") : "wheel_" + std::to_string(i + 1));
+        j.position().push_back(angles[i]);
+        j.velocity().push_back(speeds[i] / base.description().wheel_radius);
+      }
+      joints_.Write(j);
+    }
+    if (in.bumper) {
+      msgs_sim::BumperState_ b;
+      b.header(Header(t, "base_link"));
+      b.front(robot.bumper().front);
+      b.rear(robot.bumper().rear);
+      bumper_.Write(b);
+    }
+    if (truth) truth_.Write(MakeOdometry(t, base.true_pose(), base.true_twist(), Eigen::Matrix3d::Zero(), "map"));
+    if (status || robot.collisions() != reported_collisions_) {
+      msgs_sim::SimStatus_ s;
+      s.header(Header(t, "map"));
+      s.x(base.true_pose().x);
+      s.y(base.true_pose().y);
+      s.theta(base.true_pose().theta);
+      s.collisions(robot.collisions());
+      s.in_collision(robot.in_collision());
+      s.distance_travelled(base.distance_travelled());
+      s.real_time_factor(real_time_factor);
+      status_.Write(s);
+      reported_collisions_ = robot.collisions();
+    }
+  }
+
+ private:
+  template <typename WriterT>
+  void PublishRanges(double t, const std::string& kind, uint8_t radiation, const sim::RangeSensorArray& array,
+                     const std::vector<float>& ranges, WriterT& writer) {
+    const auto& d = array.description();
+    for (size_t i = 0; i < ranges.size(); ++i) {
+      msgs_sensor::Range_ r;
+      r.header(Header(t, kind + "_" + std::to_string(i)));
+      r.radiation_type(radiation);
+      r.field_of_view(static_cast<float>(d.cone));
+      r.min_range(static_cast<float>(d.range_min));
+      r.max_range(static_cast<float>(d.range_max));
+      r.range(ranges[i]);
+      writer.Write(r);
+    }
+  }
+
+  std::string ns_;
+  navd::dds::Writer<msgs_sensor::LaserScan_PubSubType> scan_;
+  navd::dds::Writer<msgs_sensor::Range_PubSubType> sonar_, ir_;
+  navd::dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> odom_;
+  navd::dds::Writer<msgs_sensor::JointState_PubSubType> joints_;
+  navd::dds::Writer<msgs_sim::BumperState_PubSubType> bumper_;
+  navd::dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> truth_;
+  navd::dds::Writer<msgs_sim::SimStatus_PubSubType> status_;
+  std::mutex mutex_;
+  std::optional<sim::BodyTwist> velocity_;
+  std::optional<std::pair<double, double>> accel_;
+  navd::dds::Reader<msgs_geo::Twist_PubSubType> cmd_vel_;
+  navd::dds::Reader<msgs_geo::Accel_PubSubType> cmd_accel_;
+  msgs_sensor::LaserScan_ scan_msg_;
+  uint32_t reported_collisions_ = 0;
+};
+
+msgs_sim::WorldState_ MakeWorldState(double t, const sim::Simulation& s) {
+  msgs_sim::WorldState_ w;
+  w.header(Header(t, "map"));
+  auto add = [&](const std::string& name, const char* kind, const Pose2& pose, const Point2& v, double radius) {
+    msgs_sim::Body_ b;
+    b.name(name);
+    b.kind(kind);
+    b.x(pose.x);
+    b.y(pose.y);
+    b.theta(pose.theta);
+    b.vx(v.x());
+    b.vy(v.y());
+    b.radius(radius);
+    w.bodies().push_back(b);
+  };
+  for (const auto& r : s.robots()) {
+    const Pose2& p = r->base().true_pose();
+    const auto tw = r->base().true_twist();
+    const double c = std::cos(p.theta), sn = std::sin(p.theta);
+    add(s.BodyName(r->id()), "robot", p, {c * tw.vx - sn * tw.vy, sn * tw.vx + c * tw.vy}, r->spec().body.radius);
+  }
+  for (const auto& o : s.moving_obstacles()) {
+    add(o.description().name, "obstacle", {o.position().x(), o.position().y(), std::atan2(o.velocity().y(), o.velocity().x())},
+        o.velocity(), o.description().radius);
+  }
+  for (const auto& p : s.people()) {
+    add("person " + std::to_string(p.id), "person", {p.position.x(), p.position.y(), std::atan2(p.velocity.y(), p.velocity.x())},
+        p.velocity, s.scenario().crowd->radius);
+  }
+  return w;
+}
+
 int Run(int argc, char** argv) {
-  CLI::App app{"navsim: 2-D simulator of a differential-drive robot with a laser, over ROS 2-layout DDS"};
-  std::string world_path, network = "loopback", ns;
+  CLI::App app{"navsim: 2-D simulator of wheeled robots with lasers, sonars, IR, encoders and bumpers among moving "
+               "obstacles and people, over ROS 2-layout DDS"};
+  std::string scenario_path, world_path, network = "loopback", ns, record_path, record_robot;
   double rate = 1.0;
-  uint64_t seed = 1;
+  std::optional<uint64_t> seed;
   int domain = 0;
   double duration = 0.0;
-  app.add_option("--world", world_path, "World YAML (default: the embedded warehouse)");
+  bool fast = false;
+  auto* scenario_opt = app.add_option("--scenario", scenario_path, "Scenario YAML: world, robots, obstacles, people, seed");
+  app.add_option("--world", world_path, "World YAML, one robot (default: the embedded warehouse)")->excludes(scenario_opt);
   app.add_option("--rate", rate, "Simulated seconds per wall second")->check(CLI::PositiveNumber);
-  app.add_option("--seed", seed, "Random seed; the same seed repeats the same noise");
+  app.add_flag("--fast", fast, "Run as fast as possible (no pacing)");
+  app.add_option("--seed", seed, "Random seed (overrides the scenario's); the same seed repeats the same run");
   app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
-  app.add_option("--namespace", ns, "Robot namespace for topics (rt/<ns>/scan ...)");
-  app.add_option("--duration", duration, "Stop after this many simulated seconds (0: run until signalled)");
+  app.add_option("--namespace", ns, "Topic namespace of a --world robot (rt/<ns>/scan ...)")->excludes(scenario_opt);
+  app.add_option("--duration", duration, "Stop after this many simulated seconds (0: run until signalled)")
+      ->check(CLI::NonNegativeNumber);
   double command_timeout = 0.5;
-  app.add_option("--command-timeout", command_timeout, "Stop the robot after this long without cmd_vel, s")
+  app.add_option("--command-timeout", command_timeout, "Stop a robot after this long without a command, s")
       ->check(CLI::PositiveNumber);
+  app.add_option("--record", record_path, "Write a CARMEN log (ROBOTLASER1, ODOM, TRUEPOS) of one robot to this file");
+  app.add_option("--record-robot", record_robot, "Which robot --record records (default: the first)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
 
-  World world = world_path.empty() ? DefaultWorld() : LoadWorldFile(world_path);
+  sim::Scenario scenario;
+  if (!scenario_path.empty()) {
+    scenario = sim::LoadScenarioFile(scenario_path);
+  } else {
+    scenario = sim::ScenarioFromWorld(world_path.empty() ? DefaultWorld() : LoadWorldFile(world_path));
+    scenario.robots[0].name = ns;
+  }
   sim::SimulationOptions options;
   options.seed = seed;
   options.command_timeout = command_timeout;
-  sim::Simulation simulation(std::move(world), options);
-  const auto& w = simulation.world();
+  sim::Simulation simulation(std::move(scenario), options);
+  const auto& robots = simulation.robots();
+
+  size_t recorded = 0;
+  std::unique_ptr<sim::CarmenRecorder> recorder;
+  if (!record_path.empty()) {
+    bool found = record_robot.empty();
+    for (size_t i = 0; i < robots.size() && !found; ++i) {
+      if (robots[i]->name() == record_robot) {
+        recorded = i;
+        found = true;
+      }
+    }
+    if (!found) throw Error(ErrorCode::kInvalidArgument, "--record-robot: no robot named '" + record_robot + "'");
+    if (!robots[recorded]->laser()) throw Error(ErrorCode::kInvalidArgument, "--record: the robot has no laser to record");
+    recorder = std::make_unique<sim::CarmenRecorder>(
+        record_path, "scenario '" + simulation.scenario().name + "', seed " + std::to_string(simulation.seed()));
+  }
 
   navd::dds::ParticipantOptions dds_options;
   dds_options.domain = domain;
   dds_options.network = navd::dds::ParseNetwork(network);
   dds_options.name = "navsim";
   navd::dds::Participant participant(dds_options);
-  using navd::dds::Reliability;
   navd::dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock_writer(participant, navd::dds::kClock,
-                                                                        Reliability::kBestEffort, 1);
-  navd::dds::Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan_writer(
-      participant, navd::dds::TopicName(ns, navd::dds::kScan), Reliability::kBestEffort, 5);
-  navd::dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> odom_writer(participant, navd::dds::TopicName(ns, navd::dds::kOdom),
-                                                                     Reliability::kBestEffort, 5);
-  navd::dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> truth_writer(
-      participant, navd::dds::TopicName(ns, navd::dds::kGroundTruth), Reliability::kBestEffort, 5);
-  navd::dds::Writer<navsim_msgs::msg::dds_::SimStatus_PubSubType> status_writer(
-      participant, navd::dds::TopicName(ns, navd::dds::kSimStatus), Reliability::kReliable, 10);
+                                                                             Reliability::kBestEffort, 1);
+  navd::dds::Writer<msgs_sim::WorldState_PubSubType> world_writer(participant, navd::dds::kWorldState,
+                                                                  Reliability::kBestEffort, 2);
+  navd::dds::Writer<msgs_sim::CollisionEvent_PubSubType> collision_writer(participant, navd::dds::kCollisions,
+                                                                          Reliability::kReliable, 100);
+  std::vector<std::unique_ptr<RobotTopics>> topics;
+  for (const auto& r : robots) topics.push_back(std::make_unique<RobotTopics>(participant, *r));
 
-  // Commands cross threads through this slot; the simulation thread applies them.
-  std::mutex cmd_mutex;
-  std::optional<Twist2> pending;
-  navd::dds::Reader<msgs_geo::Twist_PubSubType> cmd_reader(
-      participant, navd::dds::TopicName(ns, navd::dds::kCmdVel), Reliability::kReliable, [&](const msgs_geo::Twist_& m) {
-        if (!std::isfinite(m.linear().x()) || !std::isfinite(m.angular().z())) {
-          spdlog::warn("navsim: ignored a cmd_vel with non-finite values");
-          return;
-        }
-        std::lock_guard<std::mutex> lock(cmd_mutex);
-        pending = Twist2{m.linear().x(), m.angular().z()};
-      });
-
-  spdlog::info("navsim: world '{}' ({}x{} cells at {} m), robot at ({:.2f}, {:.2f}, {:.2f}), rate {}x, seed {}, "
-               "DDS domain {} ({})",
-               w.name, w.map.width(), w.map.height(), w.map.resolution(), w.start.x, w.start.y, w.start.theta, rate,
-               seed, domain, network);
-
-  sensor_msgs::msg::dds_::LaserScan_ scan;
-  scan.angle_min(static_cast<float>(simulation.laser().angle_min()));
-  scan.angle_max(static_cast<float>(simulation.laser().angle_max()));
-  scan.angle_increment(static_cast<float>(simulation.laser().increment()));
-  scan.scan_time(static_cast<float>(1.0 / w.laser.rate));
-  scan.time_increment(static_cast<float>(1.0 / w.laser.rate / w.laser.beams));
-  scan.range_min(static_cast<float>(w.laser.range_min));
-  scan.range_max(static_cast<float>(w.laser.range_max));
+  const auto& w = simulation.world();
+  spdlog::info("navsim: scenario '{}' on world '{}' ({}x{} cells at {} m), {} robot(s), {} moving obstacle(s), {} "
+               "people, {} hidden obstacle(s), rate {}, seed {}, DDS domain {} ({})",
+               simulation.scenario().name, w.name, w.map.width(), w.map.height(), w.map.resolution(), robots.size(),
+               simulation.moving_obstacles().size(), simulation.people().size(), simulation.scenario().hidden_obstacles,
+               fast ? std::string("max") : std::to_string(rate), simulation.seed(), domain, network);
+  for (const auto& r : robots) {
+    const Pose2& p = r->base().true_pose();
+    spdlog::info("navsim: robot '{}' ({}) at ({:.2f}, {:.2f}, {:.2f}) on rt/{}", simulation.BodyName(r->id()),
+                 DriveTypeName(r->spec().body.drive), p.x, p.y, p.theta, r->name().empty() ? "" : r->name() + "/");
+  }
 
   const double dt = simulation.options().physics_step;
+  // rt/clock at up to 20 x 100 Hz per wall second: enough for sim-time consumers, cheap at 1000x.
+  const uint64_t clock_every = fast ? 100 : std::max<uint64_t>(1, static_cast<uint64_t>(std::ceil(rate / 20.0)));
   const auto wall_start = std::chrono::steady_clock::now();
-  uint32_t reported_collisions = 0;
   uint64_t steps = 0;
-  while (!g_stop && (duration <= 0 || simulation.now() < duration)) {
-    {
-      std::lock_guard<std::mutex> lock(cmd_mutex);
-      if (pending) simulation.Command(*pending);
-      pending.reset();
-    }
+  while (!g_stop && (duration <= 0 || simulation.now() < duration - 1e-9)) {
+    for (size_t i = 0; i < topics.size(); ++i) topics[i]->ApplyCommands(simulation, i);
     const sim::StepOutputs out = simulation.Step();
     ++steps;
     const double t = simulation.now();
-    const auto& robot = simulation.robot();
-
-    rosgraph_msgs::msg::dds_::Clock_ clock;
-    clock.clock(navd::dds::ToTime(t));
-    clock_writer.Write(clock);
-    if (out.scan) {
-      scan.header(Header(t, "base_scan"));
-      scan.ranges(*out.scan);
-      scan_writer.Write(scan);
-    }
-    if (out.odom) {
-      odom_writer.Write(MakeOdometry(t, robot.odom_pose(), robot.odom_twist(), robot.odom_covariance(), "odom"));
-    }
-    if (out.truth) {
-      truth_writer.Write(MakeOdometry(t, robot.true_pose(), robot.true_twist(), Eigen::Matrix3d::Zero(), "map"));
-    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    if (out.status || robot.collisions() != reported_collisions) {
-      navsim_msgs::msg::dds_::SimStatus_ s;
-      s.header(Header(t, "map"));
-      s.x(robot.true_pose().x);
-      s.y(robot.true_pose().y);
-      s.theta(robot.true_pose().theta);
-      s.collisions(robot.collisions());
-      s.in_collision(robot.in_collision());
-      s.distance_travelled(robot.distance_travelled());
-      s.real_time_factor(wall > 0 ? t / wall : 0.0);
-      status_writer.Write(s);
-      if (robot.collisions() != reported_collisions) {
-        spdlog::warn("navsim: collision at ({:.2f}, {:.2f}) t={:.2f}s (total {})", robot.true_pose().x,
-                     robot.true_pose().y, t, robot.collisions());
-        reported_collisions = robot.collisions();
+    if (steps % clock_every == 0) {
+      rosgraph_msgs::msg::dds_::Clock_ clock;
+      clock.clock(navd::dds::ToTime(t));
+      clock_writer.Write(clock);
+    }
+    for (size_t i = 0; i < robots.size(); ++i) {
+      topics[i]->Publish(t, *robots[i], out.robots[i], out.truth, out.status, wall > 0 ? t / wall : 0.0);
+    }
+    if (out.truth) world_writer.Write(MakeWorldState(t, simulation));
+    for (const auto& e : out.events) {
+      spdlog::warn("navsim: collision of '{}' with {} at ({:.2f}, {:.2f}) t={:.2f}s", e.robot, e.other, e.where.x(),
+                   e.where.y(), e.time);
+      msgs_sim::CollisionEvent_ m;
+      m.header(Header(e.time, "map"));
+      m.robot(e.robot);
+      m.other(e.other);
+      m.x(e.where.x());
+      m.y(e.where.y());
+      collision_writer.Write(m);
+    }
+    if (recorder) {
+      const auto& r = *robots[recorded];
+      const auto& base = r.base();
+      const auto& o = out.robots[recorded];
+      if (o.scan) {
+        recorder->Laser(t, r.laser()->description(), r.laser()->angle_min(), r.laser()->increment(), *o.scan,
+                        base.true_pose(), base.odom_pose(), base.odom_twist().vx, base.odom_twist().omega);
       }
+      if (o.odom) recorder->Odometry(t, base.odom_pose(), base.odom_twist().vx, base.odom_twist().omega);
+      if (out.truth) recorder->Truth(t, base.true_pose(), base.odom_pose());
     }
     // Pace to `rate` times real time; sleeping only when ahead keeps long runs on schedule.
-    const double ahead = steps * dt / rate - wall;
-    if (ahead > 0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
+    if (!fast) {
+      const double ahead = steps * dt / rate - wall;
+      if (ahead > 0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
+    }
   }
-  spdlog::info("navsim: stopped at t={:.2f}s, travelled {:.2f} m, {} collisions", simulation.now(),
-               simulation.robot().distance_travelled(), simulation.robot().collisions());
+  if (recorder) recorder->Close();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  for (const auto& r : robots) {
+    spdlog::info("navsim: robot '{}' stopped at t={:.2f}s, travelled {:.2f} m, {} collisions", simulation.BodyName(r->id()),
+                 simulation.now(), r->base().distance_travelled(), r->collisions());
+  }
+  spdlog::info("navsim: {:.1f} simulated seconds in {:.2f} s wall ({:.0f}x real time)", simulation.now(), wall,
+               wall > 0 ? simulation.now() / wall : 0.0);
   return 0;
 }
 

@@ -1,64 +1,145 @@
 #pragma once
-// One simulated world stepped in fixed increments of simulated time: the robot's physics every
-// step, sensors only at their physical rates (seed 000: "only with the frequency allowed by the
-// physical counterpart"), and the command watchdog. No transport: navsim_main.cpp moves data to
-// and from DDS. Seconds of simulated time; map frame.
-#include <functional>
+// One simulated world stepped in fixed increments of simulated time: every robot's physics, the
+// scripted obstacles and the people every step; each sensor only at its physical rate (seed 000:
+// "only with the frequency allowed by the physical counterpart"); command watchdogs; contacts.
+// Deterministic: the same scenario, seed and command sequence give bit-identical runs. No
+// transport: navsim_main.cpp moves data to and from DDS. Seconds of simulated time; map frame.
+#include <memory>
 #include <optional>
 #include <random>
+#include <string>
 #include <vector>
 
-#include "services/common/world.h"
-#include "simulator/diff_drive_robot.h"
+#include "simulator/crowd.h"
 #include "simulator/laser_scanner.h"
+#include "simulator/mobile_base.h"
+#include "simulator/moving_obstacle.h"
+#include "simulator/range_sensor_array.h"
+#include "simulator/ray_caster.h"
+#include "simulator/scenario.h"
 
 namespace navd::sim {
 
 struct SimulationOptions {
   double physics_step = 0.01;       // s
-  double odom_rate = 50.0;          // Hz (encoders are read at this rate)
+  double odom_rate = 50.0;          // Hz
   double truth_rate = 50.0;         // Hz
   double status_rate = 10.0;        // Hz
   double command_timeout = 0.5;     // s without a command stops the robot
-  uint64_t seed = 1;
+  // Overrides the scenario's seed when set (navsim --seed).
+  std::optional<uint64_t> seed;
 };
 
-// What became due during one step.
-struct StepOutputs {
+// A robot's collision: its own motion ran it into something; reported once when the contact begins.
+struct CollisionEvent {
+  double time = 0.0;
+  std::string robot;
+  std::string other;                // "wall", a robot's or obstacle's name, or "person <id>"
+  Point2 where = Point2::Zero();
+};
+
+struct BumperState {
+  bool front = false;
+  bool rear = false;
+};
+
+class SimulatedRobot {
+ public:
+  SimulatedRobot(const RobotSpec& spec, int id, uint64_t seed);
+  const RobotSpec& spec() const { return spec_; }
+  const std::string& name() const { return spec_.name; }
+  int id() const { return id_; }
+  MobileBase& base() { return base_; }
+  const MobileBase& base() const { return base_; }
+  const std::optional<LaserScanner>& laser() const { return laser_; }
+  const std::optional<RangeSensorArray>& sonar() const { return sonar_; }
+  const std::optional<RangeSensorArray>& ir() const { return ir_; }
+  uint32_t collisions() const { return collisions_; }
+  bool in_collision() const { return in_contact_; }
+  const BumperState& bumper() const { return bumper_; }
+  bool watchdog_stopped() const { return watchdog_stopped_; }
+
+ private:
+  friend class Simulation;
+  RobotSpec spec_;
+  int id_;
+  std::mt19937_64 sensor_rng_;
+  MobileBase base_;
+  std::optional<LaserScanner> laser_;
+  std::optional<RangeSensorArray> sonar_, ir_;
+  double last_command_ = -1e9;
+  bool watchdog_stopped_ = true;
+  bool in_contact_ = false;         // touching something now
+  double last_contact_ = -1e9;
+  bool contact_this_step_ = false;
+  std::string contact_with_;
+  Point2 contact_where_ = Point2::Zero();
+  BumperState bumper_;
+  uint32_t collisions_ = 0;
+  double last_scan_ = -1e9, last_sonar_ = -1e9, last_ir_ = -1e9, last_odom_ = -1e9, last_encoders_ = -1e9,
+         last_bumper_ = -1e9;
+};
+
+// What became due for one robot during one step.
+struct RobotReadings {
   std::optional<std::vector<float>> scan;
+  std::optional<std::vector<float>> sonar;
+  std::optional<std::vector<float>> ir;
   bool odom = false;
-  bool truth = false;
+  bool encoders = false;
+  bool bumper = false;
+};
+
+struct StepOutputs {
+  std::vector<RobotReadings> robots;  // indexed like Simulation::robots()
+  bool truth = false;                 // ground truth of robots, obstacles and people
   bool status = false;
+  std::vector<CollisionEvent> events;
 };
 
 class Simulation {
  public:
+  Simulation(Scenario scenario, const SimulationOptions& options);
+  // The single-robot form: a world file's robot, laser, encoders and bumpers.
   Simulation(World world, const SimulationOptions& options);
 
-  // A velocity command arriving now (simulated time).
-  void Command(const Twist2& twist);
+  // Commands for robot `index` arriving now (simulated time). Non-finite values are ignored.
+  void Command(size_t index, const BodyTwist& twist);
+  void CommandAcceleration(size_t index, double linear, double angular);
   StepOutputs Step();
 
   double now() const { return now_; }
-  const DiffDriveRobot& robot() const { return robot_; }
-  const LaserScanner& laser() const { return laser_; }
-  const World& world() const { return world_; }
+  const std::vector<std::unique_ptr<SimulatedRobot>>& robots() const { return robots_; }
+  const SimulatedRobot& robot(size_t index = 0) const { return *robots_.at(index); }
+  const std::vector<MovingObstacle>& moving_obstacles() const { return obstacles_; }
+  const std::vector<Person>& people() const;
+  const Crowd* crowd() const { return crowd_.get(); }
+  const Scenario& scenario() const { return scenario_; }
+  const World& world() const { return scenario_.world; }
+  const RayCaster& truth() const { return truth_; }
   const SimulationOptions& options() const { return options_; }
-  bool watchdog_stopped() const { return watchdog_stopped_; }
+  uint64_t seed() const { return seed_; }
+  // Every body as a disc: robots, moving obstacles, people (current positions).
+  std::vector<Disc> Discs() const;
+  // Name of body `id` for events and truth messages.
+  std::string BodyName(int id) const;
 
  private:
   // True when the period of a `rate` Hz stream has elapsed since `last`; advances `last`.
-  bool Due(double rate, double& last);
+  bool Due(double rate, double& last) const;
+  // kFree, kWall or the body id a disc at `centre` would overlap (ignoring `self`).
+  int Occupied(const Point2& centre, double radius, int self, bool robots_only) const;
+  void Touch(SimulatedRobot& robot, int other, const Point2& where, bool robot_moved);
 
-  World world_;
+  Scenario scenario_;
   SimulationOptions options_;
-  std::mt19937_64 rng_;
-  DiffDriveRobot robot_;
-  LaserScanner laser_;
+  uint64_t seed_;
+  RayCaster truth_;
+  std::vector<std::unique_ptr<SimulatedRobot>> robots_;
+  std::vector<MovingObstacle> obstacles_;
+  std::unique_ptr<Crowd> crowd_;
   double now_ = 0.0;
-  double last_command_ = -1e9;
-  bool watchdog_stopped_ = true;
-  double last_scan_ = -1e9, last_odom_ = -1e9, last_truth_ = -1e9, last_status_ = -1e9;
+  double last_truth_ = -1e9, last_status_ = -1e9;
 };
 
 }  // namespace navd::sim

@@ -63,12 +63,13 @@ int Localize(const navd::CarmenLog& log, const std::string& out, const navd::Occ
     }
     localization::ScanReading scan;
     scan.ranges = s.ranges;
-    scan.angle_min = CarmenBeamAngle(0, s.ranges.size());
-    scan.angle_increment = CarmenBeamAngle(1, s.ranges.size()) - scan.angle_min;
+    scan.angle_min = s.angle_min;
+    scan.angle_increment = s.angle_increment;
     scan.range_min = 0.05;
     // Beams beyond the mapper's usable range found no walls in the map: judging them would pull the
     // estimate away from the truth.
-    scan.range_max = navd::mapping::MapperOptions().usable_range;
+    scan.range_max = s.range_max > 0 ? std::min(s.range_max, navd::mapping::MapperOptions().usable_range)
+                                     : navd::mapping::MapperOptions().usable_range;
     scan.stamp = s.timestamp;
     pf.AddScan(scan);
     const Pose2 e = pf.Estimate().pose;
@@ -99,7 +100,7 @@ navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   for (const auto& s : log.scans) {
     for (size_t i = 0; i < s.ranges.size(); ++i) {
       const double r = std::min<double>(s.ranges[i], o.usable_range);
-      const double a = s.pose.theta + navd::CarmenBeamAngle(i, s.ranges.size());
+      const double a = s.pose.theta + s.angle_min + i * s.angle_increment;
       const navd::Point2 p = s.pose.translation() + r * navd::Point2(std::cos(a), std::sin(a));
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
@@ -110,7 +111,7 @@ navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   navd::mapping::OccupancyGridMapper mapper(lo, hi, o);
   for (size_t k = 0; k < log.scans.size(); ++k) {
     const auto& s = log.scans[k];
-    mapper.AddScan(s.pose, s.ranges, navd::CarmenBeamAngle(0, s.ranges.size()), navd::CarmenBeamAngle(1, s.ranges.size()) - navd::CarmenBeamAngle(0, s.ranges.size()));
+    mapper.AddScan(s.pose, s.ranges, s.angle_min, s.angle_increment);
     if ((k + 1) % 100 == 0 || k + 1 == log.scans.size()) {
       std::fprintf(stderr, "\r  mapped %zu/%zu scans", k + 1, log.scans.size());
     }

@@ -24,6 +24,8 @@ bool ParseScan(std::istringstream& in, CarmenScan& s) {
   if (!(in >> x >> y >> t >> ox >> oy >> ot >> s.timestamp)) return false;
   s.pose = {x, y, NormalizeAngle(t)};
   s.odometry = {ox, oy, NormalizeAngle(ot)};
+  s.angle_min = CarmenBeamAngle(0, s.ranges.size());
+  s.angle_increment = n > 1 ? CarmenBeamAngle(1, s.ranges.size()) - s.angle_min : 0.0;
   return s.pose.finite() && s.odometry.finite() && std::isfinite(s.timestamp);
 }
 
@@ -33,6 +35,74 @@ bool ParseOdometry(std::istringstream& in, CarmenOdometry& o) {
   o.pose = {x, y, NormalizeAngle(t)};
   return o.pose.finite() && std::isfinite(o.timestamp);
 }
+
+// ROBOTLASER1 laser_type start_angle fov resolution max_range accuracy remission_mode n r1..rn
+//   n_remissions rem1.. laser_x laser_y laser_theta robot_x robot_y robot_theta tv rv
+//   forward_safety side_safety turn_axis timestamp host logger_timestamp
+bool ParseRobotLaser(std::istringstream& in, CarmenScan& s) {
+  int type = 0, remission_mode = 0, n = 0;
+  double start, fov, res, max_range, accuracy;
+  if (!(in >> type >> start >> fov >> res >> max_range >> accuracy >> remission_mode >> n)) return false;
+  if (n <= 0 || n > 100000 || !std::isfinite(start) || !std::isfinite(res) || !std::isfinite(max_range)) return false;
+  s.ranges.resize(n);
+  for (auto& r : s.ranges) {
+    double v;
+    if (!(in >> v) || !std::isfinite(v)) return false;
+    r = static_cast<float>(v);
+  }
+  int remissions = 0;
+  if (!(in >> remissions) || remissions < 0 || remissions > 100000) return false;
+  for (int i = 0; i < remissions; ++i) {
+    double v;
+    if (!(in >> v)) return false;
+  }
+  double x, y, t, ox, oy, ot, tv, rv, fs, ss, ta;
+  if (!(in >> x >> y >> t >> ox >> oy >> ot >> tv >> rv >> fs >> ss >> ta >> s.timestamp)) return false;
+  s.pose = {x, y, NormalizeAngle(t)};
+  s.odometry = {ox, oy, NormalizeAngle(ot)};
+  s.angle_min = start;
+  s.angle_increment = res;
+  s.range_max = max_range;
+  return s.pose.finite() && s.odometry.finite() && std::isfinite(s.timestamp);
+}
+
+// TRUEPOS true_x true_y true_theta odom_x odom_y odom_theta timestamp host logger_timestamp
+bool ParseTruth(std::istringstream& in, CarmenTruth& o) {
+  double x, y, t, ox, oy, ot;
+  if (!(in >> x >> y >> t >> ox >> oy >> ot >> o.timestamp)) return false;
+  o.pose = {x, y, NormalizeAngle(t)};
+  o.odometry = {ox, oy, NormalizeAngle(ot)};
+  return o.pose.finite() && o.odometry.finite() && std::isfinite(o.timestamp);
+}
+
+// Parses one line into `log`; false when a known message type is malformed.
+bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::string& type) {
+  std::istringstream in(line);
+  type.clear();
+  if (!(in >> type) || type[0] == '#') return true;
+  if (type == "FLASER" || type == "ROBOTLASER1") {
+    CarmenScan s;
+    s.line = line_no;
+    if (!(type == "FLASER" ? ParseScan(in, s) : ParseRobotLaser(in, s))) return false;
+    log.scans.push_back(std::move(s));
+  } else if (type == "ODOM") {
+    CarmenOdometry o;
+    o.line = line_no;
+    if (!ParseOdometry(in, o)) return false;
+    log.odometry.push_back(o);
+  } else if (type == "TRUEPOS") {
+    CarmenTruth o;
+    o.line = line_no;
+    if (!ParseTruth(in, o)) return false;
+    log.truth.push_back(o);
+  }
+  return true;
+}
+
+void Finish(const CarmenLog& log, const std::string& source) {
+  if (log.scans.empty()) throw Error(ErrorCode::kInvalidArgument, source + ": no FLASER or ROBOTLASER1 scans");
+}
+
 
 }  // namespace
 
@@ -56,22 +126,8 @@ CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
       }
       if (!got) break;
       ++line_no;
-      std::istringstream in(line);
       std::string type;
-      if (!(in >> type) || type[0] == '#') continue;
-      bool ok = true;
-      if (type == "FLASER") {
-        CarmenScan s;
-        s.line = line_no;
-        ok = ParseScan(in, s);
-        if (ok) log.scans.push_back(std::move(s));
-      } else if (type == "ODOM") {
-        CarmenOdometry o;
-        o.line = line_no;
-        ok = ParseOdometry(in, o);
-        if (ok) log.odometry.push_back(o);
-      }
-      if (!ok) {
+      if (!ParseLine(line, line_no, log, type)) {
         if (strict) throw Error(ErrorCode::kInvalidArgument, path + ":" + std::to_string(line_no) + ": malformed " + type + " line");
         ++log.skipped_lines;
       }
@@ -81,7 +137,23 @@ CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
     throw;
   }
   gzclose(f);
-  if (log.scans.empty()) throw Error(ErrorCode::kInvalidArgument, path + ": no FLASER scans");
+  Finish(log, path);
+  return log;
+}
+
+CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, bool strict) {
+  CarmenLog log;
+  std::istringstream in(text);
+  std::string line, type;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!ParseLine(line, line_no, log, type)) {
+      if (strict) throw Error(ErrorCode::kInvalidArgument, source + ":" + std::to_string(line_no) + ": malformed " + type + " line");
+      ++log.skipped_lines;
+    }
+  }
+  Finish(log, source);
   return log;
 }
 

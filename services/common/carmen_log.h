@@ -1,8 +1,10 @@
 #pragma once
 // Reader of CARMEN logs (the format of the classic public 2-D laser datasets): `FLASER` laser scans
-// with the laser's pose (corrected, in "corrected" logs) and odometry pose, and `ODOM` odometry.
-// Plain or gzip-compressed. Front lasers are assumed to span 180 degrees, centred on the heading,
-// as the CARMEN logs of SICK LMS scanners do. Metres, radians, seconds.
+// with the laser's pose (corrected, in "corrected" logs) and odometry pose, `ROBOTLASER1` scans
+// (which carry their own angles, as navsim's recorder writes them), `ODOM` odometry and `TRUEPOS`
+// ground truth (simulators). Plain or gzip-compressed. FLASER front lasers are assumed to span 180
+// degrees, centred on the heading, as the CARMEN logs of SICK LMS scanners do. Metres, radians,
+// seconds.
 #include <functional>
 #include <string>
 #include <vector>
@@ -13,6 +15,9 @@ namespace navd {
 
 struct CarmenScan {
   std::vector<float> ranges;
+  double angle_min = 0.0;        // rad, laser frame, beam 0
+  double angle_increment = 0.0;  // rad between beams
+  double range_max = 0.0;        // m; 0 when the log does not say (FLASER)
   Pose2 pose;        // laser pose (corrected poses in corrected logs)
   Pose2 odometry;    // odometry pose at the scan
   double timestamp = 0.0;
@@ -25,15 +30,25 @@ struct CarmenOdometry {
   int line = 0;
 };
 
+struct CarmenTruth {
+  Pose2 pose;        // true pose
+  Pose2 odometry;    // odometry pose at the same time
+  double timestamp = 0.0;
+  int line = 0;
+};
+
 struct CarmenLog {
   std::vector<CarmenScan> scans;
   std::vector<CarmenOdometry> odometry;
+  std::vector<CarmenTruth> truth;
   int skipped_lines = 0;   // malformed lines skipped (when not strict)
 };
 
 // Reads `path` (".gz" or plain). Malformed FLASER/ODOM lines throw navd::Error naming the file and
 // line when `strict`, else are skipped and counted. Unknown message types are ignored.
 CarmenLog ReadCarmenLog(const std::string& path, bool strict = false);
+// The same from text already in memory (`source` names it in errors).
+CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, bool strict = false);
 
 // Beam i of an n-beam CARMEN front scan points at -pi/2 + i * increment in the laser frame. The
 // SICK scanners of these logs step by 1, 0.5 or 0.25 degrees from -90: 180 or 181 beams are

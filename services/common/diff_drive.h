@@ -1,6 +1,6 @@
 #pragma once
 // Differential-drive kinematics (book chapter 1): wheel rim speeds <-> body twist, and exact
-// integration of wheel travel along a circular arc. Metres, radians, seconds; body frame x forward.
+// integration of a constant twist along its arc. Metres, radians, seconds; body frame x forward.
 #include <algorithm>
 #include <cmath>
 
@@ -34,20 +34,18 @@ inline WheelSpeeds ClampWheels(const WheelSpeeds& w, double max_speed) {
   return {w.left * k, w.right * k};
 }
 
+// Moves `pose` by a constant body twist held for one interval, given as the body-frame travel it
+// would make without turning (dx forward, dy left, metres) and the turn dtheta (radians): the exact
+// exponential map of SE(2), so arcs stay arcs for any drive (differential or omnidirectional).
+inline Pose2 IntegrateTwist(const Pose2& pose, double dx, double dy, double dtheta) {
+  if (std::abs(dtheta) < 1e-9) return pose * Pose2{dx, dy, dtheta};
+  const double s = std::sin(dtheta), c = 1.0 - std::cos(dtheta);
+  return pose * Pose2{(s * dx - c * dy) / dtheta, (c * dx + s * dy) / dtheta, dtheta};
+}
+
 // Moves `pose` by wheel travel d_left, d_right (metres) along the arc they describe.
 inline Pose2 IntegrateDiffDrive(const Pose2& pose, double d_left, double d_right, double wheel_base) {
-  const double ds = (d_left + d_right) / 2.0;
-  const double dtheta = (d_right - d_left) / wheel_base;
-  double dx, dy;
-  if (std::abs(dtheta) < 1e-9) {
-    dx = ds;
-    dy = 0.0;
-  } else {
-    const double r = ds / dtheta;
-    dx = r * std::sin(dtheta);
-    dy = r * (1.0 - std::cos(dtheta));
-  }
-  return pose * Pose2{dx, dy, dtheta};
+  return IntegrateTwist(pose, (d_left + d_right) / 2.0, 0.0, (d_right - d_left) / wheel_base);
 }
 
 }  // namespace navd

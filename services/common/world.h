@@ -2,6 +2,7 @@
 // A world file: the map plus the robot that lives in it. Shared by navsim (which simulates it) and
 // navd (which plans on its map and starts from its robot pose). Units: metres, radians, seconds,
 // map frame. See worlds/warehouse.yaml for the format.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -10,16 +11,34 @@
 
 namespace navd {
 
-// Differential-drive geometry and limits (seed 000's robot by default).
+// How the robot's wheels move it (book chapter 1 and chapter 7).
+enum class DriveType {
+  kDiffDrive,  // two drive wheels: v, omega (Eqs. 7-10)
+  kOmni,       // three omni wheels at angles alpha_i, distance R from the centre (Eq. 12)
+  kUnicycle,   // driven by linear and angular accelerations (chapter 7, Eqs. 9-10)
+};
+const char* DriveTypeName(DriveType type);
+
+// The robot's geometry and limits (seed 000's differential-drive robot by default).
 struct RobotDescription {
+  DriveType drive = DriveType::kDiffDrive;
   double radius = 0.20;            // m, the robot is a disc
-  double wheel_base = 0.33;        // m, distance between the drive wheels
+  double wheel_base = 0.33;        // m, distance between the drive wheels (diff drive, unicycle)
   double wheel_radius = 0.05;      // m
   double max_wheel_speed = 0.5;    // m/s at the rim
   double max_wheel_accel = 2.0;    // m/s^2 at the rim
   int encoder_ticks_per_rev = 1024;
   double actuator_noise = 0.02;    // relative std-dev of each wheel's achieved speed
-  double encoder_noise = 0.005;    // relative std-dev of each wheel's measured travel (slip)
+  double encoder_noise = 0.005;    // relative std-dev of each wheel's travel against the floor (slip)
+  // Omnidirectional drive: wheel i sits at angle omni_wheel_angles[i] (rad, robot frame) at
+  // omni_wheel_distance from the centre and rolls tangentially (Festo Robotino geometry).
+  double omni_wheel_distance = 0.135;  // m
+  std::vector<double> omni_wheel_angles = {0.0, 2.0 * M_PI / 3.0, 4.0 * M_PI / 3.0};
+  // Unicycle (chapter 7): body-level limits on speed and on the acceleration inputs u1, u2.
+  double max_speed = 1.5;              // m/s
+  double max_angular_speed = 2.0;      // rad/s
+  double max_accel = 1.0;              // m/s^2 (|u1|)
+  double max_angular_accel = 4.0;      // rad/s^2 (|u2|)
 };
 
 // A laser range finder like the Hokuyo URG-04LX of seed 000.
@@ -32,6 +51,15 @@ struct LaserDescription {
   double noise = 0.01;                // m, std-dev of range noise
 };
 
+// An axis-aligned box in the map frame, metres.
+struct Box {
+  Point2 min = Point2::Zero();
+  Point2 max = Point2::Zero();
+  bool Contains(const Point2& p) const {
+    return p.x() >= min.x() && p.y() >= min.y() && p.x() <= max.x() && p.y() <= max.y();
+  }
+};
+
 struct World {
   std::string name;
   std::string source;              // file path, or "<embedded>"
@@ -40,6 +68,7 @@ struct World {
   RobotDescription robot;
   LaserDescription laser;
   std::vector<Pose2> goals;        // named demo goals, in order
+  std::map<std::string, Box> regions;  // named areas (rooms, streets, spawn areas)
 };
 
 // Parses a world YAML. `base_dir` resolves a map file path given in it. Throws navd::Error naming
@@ -48,6 +77,9 @@ World ParseWorld(const std::string& yaml_text, const std::string& source, const 
 World LoadWorldFile(const std::string& path);
 // The embedded default world (worlds/warehouse.yaml, compiled in).
 World DefaultWorld();
+
+// Loads a map file for a world: a map_server YAML or a MovingAI `.map` (by extension).
+OccupancyGrid LoadMapFile(const std::string& path);
 
 // Loads a world YAML (has a `map:` key), a map_server YAML (has `image:`) or a MovingAI `.map`
 // (starts with `type`), as navd's --map and LoadMap accept. Returns the map and its name.

@@ -10,6 +10,7 @@
 
 #include "services/common/world.h"
 #include "services/localization/particle_filter.h"
+#include "services/common/diff_drive.h"
 #include "simulator/simulation.h"
 
 int main(int argc, char** argv) {
@@ -39,23 +40,23 @@ int main(int argc, char** argv) {
     localization::ParticleFilterOptions po;
     po.seed = seed * 7919 + run;
     localization::ParticleFilterLocalizer pf(world.map, po);
-    pf.AddOdometry({s.robot().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
+    pf.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
     pf.GlobalRelocalize();
     while (s.now() < 13.0) {
-      s.Command({0.0, s.now() < 12.0 ? 0.6 : 0.0});
+      s.Command(0, {0.0, 0.0, s.now() < 12.0 ? 0.6 : 0.0});
       const auto out = s.Step();
-      if (out.odom) pf.AddOdometry({s.robot().odom_pose(), s.robot().odom_covariance(), s.now()});
-      if (out.scan) {
+      if (out.robots[0].odom) pf.AddOdometry({s.robot().base().odom_pose(), s.robot().base().odom_covariance(), s.now()});
+      if (out.robots[0].scan) {
         localization::ScanReading scan;
-        scan.ranges = *out.scan;
-        scan.angle_min = s.laser().angle_min();
-        scan.angle_increment = s.laser().increment();
+        scan.ranges = *out.robots[0].scan;
+        scan.angle_min = s.robot().laser()->angle_min();
+        scan.angle_increment = s.robot().laser()->increment();
         scan.range_min = world.laser.range_min;
         scan.range_max = world.laser.range_max;
         pf.AddScan(scan);
       }
     }
-    const Pose2 e = pf.Estimate().pose, t = s.robot().true_pose();
+    const Pose2 e = pf.Estimate().pose, t = s.robot().base().true_pose();
     const double err = std::hypot(e.x - t.x, e.y - t.y), herr = std::abs(NormalizeAngle(e.theta - t.theta));
     errors.push_back(err);
     if (err < 0.1 && herr < 0.1) ++success;

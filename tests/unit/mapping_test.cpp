@@ -23,11 +23,12 @@ TEST(OccupancyGridMapper, RebuildsTheWarehouseFromKnownPoses) {
   LaserDescription laser = world.laser;
   laser.noise = 0.0;
   sim::LaserScanner scanner(laser);
+  const sim::RayCaster walls(world.map);
   std::mt19937_64 rng(1);
   mapping::OccupancyGridMapper mapper({0, 0}, {10, 10});
   for (const Pose2& p : {Pose2{0.8, 1.0, M_PI / 2}, Pose2{0.8, 5.0, -M_PI / 2}, Pose2{0.8, 8.0, 0.0},
                          Pose2{3.0, 2.6, 0.0}, Pose2{3.0, 2.6, M_PI}, Pose2{5.0, 5.0, 0.0}, Pose2{8.5, 8.5, M_PI}}) {
-    std::vector<float> ranges = scanner.Scan(p, world.map, rng);
+    std::vector<float> ranges = scanner.Scan(p, walls, {}, -1, rng);
     for (auto& r : ranges)
       if (r > laser.range_max) r = 50.0f;  // no return: only clears
     mapper.AddScan(p, ranges, scanner.angle_min(), scanner.increment());

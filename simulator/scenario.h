@@ -1,0 +1,56 @@
+#pragma once
+// A simulation scenario: a world, the robots in it (drive, sensors, namespace), obstacles the
+// robots' map does not show, scripted moving obstacles, pedestrians, target points and the random
+// seed. `navsim --scenario FILE` runs one; see worlds/scenarios/ and the README for the format.
+// Metres, radians, seconds, map frame.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "services/common/world.h"
+#include "simulator/crowd.h"
+#include "simulator/moving_obstacle.h"
+#include "simulator/range_sensor_array.h"
+
+namespace navd::sim {
+
+struct RobotSpec {
+  std::string name;                  // topic namespace (rt/<name>/scan ...); empty: rt/scan ...
+  Pose2 start;
+  RobotDescription body;
+  std::optional<LaserDescription> laser;
+  std::optional<RangeArrayDescription> sonar;
+  std::optional<RangeArrayDescription> ir;
+  bool bumper = false;
+  bool encoders = false;
+  double encoder_rate = 50.0;        // Hz
+  double bumper_rate = 10.0;         // Hz
+};
+
+struct Door {
+  std::string name;
+  Box box;
+  bool closed = false;               // a closed door is a wall the robots' map does not show
+};
+
+struct Scenario {
+  std::string name;
+  std::string source;
+  World world;                       // what navd is given: map, default robot, goals, regions
+  OccupancyGrid truth;               // what the sensors see: the map plus hidden obstacles and closed doors
+  std::vector<RobotSpec> robots;
+  std::vector<MovingObstacleDescription> moving_obstacles;
+  std::optional<CrowdDescription> crowd;
+  std::vector<Door> doors;
+  std::vector<Point2> targets;       // named target points, in visiting order (seed 000's 11)
+  int hidden_obstacles = 0;          // how many obstacles are in `truth` but not in the map
+  uint64_t seed = 1;
+};
+
+// One robot (no namespace) with the world's robot and laser, encoders and bumpers.
+Scenario ScenarioFromWorld(World world);
+// Throws navd::Error naming file, line and field on bad input.
+Scenario ParseScenario(const std::string& yaml_text, const std::string& source, const std::string& base_dir);
+Scenario LoadScenarioFile(const std::string& path);
+
+}  // namespace navd::sim
