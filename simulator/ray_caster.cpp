@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "services/common/grid_traversal.h"
 
 namespace navd::sim {
 namespace {
@@ -45,24 +44,60 @@ double RayCaster::Clearance(const Point2& p) const {
 double RayCaster::Cast(const Point2& origin, double angle, double max_range) const {
   const Point2 dir(std::cos(angle), std::sin(angle));
   const double res = grid_.resolution();
+  const int width = grid_.width(), height = grid_.height();
+  const int8_t* cells = grid_.cells().data();
+  const float* clearance = clearance_.data();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const int step_x = dir.x() > 0 ? 1 : -1, step_y = dir.y() > 0 ? 1 : -1;
+  const double dt_x = dir.x() != 0 ? res / std::abs(dir.x()) : kInf;
+  const double dt_y = dir.y() != 0 ? res / std::abs(dir.y()) : kInf;
+  const double corner_tolerance = 1e-9 * res;
+  auto blocked = [&](int x, int y) {
+    return x < 0 || y < 0 || x >= width || y >= height ||
+           cells[static_cast<size_t>(y) * width + x] >= OccupancyGrid::kOccupiedThreshold;
+  };
   double t = 0.0;
   while (t < max_range) {
     const Point2 p = origin + t * dir;
     const CellIndex c = grid_.CellOf(p);
     if (!grid_.Contains(c)) return t;
-    const float clearance = clearance_[grid_.Flat(c)];
-    if (clearance >= kLeapThreshold) {
-      t += (clearance - kSafeMargin) * res;
+    const float room = clearance[grid_.Flat(c)];
+    if (room >= kLeapThreshold) {
+      t += (room - kSafeMargin) * res;
       continue;
     }
+    if (blocked(c.x, c.y)) return t;
+    // Walk a few cells exactly (the same rule as TraverseSegment, corners included), then look
+    // whether there is room to leap again.
+    const Point2 local = (p - grid_.origin()) / res;
+    const double next_x = dir.x() > 0 ? std::floor(local.x()) + 1 : std::floor(local.x());
+    const double next_y = dir.y() > 0 ? std::floor(local.y()) + 1 : std::floor(local.y());
+    double t_x = dir.x() != 0 ? t + (next_x - local.x()) * res / dir.x() : kInf;
+    double t_y = dir.y() != 0 ? t + (next_y - local.y()) * res / dir.y() : kInf;
+    int x = c.x, y = c.y;
     const double end = std::min(max_range, t + kWalkCells * res);
-    double hit = -1.0;
-    TraverseSegment(grid_, p, origin + end * dir, [&](const CellIndex& cell, double s) {
-      if (grid_.Contains(cell) && !grid_.IsOccupied(cell)) return true;
-      hit = t + s;
-      return false;
-    });
-    if (hit >= 0.0) return std::min(hit, max_range);
+    while (true) {
+      if (std::abs(t_x - t_y) <= corner_tolerance) {
+        const double tc = std::min(t_x, t_y);
+        if (tc > end) break;
+        if (blocked(x + step_x, y) || blocked(x, y + step_y)) return std::min(tc, max_range);
+        x += step_x;
+        y += step_y;
+        t_x += dt_x;
+        t_y += dt_y;
+        if (blocked(x, y)) return std::min(tc, max_range);
+      } else if (t_x < t_y) {
+        if (t_x > end) break;
+        x += step_x;
+        if (blocked(x, y)) return std::min(t_x, max_range);
+        t_x += dt_x;
+      } else {
+        if (t_y > end) break;
+        y += step_y;
+        if (blocked(x, y)) return std::min(t_y, max_range);
+        t_y += dt_y;
+      }
+    }
     t = end;
   }
   return max_range;

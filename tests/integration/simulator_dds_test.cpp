@@ -1,0 +1,148 @@
+// navsim as a process: two robots and people in the warehouse, driven over loopback DDS by a
+// scripted driver (this test), each robot on its own namespace; ground truth, the world's bodies,
+// collisions and the CARMEN recording are checked against what the driver did.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include "dds/participant.h"
+#include "dds/topics.h"
+#include "geometry_msgsPubSubTypes.h"
+#include "nav_msgsPubSubTypes.h"
+#include "navsim_msgsPubSubTypes.h"
+#include "sensor_msgsPubSubTypes.h"
+#include "services/common/carmen_log.h"
+#include "tests/support/navd_fixture.h"
+#include "tests/support/process.h"
+
+namespace navd::testing {
+namespace {
+
+using Odometry = nav_msgs::msg::dds_::Odometry_PubSubType;
+using Twist = geometry_msgs::msg::dds_::Twist_PubSubType;
+
+double Yaw(const nav_msgs::msg::dds_::Odometry_& m) {
+  const auto& q = m.pose().pose().orientation();
+  return std::atan2(2 * (q.w() * q.z() + q.x() * q.y()), 1 - 2 * (q.y() * q.y() + q.z() * q.z()));
+}
+
+TEST(NavsimScenario, TwoRobotsAndPeopleOverDdsWithNamespacesTruthAndCollisions) {
+  const int domain = ReserveDomain();
+  const std::string dir = MakeTempDir();
+  const std::string record = dir + "/alpha.log";
+  Process navsim({NavsimBinary(), "--scenario", SourceDir() + "/worlds/scenarios/warehouse_fleet.yaml", "--rate", "5",
+                  "--domain", std::to_string(domain), "--record", record, "--record-robot", "alpha"},
+                 dir + "/navsim.log");
+
+  dds::Participant p({domain, dds::Network::kLoopback, "driver", {}});
+  using dds::Reliability;
+  dds::Writer<Twist> alpha_cmd(p, dds::TopicName("alpha", dds::kCmdVel), Reliability::kReliable);
+  dds::Writer<Twist> beta_cmd(p, dds::TopicName("beta", dds::kCmdVel), Reliability::kReliable);
+  dds::Reader<Odometry> alpha_truth(p, dds::TopicName("alpha", dds::kGroundTruth), Reliability::kBestEffort);
+  dds::Reader<Odometry> beta_truth(p, dds::TopicName("beta", dds::kGroundTruth), Reliability::kBestEffort);
+  dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> alpha_scan(p, dds::TopicName("alpha", dds::kScan),
+                                                                       Reliability::kBestEffort);
+  dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> bare_scan(p, dds::TopicName("", dds::kScan),
+                                                                      Reliability::kBestEffort);
+  dds::Reader<sensor_msgs::msg::dds_::JointState_PubSubType> alpha_joints(p, dds::TopicName("alpha", dds::kJointStates),
+                                                                          Reliability::kBestEffort);
+  dds::Reader<navsim_msgs::msg::dds_::SimStatus_PubSubType> alpha_status(p, dds::TopicName("alpha", dds::kSimStatus),
+                                                                         Reliability::kReliable);
+  dds::Reader<navsim_msgs::msg::dds_::SimStatus_PubSubType> beta_status(p, dds::TopicName("beta", dds::kSimStatus),
+                                                                        Reliability::kReliable);
+  dds::Reader<navsim_msgs::msg::dds_::WorldState_PubSubType> world(p, dds::kWorldState, Reliability::kBestEffort);
+  std::mutex events_mutex;
+  std::vector<navsim_msgs::msg::dds_::CollisionEvent_> events;
+  dds::Reader<navsim_msgs::msg::dds_::CollisionEvent_PubSubType> collisions(
+      p, dds::kCollisions, Reliability::kReliable, [&](const navsim_msgs::msg::dds_::CollisionEvent_& e) {
+        std::lock_guard<std::mutex> lock(events_mutex);
+        events.push_back(e);
+      });
+
+  // Wait for the simulator's truth of both robots.
+  for (int i = 0; i < 200 && (!alpha_truth.Latest() || !beta_truth.Latest() || !world.Latest()); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(alpha_truth.Latest() && beta_truth.Latest() && world.Latest()) << navsim.Log();
+  const auto alpha0 = *alpha_truth.Latest();
+  const auto beta0 = *beta_truth.Latest();
+  EXPECT_NEAR(alpha0.pose().pose().position().y(), 1.0, 0.01);
+  EXPECT_NEAR(beta0.pose().pose().position().x(), 8.5, 0.01);
+
+  // alpha drives up the corridor; beta drives forward (towards -x) into the shelving 1.3 m ahead.
+  geometry_msgs::msg::dds_::Twist_ forward;
+  forward.linear().x(0.3);
+  geometry_msgs::msg::dds_::Twist_ ram;
+  ram.linear().x(0.4);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < until) {
+    alpha_cmd.Write(forward);
+    beta_cmd.Write(ram);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const auto s = beta_status.Latest();
+    const auto a = alpha_truth.Latest();
+    if (s && s->collisions() >= 1 && a && a->pose().pose().position().y() > 2.5) break;
+  }
+  const auto alpha1 = *alpha_truth.Latest();
+  const auto beta1 = *beta_truth.Latest();
+  // Each robot moved as commanded on its own namespace, and only it.
+  EXPECT_GT(alpha1.pose().pose().position().y(), 2.5);
+  EXPECT_NEAR(alpha1.pose().pose().position().x(), 0.8, 0.1);
+  EXPECT_NEAR(Yaw(alpha1), M_PI / 2, 0.1);
+  EXPECT_NEAR(beta1.pose().pose().position().x(), 7.0 + 0.2, 0.05);  // stopped at the shelf's face
+  EXPECT_NEAR(beta1.pose().pose().position().y(), 8.5, 0.1);
+  ASSERT_TRUE(beta_status.Latest());
+  EXPECT_EQ(beta_status.Latest()->collisions(), 1u);
+  ASSERT_TRUE(alpha_status.Latest());
+  EXPECT_EQ(alpha_status.Latest()->collisions(), 0u);
+  {
+    std::lock_guard<std::mutex> lock(events_mutex);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].robot(), "beta");
+    EXPECT_EQ(events[0].other(), "wall");
+    EXPECT_NEAR(events[0].x(), 7.0, 0.05);
+  }
+  // The world's truth lists both robots and the people; scans and encoders flow per robot.
+  const auto w = *world.Latest();
+  int robots = 0, people = 0;
+  for (const auto& b : w.bodies()) {
+    robots += b.kind() == "robot";
+    people += b.kind() == "person";
+  }
+  EXPECT_EQ(robots, 2);
+  EXPECT_GE(people, 3);  // three at the start, at most one newcomer (max 4)
+  EXPECT_LE(people, 4);
+  ASSERT_TRUE(alpha_scan.Latest());
+  EXPECT_EQ(alpha_scan.Latest()->ranges().size(), 683u);
+  ASSERT_TRUE(alpha_joints.Latest());
+  ASSERT_EQ(alpha_joints.Latest()->name().size(), 2u);
+  EXPECT_EQ(alpha_joints.Latest()->name()[0], "left_wheel");
+  EXPECT_GT(alpha_joints.Latest()->position()[0], 10.0);  // 1.5 m on a 5 cm wheel is ~5 turns
+  EXPECT_EQ(bare_scan.count(), 0u);                        // nothing leaks outside the namespaces
+
+  // Stopping navsim closes the recording: a CARMEN log of alpha's run.
+  EXPECT_EQ(navsim.Stop(SIGINT, 10.0), 0) << navsim.Log();
+  const CarmenLog log = ReadCarmenLog(record, /*strict=*/true);
+  EXPECT_GT(log.scans.size(), 10u);
+  ASSERT_FALSE(log.truth.empty());
+  EXPECT_GT(log.truth.back().pose.y, 2.5);
+  EXPECT_EQ(log.scans.front().ranges.size(), 683u);
+}
+
+TEST(NavsimScenario, BadScenarioExitsNonZeroWithOneLine) {
+  const std::string dir = MakeTempDir();
+  const std::string path = dir + "/bad.yaml";
+  std::ofstream(path) << "world: default\nrobots:\n  - {start: [0.05, 1.0, 0.0]}\n";
+  const auto r = RunCommand({NavsimBinary(), "--scenario", path, "--duration", "1"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("bad.yaml:3: field 'robots[0].start' puts the robot inside or against a wall"),
+            std::string::npos)
+      << r.output;
+}
+
+}  // namespace
+}  // namespace navd::testing
