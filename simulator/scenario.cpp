@@ -211,7 +211,7 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
       f.ExpectMap(r, field);
       RobotSpec spec;
       spec.body = s.world.robot;
-      ReadRobotDescription(f, r, field + ".", spec.body);
+      ReadRobotDescription(f, r, field + ".", spec.body, {"name", "sensors"});
       if (r["name"]) spec.name = f.String(r["name"], field + ".name");
       if (robots.size() > 1 && spec.name.empty()) f.Fail(field + ".name", "is required when there are several robots", r);
       if (!spec.name.empty() && !std::regex_match(spec.name, valid_name)) {

@@ -117,12 +117,13 @@ const char* DriveTypeName(DriveType type) {
   return "?";
 }
 
-void ReadRobotDescription(const YamlFields& f, const YAML::Node& r, const std::string& prefix, RobotDescription& d) {
+void ReadRobotDescription(const YamlFields& f, const YAML::Node& r, const std::string& prefix, RobotDescription& d,
+                          const std::vector<std::string>& extra_keys) {
   f.ExpectMap(r, prefix.substr(0, prefix.size() - 1));
   for (const auto& kv : r) {
     const std::string key = kv.first.as<std::string>();
     if (std::find(std::begin(kRobotKeys), std::end(kRobotKeys), key) == std::end(kRobotKeys) &&
-        key != "name" && key != "namespace" && key != "sensors") {
+        std::find(extra_keys.begin(), extra_keys.end(), key) == extra_keys.end()) {
       std::string list;
       for (const char* k : kRobotKeys) list += (list.empty() ? "" : ", ") + std::string(k);
       f.Fail(prefix + key, "is not a known field (expected " + list + ")", kv.first);

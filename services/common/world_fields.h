@@ -4,13 +4,17 @@
 // field (prefix + key, e.g. "robots[0].radius").
 #include <yaml-cpp/yaml.h>
 
+#include <string>
+#include <vector>
+
 #include "services/common/world.h"
 #include "services/common/yaml_fields.h"
 
 namespace navd {
 
+// `extra_keys`: further keys the caller reads itself (a scenario's robot has a name and sensors).
 void ReadRobotDescription(const YamlFields& fields, const YAML::Node& node, const std::string& prefix,
-                          RobotDescription& out);
+                          RobotDescription& out, const std::vector<std::string>& extra_keys = {});
 void ReadLaserDescription(const YamlFields& fields, const YAML::Node& node, const std::string& prefix,
                           LaserDescription& out);
 // [x_min, y_min, x_max, y_max] with min <= max.
