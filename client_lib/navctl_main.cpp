@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "client_lib/follow_command.h"
+#include "client_lib/navctl_text.h"
 #include "client_lib/navd_client.h"
 #include "client_lib/telemetry.h"
 #include "services/common/map_store.h"
@@ -17,48 +19,10 @@
 namespace {
 
 using nlohmann::json;
-
-// Parses "X,Y" or "X,Y,THETA" (numbers; "nan"/"inf" pass through for navd to reject).
-std::vector<double> ParseTuple(const std::string& text, const std::string& flag, size_t min, size_t max) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string part;
-  while (std::getline(ss, part, ',')) {
-    char* end = nullptr;
-    const double v = std::strtod(part.c_str(), &end);
-    if (part.empty() || end == part.c_str() || *end != '\0') {
-      throw std::invalid_argument(flag + " '" + text + "': '" + part + "' is not a number");
-    }
-    out.push_back(v);
-  }
-  if (out.size() < min || out.size() > max) {
-    throw std::invalid_argument(flag + " '" + text + "' must be " + (max == 2 ? "X,Y" : "X,Y[,THETA]"));
-  }
-  return out;
-}
-
-json PoseJson(const navd::v1::Pose2D& p) { return {{"x", p.x()}, {"y", p.y()}, {"theta", p.theta()}}; }
-
-const char* OutcomeText(navd::v1::Outcome o) {
-  switch (o) {
-    case navd::v1::SUCCEEDED: return "succeeded";
-    case navd::v1::FAILED: return "failed";
-    case navd::v1::CANCELED: return "canceled";
-    case navd::v1::PREEMPTED: return "preempted";
-    default: return "unknown";
-  }
-}
-
-const char* StateText(navd::v1::NavigationState s) {
-  switch (s) {
-    case navd::v1::IDLE: return "idle";
-    case navd::v1::ROTATING: return "rotating";
-    case navd::v1::DRIVING: return "driving";
-    case navd::v1::FINAL_ROTATION: return "final_rotation";
-    case navd::v1::STOPPED_STALE_SENSORS: return "stopped_stale_sensors";
-    default: return "unknown";
-  }
-}
+using navd::navctl::OutcomeText;
+using navd::navctl::ParseTuple;
+using navd::navctl::PoseJson;
+using navd::navctl::StateText;
 
 // "--option NAME=VALUE" flags into planner options.
 std::map<std::string, double> ParseOptions(const std::vector<std::string>& texts) {
@@ -175,6 +139,26 @@ int main(int argc, char** argv) {
   navigate->add_option("--planner", planner, "Planner name");
   navigate->add_flag("--preempt", preempt, "Replace an active goal instead of being rejected");
   navigate->add_flag("--json", json_out, "Print the result as one JSON object");
+
+  auto* follow = app.add_subcommand("follow", "Run a waypoint mission; exit 0 only when it succeeds");
+  navd::navctl::FollowOptions follow_options;
+  follow->add_option("--waypoints", follow_options.waypoints, "Waypoints X,Y[,THETA];X,Y;... (map frame)");
+  follow->add_option("--scenario", follow_options.scenario, "Or: visit the targets of this navsim scenario file");
+  follow->add_flag("--cyclic", follow_options.cyclic, "Start over at the first waypoint after the last");
+  follow->add_option("--laps", follow_options.laps, "With --cyclic: stop after N laps (default: until cancelled)");
+  follow->add_option("--max-distance", follow_options.max_distance, "End (succeeded) after travelling M metres")
+      ->check(CLI::NonNegativeNumber);
+  follow->add_option("--timeout", follow_options.timeout, "Give up (and cancel) after S seconds")->check(seconds);
+  follow->add_option("--planner", follow_options.planner, "Planner name");
+  follow->add_flag("--preempt", follow_options.preempt, "Replace an active mission instead of being rejected");
+  follow->add_flag("--measure", follow_options.measure,
+                   "Judge the run against navsim's ground truth over DDS (distance, time, pose error, collisions)");
+  follow->add_option("--domain", follow_options.domain, "With --measure: navsim's DDS domain id")
+      ->check(CLI::Range(0, 232));
+  follow->add_option("--namespace", follow_options.robot_namespace, "With --measure: the robot's namespace");
+  follow->add_flag("--json", follow_options.json, "Print the result as one JSON object");
+  auto* pause = app.add_subcommand("pause", "Pause the active mission (the robot stops, the mission stays)");
+  auto* resume = app.add_subcommand("resume", "Resume the paused mission");
 
   auto* pose = app.add_subcommand("pose", "Print the pose estimate");
   pose->add_flag("--json", json_out, "Print one JSON object");
@@ -364,6 +348,17 @@ int main(int argc, char** argv) {
       if (!select_method.empty()) client.SelectMethod(select_method);
       const auto m = client.ListMethods();
       for (const auto& name : m.methods()) std::printf("%s%s\n", name.c_str(), name == m.selected() ? " (selected)" : "");
+      return 0;
+    }
+    if (follow->parsed()) return navd::navctl::RunFollow(client, follow_options);
+    if (pause->parsed()) {
+      client.Pause();
+      std::printf("paused\n");
+      return 0;
+    }
+    if (resume->parsed()) {
+      client.Resume();
+      std::printf("resumed\n");
       return 0;
     }
     if (cancel->parsed()) {

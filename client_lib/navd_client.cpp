@@ -135,18 +135,15 @@ v1::MapInfo Client::LoadMap(const std::string& path) {
   return Call(*mapping_, &v1::MappingService::Stub::LoadMap, req).info();
 }
 
-v1::NavigationResult Client::NavigateTo(const v1::NavigateToRequest& request, const FeedbackCallback& on_feedback,
-                                        double timeout) {
-  grpc::ClientContext ctx;
-  Prepare(ctx, timeout);
-  auto reader = navigation_->NavigateTo(&ctx, request);
+v1::NavigationResult Client::ReadMission(grpc::ClientContext&, grpc::ClientReaderInterface<v1::NavigateToResponse>& reader,
+                                         const FeedbackCallback& on_feedback, double timeout) const {
   v1::NavigateToResponse msg;
   std::optional<v1::NavigationResult> result;
-  while (reader->Read(&msg)) {
+  while (reader.Read(&msg)) {
     if (msg.has_feedback() && on_feedback) on_feedback(msg.feedback());
     if (msg.has_result()) result = msg.result();
   }
-  const grpc::Status s = reader->Finish();
+  const grpc::Status s = reader.Finish();
   if (!s.ok()) {
     if (s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED) {
       throw ClientError(s.error_code(), "navigation did not finish within " + std::to_string(timeout) +
@@ -156,6 +153,22 @@ v1::NavigationResult Client::NavigateTo(const v1::NavigateToRequest& request, co
   }
   if (!result) throw ClientError(grpc::StatusCode::INTERNAL, "navd ended the navigation stream without a result");
   return *result;
+}
+
+v1::NavigationResult Client::NavigateTo(const v1::NavigateToRequest& request, const FeedbackCallback& on_feedback,
+                                        double timeout) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, timeout);
+  auto reader = navigation_->NavigateTo(&ctx, request);
+  return ReadMission(ctx, *reader, on_feedback, timeout);
+}
+
+v1::NavigationResult Client::FollowWaypoints(const v1::FollowWaypointsRequest& request,
+                                             const FeedbackCallback& on_feedback, double timeout) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, timeout);
+  auto reader = navigation_->FollowWaypoints(&ctx, request);
+  return ReadMission(ctx, *reader, on_feedback, timeout);
 }
 
 v1::NavigationResult Client::NavigateTo(double x, double y, std::optional<double> theta,
@@ -173,6 +186,10 @@ v1::NavigationResult Client::NavigateTo(double x, double y, std::optional<double
 bool Client::Cancel() {
   return Call(*navigation_, &v1::NavigationService::Stub::Cancel, v1::CancelRequest()).was_active();
 }
+
+void Client::Pause() { Call(*navigation_, &v1::NavigationService::Stub::Pause, v1::PauseRequest()); }
+
+void Client::Resume() { Call(*navigation_, &v1::NavigationService::Stub::Resume, v1::ResumeRequest()); }
 
 v1::GetStatusResponse Client::GetStatus() {
   return Call(*navigation_, &v1::NavigationService::Stub::GetStatus, v1::GetStatusRequest());

@@ -71,7 +71,12 @@ class Client {
   // Convenience: goal (x, y), and heading theta when given.
   v1::NavigationResult NavigateTo(double x, double y, std::optional<double> theta = std::nullopt,
                                   const FeedbackCallback& on_feedback = {}, double timeout = 0.0);
+  // A waypoint mission (FollowWaypoints); blocks like NavigateTo until the mission ends.
+  v1::NavigationResult FollowWaypoints(const v1::FollowWaypointsRequest& request,
+                                       const FeedbackCallback& on_feedback = {}, double timeout = 0.0);
   bool Cancel();
+  void Pause();
+  void Resume();
   v1::GetStatusResponse GetStatus();
 
   const std::string& server() const { return options_.server; }
@@ -90,6 +95,10 @@ class Client {
     return response;
   }
   [[noreturn]] void Fail(const grpc::Status& status) const;
+  // Reads a mission's feedback stream to its result.
+  v1::NavigationResult ReadMission(grpc::ClientContext& context,
+                                   grpc::ClientReaderInterface<v1::NavigateToResponse>& reader,
+                                   const FeedbackCallback& on_feedback, double timeout) const;
 
   ClientOptions options_;
   std::shared_ptr<grpc::Channel> channel_;

@@ -7,16 +7,18 @@
 
 namespace navd {
 
-Telemetry::Telemetry(const TelemetryOptions& o, StatusCallback on_status) : participant_(o.dds) {
+Telemetry::Telemetry(const TelemetryOptions& o, StatusCallback on_status, TruthCallback on_truth, PoseCallback on_pose)
+    : participant_(o.dds) {
   using dds::Reliability;
   status_ = std::make_unique<dds::Reader<navd_msgs::msg::dds_::NavStatus_PubSubType>>(
       participant_, dds::TopicName(o.robot_namespace, dds::kNavStatus), Reliability::kReliable, std::move(on_status));
   sim_status_ = std::make_unique<dds::Reader<navsim_msgs::msg::dds_::SimStatus_PubSubType>>(
       participant_, dds::TopicName(o.robot_namespace, dds::kSimStatus), Reliability::kReliable);
   truth_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>>(
-      participant_, dds::TopicName(o.robot_namespace, dds::kGroundTruth), Reliability::kBestEffort);
+      participant_, dds::TopicName(o.robot_namespace, dds::kGroundTruth), Reliability::kBestEffort,
+      std::move(on_truth));
   pose_ = std::make_unique<dds::Reader<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>>(
-      participant_, dds::TopicName(o.robot_namespace, dds::kPose), Reliability::kReliable);
+      participant_, dds::TopicName(o.robot_namespace, dds::kPose), Reliability::kReliable, std::move(on_pose));
 }
 
 std::optional<navsim_msgs::msg::dds_::SimStatus_> Telemetry::WaitForSimStatus(double timeout) const {

@@ -20,7 +20,11 @@ struct TelemetryOptions {
 class Telemetry {
  public:
   using StatusCallback = std::function<void(const navd_msgs::msg::dds_::NavStatus_&)>;
-  explicit Telemetry(const TelemetryOptions& options, StatusCallback on_status = {});
+  using TruthCallback = std::function<void(const nav_msgs::msg::dds_::Odometry_&)>;
+  using PoseCallback = std::function<void(const geometry_msgs::msg::dds_::PoseWithCovarianceStamped_&)>;
+  // The callbacks run on DDS threads, once per sample.
+  explicit Telemetry(const TelemetryOptions& options, StatusCallback on_status = {}, TruthCallback on_truth = {},
+                     PoseCallback on_pose = {});
 
   std::optional<navd_msgs::msg::dds_::NavStatus_> LatestStatus() const { return status_->Latest(); }
   std::optional<navsim_msgs::msg::dds_::SimStatus_> LatestSimStatus() const { return sim_status_->Latest(); }

@@ -64,11 +64,15 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   if (auto odom = bridge_.LatestOdometry()) localizer_.AddOdometry(*odom);
   if (bridge_.scan_count() != scans_seen_) {
     scans_seen_ = bridge_.scan_count();
-    if (auto scan = bridge_.LatestScan()) localizer_.AddScan(*scan);
+    if (executive_.localization_active()) {
+      if (auto scan = bridge_.LatestScan()) localizer_.AddScan(*scan);
+    }
   }
-  const bool fresh = now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
+  // A laser that has spoken and then gone silent is stale too; a robot without one is not.
+  const bool laser_fresh = !bridge_.scan_seen() || now - bridge_.last_scan_arrival() <= options_.sensor_timeout;
+  const bool fresh = laser_fresh && now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
   const bool was_active = executive_.navigator().Status().active;
-  const WheelSpeeds wheels = executive_.Step(fresh, now);
+  const WheelSpeeds wheels = executive_.Step({fresh, bridge_.Contact(options_.sensor_timeout)}, now);
   const navigation::NavigationStatus status = executive_.navigator().Status();
   if (status.active) {
     bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));

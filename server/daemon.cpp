@@ -78,7 +78,9 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   navigation::NavigatorOptions navigator;
   navigator.follower.wheel_base = robot.wheel_base;
   navigator.follower.max_wheel_speed = robot.max_wheel_speed;
-  navigation::NavigationExecutive executive(planning, localizer, *clock, navigator);
+  const navigation::UtilityBrainOptions brain =
+      o.brain_path.empty() ? navigation::DefaultBrainOptions() : navigation::LoadBrainFile(o.brain_path);
+  navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain);
 
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock);

@@ -15,6 +15,7 @@ struct DaemonOptions {
   std::string robot_namespace;
   bool use_sim_time = false;
   std::string localizer = "amcl";   // amcl | odometry
+  std::string brain_path;           // utility-function brain YAML; empty: the built-in default
   double control_rate = 20.0;       // Hz, in the daemon's clock
   double sensor_timeout = 0.5;      // s without odometry before the robot is stopped
   double inflation_margin = 0.10;   // m added to the robot radius for planning

@@ -18,8 +18,15 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
   odom_reader_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kOdom), Reliability::kBestEffort,
       [this](const nav_msgs::msg::dds_::Odometry_&) { last_odom_arrival_ = arrival_clock_.Now(); }, 5);
+  bumper_reader_ = std::make_unique<dds::Reader<navsim_msgs::msg::dds_::BumperState_PubSubType>>(
+      participant_, dds::TopicName(ns, dds::kBumper), Reliability::kBestEffort,
+      [this](const navsim_msgs::msg::dds_::BumperState_& m) {
+        if (m.front() || m.rear()) last_contact_ = arrival_clock_.Now();
+      },
+      2);
   scan_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
-      participant_, dds::TopicName(ns, dds::kScan), Reliability::kBestEffort, nullptr, 2);
+      participant_, dds::TopicName(ns, dds::kScan), Reliability::kBestEffort,
+      [this](const sensor_msgs::msg::dds_::LaserScan_&) { last_scan_arrival_ = arrival_clock_.Now(); }, 2);
   cmd_writer_ = std::make_unique<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kCmdVel), Reliability::kReliable, 5);
   status_writer_ = std::make_unique<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>>(
@@ -54,6 +61,8 @@ std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
   return s;
 }
 
+bool DdsBridge::Contact(double within) const { return arrival_clock_.Now() - last_contact_.load() <= within; }
+
 void DdsBridge::PublishCommand(const Twist2& twist) {
   geometry_msgs::msg::dds_::Twist_ m;
   m.linear().x(twist.v);
@@ -63,7 +72,9 @@ void DdsBridge::PublishCommand(const Twist2& twist) {
 
 void DdsBridge::PublishPose(const localization::PoseEstimate& pose, double now) {
   geometry_msgs::msg::dds_::PoseWithCovarianceStamped_ m;
-  m.header().stamp(dds::ToTime(now));
+  // Stamped with the time the estimate describes (its newest odometry), as AMCL stamps amcl_pose
+  // with its scan's time, so that it can be compared with ground truth of the same instant.
+  m.header().stamp(dds::ToTime(pose.stamp > 0.0 ? pose.stamp : now));
   m.header().frame_id("map");
   m.pose().pose(dds::ToPose(pose.pose));
   const int idx[3] = {0, 1, 5};  // x, y, yaw in ROS's 6x6 order
@@ -93,6 +104,23 @@ void DdsBridge::PublishStatus(const navigation::NavigationStatus& status, const 
   m.goal_y(status.goal.pose.y);
   m.distance_remaining(status.active ? status.feedback.distance_remaining : 0.0);
   m.localizer(localizer);
+  m.quality(pose.quality);
+  const navigation::NavigationFeedback& f = status.feedback;
+  m.behaviour(f.behaviour);
+  m.mission_index(f.mission_index);
+  m.mission_count(f.mission_count);
+  m.laps_completed(f.laps_completed);
+  m.distance_travelled(f.distance_travelled);
+  m.eta(status.active ? f.eta : 0.0);
+  for (const navigation::ProcessUtility& u : f.utilities) {
+    navd_msgs::msg::dds_::ProcessUtility_ p;
+    p.name(u.name);
+    p.motor(u.kind == navigation::ProcessKind::kMotor);
+    p.utility(u.utility);
+    p.gamma(u.gamma);
+    p.active(u.active);
+    m.utilities().push_back(p);
+  }
   status_writer_->Write(m);
 }
 

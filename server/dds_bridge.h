@@ -9,6 +9,7 @@
 #include "geometry_msgsPubSubTypes.h"
 #include "nav_msgsPubSubTypes.h"
 #include "navd_msgsPubSubTypes.h"
+#include "navsim_msgsPubSubTypes.h"
 #include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
 #include "services/common/clock.h"
@@ -33,6 +34,12 @@ class DdsBridge {
   // The newest scan and how many have arrived (to tell a new one from the last).
   std::optional<localization::ScanReading> LatestScan() const;
   uint64_t scan_count() const { return scan_reader_->count(); }
+  // Arrival clock time of the newest scan; very negative before the first.
+  double last_scan_arrival() const { return last_scan_arrival_.load(); }
+  bool scan_seen() const { return last_scan_arrival_.load() > -1e8; }
+
+  // Whether a bumper reported contact within the last `within` seconds of the arrival clock.
+  bool Contact(double within = 0.5) const;
 
   void PublishCommand(const Twist2& twist);
   // Sends a zero command and waits (bounded) until the robot side acknowledged it; for shutdown.
@@ -49,6 +56,9 @@ class DdsBridge {
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_reader_;
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_reader_;
   std::unique_ptr<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>> clock_reader_;
+  std::unique_ptr<dds::Reader<navsim_msgs::msg::dds_::BumperState_PubSubType>> bumper_reader_;
+  std::atomic<double> last_contact_{-1e9};
+  std::atomic<double> last_scan_arrival_{-1e9};
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_writer_;

@@ -8,6 +8,11 @@
 
 namespace navd::localization {
 
+namespace {
+constexpr size_t kOdometryHistory = 64;  // readings; 1.3 s at 50 Hz, 3 s at navd's 20 Hz
+constexpr double kScanlessSteps = 4.0;   // x the update thresholds
+}  // namespace
+
 ParticleFilterLocalizer::ParticleFilterLocalizer(const OccupancyGrid& map, const ParticleFilterOptions& options)
     : map_(map), o_(options), rng_(options.seed) {
   inv_resolution_ = 1.0 / map_.resolution();
@@ -86,13 +91,32 @@ void ParticleFilterLocalizer::AddOdometry(const OdometryReading& reading) {
   }
   latest_odom_ = reading.pose;
   estimate_.stamp = reading.stamp;
+  if (!odom_history_.empty() && reading.stamp < odom_history_.back().stamp) odom_history_.clear();  // time went back
+  odom_history_.push_back(reading);
+  while (odom_history_.size() > kOdometryHistory) odom_history_.pop_front();
   const Pose2 delta = last_odom_.inverse() * latest_odom_;
-  if (std::hypot(delta.x, delta.y) >= o_.update_min_distance || std::abs(delta.theta) >= o_.update_min_angle) {
+  const double moved = std::hypot(delta.x, delta.y), turned = std::abs(delta.theta);
+  if (moved >= o_.update_min_distance || turned >= o_.update_min_angle) moved_since_scan_ = true;
+  // Scans move the particles (to their own stamp); without scans the cloud still follows the
+  // odometry, and spreads, in coarser steps.
+  if (moved >= kScanlessSteps * o_.update_min_distance || turned >= kScanlessSteps * o_.update_min_angle) {
     if (initialised_) MoveParticles(last_odom_, latest_odom_);
     last_odom_ = latest_odom_;
-    moved_since_scan_ = true;
     if (initialised_) UpdateEstimate();
   }
+}
+
+Pose2 ParticleFilterLocalizer::OdometryAtLocked(double stamp) const {
+  if (odom_history_.empty() || stamp >= odom_history_.back().stamp) return latest_odom_;
+  if (stamp <= odom_history_.front().stamp) return odom_history_.front().pose;
+  size_t i = 1;
+  while (odom_history_[i].stamp < stamp) ++i;
+  const OdometryReading& a = odom_history_[i - 1];
+  const OdometryReading& b = odom_history_[i];
+  const double span = b.stamp - a.stamp;
+  const double s = span > 0.0 ? (stamp - a.stamp) / span : 1.0;
+  const Pose2 d = a.pose.inverse() * b.pose;
+  return a.pose * Pose2{s * d.x, s * d.y, s * NormalizeAngle(d.theta)};
 }
 
 void ParticleFilterLocalizer::MoveParticles(const Pose2& from, const Pose2& to) {
@@ -128,6 +152,9 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   }
   std::lock_guard<std::mutex> lock(mutex_);
   if (!initialised_ || !have_odom_ || !moved_since_scan_) return false;
+  const Pose2 at_scan = OdometryAtLocked(scan.stamp);
+  MoveParticles(last_odom_, at_scan);
+  last_odom_ = at_scan;
   // Beam end points in the robot frame, on an even subset of beams; no-returns (NaN, inf, out of
   // range) carry no information in a likelihood field and are skipped.
   std::vector<Point2> ends;

@@ -8,6 +8,7 @@
 //  - augmented MCL (w_slow, w_fast) to inject uniformly drawn particles when the sensors stop
 //    agreeing with the map (recovery from a wrong pose or a kidnapping).
 // Units: metres, radians; poses in the map frame; odometry in the odom frame.
+#include <deque>
 #include <mutex>
 #include <random>
 #include <vector>
@@ -97,6 +98,10 @@ class ParticleFilterLocalizer : public Localizer {
   bool have_odom_ = false;
   Pose2 last_odom_;                     // odometry at the last filter update
   Pose2 latest_odom_;
+  // Recent odometry, oldest first: a scan is matched with the particles moved to the odometry of
+  // its own stamp, not to whatever arrived last (at 0.5 m/s, 50 ms is 2.5 cm of error).
+  std::deque<OdometryReading> odom_history_;
+  Pose2 OdometryAtLocked(double stamp) const;
   bool moved_since_scan_ = true;
   double w_slow_ = 0.0, w_fast_ = 0.0;
   PoseEstimate estimate_;

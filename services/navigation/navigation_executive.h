@@ -1,13 +1,18 @@
 #pragma once
-// Ties the navigator to its inputs: takes a goal, checks it, plans from the current pose estimate
-// with the planning engine, and hands the path to the navigator; each control step feeds it the
-// pose. The gRPC adapter and the control loop both talk to this class only.
-#include <functional>
+// navd's executive, after Wahde et al. (seed 000): utility-function decision making picks the one
+// motor behaviour that drives the robot (navigation, the emergency stop, the wake-up search) and
+// the cognitive processes that run (laser localisation), from state variables it measures each
+// control step. Missions come in as goals or waypoint lists; it checks them, plans each leg with
+// the planning engine from the current pose estimate, and hands the paths to the navigator. The
+// gRPC adapter and the control loop both talk to this class only.
+#include <atomic>
 #include <string>
+#include <vector>
 
 #include "services/common/clock.h"
 #include "services/localization/localizer.h"
 #include "services/navigation/navigator.h"
+#include "services/navigation/utility_decision_maker.h"
 #include "services/planning/planning_engine.h"
 
 namespace navd::navigation {
@@ -19,26 +24,82 @@ struct NavigateRequest {
   bool preempt = false;
 };
 
+struct MissionRequest {
+  std::vector<Pose2> waypoints;    // map frame; headings used only with use_goal_heading
+  bool use_goal_heading = false;
+  bool cyclic = false;
+  uint32_t laps = 0;               // with cyclic: 0 = until cancelled
+  double max_distance = 0.0;       // m, 0 = no limit
+  std::string planner;
+  bool preempt = false;
+};
+
+// When the pose estimate counts as lost: the scan fits the map worse than lost_quality (the
+// localiser's 0..1 agreement) for lost_after seconds of motion. Found again once the fit is
+// back above found_quality with the position spread under max_spread.
+struct LocalizationWatchOptions {
+  double lost_quality = 0.2;
+  double lost_after = 3.0;     // s
+  double found_quality = 0.4;
+  double max_spread = 0.3;     // m, sqrt(var x + var y)
+  double search_turn_rate = 0.5;  // rad/s: the wake-up behaviour turns in place while it searches
+};
+
+// What the control loop measured this step.
+struct ExecutiveInputs {
+  bool sensors_fresh = true;   // odometry (and the laser) arrived recently
+  bool contact = false;        // a bumper is pressed
+};
+
 class NavigationExecutive {
  public:
-  NavigationExecutive(planning::PlanningEngine& planning, const localization::Localizer& localizer,
-                      const Clock& clock, const NavigatorOptions& options);
+  // Throws navd::Error(kInvalidArgument) when the brain lacks a 'navigation' motor behaviour or
+  // names a state variable navd does not measure (contact, sensors_stale, localization_lost).
+  NavigationExecutive(planning::PlanningEngine& planning, localization::Localizer& localizer, const Clock& clock,
+                      const NavigatorOptions& options, const UtilityBrainOptions& brain = DefaultBrainOptions(),
+                      const LocalizationWatchOptions& watch = {});
 
   // Throws navd::Error: kInvalidArgument (non-finite goal, goal outside the map or blocked,
-  // unknown planner), kFailedPrecondition (no pose yet, or a goal active without preempt),
-  // kNotFound (no path). Returns the goal id.
+  // unknown planner; field named), kFailedPrecondition (no pose yet, or a mission active without
+  // preempt), kNotFound (no path). Returns the mission id.
   uint64_t Navigate(const NavigateRequest& request, const planning::StopRequested& stop = {});
+  // Checks every waypoint (and every leg between them) before starting; errors name
+  // `waypoints[i]`.
+  uint64_t FollowWaypoints(const MissionRequest& request, const planning::StopRequested& stop = {});
   bool Cancel(uint64_t goal_id = 0) { return navigator_.Cancel(goal_id); }
+  void Pause() { navigator_.Pause(clock_.Now()); }
+  void Resume() { navigator_.Resume(clock_.Now()); }
+
   // One control step at daemon clock time `now` (seconds); returns the wheel command (m/s).
-  WheelSpeeds Step(bool sensors_fresh, double now);
+  WheelSpeeds Step(const ExecutiveInputs& inputs, double now);
+  WheelSpeeds Step(bool sensors_fresh, double now) { return Step(ExecutiveInputs{sensors_fresh, false}, now); }
 
   const Navigator& navigator() const { return navigator_; }
+  bool localization_lost() const { return lost_; }
+  // Whether the localisation process runs (laser corrections of the pose); the control loop asks
+  // before it hands the localiser a scan.
+  bool localization_active() const { return localization_ >= 0 && brain_.active(static_cast<size_t>(localization_)); }
 
  private:
+  uint64_t StartMission(const Mission& mission, const std::string& planner, bool preempt,
+                        const planning::StopRequested& stop);
+  void PlanLeg(double now);
+  // Updates lost_ from the estimate; `moving`: whether the robot is meant to be moving.
+  void WatchLocalization(const localization::PoseEstimate& estimate, double now);
+
   planning::PlanningEngine& planning_;
-  const localization::Localizer& localizer_;
+  localization::Localizer& localizer_;
   const Clock& clock_;
   Navigator navigator_;
+  UtilityDecisionMaker brain_;
+  LocalizationWatchOptions watch_;
+  size_t navigation_ = 0;
+  long emergency_stop_ = -1, wake_up_ = -1, localization_ = -1;
+  long z_contact_ = -1, z_stale_ = -1, z_lost_ = -1;
+  std::string planner_;            // the active mission's planner
+  double last_step_ = -1.0;
+  double poor_fit_since_ = -1.0;
+  std::atomic<bool> lost_{false};  // read by gRPC threads
 };
 
 }  // namespace navd::navigation

@@ -17,6 +17,26 @@ void ToProto(const NavigationFeedback& f, v1::NavigationFeedback* out) {
   out->set_waypoint_index(f.waypoint_index);
   out->set_waypoint_count(f.waypoint_count);
   navd::ToProto(f.stamp, out->mutable_stamp());
+  out->set_mission_index(f.mission_index);
+  out->set_mission_count(f.mission_count);
+  out->set_laps_completed(f.laps_completed);
+  out->set_waypoints_reached(f.waypoints_reached);
+  out->set_distance_travelled(f.distance_travelled);
+  out->set_eta(f.eta);
+  out->set_behaviour(f.behaviour);
+  for (const ProcessUtility& u : f.utilities) {
+    v1::ProcessUtility* p = out->add_utilities();
+    p->set_name(u.name);
+    p->set_motor(u.kind == ProcessKind::kMotor);
+    p->set_utility(u.utility);
+    p->set_gamma(u.gamma);
+    p->set_active(u.active);
+  }
+}
+
+void ToProto(const NavigationStatus& s, v1::NavigationFeedback* out) {
+  ToProto(s.feedback, out);
+  out->set_hold_reason(s.hold_reason);
 }
 
 void ToProto(const NavigationResult& r, v1::NavigationResult* out) {
@@ -26,6 +46,8 @@ void ToProto(const NavigationResult& r, v1::NavigationResult* out) {
   out->set_distance_to_goal(r.distance_to_goal);
   out->set_elapsed(r.elapsed);
   out->set_path_length(r.path_length);
+  out->set_distance_travelled(r.distance_travelled);
+  out->set_waypoints_reached(r.waypoints_reached);
 }
 
 }  // namespace
@@ -40,7 +62,29 @@ grpc::Status NavigationService::NavigateTo(grpc::ServerContext* context, const v
                                   StopWhenDone(context));
   });
   if (!started.ok()) return started;
+  return StreamMission(context, writer, goal_id);
+}
 
+grpc::Status NavigationService::FollowWaypoints(grpc::ServerContext* context, const v1::FollowWaypointsRequest* request,
+                                                grpc::ServerWriter<v1::NavigateToResponse>* writer) {
+  uint64_t goal_id = 0;
+  grpc::Status started = GuardedCall([&] {
+    MissionRequest r;
+    for (const auto& w : request->waypoints()) r.waypoints.push_back(FromProto(w));
+    r.use_goal_heading = request->use_goal_heading();
+    r.cyclic = request->cyclic();
+    r.laps = request->laps();
+    r.max_distance = request->max_distance();
+    r.planner = request->planner();
+    r.preempt = request->preempt();
+    goal_id = executive_.FollowWaypoints(r, StopWhenDone(context));
+  });
+  if (!started.ok()) return started;
+  return StreamMission(context, writer, goal_id);
+}
+
+grpc::Status NavigationService::StreamMission(grpc::ServerContext* context,
+                                              grpc::ServerWriter<v1::NavigateToResponse>* writer, uint64_t goal_id) {
   const Navigator& nav = executive_.navigator();
   uint64_t seen = 0;
   auto last_feedback = std::chrono::steady_clock::time_point{};
@@ -53,7 +97,7 @@ grpc::Status NavigationService::NavigateTo(grpc::ServerContext* context, const v
       return grpc::Status::OK;
     }
     if (context->IsCancelled()) {
-      // The caller went away or its deadline passed: a goal nobody watches is cancelled, so an
+      // The caller went away or its deadline passed: a mission nobody watches is cancelled, so an
       // interrupted navctl stops the robot.
       executive_.Cancel(goal_id);
       return grpc::Status(grpc::StatusCode::CANCELLED, "navigation cancelled: the client cancelled the call");
@@ -63,7 +107,7 @@ grpc::Status NavigationService::NavigateTo(grpc::ServerContext* context, const v
       const NavigationStatus status = nav.Status();
       if (status.goal_id != goal_id) continue;
       v1::NavigateToResponse msg;
-      ToProto(status.feedback, msg.mutable_feedback());
+      ToProto(status, msg.mutable_feedback());
       if (!writer->Write(msg)) {
         executive_.Cancel(goal_id);
         return grpc::Status(grpc::StatusCode::CANCELLED, "navigation cancelled: the feedback stream broke");
@@ -77,6 +121,14 @@ grpc::Status NavigationService::Cancel(grpc::ServerContext*, const v1::CancelReq
   return GuardedCall([&] { response->set_was_active(executive_.Cancel()); });
 }
 
+grpc::Status NavigationService::Pause(grpc::ServerContext*, const v1::PauseRequest*, v1::PauseResponse*) {
+  return GuardedCall([&] { executive_.Pause(); });
+}
+
+grpc::Status NavigationService::Resume(grpc::ServerContext*, const v1::ResumeRequest*, v1::ResumeResponse*) {
+  return GuardedCall([&] { executive_.Resume(); });
+}
+
 grpc::Status NavigationService::GetStatus(grpc::ServerContext*, const v1::GetStatusRequest*,
                                           v1::GetStatusResponse* response) {
   return GuardedCall([&] {
@@ -85,7 +137,9 @@ grpc::Status NavigationService::GetStatus(grpc::ServerContext*, const v1::GetSta
     response->set_active(s.active);
     response->set_sensors_stale(s.sensors_stale);
     navd::ToProto(s.goal.pose, response->mutable_goal());
-    ToProto(s.feedback, response->mutable_feedback());
+    ToProto(s, response->mutable_feedback());
+    response->set_paused(s.paused);
+    response->set_localization_lost(executive_.localization_lost());
     if (s.last_result) ToProto(*s.last_result, response->mutable_last_result());
   });
 }

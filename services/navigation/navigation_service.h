@@ -10,12 +10,22 @@ class NavigationService final : public v1::NavigationService::Service {
   explicit NavigationService(NavigationExecutive& executive) : executive_(executive) {}
   grpc::Status NavigateTo(grpc::ServerContext* context, const v1::NavigateToRequest* request,
                           grpc::ServerWriter<v1::NavigateToResponse>* writer) override;
+  grpc::Status FollowWaypoints(grpc::ServerContext* context, const v1::FollowWaypointsRequest* request,
+                               grpc::ServerWriter<v1::NavigateToResponse>* writer) override;
   grpc::Status Cancel(grpc::ServerContext* context, const v1::CancelRequest* request,
                       v1::CancelResponse* response) override;
+  grpc::Status Pause(grpc::ServerContext* context, const v1::PauseRequest* request,
+                     v1::PauseResponse* response) override;
+  grpc::Status Resume(grpc::ServerContext* context, const v1::ResumeRequest* request,
+                      v1::ResumeResponse* response) override;
   grpc::Status GetStatus(grpc::ServerContext* context, const v1::GetStatusRequest* request,
                          v1::GetStatusResponse* response) override;
 
  private:
+  // Streams feedback of mission `goal_id` until it ends; cancels it when the caller goes away.
+  grpc::Status StreamMission(grpc::ServerContext* context, grpc::ServerWriter<v1::NavigateToResponse>* writer,
+                             uint64_t goal_id);
+
   NavigationExecutive& executive_;
 };
 

@@ -1,5 +1,6 @@
 #include "services/navigation/navigator.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -26,6 +27,9 @@ const char* NavigationStateName(NavigationState s) {
     case NavigationState::kDriving: return "driving";
     case NavigationState::kFinalRotation: return "final_rotation";
     case NavigationState::kStoppedStaleSensors: return "stopped_stale_sensors";
+    case NavigationState::kPaused: return "paused";
+    case NavigationState::kEmergencyStop: return "emergency_stop";
+    case NavigationState::kPlanning: return "planning";
   }
   return "unknown";
 }
@@ -46,8 +50,18 @@ void Navigator::BumpLocked() {
   changed_.notify_all();
 }
 
-uint64_t Navigator::Start(const NavigationGoal& goal, const std::vector<Point2>& path, double path_length,
-                          double now, bool preempt) {
+namespace {
+std::optional<double> HeadingOf(const NavigationGoal& g) {
+  return g.use_heading ? std::optional<double>(g.pose.theta) : std::nullopt;
+}
+// A pose estimate that jumps farther than this in one control step was re-anchored (set-pose,
+// relocalisation); the jump is not distance the robot travelled.
+constexpr double kMaxStepTravel = 0.5;  // m
+}  // namespace
+
+uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& path, double path_length, double now,
+                          bool preempt) {
+  if (mission.waypoints.empty()) throw Error(ErrorCode::kInvalidArgument, "waypoints: the mission has none");
   std::lock_guard<std::mutex> lock(mutex_);
   if (status_.active) {
     if (!preempt) {
@@ -57,18 +71,28 @@ uint64_t Navigator::Start(const NavigationGoal& goal, const std::vector<Point2>&
     }
     FinishLocked(Outcome::kPreempted, "preempted by a new goal", last_pose_, now);
   }
-  follower_.SetPath(path, goal.use_heading ? std::optional<double>(goal.pose.theta) : std::nullopt);
+  mission_ = mission;
+  follower_.SetPath(path, HeadingOf(mission.waypoints.front()));
   status_.goal_id += 1;
   status_.active = true;
-  status_.goal = goal;
-  status_.feedback = {FromFollower(follower_.state()), last_pose_, follower_.DistanceRemaining(last_pose_),
-                      static_cast<uint32_t>(follower_.waypoint_index()),
-                      static_cast<uint32_t>(follower_.waypoint_count()), now};
+  status_.paused = false;
+  status_.hold_reason.clear();
+  status_.goal = mission.waypoints.front();
+  NavigationFeedback& f = status_.feedback;
+  f.mission_index = 0;
+  f.mission_count = static_cast<uint32_t>(mission.waypoints.size());
+  f.laps_completed = 0;
+  f.waypoints_reached = 0;
+  f.distance_travelled = 0.0;
   started_at_ = now;
+  moving_time_ = 0.0;
+  last_step_ = now;
   path_length_ = path_length;
-  best_remaining_ = status_.feedback.distance_remaining;
+  leg_needs_path_ = false;
+  best_remaining_ = follower_.DistanceRemaining(last_pose_);
   best_remaining_at_ = now;
-  stale_since_ = -1.0;
+  stale_since_ = held_since_ = -1.0;
+  UpdateFeedbackLocked(FromFollower(follower_.state()), last_pose_, now);
   BumpLocked();
   return status_.goal_id;
 }
@@ -80,6 +104,49 @@ bool Navigator::Cancel(uint64_t goal_id) {
   return true;
 }
 
+void Navigator::Pause(double now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!status_.active) throw Error(ErrorCode::kFailedPrecondition, "pause: no mission is active");
+  if (status_.paused) throw Error(ErrorCode::kFailedPrecondition, "pause: the mission is paused already");
+  status_.paused = true;
+  StopProgressClockLocked(now);
+  UpdateFeedbackLocked(NavigationState::kPaused, last_pose_, now);
+  BumpLocked();
+}
+
+void Navigator::Resume(double now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!status_.active) throw Error(ErrorCode::kFailedPrecondition, "resume: no mission is active");
+  if (!status_.paused) throw Error(ErrorCode::kFailedPrecondition, "resume: the mission is not paused");
+  status_.paused = false;
+  leg_needs_path_ = true;  // the robot may have been pushed or carried meanwhile
+  UpdateFeedbackLocked(NavigationState::kPlanning, last_pose_, now);
+  BumpLocked();
+}
+
+std::optional<NavigationGoal> Navigator::LegToPlan() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!status_.active || status_.paused || !leg_needs_path_) return std::nullopt;
+  return status_.goal;
+}
+
+void Navigator::SetLegPath(const std::vector<Point2>& path, double path_length, double now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!status_.active) return;
+  follower_.SetPath(path, HeadingOf(status_.goal));
+  path_length_ += path_length;
+  leg_needs_path_ = false;
+  best_remaining_ = follower_.DistanceRemaining(last_pose_);
+  best_remaining_at_ = now;
+  UpdateFeedbackLocked(FromFollower(follower_.state()), last_pose_, now);
+  BumpLocked();
+}
+
+void Navigator::Abort(const std::string& why, double now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (status_.active) FinishLocked(Outcome::kFailed, why, last_pose_, now);
+}
+
 void Navigator::FinishLocked(Outcome outcome, const std::string& message, const Pose2& pose, double now) {
   NavigationResult r;
   r.outcome = outcome;
@@ -88,27 +155,118 @@ void Navigator::FinishLocked(Outcome outcome, const std::string& message, const 
   r.distance_to_goal = Distance(pose.translation(), status_.goal.pose.translation());
   r.elapsed = now - started_at_;
   r.path_length = path_length_;
+  r.distance_travelled = status_.feedback.distance_travelled;
+  r.waypoints_reached = status_.feedback.waypoints_reached;
   status_.active = false;
+  status_.paused = false;
+  status_.hold_reason.clear();
   status_.last_result = r;
   status_.feedback.state = NavigationState::kIdle;
+  status_.feedback.eta = 0.0;
   results_.emplace_back(status_.goal_id, r);
   if (results_.size() > kResultsKept) results_.erase(results_.begin());
   follower_.Clear();
+  leg_needs_path_ = false;
   BumpLocked();
+}
+
+void Navigator::TrackLocked(const Pose2& pose, double now, bool moving) {
+  if (status_.active && have_pose_) {
+    const double step = Distance(pose.translation(), last_pose_.translation());
+    if (step < kMaxStepTravel) status_.feedback.distance_travelled += step;
+    if (moving && last_step_ >= 0.0 && now > last_step_) moving_time_ += now - last_step_;
+  }
+  last_step_ = now;
+  last_pose_ = pose;
+  have_pose_ = true;
+}
+
+void Navigator::StopProgressClockLocked(double now) {
+  if (held_since_ < 0.0) held_since_ = now;
+}
+
+bool Navigator::AdvanceLocked(const Pose2& pose, double now) {
+  NavigationFeedback& f = status_.feedback;
+  ++f.waypoints_reached;
+  size_t next = f.mission_index + 1;
+  if (next >= mission_.waypoints.size()) {
+    const bool another_lap = mission_.cyclic && (mission_.laps == 0 || f.laps_completed + 1 < mission_.laps);
+    if (!another_lap) {
+      if (mission_.cyclic) ++f.laps_completed;
+      char msg[96];
+      if (mission_.waypoints.size() == 1) {
+        std::snprintf(msg, sizeof msg, "goal reached");
+      } else {
+        std::snprintf(msg, sizeof msg, "mission complete: reached %u waypoints", f.waypoints_reached);
+      }
+      FinishLocked(Outcome::kSucceeded, msg, pose, now);
+      return false;
+    }
+    ++f.laps_completed;
+    next = 0;
+  }
+  f.mission_index = static_cast<uint32_t>(next);
+  status_.goal = mission_.waypoints[next];
+  follower_.Clear();
+  leg_needs_path_ = true;
+  return true;
+}
+
+void Navigator::UpdateFeedbackLocked(NavigationState state, const Pose2& pose, double now) {
+  NavigationFeedback& f = status_.feedback;
+  f.state = state;
+  f.pose = pose;
+  f.stamp = now;
+  const bool following = !leg_needs_path_ && follower_.state() != FollowerState::kIdle;
+  f.distance_remaining = following ? follower_.DistanceRemaining(pose)
+                                   : Distance(pose.translation(), status_.goal.pose.translation());
+  f.waypoint_index = static_cast<uint32_t>(follower_.waypoint_index());
+  f.waypoint_count = static_cast<uint32_t>(follower_.waypoint_count());
+  if (!status_.active) {
+    f.eta = 0.0;
+    return;
+  }
+  // Distance left: this leg's path, then straight lines through the remaining waypoints (to the
+  // mission's end, or to the lap's end when it repeats without end).
+  const auto& w = mission_.waypoints;
+  const auto leg = [&](size_t j) { return Distance(w[j - 1].pose.translation(), w[j].pose.translation()); };
+  double rest = f.distance_remaining;
+  for (size_t j = f.mission_index + 1; j < w.size(); ++j) rest += leg(j);
+  if (mission_.cyclic && mission_.laps > 0 && f.laps_completed + 1 < mission_.laps) {
+    double lap = Distance(w.back().pose.translation(), w.front().pose.translation());
+    for (size_t j = 1; j < w.size(); ++j) lap += leg(j);
+    rest += lap * (mission_.laps - f.laps_completed - 1);
+  }
+  if (mission_.max_distance > 0.0) {
+    const double left = std::max(0.0, mission_.max_distance - f.distance_travelled);
+    rest = mission_.cyclic && mission_.laps == 0 ? left : std::min(rest, left);
+  }
+  // The mission's own average speed once it has one; before that, a guess from the cruise speed.
+  const double speed = moving_time_ > 5.0 ? std::max(0.05, f.distance_travelled / moving_time_)
+                                          : 0.6 * options_.follower.v_nav;
+  f.eta = rest / speed;
 }
 
 WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
   std::lock_guard<std::mutex> lock(mutex_);
-  last_pose_ = pose;
   const bool stale_changed = status_.sensors_stale == sensors_fresh;
   status_.sensors_stale = !sensors_fresh;
   if (!status_.active) {
+    TrackLocked(pose, now, false);
     status_.feedback.pose = pose;
     status_.feedback.stamp = now;
     if (stale_changed) BumpLocked();
     return {};
   }
+  if (status_.paused) {
+    TrackLocked(pose, now, false);
+    UpdateFeedbackLocked(NavigationState::kPaused, pose, now);
+    BumpLocked();
+    return {};
+  }
   if (!sensors_fresh) {
+    TrackLocked(pose, now, false);
+    StopProgressClockLocked(now);
     if (stale_since_ < 0) stale_since_ = now;
     if (now - stale_since_ > options_.stale_timeout) {
       char msg[64];
@@ -116,24 +274,39 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
       FinishLocked(Outcome::kFailed, msg, pose, now);
       return {};
     }
-    status_.feedback.state = NavigationState::kStoppedStaleSensors;
-    status_.feedback.stamp = now;
+    status_.hold_reason = "sensors stale";
+    UpdateFeedbackLocked(NavigationState::kStoppedStaleSensors, pose, now);
     BumpLocked();
     return {};
   }
-  if (stale_since_ >= 0) {
-    // Time spent stopped for stale sensors is not the robot's lack of progress.
-    best_remaining_at_ += now - stale_since_;
-    stale_since_ = -1.0;
+  stale_since_ = -1.0;
+  status_.hold_reason.clear();
+  if (held_since_ >= 0.0) {
+    // Time spent stopped (stale sensors, pause, another behaviour) is not a lack of progress.
+    best_remaining_at_ += now - held_since_;
+    held_since_ = -1.0;
+  }
+  TrackLocked(pose, now, true);
+  if (mission_.max_distance > 0.0 && status_.feedback.distance_travelled >= mission_.max_distance) {
+    char msg[96];
+    std::snprintf(msg, sizeof msg, "travelled %.1f m, the mission's max_distance", status_.feedback.distance_travelled);
+    FinishLocked(Outcome::kSucceeded, msg, pose, now);
+    return {};
+  }
+  if (leg_needs_path_) {  // the executive plans it before the next step
+    UpdateFeedbackLocked(NavigationState::kPlanning, pose, now);
+    BumpLocked();
+    return {};
   }
   const FollowerCommand cmd = follower_.Step(pose);
   if (cmd.state == FollowerState::kArrived) {
-    FinishLocked(Outcome::kSucceeded, "goal reached", pose, now);
+    if (AdvanceLocked(pose, now)) {
+      UpdateFeedbackLocked(NavigationState::kPlanning, pose, now);
+      BumpLocked();
+    }
     return {};
   }
-  status_.feedback = {FromFollower(cmd.state), pose, follower_.DistanceRemaining(pose),
-                      static_cast<uint32_t>(follower_.waypoint_index()),
-                      static_cast<uint32_t>(follower_.waypoint_count()), now};
+  UpdateFeedbackLocked(FromFollower(cmd.state), pose, now);
   if (status_.feedback.distance_remaining < best_remaining_ - options_.progress_distance ||
       cmd.state == FollowerState::kFinalRotation) {
     best_remaining_ = status_.feedback.distance_remaining;
@@ -147,6 +320,28 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
   }
   BumpLocked();
   return cmd.wheels;
+}
+
+void Navigator::Hold(const Pose2& pose, double now, NavigationState state, const std::string& reason,
+                     bool sensors_fresh) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  TrackLocked(pose, now, false);
+  if (status_.sensors_stale == sensors_fresh) {
+    status_.sensors_stale = !sensors_fresh;
+    BumpLocked();
+  }
+  if (!status_.active) return;
+  StopProgressClockLocked(now);
+  status_.hold_reason = reason;
+  if (!status_.paused) leg_needs_path_ = true;
+  UpdateFeedbackLocked(status_.paused ? NavigationState::kPaused : state, pose, now);
+  BumpLocked();
+}
+
+void Navigator::SetBehaviour(const std::string& behaviour, std::vector<ProcessUtility> utilities) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  status_.feedback.behaviour = behaviour;
+  status_.feedback.utilities = std::move(utilities);
 }
 
 NavigationStatus Navigator::Status() const {

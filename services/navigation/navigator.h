@@ -1,8 +1,11 @@
 #pragma once
-// The navigation executive, first version: one goal at a time, followed with PathFollower, with
-// the life cycle clients see (active -> succeeded / failed / cancelled / preempted), stale-sensor
-// stops, and a change counter that streaming handlers wait on. Thread-safe: the control loop
-// calls Step, gRPC handlers call the rest. Map frame, metres, radians, seconds of the daemon clock.
+// The navigator: runs one mission at a time (a goal, or waypoints in order, optionally cyclic),
+// leg by leg with PathFollower, with the life cycle clients see (active -> succeeded / failed /
+// cancelled / preempted), pause and resume, holds while another motor behaviour has the robot,
+// stale-sensor stops, progress feedback (distance left, distance travelled, ETA) and a change
+// counter that streaming handlers wait on. It does not plan: when a leg needs a path it says so
+// (LegToPlan) and the executive plans it. Thread-safe: the control loop calls Step/Hold and the
+// leg functions, gRPC handlers the rest. Map frame, metres, radians, seconds of the daemon clock.
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -13,11 +16,21 @@
 #include "services/common/diff_drive.h"
 #include "services/common/pose2.h"
 #include "services/navigation/path_follower.h"
+#include "services/navigation/utility_decision_maker.h"
 
 namespace navd::navigation {
 
 // Mirrors navd.v1.NavigationState.
-enum class NavigationState { kIdle = 1, kRotating = 2, kDriving = 3, kFinalRotation = 4, kStoppedStaleSensors = 5 };
+enum class NavigationState {
+  kIdle = 1,
+  kRotating = 2,
+  kDriving = 3,
+  kFinalRotation = 4,
+  kStoppedStaleSensors = 5,
+  kPaused = 6,
+  kEmergencyStop = 7,   // held by the emergency-stop behaviour (contact, lost pose)
+  kPlanning = 8,        // between legs, or replanning after a hold or resume
+};
 // Mirrors navd.v1.Outcome.
 enum class Outcome { kNone = 0, kSucceeded = 1, kFailed = 2, kCanceled = 3, kPreempted = 4 };
 
@@ -26,29 +39,51 @@ struct NavigationGoal {
   bool use_heading = false;
 };
 
+// Waypoints visited in order. A single waypoint is a NavigateTo goal.
+struct Mission {
+  std::vector<NavigationGoal> waypoints;
+  bool cyclic = false;        // after the last waypoint, start over at the first
+  uint32_t laps = 0;          // with cyclic: end after this many laps; 0 = until cancelled
+  double max_distance = 0.0;  // m: end (succeeded) after travelling this far; 0 = no limit
+};
+
 struct NavigationResult {
   Outcome outcome = Outcome::kNone;
   std::string message;
   Pose2 final_pose;
-  double distance_to_goal = 0.0;
+  double distance_to_goal = 0.0;   // to the current waypoint when the mission ended
   double elapsed = 0.0;
-  double path_length = 0.0;
+  double path_length = 0.0;        // planned length of every leg started
+  double distance_travelled = 0.0;
+  uint32_t waypoints_reached = 0;
 };
 
 struct NavigationFeedback {
   NavigationState state = NavigationState::kIdle;
   Pose2 pose;
-  double distance_remaining = 0.0;
-  uint32_t waypoint_index = 0;
+  double distance_remaining = 0.0;   // m along the current leg's path
+  uint32_t waypoint_index = 0;       // path point being steered to
   uint32_t waypoint_count = 0;
   double stamp = 0.0;
+  uint32_t mission_index = 0;        // mission waypoint being driven to
+  uint32_t mission_count = 0;
+  uint32_t laps_completed = 0;
+  uint32_t waypoints_reached = 0;
+  double distance_travelled = 0.0;   // m since the mission started (estimated poses)
+  // s until the mission ends (until the end of the lap for an endless cyclic one), from the
+  // distance left (current leg's path, straight lines after it) and the mission's average speed.
+  double eta = 0.0;
+  std::string behaviour;             // the motor behaviour in control
+  std::vector<ProcessUtility> utilities;
 };
 
 struct NavigationStatus {
-  uint64_t goal_id = 0;          // id of the active or last goal; 0 before the first
+  uint64_t goal_id = 0;          // id of the active or last mission; 0 before the first
   bool active = false;
+  bool paused = false;
   bool sensors_stale = false;
-  NavigationGoal goal;
+  std::string hold_reason;       // why the robot is held, while it is
+  NavigationGoal goal;           // the current mission waypoint
   NavigationFeedback feedback;
   std::optional<NavigationResult> last_result;
   uint64_t sequence = 0;         // increments on every change
@@ -56,8 +91,9 @@ struct NavigationStatus {
 
 struct NavigatorOptions {
   PathFollowerParams follower;
-  // A goal fails when the distance left has not shrunk by progress_distance for progress_timeout
-  // seconds (the robot is stuck, e.g. pushing against an unmapped obstacle)...
+  // A mission fails when the distance left on a leg has not shrunk by progress_distance for
+  // progress_timeout seconds of driving (the robot is stuck, e.g. pushing against an unmapped
+  // obstacle)...
   double progress_timeout = 30.0;   // s
   double progress_distance = 0.05;  // m
   // ...or when sensors stayed stale this long.
@@ -68,39 +104,73 @@ class Navigator {
  public:
   explicit Navigator(const NavigatorOptions& options = {}) : options_(options), follower_(options.follower) {}
 
-  // Starts following `path` (start first) to `goal`. When a goal is active: throws
-  // navd::Error(kFailedPrecondition) unless preempt, in which case the old goal ends PREEMPTED.
-  // Returns the new goal's id.
-  uint64_t Start(const NavigationGoal& goal, const std::vector<Point2>& path, double path_length, double now,
+  // Starts `mission` with `path` (start first) for its first leg. When a mission is active: throws
+  // navd::Error(kFailedPrecondition) unless preempt, in which case the old one ends PREEMPTED.
+  // Returns the new mission's id.
+  uint64_t Start(const Mission& mission, const std::vector<Point2>& path, double path_length, double now,
                  bool preempt);
-  // Cancels the active goal (any goal when goal_id is 0). Returns whether one was cancelled.
+  uint64_t Start(const NavigationGoal& goal, const std::vector<Point2>& path, double path_length, double now,
+                 bool preempt) {
+    return Start(Mission{{goal}}, path, path_length, now, preempt);
+  }
+  // Cancels the active mission (any when goal_id is 0). Returns whether one was cancelled.
   bool Cancel(uint64_t goal_id = 0);
-  // One control step: returns the wheel command. sensors_fresh=false stops the robot and holds
-  // the goal until sensors return.
+  // Pause stops the robot and keeps the mission; Resume replans from where the robot is then.
+  // Both throw navd::Error(kFailedPrecondition) with no active mission, or when already
+  // paused / not paused.
+  void Pause(double now);
+  void Resume(double now);
+
+  // The waypoint whose leg needs a path now (after a leg, a resume or a hold), if any.
+  std::optional<NavigationGoal> LegToPlan() const;
+  void SetLegPath(const std::vector<Point2>& path, double path_length, double now);
+  // Ends the active mission FAILED (e.g. no path to its next waypoint).
+  void Abort(const std::string& why, double now);
+
+  // One control step of the navigation behaviour: returns the wheel command. sensors_fresh=false
+  // stops the robot and holds the mission until sensors return.
   WheelSpeeds Step(const Pose2& pose, double now, bool sensors_fresh);
+  // Another motor behaviour has the robot this step (state says which kind); the progress clock
+  // stops, and the leg is replanned when navigation gets the robot back.
+  void Hold(const Pose2& pose, double now, NavigationState state, const std::string& reason, bool sensors_fresh);
+  // The decision maker's standing, carried in the feedback.
+  void SetBehaviour(const std::string& behaviour, std::vector<ProcessUtility> utilities);
 
   NavigationStatus Status() const;
-  // The result of goal `goal_id` once it has ended.
+  // The result of mission `goal_id` once it has ended.
   std::optional<NavigationResult> ResultOf(uint64_t goal_id) const;
   // Blocks until the status sequence passes `seen` or `timeout_s` elapses; returns the sequence.
   uint64_t WaitForChange(uint64_t seen, double timeout_s) const;
+  const NavigatorOptions& options() const { return options_; }
 
  private:
   void FinishLocked(Outcome outcome, const std::string& message, const Pose2& pose, double now);
   void BumpLocked();
+  // Books the robot's motion from last_pose_ to `pose` and the time since the last step.
+  void TrackLocked(const Pose2& pose, double now, bool moving);
+  // The current leg is done: next waypoint, next lap, or the end. Returns false when it ended.
+  bool AdvanceLocked(const Pose2& pose, double now);
+  void UpdateFeedbackLocked(NavigationState state, const Pose2& pose, double now);
+  void StopProgressClockLocked(double now);
 
   NavigatorOptions options_;
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
   PathFollower follower_;
-  double best_remaining_ = 0.0;     // smallest distance left so far (progress check)
+  Mission mission_;
+  bool leg_needs_path_ = false;
+  double best_remaining_ = 0.0;     // smallest distance left on this leg so far (progress check)
   double best_remaining_at_ = 0.0;  // when it was reached
+  double held_since_ = -1.0;        // when a stop (stale, pause, hold) began; < 0 while driving
   double stale_since_ = -1.0;       // when sensors went stale; < 0 while fresh
   NavigationStatus status_;
-  std::vector<std::pair<uint64_t, NavigationResult>> results_;  // recent results by goal id
+  std::vector<std::pair<uint64_t, NavigationResult>> results_;  // recent results by mission id
   double started_at_ = 0.0;
+  double moving_time_ = 0.0;        // s the navigation behaviour drove (for the ETA's speed)
+  double last_step_ = -1.0;
   double path_length_ = 0.0;
   Pose2 last_pose_;
+  bool have_pose_ = false;
 };
 
 const char* NavigationStateName(NavigationState s);

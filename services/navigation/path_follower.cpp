@@ -79,7 +79,7 @@ FollowerCommand PathFollower::Step(const Pose2& pose) {
     state_ = FollowerState::kDriving;
   }
   double v_nav = p_.v_nav;
-  if (last) v_nav = std::clamp(p_.v_nav * dist / p_.approach_distance, p_.min_speed, p_.v_nav);
+  if (last) v_nav = std::clamp(std::sqrt(2.0 * p_.approach_decel * dist), p_.min_speed, p_.v_nav);
   const double dv = p_.k_p * v_nav * dphi;
   return {ClampWheels({v_nav - dv, v_nav + dv}, p_.max_wheel_speed), state_};
 }

@@ -4,7 +4,7 @@
 //   v_L = V_nav - dV,  v_R = V_nav + dV,  dV = K_p * V_nav * dphi,
 // and advance to the next waypoint within d_p of the current one. Two additions keep it precise:
 // hysteresis (after a rotation it drives once |dphi| < delta_resume, not just below delta), and a
-// slow final approach that stops within goal_tolerance of the goal rather than d_p.
+// braking final approach (v = sqrt(2 a d)) that stops within goal_tolerance of the goal rather than d_p.
 // Poses in the map frame; metres, radians, m/s at the wheel rim.
 #include <optional>
 #include <vector>
@@ -15,18 +15,20 @@
 namespace navd::navigation {
 
 struct PathFollowerParams {
-  double heading_threshold = 0.35;    // delta, rad: rotate in place above this
-  double heading_resume = 0.10;       // rad: stop rotating below this
-  double v_nav = 0.30;                // V_nav, m/s
+  double heading_threshold = 0.8;     // delta, rad: rotate in place above this
+  double heading_resume = 0.25;       // rad: stop rotating below this
+  double v_nav = 0.5;                 // V_nav, m/s
   double k_p = 1.0;                   // K_p, 1/rad
-  double waypoint_radius = 0.15;      // d_p, m
-  double waypoint_spacing = 0.50;     // d_wp, m: the path is densified to at most this spacing
+  // d_p, m: a waypoint counts as reached within this. With waypoints closer than d_p the robot
+  // steers towards a point about d_p ahead on the path, which rounds corners instead of stopping.
+  double waypoint_radius = 0.35;
+  double waypoint_spacing = 0.25;     // d_wp, m: the path is densified to at most this spacing
   double goal_tolerance = 0.05;       // m
   double goal_heading_tolerance = 0.05;  // rad
-  double approach_distance = 0.40;    // m: slow down linearly within this of the goal
+  double approach_decel = 0.6;        // m/s^2: the final approach slows as sqrt(2 a d)
   double min_speed = 0.04;            // m/s: slowest approach and rotation wheel speed
-  double rotate_speed = 0.15;         // m/s: wheel speed when turning in place
-  double rotate_gain = 0.4;           // (m/s)/rad: turning slows near the target heading
+  double rotate_speed = 0.3;          // m/s: wheel speed when turning in place
+  double rotate_gain = 0.6;           // (m/s)/rad: turning slows near the target heading
   double wheel_base = 0.33;           // m
   double max_wheel_speed = 0.5;       // m/s
 };

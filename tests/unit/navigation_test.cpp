@@ -58,6 +58,7 @@ TEST(PathFollower, RotatesInPlaceWhenHeadingErrorExceedsDelta) {
 
 TEST(PathFollower, DrivesWithSeedZeroProportionalLaw) {
   PathFollowerParams p;
+  p.v_nav = 0.3;  // below the wheel limit, so the law is not scaled down
   PathFollower f(p);
   f.SetPath({{0, 0}, {2, 0}, {4, 0}}, std::nullopt);
   const double heading = -0.05;  // below delta_resume: drives at once
@@ -71,7 +72,10 @@ TEST(PathFollower, DrivesWithSeedZeroProportionalLaw) {
 }
 
 TEST(PathFollower, AdvancesWaypointsWithinDpAndStopsAtTheGoal) {
-  PathFollower f;
+  PathFollowerParams p;
+  p.waypoint_spacing = 0.5;  // d_wp
+  p.waypoint_radius = 0.15;  // d_p
+  PathFollower f(p);
   f.SetPath({{0, 0}, {1, 0}}, std::nullopt);
   EXPECT_EQ(f.waypoint_count(), 3u);  // densified to d_wp = 0.5
   f.Step({0.40, 0, 0});

@@ -1,0 +1,90 @@
+#include "client_lib/pose_error_meter.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace navd {
+
+namespace {
+constexpr double kTruthKept = 5.0;  // s of truth history
+}  // namespace
+
+void PoseErrorMeter::AddTruth(double stamp, const Pose2& truth) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!truth_.empty() && stamp <= truth_.back().first) {
+    if (stamp < truth_.back().first - 1.0) truth_.clear();  // the simulator restarted
+    else return;
+  }
+  const double travelled = odometer_.empty() || truth_.empty()
+                              ? 0.0
+                              : odometer_.back().second + Distance(truth.translation(), truth_.back().second.translation());
+  odometer_.emplace_back(stamp, travelled);
+  truth_.emplace_back(stamp, truth);
+  while (truth_.front().first < stamp - kTruthKept) truth_.pop_front();
+  MatchLocked();
+}
+
+void PoseErrorMeter::AddEstimate(double stamp, const Pose2& estimate) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  pending_.emplace_back(stamp, estimate);
+  MatchLocked();
+}
+
+void PoseErrorMeter::SetWindow(double from, double to) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  from_ = from;
+  to_ = to;
+}
+
+void PoseErrorMeter::MatchLocked() {
+  while (!pending_.empty() && !truth_.empty()) {
+    const auto [stamp, est] = pending_.front();
+    if (stamp > truth_.back().first) return;  // its truth has not arrived yet
+    pending_.pop_front();
+    if (stamp < truth_.front().first) continue;  // too old to match
+    size_t i = 1;
+    while (i < truth_.size() && truth_[i].first < stamp) ++i;
+    Pose2 truth = truth_.front().second;
+    if (i < truth_.size()) {
+      const auto& [ta, a] = truth_[i - 1];
+      const auto& [tb, b] = truth_[i];
+      const double s = tb > ta ? (stamp - ta) / (tb - ta) : 1.0;
+      truth = {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), a.theta + s * NormalizeAngle(b.theta - a.theta)};
+    }
+    errors_.emplace_back(Distance(est.translation(), truth.translation()), std::abs(NormalizeAngle(est.theta - truth.theta)));
+    stamps_.push_back(stamp);
+  }
+}
+
+double PoseErrorMeter::TimeToTravel(double distance, double from) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto first = std::lower_bound(odometer_.begin(), odometer_.end(), std::make_pair(from, -1e300));
+  if (first == odometer_.end()) return -1.0;
+  for (auto it = first; it != odometer_.end(); ++it) {
+    if (it->second - first->second >= distance) return it->first - first->first;
+  }
+  return -1.0;
+}
+
+PoseErrorFigures PoseErrorMeter::Figures() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  PoseErrorFigures f;
+  double sum = 0, sum_sq = 0, heading = 0;
+  for (size_t k = 0; k < errors_.size(); ++k) {
+    if (stamps_[k] < from_ || stamps_[k] > to_) continue;
+    const double e = errors_[k].first;
+    ++f.samples;
+    sum += e;
+    sum_sq += e * e;
+    heading += errors_[k].second;
+    f.max_position = std::max(f.max_position, e);
+  }
+  if (f.samples > 0) {
+    f.mean_position = sum / f.samples;
+    f.rms_position = std::sqrt(sum_sq / f.samples);
+    f.mean_heading = heading / f.samples;
+  }
+  return f;
+}
+
+}  // namespace navd
