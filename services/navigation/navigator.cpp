@@ -57,6 +57,7 @@ std::optional<double> HeadingOf(const NavigationGoal& g) {
 // A pose estimate that jumps farther than this in one control step was re-anchored (set-pose,
 // relocalisation); the jump is not distance the robot travelled.
 constexpr double kMaxStepTravel = 0.5;  // m
+constexpr double kOdometerChord = 0.05;  // m
 }  // namespace
 
 uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& path, double path_length, double now,
@@ -84,6 +85,7 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
   f.laps_completed = 0;
   f.waypoints_reached = 0;
   f.distance_travelled = 0.0;
+  odometer_anchor_ = last_pose_.translation();
   started_at_ = now;
   moving_time_ = 0.0;
   last_step_ = now;
@@ -172,9 +174,18 @@ void Navigator::FinishLocked(Outcome outcome, const std::string& message, const 
 
 void Navigator::TrackLocked(const Pose2& pose, double now, bool moving) {
   if (status_.active && have_pose_) {
-    const double step = Distance(pose.translation(), last_pose_.translation());
-    if (step < kMaxStepTravel) status_.feedback.distance_travelled += step;
+    // Distance is booked in chords of at least kOdometerChord: summing every control step's
+    // displacement would also sum the estimate's millimetre jitter (about 1 % over 100 m).
+    const double step = Distance(pose.translation(), odometer_anchor_);
+    if (step >= kMaxStepTravel) {
+      odometer_anchor_ = pose.translation();  // a re-anchored estimate, not travel
+    } else if (step >= kOdometerChord) {
+      status_.feedback.distance_travelled += step;
+      odometer_anchor_ = pose.translation();
+    }
     if (moving && last_step_ >= 0.0 && now > last_step_) moving_time_ += now - last_step_;
+  } else {
+    odometer_anchor_ = pose.translation();
   }
   last_step_ = now;
   last_pose_ = pose;

@@ -170,6 +170,7 @@ class Navigator {
   double last_step_ = -1.0;
   double path_length_ = 0.0;
   Pose2 last_pose_;
+  Point2 odometer_anchor_{0.0, 0.0};  // where distance_travelled was last booked
   bool have_pose_ = false;
 };
 

@@ -1,0 +1,142 @@
+// Waypoint missions end to end on real navsim + navd + navctl over loopback: seed 000's Run 1
+// figures, pause/resume, the decision maker's telemetry, and the missions' bad input.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "tests/support/navd_fixture.h"
+
+namespace navd::testing {
+namespace {
+
+std::string Scenario(const std::string& name) { return SourceDir() + "/worlds/scenarios/" + name + ".yaml"; }
+
+// Seed 000, Run 1: the warehouse's 11 targets cyclically, robot speed <= 0.5 m/s. The seed's robot
+// covered its first 100 m in 256 s with a mean position error of 0.063 m.
+TEST(DeliveryE2E, SeedZeroRunOneFirstHundredMetres) {
+  StackOptions options;
+  options.rate = 10.0;
+  options.sim_args = {"--scenario", Scenario("warehouse_run1")};
+  NavdStack stack(options);
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  const auto run = RunCommand({NavctlBinary(), "--server", stack.address(), "follow", "--scenario",
+                               Scenario("warehouse_run1"), "--cyclic", "--max-distance", "102", "--measure",
+                               "--domain", std::to_string(stack.domain()), "--json", "--timeout", "200"},
+                              240.0);
+  ASSERT_EQ(run.exit_code, 0) << run.output << stack.Logs();
+  const auto j = nlohmann::json::parse(run.output.substr(run.output.find('{')));
+  const auto& truth = j.at("truth");
+  std::printf("run 1: first 100 m in %.1f s, mean position error %.4f m (max %.4f), collisions %d\n",
+              truth.value("time_to_first_100m", -1.0), truth.at("mean_position_error").get<double>(),
+              truth.at("max_position_error").get<double>(), truth.at("collisions").get<int>());
+  EXPECT_EQ(truth.at("collisions").get<int>(), 0);
+  ASSERT_TRUE(truth.contains("time_to_first_100m")) << run.output;
+  EXPECT_LE(truth.at("time_to_first_100m").get<double>(), 256.0);
+  EXPECT_LE(truth.at("mean_position_error").get<double>(), 0.03);
+  EXPECT_GT(truth.at("samples").get<int>(), 1000);
+  EXPECT_GE(j.at("waypoints_reached").get<int>(), 22);  // two laps and more
+}
+
+TEST(DeliveryE2E, PauseHoldsTheRobotResumeFinishesAndFeedbackExplains) {
+  NavdStack stack;
+  const auto telemetry = stack.MakeTelemetry();
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  Client& client = stack.client();
+  // No mission: nothing to pause or resume, and cancel reports there was nothing active.
+  for (const auto& call : {std::function<void()>([&] { client.Pause(); }), std::function<void()>([&] { client.Resume(); })}) {
+    try {
+      call();
+      ADD_FAILURE() << "pause/resume without a mission was accepted";
+    } catch (const ClientError& e) {
+      EXPECT_EQ(e.code(), grpc::StatusCode::FAILED_PRECONDITION) << e.what();
+    }
+  }
+  EXPECT_FALSE(client.Cancel());
+
+  std::thread operator_thread([&] {
+    for (int i = 0; i < 300 && !client.GetStatus().active(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    Client other({stack.address(), 5.0});
+    other.Pause();
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));
+    EXPECT_TRUE(RobotStandsStill(*telemetry, 0.4));
+    const auto s = other.GetStatus();
+    EXPECT_TRUE(s.paused());
+    EXPECT_EQ(s.state(), v1::PAUSED);
+    other.Resume();
+  });
+  v1::FollowWaypointsRequest req;
+  for (const auto& [x, y] : {std::pair{0.8, 3.0}, {3.0, 2.6}, {0.8, 1.6}}) {
+    auto* w = req.add_waypoints();
+    w->set_x(x);
+    w->set_y(y);
+  }
+  std::vector<v1::NavigationFeedback> feedback;
+  const auto result =
+      client.FollowWaypoints(req, [&](const v1::NavigationFeedback& f) { feedback.push_back(f); }, 150.0);
+  operator_thread.join();
+  ASSERT_EQ(result.outcome(), v1::SUCCEEDED) << result.message() << stack.Logs();
+  EXPECT_EQ(result.waypoints_reached(), 3u);
+  EXPECT_GT(result.distance_travelled(), 6.0);
+  bool paused = false, explained = false;
+  uint32_t highest = 0;
+  for (const auto& f : feedback) {
+    paused = paused || f.state() == v1::PAUSED;
+    highest = std::max(highest, f.mission_index());
+    if (f.behaviour() == "navigation" && f.eta() > 0.0 && !f.utilities().empty()) {
+      int motors = 0;
+      for (const auto& u : f.utilities()) motors += u.motor() && u.active() ? 1 : 0;
+      explained = motors == 1;
+    }
+  }
+  EXPECT_TRUE(paused);
+  EXPECT_TRUE(explained) << "feedback lacks the behaviour, the ETA or one active motor behaviour";
+  EXPECT_EQ(highest, 2u);
+  EXPECT_FALSE(client.Cancel());  // the mission has finished
+  // The DDS status carries the decision maker too.
+  const auto status = telemetry->LatestStatus();
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->behaviour(), "navigation");
+  EXPECT_FALSE(status->utilities().empty());
+}
+
+TEST(DeliveryE2E, BadMissionsAreRejectedWithTheFieldNamed) {
+  NavdStack stack;
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  Client& client = stack.client();
+  const auto expect = [&](const v1::FollowWaypointsRequest& req, grpc::StatusCode code, const std::string& word) {
+    try {
+      client.FollowWaypoints(req, {}, 10.0);
+      ADD_FAILURE() << "accepted a mission that names " << word;
+    } catch (const ClientError& e) {
+      EXPECT_EQ(e.code(), code) << e.what();
+      EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
+    }
+  };
+  v1::FollowWaypointsRequest req;
+  expect(req, grpc::StatusCode::INVALID_ARGUMENT, "waypoints");
+  auto* a = req.add_waypoints();
+  a->set_x(3.0);
+  a->set_y(2.6);
+  req.set_cyclic(true);
+  expect(req, grpc::StatusCode::INVALID_ARGUMENT, "cyclic");
+  auto* wall = req.add_waypoints();
+  wall->set_x(1.55);  // the corridor's inner wall
+  wall->set_y(3.0);
+  expect(req, grpc::StatusCode::INVALID_ARGUMENT, "waypoints[1]");
+  wall->set_x(25.0);  // outside the map
+  expect(req, grpc::StatusCode::INVALID_ARGUMENT, "waypoints[1]");
+  wall->set_x(0.8);
+  wall->set_y(1.6);
+  req.set_cyclic(false);
+  req.set_laps(2);
+  expect(req, grpc::StatusCode::INVALID_ARGUMENT, "laps");
+  req.set_laps(0);
+  req.set_max_distance(-1.0);
+  expect(req, grpc::StatusCode::INVALID_ARGUMENT, "max_distance");
+  EXPECT_FALSE(client.GetStatus().active());
+}
+
+}  // namespace
+}  // namespace navd::testing

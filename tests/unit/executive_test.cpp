@@ -1,0 +1,248 @@
+// The executive's parts without transport: utility-function decision making (seed 000 section 3),
+// the brain file, and waypoint missions in the navigator.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "services/common/diff_drive.h"
+#include "services/common/error.h"
+#include "services/navigation/navigator.h"
+#include "services/navigation/utility_decision_maker.h"
+
+namespace navd::navigation {
+namespace {
+
+UtilityBrainOptions TwoBehaviours() {
+  UtilityBrainOptions o;
+  o.state_variables = {"danger"};
+  o.processes = {{"navigation", ProcessKind::kMotor, 0.1, 1.0, 0.25},
+                 {"avoid", ProcessKind::kMotor, 0.1, 1.0, -0.45, {{"danger", 1.0}}},
+                 {"watch", ProcessKind::kCognitive, 0.1, 1.0, -0.2, {{"danger", 1.0}}}};
+  return o;
+}
+
+TEST(UtilityDecisionMaker, UtilitiesFollowTheFirstOrderLawExactly) {
+  UtilityDecisionMaker brain(TwoBehaviours());
+  // u(t) = tanh(b) (1 - exp(-t / tau)) from u(0) = 0 with z held at 0.
+  for (int i = 0; i < 10; ++i) brain.Update(0.01, {0.0});
+  EXPECT_NEAR(brain.utility(0), std::tanh(0.25) * (1 - std::exp(-1.0)), 1e-12);
+  EXPECT_NEAR(brain.utility(1), std::tanh(-0.45) * (1 - std::exp(-1.0)), 1e-12);
+  // The step size does not matter for held inputs: one step of 0.1 s lands on the same value.
+  UtilityDecisionMaker coarse(TwoBehaviours());
+  coarse.Update(0.1, {0.0});
+  EXPECT_NEAR(coarse.utility(0), brain.utility(0), 1e-12);
+}
+
+TEST(UtilityDecisionMaker, ExactlyOneMotorBehaviourAndEveryPositiveCognitiveProcess) {
+  UtilityDecisionMaker brain(TwoBehaviours());
+  for (int i = 0; i < 100; ++i) brain.Update(0.02, {0.0});
+  EXPECT_EQ(brain.name(brain.active_motor()), "navigation");
+  EXPECT_TRUE(brain.active(0));
+  EXPECT_FALSE(brain.active(1));
+  EXPECT_FALSE(brain.active(2));  // tanh(-0.2) < 0
+  // Danger 1: avoidance's target tanh(0.55) = 0.50 beats navigation's 0.245; the watcher turns on.
+  for (int i = 0; i < 100; ++i) brain.Update(0.02, {1.0});
+  EXPECT_EQ(brain.name(brain.active_motor()), "avoid");
+  EXPECT_FALSE(brain.active(0));
+  EXPECT_TRUE(brain.active(2));
+  int motors = 0;
+  for (size_t i = 0; i < 2; ++i) motors += brain.active(i) ? 1 : 0;
+  EXPECT_EQ(motors, 1);
+}
+
+TEST(UtilityDecisionMaker, GammaSetOnActivationHoldsTheBehaviourThenDecays) {
+  UtilityBrainOptions o = TwoBehaviours();
+  o.processes[1].gamma_on_activation = 3.0;  // seed 000: Gamma_5 = 3 in avoidance's state 1
+  o.processes[1].gamma_tau = 1.0;
+  UtilityDecisionMaker brain(o);
+  for (int i = 0; i < 50; ++i) brain.Update(0.02, {0.0});
+  // A moment of danger activates avoidance, which sets its gamma...
+  double t = 0.0;
+  while (brain.active_motor() != 1u && t < 1.0) {
+    brain.Update(0.02, {1.0});
+    t += 0.02;
+  }
+  ASSERT_EQ(brain.active_motor(), 1u);
+  EXPECT_DOUBLE_EQ(brain.Snapshot()[1].gamma, 3.0);
+  // ... which keeps it in control after the danger is gone, until 3 e^{-t} - 0.45 < 0.25, i.e.
+  // about 1.46 s after activation with tau_Gamma = 1 s (plus the utilities' 0.1 s lag).
+  t = 0.0;
+  while (brain.active_motor() == 1u && t < 10.0) {
+    brain.Update(0.02, {0.0});
+    t += 0.02;
+  }
+  EXPECT_GT(t, 1.2);
+  EXPECT_LT(t, 1.9);
+  EXPECT_EQ(brain.name(brain.active_motor()), "navigation");
+  // A process can end itself at once with a large negative gamma.
+  for (int i = 0; i < 50; ++i) brain.Update(0.02, {1.0});
+  ASSERT_EQ(brain.active_motor(), 1u);
+  brain.SetGamma(1, -10.0);
+  for (int i = 0; i < 10; ++i) brain.Update(0.02, {1.0});
+  EXPECT_EQ(brain.active_motor(), 0u);
+}
+
+TEST(UtilityDecisionMaker, RejectsBrainsThatCannotWork) {
+  UtilityBrainOptions none = TwoBehaviours();
+  none.processes = {{"watch", ProcessKind::kCognitive, 0.1, 1.0, 0.5}};
+  EXPECT_THROW(UtilityDecisionMaker{none}, Error);
+  UtilityBrainOptions twice = TwoBehaviours();
+  twice.processes.push_back(twice.processes[0]);
+  EXPECT_THROW(UtilityDecisionMaker{twice}, Error);
+  UtilityBrainOptions unknown = TwoBehaviours();
+  unknown.processes[1].a = {{"dangr", 1.0}};
+  try {
+    UtilityDecisionMaker brain(unknown);
+    FAIL() << "accepted a weight on an unknown state variable";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("dangr"), std::string::npos) << e.what();
+  }
+  UtilityBrainOptions slow = TwoBehaviours();
+  slow.processes[0].tau = 0.0;
+  EXPECT_THROW(UtilityDecisionMaker{slow}, Error);
+}
+
+TEST(BrainFile, ShippedFileIsTheBuiltInDefault) {
+  const UtilityBrainOptions file = LoadBrainFile(std::string(NAVD_SOURCE_DIR) + "/config/brain.yaml");
+  const UtilityBrainOptions builtin = DefaultBrainOptions();
+  ASSERT_EQ(file.state_variables, builtin.state_variables);
+  ASSERT_EQ(file.processes.size(), builtin.processes.size());
+  for (size_t i = 0; i < file.processes.size(); ++i) {
+    const auto &a = file.processes[i], &b = builtin.processes[i];
+    EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.kind, b.kind) << a.name;
+    EXPECT_DOUBLE_EQ(a.tau, b.tau) << a.name;
+    EXPECT_DOUBLE_EQ(a.c, b.c) << a.name;
+    EXPECT_DOUBLE_EQ(a.b, b.b) << a.name;
+    EXPECT_EQ(a.a, b.a) << a.name;
+    EXPECT_DOUBLE_EQ(a.gamma_tau, b.gamma_tau) << a.name;
+    EXPECT_DOUBLE_EQ(a.gamma_on_activation, b.gamma_on_activation) << a.name;
+  }
+}
+
+TEST(BrainFile, ErrorsNameTheFileLineAndField) {
+  const auto message = [](const std::string& text) {
+    try {
+      ParseBrain(text, "b.yaml");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_NE(message("state_variables: [a]\nprocesses:\n  - {name: n, kind: motr}\n").find("processes[0].kind"),
+            std::string::npos);
+  EXPECT_NE(message("state_variables: [a]\nprocesses:\n  - {name: n, kind: motor, tau: -1}\n").find("b.yaml:3"),
+            std::string::npos);
+  EXPECT_NE(message("state_variables: [a]\nprocesses:\n  - {name: n, kind: motor, a: {b: 1}}\n").find("a.b"),
+            std::string::npos);
+  EXPECT_NE(message("state_variables: [a]\nprocesses:\n  - {name: n, kind: cognitive}\n").find("motor"),
+            std::string::npos);
+  EXPECT_NE(message("state_variables: [a]\nprocesses: []\nextra: 1\n").find("extra"), std::string::npos);
+}
+
+// Drives a navigator's mission on exact kinematics; returns the number of control steps.
+int Drive(Navigator& nav, Pose2& pose, double& t, int max_steps, const std::function<void()>& between = {}) {
+  const double dt = 0.05;
+  int steps = 0;
+  for (; steps < max_steps && nav.Status().active; ++steps) {
+    if (auto leg = nav.LegToPlan()) nav.SetLegPath({pose.translation(), leg->pose.translation()}, 0.0, t);
+    const WheelSpeeds w = nav.Step(pose, t, true);
+    pose = IntegrateDiffDrive(pose, w.left * dt, w.right * dt, nav.options().follower.wheel_base);
+    t += dt;
+    if (between) between();
+  }
+  return steps;
+}
+
+TEST(NavigatorMission, VisitsWaypointsInOrderForTheRequestedLaps) {
+  Navigator nav;
+  Pose2 pose{0, 0, 0};
+  double t = 0.0;
+  nav.Step(pose, t, true);
+  Mission m;
+  m.waypoints = {{{2, 0, 0}}, {{2, 2, 0}}, {{0, 2, 0}}};
+  m.cyclic = true;
+  m.laps = 2;
+  const uint64_t id = nav.Start(m, {{0, 0}, {2, 0}}, 2.0, t, false);
+  std::vector<uint32_t> order;
+  Drive(nav, pose, t, 20000, [&] {
+    const uint32_t i = nav.Status().feedback.mission_index;
+    if (order.empty() || order.back() != i) order.push_back(i);
+  });
+  const auto r = nav.ResultOf(id);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->outcome, Outcome::kSucceeded) << r->message;
+  EXPECT_EQ(r->waypoints_reached, 6u);
+  EXPECT_EQ(order, (std::vector<uint32_t>{0, 1, 2, 0, 1, 2}));
+  // 2 + 2 + 2 the first lap; 2.83 back to the first waypoint and 2 + 2 the second; less the
+  // corners cut.
+  EXPECT_GT(r->distance_travelled, 12.0);
+  EXPECT_LT(r->distance_travelled, 12.9);
+  EXPECT_LT(Distance(pose.translation(), {0, 2}), 0.06);
+}
+
+TEST(NavigatorMission, EndsAfterMaxDistanceAndReportsAFallingEta) {
+  Navigator nav;
+  Pose2 pose{0, 0, 0};
+  double t = 0.0;
+  nav.Step(pose, t, true);
+  Mission m;
+  m.waypoints = {{{3, 0, 0}}, {{0, 0, 0}}};
+  m.cyclic = true;  // endless: only the distance ends it
+  m.max_distance = 10.0;
+  const uint64_t id = nav.Start(m, {{0, 0}, {3, 0}}, 3.0, t, false);
+  std::vector<double> etas;
+  Drive(nav, pose, t, 20000, [&] {
+    const auto s = nav.Status();
+    if (s.active) etas.push_back(s.feedback.eta);
+  });
+  const auto r = nav.ResultOf(id);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->outcome, Outcome::kSucceeded);
+  EXPECT_NE(r->message.find("max_distance"), std::string::npos) << r->message;
+  EXPECT_GE(r->distance_travelled, 10.0);
+  EXPECT_LT(r->distance_travelled, 10.2);
+  // With an endless mission and a distance limit, the ETA is the distance left at the mission's pace.
+  ASSERT_GT(etas.size(), 100u);
+  EXPECT_GT(etas[etas.size() / 4], etas[3 * etas.size() / 4]);
+  EXPECT_LT(etas.back(), 1.0);
+}
+
+TEST(NavigatorMission, PauseStopsTheRobotAndResumeReplans) {
+  Navigator nav;
+  Pose2 pose{0, 0, 0};
+  double t = 0.0;
+  nav.Step(pose, t, true);
+  EXPECT_THROW(nav.Pause(t), Error);  // nothing to pause
+  const uint64_t id = nav.Start(NavigationGoal{{4, 0, 0}}, {{0, 0}, {4, 0}}, 4.0, t, false);
+  for (int i = 0; i < 40; ++i) {
+    const WheelSpeeds w = nav.Step(pose, t, true);
+    pose = IntegrateDiffDrive(pose, w.left * 0.05, w.right * 0.05, 0.33);
+    t += 0.05;
+  }
+  nav.Pause(t);
+  EXPECT_THROW(nav.Pause(t), Error);  // already paused
+  for (int i = 0; i < 2000; ++i) {  // 100 s paused: longer than the progress timeout, and no failure
+    const WheelSpeeds w = nav.Step(pose, t, true);
+    EXPECT_EQ(w.left, 0.0);
+    EXPECT_EQ(w.right, 0.0);
+    t += 0.05;
+  }
+  EXPECT_TRUE(nav.Status().active);
+  EXPECT_EQ(nav.Status().feedback.state, NavigationState::kPaused);
+  pose = {1.5, 0.5, 0.3};  // pushed aside while paused
+  nav.Resume(t);
+  EXPECT_THROW(nav.Resume(t), Error);
+  ASSERT_TRUE(nav.LegToPlan());  // replans from where the robot is now
+  Drive(nav, pose, t, 4000);
+  EXPECT_EQ(nav.ResultOf(id)->outcome, Outcome::kSucceeded);
+  EXPECT_LT(Distance(pose.translation(), {4, 0}), 0.06);
+}
+
+TEST(NavigatorMission, RejectsAnEmptyMission) {
+  Navigator nav;
+  EXPECT_THROW(nav.Start(Mission{}, {}, 0.0, 0.0, false), Error);
+}
+
+}  // namespace
+}  // namespace navd::navigation
