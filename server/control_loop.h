@@ -12,7 +12,7 @@ namespace navd::server {
 
 struct ControlLoopOptions {
   double rate = 20.0;            // Hz
-  double sensor_timeout = 0.5;   // s
+  double sensor_timeout = 0.3;   // s
   double wheel_base = 0.33;      // m, to turn wheel speeds into a twist
 };
 

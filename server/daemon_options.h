@@ -17,7 +17,7 @@ struct DaemonOptions {
   std::string localizer = "amcl";   // amcl | odometry
   std::string brain_path;           // utility-function brain YAML; empty: the built-in default
   double control_rate = 20.0;       // Hz, in the daemon's clock
-  double sensor_timeout = 0.5;      // s without odometry before the robot is stopped
+  double sensor_timeout = 0.3;      // s without odometry or laser before the robot is stopped (3 scans)
   double inflation_margin = 0.10;   // m added to the robot radius for planning
   double cost_decay = 0.50;         // m of decaying cost beyond the inflation (keeps paths off walls)
   bool initial_pose_set = false;    // --initial-pose given

@@ -2,6 +2,8 @@
 // figures, pause/resume, the decision maker's telemetry, and the missions' bad input.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -99,6 +101,41 @@ TEST(DeliveryE2E, PauseHoldsTheRobotResumeFinishesAndFeedbackExplains) {
   ASSERT_TRUE(status);
   EXPECT_EQ(status->behaviour(), "navigation");
   EXPECT_FALSE(status->utilities().empty());
+}
+
+// Sensors go silent mid-mission (navsim frozen with SIGSTOP): navd stops and reports within the
+// sensor timeout, holds the mission, and finishes it once they return (SIGCONT).
+TEST(DeliveryE2E, SilentSensorsMidMissionStopReportAndResume) {
+  StackOptions options;
+  options.rate = 1.0;
+  options.use_sim_time = false;  // navd's own clock keeps running while the simulator is frozen
+  NavdStack stack(options);
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  std::optional<v1::NavigationResult> result;
+  std::thread mission([&] { result = stack.client().NavigateTo(0.8, 3.5, std::nullopt, {}, 120.0); });
+  Client watcher({stack.address(), 5.0});
+  for (int i = 0; i < 200 && watcher.GetStatus().state() != v1::DRIVING; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ASSERT_EQ(kill(stack.sim()->pid(), SIGSTOP), 0);
+  const auto silent = std::chrono::steady_clock::now();
+  double reported = -1.0;
+  for (int i = 0; i < 100 && reported < 0.0; ++i) {
+    const auto s = watcher.GetStatus();
+    if (s.sensors_stale() && s.state() == v1::STOPPED_STALE_SENSORS) {
+      reported = std::chrono::duration<double>(std::chrono::steady_clock::now() - silent).count();
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  std::printf("silent sensors reported after %.2f s\n", reported);
+  EXPECT_GT(reported, 0.0) << "navd never reported the silence";
+  EXPECT_LT(reported, 0.5);  // the 0.3 s sensor timeout plus a control period and polling
+  EXPECT_TRUE(watcher.GetStatus().active());
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  ASSERT_EQ(kill(stack.sim()->pid(), SIGCONT), 0);
+  mission.join();
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->outcome(), v1::SUCCEEDED) << result->message() << stack.Logs();
 }
 
 TEST(DeliveryE2E, BadMissionsAreRejectedWithTheFieldNamed) {
