@@ -51,8 +51,8 @@ void PoseErrorMeter::MatchLocked() {
       const double s = tb > ta ? (stamp - ta) / (tb - ta) : 1.0;
       truth = {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), a.theta + s * NormalizeAngle(b.theta - a.theta)};
     }
-    errors_.emplace_back(Distance(est.translation(), truth.translation()), std::abs(NormalizeAngle(est.theta - truth.theta)));
-    stamps_.push_back(stamp);
+    errors_.push_back({stamp, Distance(est.translation(), truth.translation()),
+                       std::abs(NormalizeAngle(est.theta - truth.theta))});
   }
 }
 
@@ -70,13 +70,13 @@ PoseErrorFigures PoseErrorMeter::Figures() const {
   std::lock_guard<std::mutex> lock(mutex_);
   PoseErrorFigures f;
   double sum = 0, sum_sq = 0, heading = 0;
-  for (size_t k = 0; k < errors_.size(); ++k) {
-    if (stamps_[k] < from_ || stamps_[k] > to_) continue;
-    const double e = errors_[k].first;
+  for (const Sample& err : errors_) {
+    if (err.stamp < from_ || err.stamp > to_) continue;
+    const double e = err.position;
     ++f.samples;
     sum += e;
     sum_sq += e * e;
-    heading += errors_[k].second;
+    heading += err.heading;
     f.max_position = std::max(f.max_position, e);
   }
   if (f.samples > 0) {

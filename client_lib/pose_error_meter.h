@@ -37,8 +37,10 @@ class PoseErrorMeter {
   mutable std::mutex mutex_;
   std::deque<std::pair<double, Pose2>> truth_;     // by stamp, a few seconds
   std::deque<std::pair<double, Pose2>> pending_;   // estimates newer than the newest truth
-  std::vector<std::pair<double, double>> errors_;  // (position, heading) per matched estimate
-  std::vector<double> stamps_;
+  struct Sample {
+    double stamp, position, heading;
+  };
+  std::vector<Sample> errors_;  // per matched estimate
   std::vector<std::pair<double, double>> odometer_;  // (stamp, true path length so far)
   double from_ = -1e300, to_ = 1e300;
 };

@@ -99,9 +99,7 @@ CrowdDescription ReadCrowd(const YamlFields& f, const YAML::Node& n, const World
   if (!n["area"]) f.Fail("people.area", "is missing (a region name or [x_min, y_min, x_max, y_max])", n);
   c.area = AreaOf(f, n["area"], "people.area", world);
   if (n["mode"]) {
-    const std::string mode = f.String(n["mode"], "people.mode");
-    if (mode != "street" && mode != "room") f.Fail("people.mode", "must be street or room", n["mode"]);
-    c.street = mode == "street";
+    c.street = f.Choice(n["mode"], "people.mode", {"street", "room"}) == 0;
   }
   if (n["initial"]) {
     const auto v = f.Numbers(n["initial"], "people.initial", 1, 2);

@@ -130,11 +130,8 @@ void ReadRobotDescription(const YamlFields& f, const YAML::Node& r, const std::s
     }
   }
   if (r["drive"]) {
-    const std::string drive = f.String(r["drive"], prefix + "drive");
-    if (drive == "diff_drive") d.drive = DriveType::kDiffDrive;
-    else if (drive == "omni") d.drive = DriveType::kOmni;
-    else if (drive == "unicycle") d.drive = DriveType::kUnicycle;
-    else f.Fail(prefix + "drive", "must be diff_drive, omni or unicycle (got '" + drive + "')", r["drive"]);
+    constexpr DriveType kDrives[] = {DriveType::kDiffDrive, DriveType::kOmni, DriveType::kUnicycle};
+    d.drive = kDrives[f.Choice(r["drive"], prefix + "drive", {"diff_drive", "omni", "unicycle"})];
   }
   f.Read(r, "radius", prefix, d.radius, &YamlFields::Positive);
   f.Read(r, "wheel_base", prefix, d.wheel_base, &YamlFields::Positive);

@@ -85,6 +85,19 @@ std::string YamlFields::String(const YAML::Node& n, const std::string& field) co
   return n.as<std::string>();
 }
 
+size_t YamlFields::Choice(const YAML::Node& n, const std::string& field,
+                          std::initializer_list<const char*> options) const {
+  const std::string value = String(n, field);
+  std::string list;
+  size_t i = 0;
+  for (const char* o : options) {
+    if (value == o) return i;
+    list += (i == 0 ? "" : i + 1 == options.size() ? " or " : ", ") + std::string(o);
+    ++i;
+  }
+  Fail(field, "must be " + list + " (got '" + value + "')", n);
+}
+
 std::vector<double> YamlFields::Numbers(const YAML::Node& n, const std::string& field, size_t min, size_t max) const {
   if (!n.IsSequence() || n.size() < min || n.size() > max) {
     Fail(field, "must be a list of " + std::to_string(min) + (min == max ? "" : "-" + std::to_string(max)) + " numbers", n);

@@ -32,6 +32,8 @@ class YamlFields {
   int Integer(const YAML::Node& n, const std::string& field, int min, int max) const;
   bool Bool(const YAML::Node& n, const std::string& field) const;
   std::string String(const YAML::Node& n, const std::string& field) const;
+  // One of `options` (a keyword); returns its index. Fails with "must be a, b or c (got 'x')".
+  size_t Choice(const YAML::Node& n, const std::string& field, std::initializer_list<const char*> options) const;
   std::vector<double> Numbers(const YAML::Node& n, const std::string& field, size_t min, size_t max) const;
   Point2 PointOf(const YAML::Node& n, const std::string& field) const;
   // [x, y] or [x, y, theta]; theta normalised to (-pi, pi].

@@ -152,14 +152,7 @@ UtilityBrainOptions ParseBrain(const std::string& text, const std::string& sourc
     if (!n["name"]) f.Fail(at + "name", "is required", n);
     p.name = f.String(n["name"], at + "name");
     if (!n["kind"]) f.Fail(at + "kind", "is required (motor or cognitive)", n);
-    const std::string kind = f.String(n["kind"], at + "kind");
-    if (kind == "motor") {
-      p.kind = ProcessKind::kMotor;
-    } else if (kind == "cognitive") {
-      p.kind = ProcessKind::kCognitive;
-    } else {
-      f.Fail(at + "kind", "must be motor or cognitive, not '" + kind + "'", n["kind"]);
-    }
+    p.kind = f.Choice(n["kind"], at + "kind", {"motor", "cognitive"}) == 0 ? ProcessKind::kMotor : ProcessKind::kCognitive;
     f.Read(n, "tau", at, p.tau, &YamlFields::Positive);
     f.Read(n, "c", at, p.c, &YamlFields::Positive);
     f.Read(n, "b", at, p.b, &YamlFields::Number);
