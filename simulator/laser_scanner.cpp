@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "services/common/ziggurat_normal.h"
+
 namespace navd::sim {
 
 std::vector<const Disc*> DiscsWithin(const std::vector<Disc>& discs, const Point2& origin, double max_range, int self) {
@@ -14,23 +16,30 @@ std::vector<const Disc*> DiscsWithin(const std::vector<Disc>& discs, const Point
 }
 
 double CastAgainstWorld(const RayCaster& world, const std::vector<const Disc*>& nearby, const Point2& origin,
-                        double angle, double max_range) {
-  double r = world.Cast(origin, angle, max_range);
-  if (!nearby.empty()) {
-    const Point2 dir(std::cos(angle), std::sin(angle));
-    for (const Disc* d : nearby) r = std::min(r, RayDiscDistance(origin, dir, *d));
-  }
+                        const Point2& dir, double max_range) {
+  double r = world.Cast(origin, dir, max_range);
+  for (const Disc* d : nearby) r = std::min(r, RayDiscDistance(origin, dir, *d));
   return r;
+}
+
+LaserScanner::LaserScanner(const LaserDescription& description) : d_(description) {
+  beam_directions_.reserve(std::max(d_.beams, 0));
+  for (int i = 0; i < d_.beams; ++i) {
+    const double a = angle_min() + i * increment();
+    beam_directions_.emplace_back(std::cos(a), std::sin(a));
+  }
 }
 
 std::vector<float> LaserScanner::Scan(const Pose2& pose, const RayCaster& world, const std::vector<Disc>& discs,
                                       int self, std::mt19937_64& rng) const {
   std::vector<float> ranges(d_.beams);
-  std::normal_distribution<double> noise(0.0, d_.noise);
+  const ZigguratNormal noise(0.0, d_.noise);
   const auto nearby = DiscsWithin(discs, pose.translation(), d_.range_max, self);
+  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
   for (int i = 0; i < d_.beams; ++i) {
-    const double a = pose.theta + angle_min() + i * increment();
-    const double r = CastAgainstWorld(world, nearby, pose.translation(), a, d_.range_max);
+    const Point2& b = beam_directions_[i];
+    const Point2 dir(c * b.x() - s * b.y(), s * b.x() + c * b.y());
+    const double r = CastAgainstWorld(world, nearby, pose.translation(), dir, d_.range_max);
     if (r >= d_.range_max) {
       ranges[i] = static_cast<float>(d_.range_max + 1.0);  // no return
     } else {

@@ -13,7 +13,7 @@ namespace navd::sim {
 
 class LaserScanner {
  public:
-  explicit LaserScanner(const LaserDescription& description) : d_(description) {}
+  explicit LaserScanner(const LaserDescription& description);
   // Ranges for a scanner at `pose` (map frame), beam i at angle angle_min() + i * increment().
   // Discs with id == `self` (the robot carrying the scanner) are not seen.
   std::vector<float> Scan(const Pose2& pose, const RayCaster& world, const std::vector<Disc>& discs, int self,
@@ -25,12 +25,13 @@ class LaserScanner {
 
  private:
   LaserDescription d_;
+  std::vector<Point2> beam_directions_;  // unit vectors in the scanner frame, so a scan needs no trigonometry per beam
 };
 
-// Distance along `angle` from `origin` to the nearest of the static world and the discs (except
+// Distance along the unit vector `dir` from `origin` to the nearest of the static world and the discs (except
 // `self`), at most max_range. Shared by the laser and the range sensors.
 double CastAgainstWorld(const RayCaster& world, const std::vector<const Disc*>& nearby, const Point2& origin,
-                        double angle, double max_range);
+                        const Point2& dir, double max_range);
 // The discs (except `self`) that a sensor at `origin` with reach `max_range` could see.
 std::vector<const Disc*> DiscsWithin(const std::vector<Disc>& discs, const Point2& origin, double max_range, int self);
 

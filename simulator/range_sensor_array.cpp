@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "services/common/ziggurat_normal.h"
+
 #include "simulator/laser_scanner.h"
 
 namespace navd::sim {
@@ -40,7 +42,7 @@ RangeArrayDescription Gp2d12Triple(double robot_radius) {
 
 std::vector<float> RangeSensorArray::Read(const Pose2& pose, const RayCaster& world, const std::vector<Disc>& discs,
                                           int self, std::mt19937_64& rng) const {
-  std::normal_distribution<double> noise(0.0, d_.noise);
+  const ZigguratNormal noise(0.0, d_.noise);
   const auto nearby = DiscsWithin(discs, pose.translation(), d_.mount_radius + d_.range_max, self);
   std::vector<float> out;
   out.reserve(d_.angles.size());
@@ -51,7 +53,7 @@ std::vector<float> RangeSensorArray::Read(const Pose2& pose, const RayCaster& wo
     double r = d_.range_max;
     for (int k = 0; k < rays; ++k) {
       const double offset = rays == 1 ? 0.0 : -d_.cone / 2 + k * d_.cone / (rays - 1);
-      r = std::min(r, CastAgainstWorld(world, nearby, origin, heading + offset, d_.range_max));
+      r = std::min(r, CastAgainstWorld(world, nearby, origin, Point2(std::cos(heading + offset), std::sin(heading + offset)), d_.range_max));
     }
     if (r < d_.range_max && d_.noise > 0) r += noise(rng);
     out.push_back(static_cast<float>(std::clamp(r, d_.range_min, d_.range_max)));

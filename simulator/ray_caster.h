@@ -1,11 +1,14 @@
 #pragma once
-// Ray casting against a static occupancy grid, accelerated by its obstacle distance field: far
-// from walls a ray leaps ahead by the clearance (no obstacle can lie closer), near them it walks
-// cell by cell with the exact traversal, so it returns the same hit as a pure cell walk at a
-// fraction of the cost. Cells outside the grid count as walls. Metres, radians, map frame.
+// Ray casting against a static occupancy grid. The walls are kept as one bit per cell in 8 x 8
+// tiles of 64 bits, with a ring of wall cells around the grid so the walk needs no bounds checks:
+// a 1000 x 1000 grid is 125 KB and stays in cache. Each tile also knows, for each quadrant a ray
+// can head into, the largest empty square of tiles starting at it, so a ray crosses that square in
+// one leap and walks cell by cell (Amanatides & Woo, corners as in
+// TraverseSegment) only through tiles with walls: the same hit as a pure cell walk at a fraction
+// of the cost. Cells outside the grid count as walls. Metres, radians, map frame.
+#include <cstdint>
 #include <vector>
 
-#include "services/common/distance_field.h"
 #include "services/common/occupancy_grid.h"
 
 namespace navd::sim {
@@ -21,8 +24,11 @@ class RayCaster {
  public:
   explicit RayCaster(OccupancyGrid grid);
 
-  // Distance from `origin` along `angle` to the first occupied cell, or `max_range` when none.
+  // Distance from `origin` along `angle` to the first occupied cell, or `max_range` when none;
+  // 0 when the origin is in a wall or off the grid.
   double Cast(const Point2& origin, double angle, double max_range) const;
+  // The same along the unit vector `dir`, for callers that already have it (a laser's beams).
+  double Cast(const Point2& origin, const Point2& dir, double max_range) const;
   // True when a disc at p of `radius` overlaps an occupied cell or leaves the grid.
   bool DiscHitsWall(const Point2& p, double radius) const;
   // Metres from p's cell centre to the nearest occupied cell centre.
@@ -32,7 +38,15 @@ class RayCaster {
 
  private:
   OccupancyGrid grid_;
+  double inv_resolution_;
   std::vector<float> clearance_;  // distance field in cells, float to halve its cache footprint
+  // Padded cell (x, y) is grid cell (x - 1, y - 1). Tile (tx, ty) covers padded cells
+  // [8 tx, 8 tx + 8) x [8 ty, 8 ty + 8); bit 8 (y mod 8) + (x mod 8) is set for a wall.
+  int tile_stride_ = 0;
+  std::vector<uint64_t> tiles_;
+  // Per tile and heading quadrant q (bit 0: x decreasing, bit 1: y decreasing): the side in tiles
+  // of the largest empty square with this tile at its trailing corner, 0 when the tile has a wall.
+  std::vector<uint8_t> empty_ahead_;
 };
 
 // Distance along the unit direction `dir` from `origin` to where the ray enters `disc`, or

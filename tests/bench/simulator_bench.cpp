@@ -6,6 +6,7 @@
 #include <random>
 
 #include "services/common/grid_traversal.h"
+#include "simulator/laser_scanner.h"
 #include "simulator/simulation.h"
 
 namespace navd::sim {
@@ -26,9 +27,11 @@ OccupancyGrid WarehouseFloor() {
   return map;
 }
 
+// Rays as a laser casts them: the direction is a unit vector it keeps per beam (no trigonometry
+// per ray).
 struct Rays {
   std::vector<Point2> origins;
-  std::vector<double> angles;
+  std::vector<Point2> directions;
 };
 
 Rays RandomRays(const OccupancyGrid& map, int n) {
@@ -39,23 +42,44 @@ Rays RandomRays(const OccupancyGrid& map, int n) {
     const Point2 o(u(rng), u(rng));
     if (map.IsOccupied(map.CellOf(o))) continue;
     r.origins.push_back(o);
-    r.angles.push_back(a(rng));
+    const double angle = a(rng);
+    r.directions.emplace_back(std::cos(angle), std::sin(angle));
   }
   return r;
 }
 
-void BM_RayCastDistanceField(benchmark::State& state) {
+void BM_RayCastBlockLeaps(benchmark::State& state) {
   const OccupancyGrid map = WarehouseFloor();
   const RayCaster caster(map);
   const Rays rays = RandomRays(map, 4096);
   size_t i = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(caster.Cast(rays.origins[i & 4095], rays.angles[i & 4095], 4.0));
+    benchmark::DoNotOptimize(caster.Cast(rays.origins[i & 4095], rays.directions[i & 4095], 4.0));
     ++i;
   }
   state.counters["rays/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_RayCastDistanceField);
+BENCHMARK(BM_RayCastBlockLeaps);
+
+// Whole 683-beam URG scans (no noise, no people) from random free spots of the same floor: the
+// rays as the simulated laser casts them.
+void BM_LaserScanRays(benchmark::State& state) {
+  const OccupancyGrid map = WarehouseFloor();
+  const RayCaster caster(map);
+  const Rays rays = RandomRays(map, 256);
+  LaserDescription urg;
+  urg.noise = 0.0;
+  const LaserScanner laser(urg);
+  std::mt19937_64 rng(4);
+  size_t i = 0;
+  for (auto _ : state) {
+    const Pose2 pose(rays.origins[i & 255].x(), rays.origins[i & 255].y(), std::atan2(rays.directions[i & 255].y(), rays.directions[i & 255].x()));
+    benchmark::DoNotOptimize(laser.Scan(pose, caster, {}, -1, rng));
+    ++i;
+  }
+  state.counters["rays/s"] = benchmark::Counter(static_cast<double>(state.iterations()) * urg.beams, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_LaserScanRays);
 
 // The plain cell walk, for the ratio.
 void BM_RayCastCellWalk(benchmark::State& state) {
@@ -64,9 +88,8 @@ void BM_RayCastCellWalk(benchmark::State& state) {
   size_t i = 0;
   for (auto _ : state) {
     const Point2 o = rays.origins[i & 4095];
-    const double a = rays.angles[i & 4095];
     double hit = 4.0;
-    TraverseSegment(map, o, o + 4.0 * Point2(std::cos(a), std::sin(a)), [&](const CellIndex& c, double t) {
+    TraverseSegment(map, o, o + 4.0 * rays.directions[i & 4095], [&](const CellIndex& c, double t) {
       if (map.Contains(c) && !map.IsOccupied(c)) return true;
       hit = t;
       return false;

@@ -13,6 +13,7 @@
 #include "services/common/carmen_log.h"
 #include "services/common/error.h"
 #include "services/common/grid_traversal.h"
+#include "services/common/ziggurat_normal.h"
 #include "services/common/polygon.h"
 #include "services/common/world.h"
 #include "simulator/carmen_recorder.h"
@@ -49,14 +50,17 @@ Scenario ScenarioText(const std::string& robots_and_more) {
 }
 
 // The reference: a plain cell walk with the exact traversal.
-double WalkRay(const OccupancyGrid& map, const Point2& o, double angle, double max_range) {
+double WalkRay(const OccupancyGrid& map, const Point2& o, const Point2& dir, double max_range) {
   double hit = max_range;
-  TraverseSegment(map, o, o + max_range * Point2(std::cos(angle), std::sin(angle)), [&](const CellIndex& c, double t) {
+  TraverseSegment(map, o, o + max_range * dir, [&](const CellIndex& c, double t) {
     if (map.Contains(c) && !map.IsOccupied(c)) return true;
     hit = std::min(hit, t);
     return false;
   });
   return hit;
+}
+double WalkRay(const OccupancyGrid& map, const Point2& o, double angle, double max_range) {
+  return WalkRay(map, o, Point2(std::cos(angle), std::sin(angle)), max_range);
 }
 
 TEST(RayCaster, MeasuresDistancesToWalls) {
@@ -68,8 +72,8 @@ TEST(RayCaster, MeasuresDistancesToWalls) {
   EXPECT_NEAR(walls.Cast({2, 2}, 0.0, 1.0), 1.0, 1e-9);                         // max range
 }
 
-TEST(RayCaster, LeapingGivesExactlyTheCellWalksHits) {
-  // A cluttered 1000 x 1000 grid: the distance-field leaps must never skip an obstacle.
+TEST(RayCaster, BlockLeapsGiveExactlyTheCellWalksHits) {
+  // A cluttered 1000 x 1000 grid: leaping over empty blocks must never skip an obstacle.
   OccupancyGrid map(1000, 1000, 0.05, {0, 0});
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0, 50), a(-M_PI, M_PI), size(0.05, 1.0);
@@ -88,6 +92,54 @@ TEST(RayCaster, LeapingGivesExactlyTheCellWalksHits) {
     ++compared;
   }
   EXPECT_GT(compared, 15000);
+  // Rays along the axes and diagonals from cell centres and corners cross cell corners exactly,
+  // where the side cells count: the leaps must take the same corners as the walk.
+  // Exact directions: cos(pi / 2) is 6e-17, not 0, and which side of a boundary such a ray runs
+  // is then decided by rounding.
+  const double h = std::sqrt(0.5);
+  const Point2 dirs[8] = {{1, 0}, {h, h}, {0, 1}, {-h, h}, {-1, 0}, {-h, -h}, {0, -1}, {h, -h}};
+  std::uniform_int_distribution<int> cell(0, 999), octant(0, 7), corner(0, 1);
+  int aligned = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double off = corner(rng) ? 0.0 : 0.025;
+    const Point2 o(cell(rng) * 0.05 + off, cell(rng) * 0.05 + off);
+    if (map.IsOccupied(map.CellOf(o))) continue;
+    const Point2& dir = dirs[octant(rng)];
+    ASSERT_NEAR(caster.Cast(o, dir, 4.0), WalkRay(map, o, dir, 4.0), 1e-9)
+        << "aligned ray " << i << " from " << o.transpose() << " along " << dir.transpose();
+    ++aligned;
+  }
+  EXPECT_GT(aligned, 15000);
+}
+
+TEST(ZigguratNormal, MatchesTheNormalDistributionIncludingItsTails) {
+  std::mt19937_64 rng(11);
+  constexpr int kSamples = 1000000;
+  std::vector<double> x(kSamples);
+  double sum = 0, sum_sq = 0;
+  int tail = 0;
+  for (double& v : x) {
+    v = ZigguratNormal::Standard(rng);
+    sum += v;
+    sum_sq += v * v;
+    tail += std::abs(v) > 3.442619855899;  // drawn by the tail sampler, not the layers
+  }
+  EXPECT_NEAR(sum / kSamples, 0.0, 5 * 1.0 / std::sqrt(kSamples));
+  EXPECT_NEAR(sum_sq / kSamples, 1.0, 5 * std::sqrt(2.0 / kSamples));
+  // P(|X| > 3.4426) = 5.76e-4: 576 expected, sd 24.
+  EXPECT_NEAR(tail, 576, 120);
+  // Kolmogorov-Smirnov against the normal CDF; 1.95 / sqrt(n) is the 0.1% critical value.
+  std::sort(x.begin(), x.end());
+  double d = 0;
+  for (int i = 0; i < kSamples; i += 7) {
+    const double cdf = 0.5 * std::erfc(-x[i] / std::sqrt(2.0));
+    d = std::max({d, std::abs(cdf - static_cast<double>(i) / kSamples), std::abs(cdf - (i + 1.0) / kSamples)});
+  }
+  EXPECT_LT(d, 1.95 / std::sqrt(kSamples));
+  // Scaled and shifted like std::normal_distribution, and deterministic for a seed.
+  std::mt19937_64 a(5), b(5);
+  const ZigguratNormal noise(2.0, 0.1);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(noise(a), 2.0 + 0.1 * ZigguratNormal::Standard(b));
 }
 
 TEST(RayCaster, RayDiscDistance) {
