@@ -1,19 +1,16 @@
 #pragma once
-// navctl's command-line text: parsing pose tuples and naming navd's enums.
+// navctl's command-line text: naming navd's enums, poses as JSON. Pose tuples: services/common/pose_text.h.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "navd/v1/navigation.pb.h"
+#include "services/common/pose_text.h"
 
 namespace navd::navctl {
 
-// Parses "X,Y" or "X,Y,THETA" (numbers; "nan"/"inf" pass through for navd to reject). Throws
-// std::invalid_argument naming `flag`.
-std::vector<double> ParseTuple(const std::string& text, const std::string& flag, size_t min, size_t max);
-// "X,Y[,THETA];X,Y[,THETA];..." into poses (theta 0 when left out); `has_heading` reports whether
-// any waypoint gave one.
-std::vector<std::vector<double>> ParseTupleList(const std::string& text, const std::string& flag, bool* has_heading);
+using navd::ParseTuple;
+using navd::ParseTupleList;
 
 nlohmann::json PoseJson(const v1::Pose2D& p);
 const char* OutcomeText(v1::Outcome o);

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <mutex>
 #include <thread>
@@ -20,6 +21,7 @@
 #include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
 #include "services/common/error.h"
+#include "services/common/pose_text.h"
 #include "simulator/carmen_recorder.h"
 #include "simulator/simulation.h"
 
@@ -232,14 +234,19 @@ msgs_sim::WorldState_ MakeWorldState(double t, const sim::Simulation& s) {
 int Run(int argc, char** argv) {
   CLI::App app{"navsim: 2-D simulator of wheeled robots with lasers, sonars, IR, encoders and bumpers among moving "
                "obstacles and people, over ROS 2-layout DDS"};
-  std::string scenario_path, world_path, network = "loopback", ns, record_path, record_robot;
+  std::string scenario_path, world_path, network = "loopback", ns, record_path, record_robot, start;
   double rate = 1.0;
   std::optional<uint64_t> seed;
   int domain = 0;
   double duration = 0.0;
   bool fast = false;
   auto* scenario_opt = app.add_option("--scenario", scenario_path, "Scenario YAML: world, robots, obstacles, people, seed");
-  app.add_option("--world", world_path, "World YAML, one robot (default: the embedded warehouse)")->excludes(scenario_opt);
+  app.add_option("--world", world_path,
+                 "World YAML, or a bare map (map_server YAML + PGM, MovingAI .map) with the default robot; one robot "
+                 "(default: the embedded warehouse)")
+      ->excludes(scenario_opt);
+  app.add_option("--start", start, "Start pose X,Y[,THETA] of the --world robot (metres, radians, map frame)")
+      ->excludes(scenario_opt);
   app.add_option("--rate", rate, "Simulated seconds per wall second")->check(CLI::PositiveNumber);
   app.add_flag("--fast", fast, "Run as fast as possible (no pacing)");
   app.add_option("--seed", seed, "Random seed (overrides the scenario's); the same seed repeats the same run");
@@ -263,7 +270,16 @@ int Run(int argc, char** argv) {
   if (!scenario_path.empty()) {
     scenario = sim::LoadScenarioFile(scenario_path);
   } else {
-    scenario = sim::ScenarioFromWorld(world_path.empty() ? DefaultWorld() : LoadWorldFile(world_path));
+    World world = world_path.empty() ? DefaultWorld() : LoadWorldOrMapFile(world_path);
+    if (!start.empty()) {
+      const auto p = ParseTuple(start, "--start", 2, 3);
+      world.start = Pose2(p[0], p[1], p.size() == 3 ? p[2] : 0.0);
+      if (!world.start.translation().allFinite() || !std::isfinite(world.start.theta) ||
+          !world.map.ContainsPoint(world.start.translation()) || world.map.DiscHitsObstacle(world.start.translation(), world.robot.radius)) {
+        throw Error(ErrorCode::kInvalidArgument, "--start '" + start + "' puts the robot off the map or inside a wall");
+      }
+    }
+    scenario = sim::ScenarioFromWorld(std::move(world));
     scenario.robots[0].name = ns;
   }
   sim::SimulationOptions options;

@@ -3,9 +3,12 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "services/common/error.h"
+#include "services/common/distance_field.h"
 #include "services/common/map_server_format.h"
 #include "services/common/movingai_format.h"
 #include "services/common/text_file.h"
@@ -189,24 +192,72 @@ World LoadWorldFile(const std::string& path) {
 
 World DefaultWorld() { return ParseWorld(navd_default_world_yaml, "<embedded warehouse>", "."); }
 
-OccupancyGrid LoadAnyMapFile(const std::string& path, std::string* name) {
-  const std::string text = ReadTextFile(path, "map file");
-  if (text.rfind("type ", 0) == 0) {  // a MovingAI .map starts with its type line
-    if (name) *name = std::filesystem::path(path).stem().string();
-    return ParseMovingAiMap(text, path);
-  }
+namespace {
+
+enum class MapFileKind { kMovingAi, kMapServer, kWorld };
+
+MapFileKind SniffMapFile(const std::string& text, const std::string& path) {
+  if (text.rfind("type ", 0) == 0) return MapFileKind::kMovingAi;  // a MovingAI .map starts with its type line
   const YAML::Node doc = ParseYamlMapping(text, path);
-  if (doc["image"]) {
-    if (name) *name = std::filesystem::path(path).stem().string();
-    return LoadMapServerMap(path);
-  }
-  if (doc["map"]) {
-    World w = ParseWorld(text, path, std::filesystem::path(path).parent_path().string());
-    if (name) *name = w.name;
-    return std::move(w.map);
-  }
+  if (doc["image"]) return MapFileKind::kMapServer;
+  if (doc["map"]) return MapFileKind::kWorld;
   throw Error(ErrorCode::kInvalidArgument,
               path + ": neither a map_server YAML (no 'image' field), a world file (no 'map' field) nor a MovingAI map");
+}
+
+// The known-free cell nearest the map's centre whose clearance fits a robot of `radius`.
+Pose2 FreeSpotNearCentre(const OccupancyGrid& map, double radius, const std::string& path) {
+  const DistanceField clearance(map, /*unknown_is_obstacle=*/true);
+  const Point2 centre = map.origin() + 0.5 * Point2(map.width(), map.height()) * map.resolution();
+  double best = std::numeric_limits<double>::infinity();
+  Point2 spot;
+  for (int y = 0; y < map.height(); ++y) {
+    for (int x = 0; x < map.width(); ++x) {
+      if (map.at({x, y}) != OccupancyGrid::kFree || clearance.at({x, y}) < radius + 0.05) continue;
+      const Point2 p = map.CellCenter({x, y});
+      const double d = (p - centre).squaredNorm();
+      if (d < best) {
+        best = d;
+        spot = p;
+      }
+    }
+  }
+  if (!std::isfinite(best)) {
+    throw Error(ErrorCode::kInvalidArgument, path + ": no free spot where a robot of radius " +
+                                                 std::to_string(radius).substr(0, 4) + " m fits");
+  }
+  return Pose2(spot.x(), spot.y(), 0.0);
+}
+
+}  // namespace
+
+OccupancyGrid LoadAnyMapFile(const std::string& path, std::string* name) {
+  const std::string text = ReadTextFile(path, "map file");
+  switch (SniffMapFile(text, path)) {
+    case MapFileKind::kMovingAi:
+      if (name) *name = std::filesystem::path(path).stem().string();
+      return ParseMovingAiMap(text, path);
+    case MapFileKind::kMapServer:
+      if (name) *name = std::filesystem::path(path).stem().string();
+      return LoadMapServerMap(path);
+    case MapFileKind::kWorld:
+      break;
+  }
+  World w = ParseWorld(text, path, std::filesystem::path(path).parent_path().string());
+  if (name) *name = w.name;
+  return std::move(w.map);
+}
+
+World LoadWorldOrMapFile(const std::string& path) {
+  const std::string text = ReadTextFile(path, "world or map file");
+  if (SniffMapFile(text, path) == MapFileKind::kWorld) {
+    return ParseWorld(text, path, std::filesystem::path(path).parent_path().string());
+  }
+  World w;
+  w.map = LoadAnyMapFile(path, &w.name);
+  w.source = path;
+  w.start = FreeSpotNearCentre(w.map, w.robot.radius, path);
+  return w;
 }
 
 }  // namespace navd

@@ -84,5 +84,9 @@ OccupancyGrid LoadMapFile(const std::string& path);
 // Loads a world YAML (has a `map:` key), a map_server YAML (has `image:`) or a MovingAI `.map`
 // (starts with `type`), as navd's --map and LoadMap accept. Returns the map and its name.
 OccupancyGrid LoadAnyMapFile(const std::string& path, std::string* name = nullptr);
+// The same three kinds as a world to simulate: a world file as it is; a bare map with the default
+// robot and laser, started at the known-free spot nearest the map's centre where the robot fits
+// with 5 cm to spare. Throws navd::Error(kInvalidArgument) naming the file when none fits.
+World LoadWorldOrMapFile(const std::string& path);
 
 }  // namespace navd

@@ -133,6 +133,38 @@ TEST(NavsimScenario, TwoRobotsAndPeopleOverDdsWithNamespacesTruthAndCollisions) 
   EXPECT_EQ(log.scans.front().ranges.size(), 683u);
 }
 
+TEST(NavsimScenario, BareMapServerMapRunsTheDefaultRobotAndBadStartsAreRefused) {
+  const int domain = ReserveDomain();
+  const std::string dir = MakeTempDir();
+  // A 4 x 3 m room at 5 cm with a wall all round: the robot starts at its centre.
+  std::string pixels;
+  for (int row = 0; row < 60; ++row) {
+    for (int col = 0; col < 80; ++col) pixels += (row == 0 || col == 0 || row == 59 || col == 79) ? '\x00' : '\xff';
+  }
+  std::ofstream(dir + "/room.pgm", std::ios::binary) << "P5 80 60 255\n" << pixels;
+  std::ofstream(dir + "/room.yaml") << "image: room.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\n";
+  Process navsim({NavsimBinary(), "--world", dir + "/room.yaml", "--domain", std::to_string(domain)}, dir + "/navsim.log");
+  dds::Participant p({domain, dds::Network::kLoopback, "driver", {}});
+  dds::Reader<Odometry> truth(p, dds::TopicName("", dds::kGroundTruth), dds::Reliability::kBestEffort);
+  dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(p, dds::TopicName("", dds::kScan),
+                                                                 dds::Reliability::kBestEffort);
+  for (int i = 0; i < 200 && (!truth.Latest() || !scan.Latest()); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(truth.Latest() && scan.Latest()) << navsim.Log();
+  EXPECT_NEAR(truth.Latest()->pose().pose().position().x(), 2.0, 0.05);
+  EXPECT_NEAR(truth.Latest()->pose().pose().position().y(), 1.5, 0.05);
+  // The URG sees the walls of the room: straight ahead (+x) the inner face of the wall at x = 3.95.
+  const auto s = *scan.Latest();
+  ASSERT_EQ(s.ranges().size(), 683u);
+  EXPECT_NEAR(s.ranges()[341], 1.95, 0.1);
+
+  const auto bad = RunCommand({NavsimBinary(), "--world", dir + "/room.yaml", "--start", "0.02,1.5", "--duration", "1"});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--start '0.02,1.5' puts the robot off the map or inside a wall"), std::string::npos)
+      << bad.output;
+}
+
 TEST(NavsimScenario, BadScenarioExitsNonZeroWithOneLine) {
   const std::string dir = MakeTempDir();
   const std::string path = dir + "/bad.yaml";

@@ -1,6 +1,7 @@
 // map_server YAML + PGM reading, world files, and the embedded default world.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -64,6 +65,45 @@ TEST(MapServerFormat, LoadsYamlWithRelativeImage) {
   EXPECT_EQ(g.width(), 2);
   EXPECT_DOUBLE_EQ(g.resolution(), 0.1);
   EXPECT_EQ(g.at({0, 1}), OccupancyGrid::kOccupied);
+}
+
+// A 6 x 4 m room at 0.1 m: a wall all round and a 1.2 m pillar over the centre.
+std::string RoomPgm() {
+  std::string pixels;
+  for (int row = 0; row < 40; ++row) {
+    for (int col = 0; col < 60; ++col) {
+      const bool wall = row == 0 || col == 0 || row == 39 || col == 59;
+      const bool pillar = std::abs(col - 29.5) < 6 && std::abs(row - 19.5) < 6;
+      pixels += (wall || pillar) ? '\x00' : '\xff';
+    }
+  }
+  return "P5 60 40 255\n" + pixels;
+}
+
+TEST(WorldOrMapFile, BareMapsGetTheDefaultRobotAtTheFreeSpotNearestTheCentre) {
+  const std::string dir = testing::MakeTempDir();
+  Write(dir, "room.pgm", RoomPgm());
+  const std::string yaml = Write(dir, "room.yaml", "image: room.pgm\nresolution: 0.1\norigin: [0.0, 0.0, 0.0]\n");
+  const World room = LoadWorldOrMapFile(yaml);
+  EXPECT_EQ(room.name, "room");
+  EXPECT_EQ(room.map.width(), 60);
+  EXPECT_DOUBLE_EQ(room.robot.radius, RobotDescription{}.radius);
+  // Next to the pillar (x, y in [2.4, 3.6] x [1.4, 2.6]), as near the centre (3, 2) as fits.
+  EXPECT_FALSE(room.map.DiscHitsObstacle(room.start.translation(), room.robot.radius + 0.04));
+  EXPECT_LT((room.start.translation() - Point2(3, 2)).norm(), 0.6 + room.robot.radius + 0.15);
+
+  const World arena = LoadWorldOrMapFile(std::string(NAVD_SOURCE_DIR) + "/tests/data/movingai/arena.map");
+  EXPECT_EQ(arena.name, "arena");
+  EXPECT_FALSE(arena.map.DiscHitsObstacle(arena.start.translation(), arena.robot.radius));
+
+  const World world = LoadWorldOrMapFile(std::string(NAVD_SOURCE_DIR) + "/worlds/warehouse.yaml");
+  EXPECT_EQ(world.start.translation(), DefaultWorld().start.translation());
+
+  Write(dir, "solid.pgm", std::string("P5 3 3 255\n") + std::string(9, '\x00'));
+  const std::string solid = Write(dir, "solid.yaml", "image: solid.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n");
+  auto [code, msg] = ErrorOf([&] { LoadWorldOrMapFile(solid); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("solid.yaml: no free spot"), std::string::npos) << msg;
 }
 
 TEST(MapServerFormat, BadFilesNameTheProblem) {
