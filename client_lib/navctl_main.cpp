@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "client_lib/door_command.h"
 #include "client_lib/follow_command.h"
 #include "client_lib/navctl_text.h"
 #include "client_lib/navd_client.h"
@@ -193,6 +194,15 @@ int main(int argc, char** argv) {
   std::string truth_goal;
   truth->add_option("--to", truth_goal, "Also print the true distance to this X,Y");
 
+  auto* door = app.add_subcommand("door", "Open or close a simulator door by name (DDS)");
+  navd::navctl::DoorOptions door_options;
+  std::string door_action;
+  door->add_option("name", door_options.name, "The door's name in the scenario")->required();
+  door->add_option("action", door_action, "open or close")->required()->check(CLI::IsMember({"open", "close"}));
+  door->add_option("--domain", door_options.domain, "DDS domain id of navsim")->check(CLI::Range(0, 232));
+  door->add_option("--wait", door_options.wait, "Seconds to wait for navsim to do it")->check(seconds);
+  door->add_flag("--json", door_options.json, "Print one JSON object");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -200,6 +210,10 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (door->parsed()) {
+      door_options.close = door_action == "close";
+      return navd::navctl::RunDoor(door_options);
+    }
     if (truth->parsed()) {
       navd::TelemetryOptions topts;
       topts.dds.domain = domain;

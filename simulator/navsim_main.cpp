@@ -228,8 +228,45 @@ msgs_sim::WorldState_ MakeWorldState(double t, const sim::Simulation& s) {
     add("person " + std::to_string(p.id), "person", {p.position.x(), p.position.y(), std::atan2(p.velocity.y(), p.velocity.x())},
         p.velocity, s.scenario().crowd->radius);
   }
+  for (const auto& d : s.scenario().doors) {
+    msgs_sim::DoorState_ door;
+    door.name(d.name);
+    door.closed(d.closed);
+    w.doors().push_back(door);
+  }
   return w;
 }
+
+// Door commands arrive on a DDS thread and are applied between steps.
+class DoorCommands {
+ public:
+  explicit DoorCommands(navd::dds::Participant& p)
+      : reader_(p, navd::dds::kDoorCommand, navd::dds::Reliability::kReliable, [this](const msgs_sim::DoorCommand_& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          pending_.emplace_back(m.name(), m.closed());
+        }) {}
+
+  void Apply(sim::Simulation& simulation) {
+    std::vector<std::pair<std::string, bool>> pending;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      pending.swap(pending_);
+    }
+    for (const auto& [name, closed] : pending) {
+      try {
+        simulation.SetDoor(name, closed);
+        spdlog::info("navsim: door '{}' {} at t={:.2f}s", name, closed ? "closed" : "opened", simulation.now());
+      } catch (const Error& e) {
+        spdlog::warn("navsim: ignored {} command: {}", navd::dds::kDoorCommand, e.what());
+      }
+    }
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::pair<std::string, bool>> pending_;
+  navd::dds::Reader<msgs_sim::DoorCommand_PubSubType> reader_;
+};
 
 int Run(int argc, char** argv) {
   CLI::App app{"navsim: 2-D simulator of wheeled robots with lasers, sonars, IR, encoders and bumpers among moving "
@@ -317,6 +354,7 @@ int Run(int argc, char** argv) {
                                                                           Reliability::kReliable, 100);
   std::vector<std::unique_ptr<RobotTopics>> topics;
   for (const auto& r : robots) topics.push_back(std::make_unique<RobotTopics>(participant, *r));
+  DoorCommands doors(participant);
 
   const auto& w = simulation.world();
   spdlog::info("navsim: scenario '{}' on world '{}' ({}x{} cells at {} m), {} robot(s), {} moving obstacle(s), {} "
@@ -337,6 +375,7 @@ int Run(int argc, char** argv) {
   uint64_t steps = 0;
   while (!g_stop && (duration <= 0 || simulation.now() < duration - 1e-9)) {
     for (size_t i = 0; i < topics.size(); ++i) topics[i]->ApplyCommands(simulation, i);
+    doors.Apply(simulation);
     const sim::StepOutputs out = simulation.Step();
     ++steps;
     const double t = simulation.now();

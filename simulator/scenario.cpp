@@ -232,7 +232,8 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
     s.robots = ScenarioFromWorld(s.world).robots;
   }
 
-  // Doors and hidden obstacles change only the truth.
+  // Doors and hidden obstacles change only the truth; doors are filled in once the hidden
+  // obstacles are, so that opening one can restore what lies under it.
   if (const YAML::Node doors = doc["doors"]) {
     f.ExpectSequence(doors, "doors", "{name, box, closed}");
     for (size_t i = 0; i < doors.size(); ++i) {
@@ -244,7 +245,6 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
       d.name = f.String(doors[i]["name"], field + ".name");
       d.box = ReadBox(f, doors[i]["box"], field + ".box");
       if (doors[i]["closed"]) d.closed = f.Bool(doors[i]["closed"], field + ".closed");
-      if (d.closed) s.truth.FillBox(d.box.min, d.box.max);
       s.doors.push_back(d);
     }
   }
@@ -276,6 +276,8 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
     }
     if (h["random"]) s.hidden_obstacles += PlaceRandomObstacles(f, h["random"], s, rng);
   }
+  s.fixed_truth = s.truth;
+  s.truth = TruthWithDoors(s.fixed_truth, s.doors);
 
   // Moving obstacles and people.
   if (const YAML::Node m = doc["moving_obstacles"]) {
@@ -324,11 +326,20 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
 
 }  // namespace
 
+OccupancyGrid TruthWithDoors(const OccupancyGrid& fixed, const std::vector<Door>& doors) {
+  OccupancyGrid truth = fixed;
+  for (const Door& d : doors) {
+    if (d.closed) truth.FillBox(d.box.min, d.box.max);
+  }
+  return truth;
+}
+
 Scenario ScenarioFromWorld(World world) {
   Scenario s;
   s.name = world.name;
   s.source = world.source;
   s.truth = world.map;
+  s.fixed_truth = world.map;
   RobotSpec r;
   r.start = world.start;
   r.body = world.robot;

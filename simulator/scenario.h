@@ -38,6 +38,7 @@ struct Scenario {
   std::string source;
   World world;                       // what navd is given: map, default robot, goals, regions
   OccupancyGrid truth;               // what the sensors see: the map plus hidden obstacles and closed doors
+  OccupancyGrid fixed_truth;         // the same with every door open, to rebuild `truth` when doors move
   std::vector<RobotSpec> robots;
   std::vector<MovingObstacleDescription> moving_obstacles;
   std::optional<CrowdDescription> crowd;
@@ -46,6 +47,9 @@ struct Scenario {
   int hidden_obstacles = 0;          // how many obstacles are in `truth` but not in the map
   uint64_t seed = 1;
 };
+
+// `fixed` with the closed doors filled in.
+OccupancyGrid TruthWithDoors(const OccupancyGrid& fixed, const std::vector<Door>& doors);
 
 // One robot (no namespace) with the world's robot and laser, encoders and bumpers.
 Scenario ScenarioFromWorld(World world);

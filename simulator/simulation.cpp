@@ -1,6 +1,9 @@
 #include "simulator/simulation.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include "services/common/error.h"
 
 namespace navd::sim {
 namespace {
@@ -44,6 +47,29 @@ Simulation::Simulation(Scenario scenario, const SimulationOptions& options)
       return Occupied(c, r, self, robots_only);
     });
   }
+}
+
+void Simulation::SetDoor(const std::string& name, bool closed) {
+  auto door = std::find_if(scenario_.doors.begin(), scenario_.doors.end(), [&](const Door& d) { return d.name == name; });
+  if (door == scenario_.doors.end()) {
+    std::string known;
+    for (const Door& d : scenario_.doors) known += (known.empty() ? "" : ", ") + d.name;
+    throw Error(ErrorCode::kNotFound, "no door '" + name + "' (doors: " + (known.empty() ? "none" : known) + ")");
+  }
+  if (door->closed == closed) return;
+  if (closed) {
+    OccupancyGrid leaf(scenario_.truth.width(), scenario_.truth.height(), scenario_.truth.resolution(),
+                       scenario_.truth.origin());
+    leaf.FillBox(door->box.min, door->box.max);
+    for (const Disc& d : Discs()) {
+      if (leaf.DiscHitsObstacle(d.centre, d.radius)) {
+        throw Error(ErrorCode::kFailedPrecondition, "door '" + name + "' cannot close on " + BodyName(d.id));
+      }
+    }
+  }
+  door->closed = closed;
+  scenario_.truth = TruthWithDoors(scenario_.fixed_truth, scenario_.doors);
+  truth_ = RayCaster(scenario_.truth);
 }
 
 const std::vector<Person>& Simulation::people() const { return crowd_ ? crowd_->people() : kNobody; }

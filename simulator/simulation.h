@@ -107,6 +107,10 @@ class Simulation {
   void Command(size_t index, const BodyTwist& twist);
   void CommandAcceleration(size_t index, double linear, double angular);
   StepOutputs Step();
+  // Opens or closes the scenario's door `name` now; the sensors see it from the next reading.
+  // Throws navd::Error: kNotFound (listing the doors) for an unknown name, kFailedPrecondition
+  // when closing it would shut it on a robot, an obstacle or a person.
+  void SetDoor(const std::string& name, bool closed);
 
   double now() const { return now_; }
   const std::vector<std::unique_ptr<SimulatedRobot>>& robots() const { return robots_; }

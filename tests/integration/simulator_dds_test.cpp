@@ -165,6 +165,61 @@ TEST(NavsimScenario, BareMapServerMapRunsTheDefaultRobotAndBadStartsAreRefused) 
       << bad.output;
 }
 
+TEST(NavsimScenario, NavctlClosesAndOpensADoorTheLaserSeesIt) {
+  const int domain = ReserveDomain();
+  const std::string dir = MakeTempDir();
+  Process navsim({NavsimBinary(), "--scenario", SourceDir() + "/worlds/scenarios/office.yaml", "--rate", "5", "--domain",
+                  std::to_string(domain), "--command-timeout", "1000"},
+                 dir + "/navsim.log");
+  dds::Participant p({domain, dds::Network::kLoopback, "driver", {}});
+  std::mutex scans_mutex;
+  std::vector<float> last_ranges;
+  int scans = 0;
+  dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(
+      p, dds::TopicName("", dds::kScan), dds::Reliability::kBestEffort, [&](const sensor_msgs::msg::dds_::LaserScan_& m) {
+        std::lock_guard<std::mutex> lock(scans_mutex);
+        last_ranges = m.ranges();
+        ++scans;
+      });
+  dds::Reader<navsim_msgs::msg::dds_::WorldState_PubSubType> world(p, dds::kWorldState, dds::Reliability::kBestEffort);
+  // The beam from the start (1, 6, 0) through the middle of door s1 (2.5, 4.95) of the office.
+  const double angle = std::atan2(4.95 - 6.0, 2.5 - 1.0);
+  const size_t beam = static_cast<size_t>(std::lround((angle + 2 * M_PI / 3) / (4 * M_PI / 3 / 682)));
+  auto range_after_next_scans = [&] {
+    int seen;
+    {
+      std::lock_guard<std::mutex> lock(scans_mutex);
+      seen = scans;
+    }
+    for (int i = 0; i < 200; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      std::lock_guard<std::mutex> lock(scans_mutex);
+      if (scans >= seen + 2) return static_cast<double>(last_ranges.at(beam));
+    }
+    return -1.0;
+  };
+  for (int i = 0; i < 200 && !world.Latest(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_TRUE(world.Latest()) << navsim.Log();
+  ASSERT_EQ(world.Latest()->doors().size(), 8u);
+  EXPECT_EQ(world.Latest()->doors()[0].name(), "s1");
+  EXPECT_FALSE(world.Latest()->doors()[0].closed());
+  EXPECT_GT(range_after_next_scans(), 2.0);  // through the open doorway into the room
+
+  const auto closed = RunCommand({NavctlBinary(), "door", "s1", "close", "--domain", std::to_string(domain)});
+  EXPECT_EQ(closed.exit_code, 0) << closed.output;
+  EXPECT_NE(closed.output.find("door 's1' closed"), std::string::npos) << closed.output;
+  EXPECT_NEAR(range_after_next_scans(), 1.0 / std::sin(-angle), 0.05);  // the door's face at y = 5.0
+
+  const auto opened = RunCommand({NavctlBinary(), "door", "s1", "open", "--domain", std::to_string(domain)});
+  EXPECT_EQ(opened.exit_code, 0) << opened.output;
+  EXPECT_GT(range_after_next_scans(), 2.0);
+
+  const auto unknown = RunCommand({NavctlBinary(), "door", "back", "close", "--domain", std::to_string(domain)});
+  EXPECT_NE(unknown.exit_code, 0);
+  EXPECT_NE(unknown.output.find("no door 'back' (doors: s1, s2, s3, s4, n1, n2, n3, n4)"), std::string::npos)
+      << unknown.output;
+}
+
 TEST(NavsimScenario, BadScenarioExitsNonZeroWithOneLine) {
   const std::string dir = MakeTempDir();
   const std::string path = dir + "/bad.yaml";

@@ -142,6 +142,36 @@ TEST(ZigguratNormal, MatchesTheNormalDistributionIncludingItsTails) {
   for (int i = 0; i < 100; ++i) EXPECT_EQ(noise(a), 2.0 + 0.1 * ZigguratNormal::Standard(b));
 }
 
+TEST(Doors, OpenAndCloseAtRunTimeButNeverOnABody) {
+  Scenario office = LoadScenarioFile(std::string(NAVD_SOURCE_DIR) + "/worlds/scenarios/office.yaml");
+  ASSERT_EQ(office.doors.size(), 8u);
+  office.robots[0].start = Pose2(17.5, 4.95, -M_PI / 2);  // in doorway s4
+  Simulation sim(office, {});
+  // Open: the ray from the corridor down through the doorway runs into the room beyond y = 4.9.
+  const double open = sim.truth().Cast({2.5, 6.0}, -M_PI / 2, 4.0);
+  EXPECT_GT(open, 1.2);
+  sim.SetDoor("s1", true);
+  EXPECT_NEAR(sim.truth().Cast({2.5, 6.0}, -M_PI / 2, 4.0), 1.0, 1e-9);  // the door's face at y = 5.0
+  EXPECT_TRUE(sim.scenario().doors[0].closed);
+  EXPECT_FALSE(sim.world().map.IsOccupied(sim.world().map.CellOf({2.5, 4.95})));  // not in the robots' map
+  sim.SetDoor("s1", false);
+  EXPECT_DOUBLE_EQ(sim.truth().Cast({2.5, 6.0}, -M_PI / 2, 4.0), open);
+
+  const auto refused = [&](const std::string& name, ErrorCode code, const std::string& text) {
+    try {
+      sim.SetDoor(name, true);
+      ADD_FAILURE() << "closing " << name << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), code);
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  refused("s9", ErrorCode::kNotFound, "no door 's9' (doors: s1, s2, s3, s4, n1, n2, n3, n4)");
+  // The robot stands in doorway s4: the door does not shut on it.
+  refused("s4", ErrorCode::kFailedPrecondition, "door 's4' cannot close on");
+  EXPECT_FALSE(sim.scenario().doors[3].closed);
+}
+
 TEST(RayCaster, RayDiscDistance) {
   const Disc d{{3, 0}, 0.5, 1};
   EXPECT_NEAR(RayDiscDistance({0, 0}, {1, 0}, d), 2.5, 1e-12);
