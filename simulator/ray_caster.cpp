@@ -14,21 +14,34 @@ constexpr int kTile = 1 << kTileShift;
 // A cell's centre D cells from the nearest obstacle centre is at least D - sqrt(2) cells from any
 // point of that obstacle's square: half a diagonal for each square.
 constexpr float kSafeMargin = 1.4143f;
-// Finite stand-in for "never" along an axis the ray does not move on: inf would turn 0 * inf into
-// NaN in the leap arithmetic.
-constexpr double kNever = 1e30;
-// Two boundary crossings closer than this (cells) are one crossing through a corner; the same
-// tolerance as TraverseSegment's.
-constexpr double kCornerTolerance = 1e-9;
+// Ray parameters in cells as fixed point with 32 fraction bits.
+using Fixed = int64_t;
+constexpr double kFixedOne = 4294967296.0;
+// Rays are walked at most 2^15 cells (1.6 km at 5 cm); a per-cell step longer than 2^16 cells, or
+// a first crossing beyond 2^28, is never reached. With leaps of at most 255 tiles of 8 cells the
+// sums stay below 2^61.
+constexpr double kMaxCells = 32768.0;
+constexpr double kMaxStep = 65536.0;
+constexpr double kMaxFirst = 268435456.0;
+// Two boundary crossings closer than this are one crossing through a corner: 1e-9 cells, as
+// TraverseSegment's tolerance.
+constexpr Fixed kCornerFixed = 4;
 
-// How many of the boundary crossings at first, first + 1 / per_cell, ... come before t (per_cell
-// is the ray's direction component, so 1 / per_cell is the spacing). No division and no call to
-// ceil: this sits on the walk's critical path.
-int CrossingsBefore(double t, double first, double per_cell) {
-  if (!(first < t)) return 0;
-  const double n = (t - first) * per_cell;
-  const int k = static_cast<int>(n);
-  return k < n ? k + 1 : k;
+Fixed ToFixed(double cells) { return static_cast<Fixed>(cells * kFixedOne + 0.5); }
+// A value in [0, 1] as a 2.62 fixed-point number (a signed conversion: no unsigned fix-up code).
+uint64_t ToFraction(double v) { return static_cast<uint64_t>(static_cast<int64_t>(v * 4611686018427387904.0)); }
+
+// How many of the crossings first, first + step, first + 2 step, ... come before t. `per` is
+// 1 / step as a 2.62 fraction of a cell, for an estimate by one multiplication (no division: this
+// is on the walk's critical path), which exact integer comparisons then correct by one or two.
+int CrossingsBefore(Fixed t, Fixed first, Fixed step, uint64_t per) {
+  if (first >= t) return 0;
+  const auto estimate = static_cast<unsigned __int128>(static_cast<uint64_t>(t - first)) * per;
+  // (t - first) / step rounded up: almost always floor + 1 (cells x 2^32 x 2^62 / 2^94 = crossings).
+  int64_t k = static_cast<int64_t>(static_cast<uint64_t>(estimate >> 94)) + 1;
+  while (k > 0 && first + (k - 1) * step >= t) --k;
+  while (first + k * step < t) ++k;
+  return static_cast<int>(k);
 }
 
 }  // namespace
@@ -104,7 +117,6 @@ double RayCaster::Cast(const Point2& origin, const Point2& dir, double max_range
   const double lx = (origin.x() - grid_.origin().x()) / res;
   const double ly = (origin.y() - grid_.origin().y()) / res;
   if (!(lx >= 0.0 && ly >= 0.0 && lx < grid_.width() && ly < grid_.height())) return 0.0;
-  const double max_t = max_range * inv_resolution_;
   const double dx = dir.x(), dy = dir.y();
   const int sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
   const double fx = std::floor(lx), fy = std::floor(ly);
@@ -118,12 +130,22 @@ double RayCaster::Cast(const Point2& origin, const Point2& dir, double max_range
     return (tile_of(x, y) >> (((y & (kTile - 1)) << kTileShift) | (x & (kTile - 1)))) & 1;
   };
   if (wall(cx, cy)) return 0.0;
-  // Ray parameter (cells travelled) at the next vertical / horizontal boundary, and per cell.
+  // The walk runs in fixed point (cells x 2^32): comparing and stepping integers keeps the chain
+  // from one cell to the next a few cycles long, and sums of steps are exact, so a leap lands on
+  // exactly the crossing the cell-by-cell walk would reach.
+  const double max_t = std::min(max_range * inv_resolution_, kMaxCells);
+  const Fixed max_tf = ToFixed(max_t);
   const double adx = std::abs(dx), ady = std::abs(dy);
-  const double inv_dx = dx != 0 ? 1.0 / adx : kNever;
-  const double inv_dy = dy != 0 ? 1.0 / ady : kNever;
-  double t_x = dx != 0 ? ((dx > 0 ? fx + 1 : fx) - lx) * (sx * inv_dx) : kNever;
-  double t_y = dy != 0 ? ((dy > 0 ? fy + 1 : fy) - ly) * (sy * inv_dy) : kNever;
+  // Per-cell steps beyond kMaxStep cells are never taken within kMaxCells: clamped, so leaps of up
+  // to 255 tiles cannot overflow.
+  const double rdx = 1.0 / dx, rdy = 1.0 / dy;  // +-inf along an axis
+  const Fixed step_x = ToFixed(std::min(std::abs(rdx), kMaxStep));
+  const Fixed step_y = ToFixed(std::min(std::abs(rdy), kMaxStep));
+  const uint64_t per_x = ToFraction(adx), per_y = ToFraction(ady);
+  const double first_x = dx != 0 ? ((dx > 0 ? fx + 1 : fx) - lx) * rdx : kMaxFirst;
+  const double first_y = dy != 0 ? ((dy > 0 ? fy + 1 : fy) - ly) * rdy : kMaxFirst;
+  Fixed t_x = ToFixed(std::min(first_x, kMaxFirst)), t_y = ToFixed(std::min(first_y, kMaxFirst));
+  const double to_metres = res / kFixedOne;
   while (true) {
     const int tx = cx >> kTileShift, ty = cy >> kTileShift;
     const int side = empty_ahead[(static_cast<size_t>(ty) * tile_stride + tx) * 4 + quadrant];
@@ -133,61 +155,60 @@ double RayCaster::Cast(const Point2& origin, const Point2& dir, double max_range
       // can hit anything), and let the cell step below leave it with the usual corner rule.
       const int nx = sx > 0 ? ((tx + side) << kTileShift) - cx : cx - ((tx - side + 1) << kTileShift) + 1;
       const int ny = sy > 0 ? ((ty + side) << kTileShift) - cy : cy - ((ty - side + 1) << kTileShift) + 1;
-      const double exit_x = t_x + (nx - 1) * inv_dx, exit_y = t_y + (ny - 1) * inv_dy;
-      if (std::min(exit_x, exit_y) > max_t) return max_range;
+      const Fixed exit_x = t_x + (nx - 1) * step_x, exit_y = t_y + (ny - 1) * step_y;
+      if (std::min(exit_x, exit_y) > max_tf) return max_range;
       int kx = nx - 1, ky = ny - 1;
-      if (exit_x < exit_y - kCornerTolerance) {
-        ky = CrossingsBefore(exit_x - kCornerTolerance, t_y, ady);
-      } else if (exit_y < exit_x - kCornerTolerance) {
-        kx = CrossingsBefore(exit_y - kCornerTolerance, t_x, adx);
+      if (exit_x < exit_y - kCornerFixed) {
+        ky = CrossingsBefore(exit_x - kCornerFixed, t_y, step_y, per_y);
+      } else if (exit_y < exit_x - kCornerFixed) {
+        kx = CrossingsBefore(exit_y - kCornerFixed, t_x, step_x, per_x);
       }
       cx += sx * kx;
       cy += sy * ky;
-      t_x += kx * inv_dx;
-      t_y += ky * inv_dy;
+      t_x += kx * step_x;
+      t_y += ky * step_y;
     } else {
       // A tile with walls: walk it cell by cell with its bits at hand until the ray hits one,
       // leaves the tile (then look at the next tile) or meets a corner (taken below).
       const uint64_t bits = tiles[static_cast<size_t>(ty) * tile_stride + tx];
       bool left = false;
-      while (std::abs(t_x - t_y) > kCornerTolerance) {
+      while (std::abs(t_x - t_y) > kCornerFixed) {
+        // Which boundary comes first is a coin toss for most rays: chosen without a branch.
         const bool along_x = t_x < t_y;
-        const double t = along_x ? t_x : t_y;
-        if (t > max_t) return max_range;
+        const Fixed t = along_x ? t_x : t_y;
+        if (t > max_tf) return max_range;
         cx += along_x ? sx : 0;
         cy += along_x ? 0 : sy;
-        t_x += along_x ? inv_dx : 0.0;
-        t_y += along_x ? 0.0 : inv_dy;
+        t_x += along_x ? step_x : 0;
+        t_y += along_x ? 0 : step_y;
         if (((cx >> kTileShift) ^ tx) | ((cy >> kTileShift) ^ ty)) {
-          if (wall(cx, cy)) return t * res;
+          if (wall(cx, cy)) return t * to_metres;
           left = true;
           break;
         }
-        if ((bits >> (((cy & (kTile - 1)) << kTileShift) | (cx & (kTile - 1)))) & 1) return t * res;
+        if ((bits >> (((cy & (kTile - 1)) << kTileShift) | (cx & (kTile - 1)))) & 1) return t * to_metres;
       }
       if (left) continue;
     }
-    if (std::abs(t_x - t_y) <= kCornerTolerance) {
+    if (std::abs(t_x - t_y) <= kCornerFixed) {
       // Through a corner: the two side cells count too, so nothing slips between diagonal walls.
-      const double tc = std::min(t_x, t_y);
-      if (tc > max_t) return max_range;
-      if (wall(cx + sx, cy) || wall(cx, cy + sy)) return tc * res;
+      const Fixed tc = std::min(t_x, t_y);
+      if (tc > max_tf) return max_range;
+      if (wall(cx + sx, cy) || wall(cx, cy + sy)) return tc * to_metres;
       cx += sx;
       cy += sy;
-      t_x += inv_dx;
-      t_y += inv_dy;
-      if (wall(cx, cy)) return tc * res;
+      t_x += step_x;
+      t_y += step_y;
+      if (wall(cx, cy)) return tc * to_metres;
     } else {
-      // Which boundary comes first is a coin toss for most rays: choose without a branch, so the
-      // walk does not pay a misprediction per cell.
       const bool along_x = t_x < t_y;
-      const double t = along_x ? t_x : t_y;
-      if (t > max_t) return max_range;
+      const Fixed t = along_x ? t_x : t_y;
+      if (t > max_tf) return max_range;
       cx += along_x ? sx : 0;
       cy += along_x ? 0 : sy;
-      t_x += along_x ? inv_dx : 0.0;
-      t_y += along_x ? 0.0 : inv_dy;
-      if (wall(cx, cy)) return t * res;
+      t_x += along_x ? step_x : 0;
+      t_y += along_x ? 0 : step_y;
+      if (wall(cx, cy)) return t * to_metres;
     }
   }
 }

@@ -3,9 +3,10 @@
 // tiles of 64 bits, with a ring of wall cells around the grid so the walk needs no bounds checks:
 // a 1000 x 1000 grid is 125 KB and stays in cache. Each tile also knows, for each quadrant a ray
 // can head into, the largest empty square of tiles starting at it, so a ray crosses that square in
-// one leap and walks cell by cell (Amanatides & Woo, corners as in
-// TraverseSegment) only through tiles with walls: the same hit as a pure cell walk at a fraction
-// of the cost. Cells outside the grid count as walls. Metres, radians, map frame.
+// one leap and walks cell by cell (Amanatides & Woo, corners as in TraverseSegment) only through
+// tiles with walls: the same hit as a pure cell walk at a fraction of the cost. The walk counts in
+// fixed point, so it handles rays up to 2^15 cells (1.6 km at 5 cm). Cells outside the grid count
+// as walls. Metres, radians, map frame.
 #include <cstdint>
 #include <vector>
 
