@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "services/common/pose2.h"
+#include "services/localization/method_arbiter.h"
 
 namespace navd::localization {
 
@@ -53,6 +54,9 @@ class Localizer {
   // Forgets the pose and searches the whole map for it (seed 000's "wake-up"). Returns false for
   // localisers that cannot.
   virtual bool GlobalRelocalize() { return false; }
+  // How suitable this method is now, for the chapter-10 arbiter: the gate (can it work with the
+  // sensors there are) and the criteria computing time, fault tolerance and precision, 1..5.
+  virtual MethodContext Suitability(bool laser_fresh) const = 0;
 
  protected:
   // Called by SetPose with checked values; theta already in (-pi, pi].

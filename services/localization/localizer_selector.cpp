@@ -1,5 +1,8 @@
 #include "services/localization/localizer_selector.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "services/common/error.h"
 
 namespace navd::localization {
@@ -9,20 +12,43 @@ void LocalizerSelector::Add(std::unique_ptr<Localizer> localizer) { localizers_.
 std::vector<std::string> LocalizerSelector::Methods() const {
   std::vector<std::string> names;
   for (const auto& l : localizers_) names.push_back(l->name());
+  names.push_back("auto");
   return names;
 }
 
 void LocalizerSelector::Select(const std::string& name) {
+  if (name == "auto") {
+    std::lock_guard<std::mutex> lock(mutex_);
+    arbiter_ = std::make_unique<MethodArbiter>();
+    last_evaluation_ = -1e18;
+    return;
+  }
   std::string known;
   for (size_t i = 0; i < localizers_.size(); ++i) {
     if (localizers_[i]->name() == name) {
       std::lock_guard<std::mutex> lock(mutex_);
       selected_ = i;
+      arbiter_.reset();
       return;
     }
-    known += (known.empty() ? "" : ", ") + localizers_[i]->name();
+    known += localizers_[i]->name() + ", ";
   }
-  throw Error(ErrorCode::kInvalidArgument, "method: unknown localisation method '" + name + "' (known: " + known + ")");
+  throw Error(ErrorCode::kInvalidArgument, "method: unknown localisation method '" + name + "' (known: " + known + "auto)");
+}
+
+bool LocalizerSelector::automatic() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return arbiter_ != nullptr;
+}
+
+void LocalizerSelector::Arbitrate(double stamp) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!arbiter_ || !std::isfinite(stamp) || stamp < last_evaluation_ + kEvaluationPeriod) return;
+  last_evaluation_ = stamp;
+  const bool laser_fresh = stamp - last_scan_stamp_ <= kLaserTimeout;
+  std::vector<MethodContext> methods;
+  for (const auto& l : localizers_) methods.push_back(l->Suitability(laser_fresh));
+  selected_ = arbiter_->Update(methods, {std::begin(kWeights), std::end(kWeights)});
 }
 
 Localizer& LocalizerSelector::Selected() const {
@@ -34,11 +60,19 @@ std::string LocalizerSelector::name() const { return Selected().name(); }
 
 void LocalizerSelector::AddOdometry(const OdometryReading& reading) {
   for (auto& l : localizers_) l->AddOdometry(reading);
+  Arbitrate(reading.stamp);
 }
 
 bool LocalizerSelector::AddScan(const ScanReading& scan) {
   bool used = false;
   for (auto& l : localizers_) used |= l->AddScan(scan);
+  // The laser is there when scans arrive, used or not: a filter skips scans while the robot
+  // stands still.
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (std::isfinite(scan.stamp)) last_scan_stamp_ = std::max(last_scan_stamp_, scan.stamp);
+  }
+  Arbitrate(scan.stamp);
   return used;
 }
 

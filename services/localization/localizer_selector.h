@@ -1,7 +1,7 @@
 #pragma once
-// Several localisers run side by side on the same odometry and scans; one of them, selected by
-// name at run time, answers for the robot's pose. The foundation for the chapter-10 arbiter,
-// which will choose by context instead of by request.
+// Several localisers run side by side on the same odometry and scans; one of them answers for the
+// robot's pose: selected by name at run time, or, with "auto", by the chapter-10 arbiter from the
+// context every 0.2 s of sensor time (the book's sampling), switching after ten wins in a row.
 #include <memory>
 #include <mutex>
 #include <string>
@@ -15,22 +15,38 @@ class LocalizerSelector : public Localizer {
  public:
   // The first localiser added is selected until Select says otherwise.
   void Add(std::unique_ptr<Localizer> localizer);
+  // The localisers' names, then "auto".
   std::vector<std::string> Methods() const;
-  // Throws navd::Error(kInvalidArgument) listing the known methods for an unknown name.
+  // A localiser's name, or "auto" for the arbiter. Throws navd::Error(kInvalidArgument) listing
+  // the known methods for an unknown name.
   void Select(const std::string& name);
+  bool automatic() const;
+  // Weights of the criteria computing time, fault tolerance and precision for "auto": precision
+  // first, so the particle filter (CT 2, FT 4) answers unless its scans fit the map poorly
+  // (quality below 1/8) and odometry (CT 5, FT 2, precision 2) takes over.
+  static constexpr double kWeights[3] = {0.1, 0.3, 0.6};
+  static constexpr double kEvaluationPeriod = 0.2;  // s of sensor time
+  static constexpr double kLaserTimeout = 1.0;      // s without a scan before the laser counts as gone
 
   std::string name() const override;  // the selected method's
   void AddOdometry(const OdometryReading& reading) override;
   bool AddScan(const ScanReading& scan) override;
   PoseEstimate Estimate() const override;
   bool GlobalRelocalize() override;   // on every localiser that can; true if any did
+  MethodContext Suitability(bool laser_fresh) const override { return Selected().Suitability(laser_fresh); }
 
  private:
   void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
 
+  // With "auto": scores every localiser and selects the arbiter's choice, at most every
+  // kEvaluationPeriod of sensor time.
+  void Arbitrate(double stamp);
+
   std::vector<std::unique_ptr<Localizer>> localizers_;  // fixed after start-up
   mutable std::mutex mutex_;
   size_t selected_ = 0;
+  std::unique_ptr<MethodArbiter> arbiter_;  // set while "auto" is selected
+  double last_scan_stamp_ = -1e18, last_evaluation_ = -1e18;
   Localizer& Selected() const;
 };
 

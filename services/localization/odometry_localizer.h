@@ -14,6 +14,8 @@ class OdometryLocalizer : public Localizer {
   std::string name() const override { return "odometry"; }
   void AddOdometry(const OdometryReading& reading) override;
   PoseEstimate Estimate() const override;
+  // Always works, costs nothing, never recovers from slip, and drifts.
+  MethodContext Suitability(bool) const override { return {name(), 1.0, {5.0, 2.0, 2.0}}; }
 
  private:
   void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override;

@@ -8,6 +8,7 @@
 //  - augmented MCL (w_slow, w_fast) to inject uniformly drawn particles when the sensors stop
 //    agreeing with the map (recovery from a wrong pose or a kidnapping).
 // Units: metres, radians; poses in the map frame; odometry in the odom frame.
+#include <algorithm>
 #include <deque>
 #include <mutex>
 #include <random>
@@ -59,6 +60,11 @@ class ParticleFilterLocalizer : public Localizer {
   std::string name() const override { return "amcl"; }
   void AddOdometry(const OdometryReading& reading) override;
   bool AddScan(const ScanReading& scan) override;
+  // Needs the laser; costlier than odometry, recovers (random particles, relocalisation), and is as
+  // precise as its scans fit the map (quality 0..1 as 1..5).
+  MethodContext Suitability(bool laser_fresh) const override {
+    return {name(), laser_fresh ? 1.0 : 0.0, {2.0, 4.0, 1.0 + 4.0 * std::clamp(Estimate().quality, 0.0, 1.0)}};
+  }
   PoseEstimate Estimate() const override;
 
   // Scatters particles uniformly over the free space (global localisation, no prior).

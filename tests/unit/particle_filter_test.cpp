@@ -5,7 +5,11 @@
 
 #include <cmath>
 
+#include "services/common/error.h"
+
 #include "services/common/world.h"
+#include "services/localization/localizer_selector.h"
+#include "services/localization/odometry_localizer.h"
 #include "services/localization/particle_filter.h"
 #include "services/common/diff_drive.h"
 #include "simulator/simulation.h"
@@ -147,6 +151,51 @@ TEST(ParticleFilter, IgnoresMalformedInput) {
   const auto e = pf.Estimate();
   EXPECT_TRUE(e.pose.finite());
   EXPECT_NEAR(e.pose.x, world.start.x, 0.5);
+}
+
+// "auto" (book chapter 10): the arbiter hands the pose to the particle filter while its scans fit
+// the map, to odometry ten evaluations (2 s) after the laser has been silent for a second, and back
+// when scans return.
+TEST(LocalizerSelector, AutoFollowsTheLaserWithTheChapterTenArbiter) {
+  World world = DefaultWorld();
+  sim::Simulation s(world, {});
+  LocalizerSelector selector;
+  selector.Add(std::make_unique<OdometryLocalizer>(world.start));
+  auto pf = std::make_unique<ParticleFilterLocalizer>(world.map);
+  const std::string amcl = pf->name();
+  const ParticleFilterLocalizer& filter = *pf;
+  selector.Add(std::move(pf));
+  selector.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
+  selector.SetPose(world.start, Eigen::Matrix3d::Zero());
+  EXPECT_EQ(selector.Methods(), (std::vector<std::string>{"odometry", amcl, "auto"}));
+  selector.Select("auto");
+  EXPECT_TRUE(selector.automatic());
+  // Returns the method in charge after `seconds` of slow circles, with or without the laser.
+  auto run = [&](double seconds, bool laser) {
+    const double end = s.now() + seconds;
+    while (s.now() < end) {
+      s.Command(0, {0.2, 0.0, 0.2});
+      const auto out = s.Step();
+      if (out.robots[0].odom) selector.AddOdometry({s.robot().base().odom_pose(), s.robot().base().odom_covariance(), s.now()});
+      if (laser && out.robots[0].scan) selector.AddScan(ToScan(s, *out.robots[0].scan));
+    }
+    return selector.name();
+  };
+  EXPECT_EQ(run(1.5, true), "odometry");  // no laser yet at the first evaluation; 10 wins needed
+  EXPECT_EQ(run(2.0, true), amcl);
+  EXPECT_GT(filter.Suitability(true).criteria[2], 3.0) << filter.Estimate().quality;  // a good fit
+  EXPECT_EQ(run(2.5, false), amcl);       // silent for 1 s, then 1.5 s of odometry wins
+  EXPECT_EQ(run(1.0, false), "odometry");
+  EXPECT_EQ(run(3.0, true), amcl) << "filter quality " << filter.Estimate().quality;
+  try {
+    selector.Select("ekf");
+    ADD_FAILURE() << "an unknown method was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("(known: odometry, " + amcl + ", auto)"), std::string::npos) << e.what();
+  }
+  selector.Select("odometry");
+  EXPECT_FALSE(selector.automatic());
+  EXPECT_EQ(run(3.0, true), "odometry");
 }
 
 }  // namespace
