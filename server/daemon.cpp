@@ -60,7 +60,9 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   }
   // Every localiser runs; --localizer (or SelectMethod) picks the one that answers.
   localization::LocalizerSelector localizer;
-  localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid));
+  localization::ParticleFilterOptions filter_options;
+  if (robot.drive == DriveType::kOmni) filter_options.motion_model = localization::MotionModel::kOmni;
+  localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid, filter_options));
   localizer.Add(std::make_unique<localization::OdometryLocalizer>());
   localizer.Select(o.localizer);
   localizer.SetPose(initial_pose, Eigen::Matrix3d::Zero());  // checks it, too

@@ -120,9 +120,28 @@ Pose2 ParticleFilterLocalizer::OdometryAtLocked(double stamp) const {
 }
 
 void ParticleFilterLocalizer::MoveParticles(const Pose2& from, const Pose2& to) {
-  // sample_motion_model_odometry: rotate, translate, rotate, each with noise.
   const double dx = to.x - from.x, dy = to.y - from.y;
   const double trans = std::hypot(dx, dy);
+  std::normal_distribution<double> n(0.0, 1.0);
+  if (o_.motion_model == MotionModel::kOmni) {
+    // Translate along the motion's bearing in the robot frame, slip across it, rotate; each
+    // particle carries the same body-frame motion from its own heading.
+    const double rot = NormalizeAngle(to.theta - from.theta);
+    const double bearing = trans < 1e-9 ? 0.0 : NormalizeAngle(std::atan2(dy, dx) - from.theta);
+    const double s_trans = std::sqrt(o_.alpha3 * trans * trans + o_.alpha1 * rot * rot);
+    const double s_rot = std::sqrt(o_.alpha4 * rot * rot + o_.alpha2 * trans * trans);
+    const double s_strafe = std::sqrt(o_.alpha1 * rot * rot + o_.alpha5 * trans * trans);
+    for (auto& p : particles_) {
+      const double t = trans + s_trans * n(rng_);
+      const double side = s_strafe * n(rng_);
+      const double heading = p.pose.theta + bearing;
+      p.pose.x += t * std::cos(heading) - side * std::sin(heading);
+      p.pose.y += t * std::sin(heading) + side * std::cos(heading);
+      p.pose.theta = NormalizeAngle(p.pose.theta + rot + s_rot * n(rng_));
+    }
+    return;
+  }
+  // sample_motion_model_odometry: rotate, translate, rotate, each with noise.
   // Backwards motion is a translation with the robot's heading, not a half turn.
   double rot1 = trans < 0.01 ? 0.0 : NormalizeAngle(std::atan2(dy, dx) - from.theta);
   double signed_trans = trans;
@@ -134,7 +153,6 @@ void ParticleFilterLocalizer::MoveParticles(const Pose2& from, const Pose2& to) 
   const double s_rot1 = std::sqrt(o_.alpha1 * rot1 * rot1 + o_.alpha2 * trans * trans);
   const double s_trans = std::sqrt(o_.alpha3 * trans * trans + o_.alpha4 * (rot1 * rot1 + rot2 * rot2));
   const double s_rot2 = std::sqrt(o_.alpha1 * rot2 * rot2 + o_.alpha2 * trans * trans);
-  std::normal_distribution<double> n(0.0, 1.0);
   for (auto& p : particles_) {
     const double r1 = rot1 + s_rot1 * n(rng_);
     const double t = signed_trans + s_trans * n(rng_);

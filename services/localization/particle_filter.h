@@ -1,7 +1,8 @@
 #pragma once
 // Adaptive Monte Carlo localisation, as users know it from ROS's AMCL (Thrun, Burgard and Fox,
 // "Probabilistic Robotics", ch. 4 and 8): a particle filter over the robot's map pose with
-//  - the odometry motion model (sample_motion_model_odometry, noise alpha1..alpha4),
+//  - the odometry motion model (sample_motion_model_odometry, noise alpha1..alpha4; or the
+//    omnidirectional variant with alpha5 for sideways slip),
 //  - the likelihood-field sensor model on the map's exact distance field (z_hit Gaussian of the
 //    distance from a beam's end to the nearest obstacle, plus z_rand), on a subset of beams,
 //  - KLD-sampling to size the particle set to the spread of the belief,
@@ -19,7 +20,15 @@
 
 namespace navd::localization {
 
+// How odometry moves the particles: a differential drive (or unicycle) turns, drives and turns
+// (rot1, trans, rot2); an omnidirectional base also slides sideways, so its motion is a
+// translation in any direction plus a rotation, with noise of its own across the motion (AMCL's
+// "omni" model). Using the diff-drive model for a sideways slide would read it as two quarter
+// turns and smear the particles' headings.
+enum class MotionModel { kDiffDrive, kOmni };
+
 struct ParticleFilterOptions {
+  MotionModel motion_model = MotionModel::kDiffDrive;
   int min_particles = 500;
   int max_particles = 5000;
   int global_particles = 30000;     // scattered for global relocalisation; resampling trims them
@@ -30,6 +39,7 @@ struct ParticleFilterOptions {
   // Odometry noise (AMCL's odom_alpha1..4): rotation from rotation, rotation from translation,
   // translation from translation, translation from rotation.
   double alpha1 = 0.1, alpha2 = 0.1, alpha3 = 0.1, alpha4 = 0.1;
+  double alpha5 = 0.1;              // omni only: sideways slip from translation
   // Likelihood field.
   int beams = 90;                   // beams used per scan, evenly spread
   double sigma_hit = 0.07;           // m
