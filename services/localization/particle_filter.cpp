@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "services/common/distance_field.h"
+#include "services/common/ziggurat_normal.h"
 
 namespace navd::localization {
 
@@ -55,7 +56,7 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   const double sx = covariance(0, 0) > 0 ? std::sqrt(covariance(0, 0)) : o_.initial_sigma_xy;
   const double sy = covariance(1, 1) > 0 ? std::sqrt(covariance(1, 1)) : o_.initial_sigma_xy;
   const double st = covariance(2, 2) > 0 ? std::sqrt(covariance(2, 2)) : o_.initial_sigma_theta;
-  std::normal_distribution<double> n(0.0, 1.0);
+  const ZigguratNormal n;
   const int count = std::clamp(2 * o_.min_particles, o_.min_particles, o_.max_particles);
   particles_.assign(count, {});
   for (auto& p : particles_) {
@@ -122,7 +123,7 @@ Pose2 ParticleFilterLocalizer::OdometryAtLocked(double stamp) const {
 void ParticleFilterLocalizer::MoveParticles(const Pose2& from, const Pose2& to) {
   const double dx = to.x - from.x, dy = to.y - from.y;
   const double trans = std::hypot(dx, dy);
-  std::normal_distribution<double> n(0.0, 1.0);
+  const ZigguratNormal n;
   if (o_.motion_model == MotionModel::kOmni) {
     // Translate along the motion's bearing in the robot frame, slip across it, rotate; each
     // particle carries the same body-frame motion from its own heading.

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
         scan.angle_increment = s.robot().laser()->increment();
         scan.range_min = world.laser.range_min;
         scan.range_max = world.laser.range_max;
+        scan.stamp = s.now();  // the filter moves particles to the odometry of the scan's own time
         pf.AddScan(scan);
       }
     }
