@@ -186,13 +186,23 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   }
   if (ends.size() < 5) return false;  // too little to judge by
 
-  // Sensor log-likelihood of each particle, summed over the beams.
+  // Sensor log-likelihood of each particle, summed over the beams; in float cells of the map
+  // (shifted by half a cell) from here on, since this loop runs particles x beams times.
+  std::vector<float> end_x(ends.size()), end_y(ends.size());
+  for (size_t j = 0; j < ends.size(); ++j) {
+    end_x[j] = static_cast<float>(ends[j].x() * inv_resolution_);
+    end_y[j] = static_cast<float>(ends[j].y() * inv_resolution_);
+  }
   std::vector<double> sensor(particles_.size());
   for (size_t k = 0; k < particles_.size(); ++k) {
     const Pose2& p = particles_[k].pose;
-    const double c = std::cos(p.theta), s = std::sin(p.theta);
-    double sum = 0.0;
-    for (const Point2& e : ends) sum += LogLikelihoodAt(p.x + c * e.x() - s * e.y(), p.y + s * e.x() + c * e.y());
+    const float c = static_cast<float>(std::cos(p.theta)), s = static_cast<float>(std::sin(p.theta));
+    const float px = static_cast<float>((p.x - map_.origin().x()) * inv_resolution_) - 0.5f;
+    const float py = static_cast<float>((p.y - map_.origin().y()) * inv_resolution_) - 0.5f;
+    float sum = 0.0f;
+    for (size_t j = 0; j < end_x.size(); ++j) {
+      sum += LogLikelihoodAtCell(px + c * end_x[j] - s * end_y[j], py + s * end_x[j] + c * end_y[j]);
+    }
     sensor[k] = sum;
   }
   // The belief's expected per-beam log-likelihood: how well the scan fits where the filter thinks
@@ -233,23 +243,6 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   moved_since_scan_ = false;
   UpdateEstimate();
   return true;
-}
-
-float ParticleFilterLocalizer::LogLikelihoodAt(double x, double y) const {
-  // The hot loop of the filter (particles x beams): float math, truncation instead of floor (the
-  // clamps make them agree), one table lookup instead of exp and log.
-  const float gx = static_cast<float>((x - map_.origin().x()) * inv_resolution_) - 0.5f;
-  const float gy = static_cast<float>((y - map_.origin().y()) * inv_resolution_) - 0.5f;
-  const int w = map_.width(), h = map_.height();
-  if (!(gx >= -0.5f && gy >= -0.5f && gx < w - 0.5f && gy < h - 0.5f)) return log_outside_;
-  const int x0 = std::min(std::max(static_cast<int>(gx), 0), w - 2);
-  const int y0 = std::min(std::max(static_cast<int>(gy), 0), h - 2);
-  const float fx = std::min(std::max(gx - x0, 0.0f), 1.0f), fy = std::min(std::max(gy - y0, 0.0f), 1.0f);
-  const float* row0 = &surface_distance_[static_cast<size_t>(y0) * w + x0];
-  const float* row1 = row0 + w;
-  const float d = (1 - fy) * ((1 - fx) * row0[0] + fx * row0[1]) + fy * ((1 - fx) * row1[0] + fx * row1[1]);
-  const size_t mm = std::min(static_cast<size_t>(std::abs(d) * 1000.0f), log_likelihood_table_.size() - 1);
-  return log_likelihood_table_[mm];
 }
 
 void ParticleFilterLocalizer::Resample() {
