@@ -146,6 +146,17 @@ double RayCaster::Cast(const Point2& origin, const Point2& dir, double max_range
   const double first_y = dy != 0 ? ((dy > 0 ? fy + 1 : fy) - ly) * rdy : kMaxFirst;
   Fixed t_x = ToFixed(std::min(first_x, kMaxFirst)), t_y = ToFixed(std::min(first_y, kMaxFirst));
   const double to_metres = res / kFixedOne;
+  // One cell step across the nearer boundary (not a corner); returns the ray parameter there.
+  // Which boundary comes first is a coin toss for most rays: chosen without a branch.
+  auto step_across = [&] {
+    const bool along_x = t_x < t_y;
+    const Fixed t = along_x ? t_x : t_y;
+    cx += along_x ? sx : 0;
+    cy += along_x ? 0 : sy;
+    t_x += along_x ? step_x : 0;
+    t_y += along_x ? 0 : step_y;
+    return t;
+  };
   while (true) {
     const int tx = cx >> kTileShift, ty = cy >> kTileShift;
     const int side = empty_ahead[(static_cast<size_t>(ty) * tile_stride + tx) * 4 + quadrant];
@@ -173,14 +184,8 @@ double RayCaster::Cast(const Point2& origin, const Point2& dir, double max_range
       const uint64_t bits = tiles[static_cast<size_t>(ty) * tile_stride + tx];
       bool left = false;
       while (std::abs(t_x - t_y) > kCornerFixed) {
-        // Which boundary comes first is a coin toss for most rays: chosen without a branch.
-        const bool along_x = t_x < t_y;
-        const Fixed t = along_x ? t_x : t_y;
+        const Fixed t = step_across();
         if (t > max_tf) return max_range;
-        cx += along_x ? sx : 0;
-        cy += along_x ? 0 : sy;
-        t_x += along_x ? step_x : 0;
-        t_y += along_x ? 0 : step_y;
         if (((cx >> kTileShift) ^ tx) | ((cy >> kTileShift) ^ ty)) {
           if (wall(cx, cy)) return t * to_metres;
           left = true;
@@ -201,13 +206,8 @@ double RayCaster::Cast(const Point2& origin, const Point2& dir, double max_range
       t_y += step_y;
       if (wall(cx, cy)) return tc * to_metres;
     } else {
-      const bool along_x = t_x < t_y;
-      const Fixed t = along_x ? t_x : t_y;
+      const Fixed t = step_across();
       if (t > max_tf) return max_range;
-      cx += along_x ? sx : 0;
-      cy += along_x ? 0 : sy;
-      t_x += along_x ? step_x : 0;
-      t_y += along_x ? 0 : step_y;
       if (wall(cx, cy)) return t * to_metres;
     }
   }
