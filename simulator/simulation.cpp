@@ -57,18 +57,18 @@ void Simulation::SetDoor(const std::string& name, bool closed) {
     throw Error(ErrorCode::kNotFound, "no door '" + name + "' (doors: " + (known.empty() ? "none" : known) + ")");
   }
   if (door->closed == closed) return;
+  door->closed = closed;
+  OccupancyGrid truth = TruthWithDoors(scenario_.fixed_truth, scenario_.doors);
   if (closed) {
-    OccupancyGrid leaf(scenario_.truth.width(), scenario_.truth.height(), scenario_.truth.resolution(),
-                       scenario_.truth.origin());
-    leaf.FillBox(door->box.min, door->box.max);
+    // Bodies never overlap the walls they have, so a body the new truth overlaps stands in the door.
     for (const Disc& d : Discs()) {
-      if (leaf.DiscHitsObstacle(d.centre, d.radius)) {
+      if (truth.DiscHitsObstacle(d.centre, d.radius) && !scenario_.truth.DiscHitsObstacle(d.centre, d.radius)) {
+        door->closed = false;
         throw Error(ErrorCode::kFailedPrecondition, "door '" + name + "' cannot close on " + BodyName(d.id));
       }
     }
   }
-  door->closed = closed;
-  scenario_.truth = TruthWithDoors(scenario_.fixed_truth, scenario_.doors);
+  scenario_.truth = std::move(truth);
   truth_ = RayCaster(scenario_.truth);
 }
 

@@ -231,30 +231,32 @@ Pose2 FreeSpotNearCentre(const OccupancyGrid& map, double radius, const std::str
 
 }  // namespace
 
+namespace {
+
+// A map file already read and sniffed as `kind`; its name is the file's stem or the world's.
+OccupancyGrid MapFromText(const std::string& text, const std::string& path, MapFileKind kind, std::string* name) {
+  if (kind == MapFileKind::kWorld) {
+    World w = ParseWorld(text, path, std::filesystem::path(path).parent_path().string());
+    if (name) *name = w.name;
+    return std::move(w.map);
+  }
+  if (name) *name = std::filesystem::path(path).stem().string();
+  return kind == MapFileKind::kMovingAi ? ParseMovingAiMap(text, path) : LoadMapServerMap(path);
+}
+
+}  // namespace
+
 OccupancyGrid LoadAnyMapFile(const std::string& path, std::string* name) {
   const std::string text = ReadTextFile(path, "map file");
-  switch (SniffMapFile(text, path)) {
-    case MapFileKind::kMovingAi:
-      if (name) *name = std::filesystem::path(path).stem().string();
-      return ParseMovingAiMap(text, path);
-    case MapFileKind::kMapServer:
-      if (name) *name = std::filesystem::path(path).stem().string();
-      return LoadMapServerMap(path);
-    case MapFileKind::kWorld:
-      break;
-  }
-  World w = ParseWorld(text, path, std::filesystem::path(path).parent_path().string());
-  if (name) *name = w.name;
-  return std::move(w.map);
+  return MapFromText(text, path, SniffMapFile(text, path), name);
 }
 
 World LoadWorldOrMapFile(const std::string& path) {
   const std::string text = ReadTextFile(path, "world or map file");
-  if (SniffMapFile(text, path) == MapFileKind::kWorld) {
-    return ParseWorld(text, path, std::filesystem::path(path).parent_path().string());
-  }
+  const MapFileKind kind = SniffMapFile(text, path);
+  if (kind == MapFileKind::kWorld) return ParseWorld(text, path, std::filesystem::path(path).parent_path().string());
   World w;
-  w.map = LoadAnyMapFile(path, &w.name);
+  w.map = MapFromText(text, path, kind, &w.name);
   w.source = path;
   w.start = FreeSpotNearCentre(w.map, w.robot.radius, path);
   return w;
