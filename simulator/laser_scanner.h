@@ -7,7 +7,8 @@
 #include <vector>
 
 #include "services/common/world.h"
-#include "simulator/ray_caster.h"
+#include "services/common/ray_caster.h"
+#include "simulator/disc.h"
 
 namespace navd::sim {
 

@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "simulator/ray_caster.h"
+#include "services/common/ray_caster.h"
+#include "simulator/disc.h"
 
 namespace navd::sim {
 

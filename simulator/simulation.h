@@ -15,7 +15,8 @@
 #include "simulator/mobile_base.h"
 #include "simulator/moving_obstacle.h"
 #include "simulator/range_sensor_array.h"
-#include "simulator/ray_caster.h"
+#include "services/common/ray_caster.h"
+#include "simulator/disc.h"
 #include "simulator/scenario.h"
 
 namespace navd::sim {

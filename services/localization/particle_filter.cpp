@@ -4,7 +4,6 @@
 #include <cmath>
 #include <unordered_set>
 
-#include "services/common/distance_field.h"
 #include "services/common/ziggurat_normal.h"
 
 namespace navd::localization {
@@ -15,24 +14,10 @@ constexpr double kScanlessSteps = 4.0;   // x the update thresholds
 }  // namespace
 
 ParticleFilterLocalizer::ParticleFilterLocalizer(const OccupancyGrid& map, const ParticleFilterOptions& options)
-    : map_(map), o_(options), rng_(options.seed) {
-  inv_resolution_ = 1.0 / map_.resolution();
-  // The likelihood field, once per map.
-  const DistanceField field(map_);
-  surface_distance_.resize(field.values().size());
-  const double half = map_.resolution() / 2;
-  for (size_t i = 0; i < surface_distance_.size(); ++i) {
-    const double d = field.values()[i];
-    surface_distance_[i] = static_cast<float>(d <= 0.0 ? -half : std::min(d - half, o_.max_distance));
-  }
-  const double rand = o_.z_rand / o_.range_max;
-  log_likelihood_table_.resize(static_cast<size_t>(o_.max_distance * 1000) + 2);
-  for (size_t mm = 0; mm < log_likelihood_table_.size(); ++mm) {
-    const double d = mm / 1000.0;
-    log_likelihood_table_[mm] =
-        static_cast<float>(std::log(o_.z_hit * std::exp(-d * d / (2 * o_.sigma_hit * o_.sigma_hit)) + rand));
-  }
-  log_outside_ = static_cast<float>(std::log(rand));
+    : map_(map),
+      o_(options),
+      field_(map, {options.sigma_hit, options.z_hit, options.z_rand, options.max_distance, options.range_max}),
+      rng_(options.seed) {
   for (size_t i = 0; i < map_.cells().size(); ++i)
     if (map_.cells()[i] == OccupancyGrid::kFree) free_cells_.push_back(static_cast<int32_t>(i));
 }
@@ -190,18 +175,17 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   // (shifted by half a cell) from here on, since this loop runs particles x beams times.
   std::vector<float> end_x(ends.size()), end_y(ends.size());
   for (size_t j = 0; j < ends.size(); ++j) {
-    end_x[j] = static_cast<float>(ends[j].x() * inv_resolution_);
-    end_y[j] = static_cast<float>(ends[j].y() * inv_resolution_);
+    end_x[j] = static_cast<float>(ends[j].x() * field_.inv_resolution());
+    end_y[j] = static_cast<float>(ends[j].y() * field_.inv_resolution());
   }
   std::vector<double> sensor(particles_.size());
   for (size_t k = 0; k < particles_.size(); ++k) {
     const Pose2& p = particles_[k].pose;
     const float c = static_cast<float>(std::cos(p.theta)), s = static_cast<float>(std::sin(p.theta));
-    const float px = static_cast<float>((p.x - map_.origin().x()) * inv_resolution_) - 0.5f;
-    const float py = static_cast<float>((p.y - map_.origin().y()) * inv_resolution_) - 0.5f;
+    const float px = field_.ToCellX(p.x), py = field_.ToCellY(p.y);
     float sum = 0.0f;
     for (size_t j = 0; j < end_x.size(); ++j) {
-      sum += LogLikelihoodAtCell(px + c * end_x[j] - s * end_y[j], py + s * end_x[j] + c * end_y[j]);
+      sum += field_.LogLikelihoodAtCell(px + c * end_x[j] - s * end_y[j], py + s * end_x[j] + c * end_y[j]);
     }
     sensor[k] = sum;
   }
@@ -214,7 +198,7 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   if (w_slow_ == 0.0) w_slow_ = w_fast_ = w_avg;
   w_slow_ += o_.alpha_slow * (w_avg - w_slow_);
   w_fast_ += o_.alpha_fast * (w_avg - w_fast_);
-  estimate_.quality = std::exp(beam_log_likelihood - std::log(o_.z_hit + o_.z_rand / o_.range_max));
+  estimate_.quality = std::exp(beam_log_likelihood - field_.best_log_likelihood());
 
   // Posterior weights, normalised in log space. During global relocalisation, until the belief
   // has gathered (spread under tempering_spread), the likelihood is tempered: beams are far from

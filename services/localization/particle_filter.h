@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
+#include "services/localization/likelihood_field.h"
 #include "services/localization/localizer.h"
 
 namespace navd::localization {
@@ -99,29 +100,7 @@ class ParticleFilterLocalizer : public Localizer {
 
   const OccupancyGrid map_;
   ParticleFilterOptions o_;
-  // Approximate distance from each cell centre to the nearest obstacle *surface* (centre distance
-  // minus half a cell; minus half a cell inside obstacles), interpolated bilinearly at each beam's
-  // end so the fit is not quantised to cells (which biased the estimate by up to half a cell).
-  std::vector<float> surface_distance_;
-  std::vector<float> log_likelihood_table_;  // log(z_hit * N(d) + z_rand / range) by |d| in mm
-  float log_outside_ = 0.0f;                 // a beam ending outside the map
-  double inv_resolution_ = 1.0;
-  // Log-likelihood of a beam ending at (gx, gy) in cells of the map, shifted by half a cell (so
-  // cell centres are integers). Inline: it runs particles x beams times per scan.
-  [[gnu::always_inline]] float LogLikelihoodAtCell(float gx, float gy) const {
-    // Float math, truncation instead of floor (the clamps make them agree), one table lookup
-    // instead of exp and log.
-    const int w = map_.width(), h = map_.height();
-    if (!(gx >= -0.5f && gy >= -0.5f && gx < w - 0.5f && gy < h - 0.5f)) return log_outside_;
-    const int x0 = std::min(std::max(static_cast<int>(gx), 0), w - 2);
-    const int y0 = std::min(std::max(static_cast<int>(gy), 0), h - 2);
-    const float fx = std::min(std::max(gx - x0, 0.0f), 1.0f), fy = std::min(std::max(gy - y0, 0.0f), 1.0f);
-    const float* row0 = &surface_distance_[static_cast<size_t>(y0) * w + x0];
-    const float* row1 = row0 + w;
-    const float d = (1 - fy) * ((1 - fx) * row0[0] + fx * row0[1]) + fy * ((1 - fx) * row1[0] + fx * row1[1]);
-    const size_t mm = std::min(static_cast<size_t>(std::abs(d) * 1000.0f), log_likelihood_table_.size() - 1);
-    return log_likelihood_table_[mm];
-  }
+  const LikelihoodField field_;
   std::vector<int32_t> free_cells_;
 
   mutable std::mutex mutex_;

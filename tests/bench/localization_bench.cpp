@@ -24,7 +24,7 @@ void BM_ParticleFilterUpdate(benchmark::State& state) {
   sim::LaserScanner laser(world.laser);
   std::mt19937_64 rng(1);
   localization::ScanReading scan;
-  scan.ranges = laser.Scan(world.start, sim::RayCaster(world.map), {}, -1, rng);
+  scan.ranges = laser.Scan(world.start, RayCaster(world.map), {}, -1, rng);
   scan.angle_min = laser.angle_min();
   scan.angle_increment = laser.increment();
   scan.range_min = world.laser.range_min;

@@ -23,7 +23,7 @@ TEST(OccupancyGridMapper, RebuildsTheWarehouseFromKnownPoses) {
   LaserDescription laser = world.laser;
   laser.noise = 0.0;
   sim::LaserScanner scanner(laser);
-  const sim::RayCaster walls(world.map);
+  const RayCaster walls(world.map);
   std::mt19937_64 rng(1);
   mapping::OccupancyGridMapper mapper({0, 0}, {10, 10});
   for (const Pose2& p : {Pose2{0.8, 1.0, M_PI / 2}, Pose2{0.8, 5.0, -M_PI / 2}, Pose2{0.8, 8.0, 0.0},

@@ -6,20 +6,14 @@
 // one leap and walks cell by cell (Amanatides & Woo, corners as in TraverseSegment) only through
 // tiles with walls: the same hit as a pure cell walk at a fraction of the cost. The walk counts in
 // fixed point, so it handles rays up to 2^15 cells (1.6 km at 5 cm). Cells outside the grid count
-// as walls. Metres, radians, map frame.
+// as walls. The simulator's sensors and the localisers' virtual scans both cast with it. Metres,
+// radians, map frame.
 #include <cstdint>
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
 
-namespace navd::sim {
-
-// A disc in the world that sensors see and robots bump into (a robot, a person, a moving obstacle).
-struct Disc {
-  Point2 centre;
-  double radius = 0.0;
-  int id = -1;  // who it is (Simulation's body index), so a sensor can skip its own robot
-};
+namespace navd {
 
 class RayCaster {
  public:
@@ -50,8 +44,4 @@ class RayCaster {
   std::vector<uint8_t> empty_ahead_;
 };
 
-// Distance along the unit direction `dir` from `origin` to where the ray enters `disc`, or
-// infinity when it misses (or starts inside it).
-double RayDiscDistance(const Point2& origin, const Point2& dir, const Disc& disc);
-
-}  // namespace navd::sim
+}  // namespace navd

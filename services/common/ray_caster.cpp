@@ -1,4 +1,4 @@
-#include "simulator/ray_caster.h"
+#include "services/common/ray_caster.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "services/common/distance_field.h"
 
-namespace navd::sim {
+namespace navd {
 namespace {
 
 constexpr int kTileShift = 3;  // 8 x 8 cells, one 64-bit word: 0.4 m at 5 cm
@@ -221,15 +221,4 @@ bool RayCaster::DiscHitsWall(const Point2& p, double radius) const {
   return grid_.DiscHitsObstacle(p, radius);
 }
 
-double RayDiscDistance(const Point2& origin, const Point2& dir, const Disc& disc) {
-  const Point2 m = origin - disc.centre;
-  const double b = m.dot(dir);
-  const double c = m.squaredNorm() - disc.radius * disc.radius;
-  if (c <= 0.0) return std::numeric_limits<double>::infinity();  // inside: the sensor is in the body
-  if (b > 0.0) return std::numeric_limits<double>::infinity();   // pointing away
-  const double disc_term = b * b - c;
-  if (disc_term < 0.0) return std::numeric_limits<double>::infinity();
-  return -b - std::sqrt(disc_term);
-}
-
-}  // namespace navd::sim
+}  // namespace navd

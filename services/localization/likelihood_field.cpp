@@ -1,0 +1,49 @@
+#include "services/localization/likelihood_field.h"
+
+#include "services/common/distance_field.h"
+
+namespace navd::localization {
+
+LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodFieldOptions& options)
+    : o_(options),
+      width_(map.width()),
+      height_(map.height()),
+      origin_(map.origin()),
+      resolution_(map.resolution()),
+      inv_resolution_(1.0 / map.resolution()) {
+  const DistanceField field(map);
+  surface_distance_.resize(field.values().size());
+  const double half = resolution_ / 2;
+  for (size_t i = 0; i < surface_distance_.size(); ++i) {
+    const double d = field.values()[i];
+    surface_distance_[i] = static_cast<float>(d <= 0.0 ? -half : std::min(d - half, o_.max_distance));
+  }
+  const double rand = o_.z_rand / o_.range_max;
+  log_likelihood_table_.resize(static_cast<size_t>(o_.max_distance * 1000) + 2);
+  for (size_t mm = 0; mm < log_likelihood_table_.size(); ++mm) {
+    const double d = mm / 1000.0;
+    log_likelihood_table_[mm] =
+        static_cast<float>(std::log(o_.z_hit * std::exp(-d * d / (2 * o_.sigma_hit * o_.sigma_hit)) + rand));
+  }
+  log_outside_ = static_cast<float>(std::log(rand));
+}
+
+bool LikelihoodField::SurfaceDistance(const Point2& p, double* distance, Point2* gradient) const {
+  const double gx = (p.x() - origin_.x()) * inv_resolution_ - 0.5;
+  const double gy = (p.y() - origin_.y()) * inv_resolution_ - 0.5;
+  if (!(gx >= -0.5 && gy >= -0.5 && gx < width_ - 0.5 && gy < height_ - 0.5) || width_ < 2 || height_ < 2) return false;
+  const int x0 = std::clamp(static_cast<int>(std::floor(gx)), 0, width_ - 2);
+  const int y0 = std::clamp(static_cast<int>(std::floor(gy)), 0, height_ - 2);
+  const double fx = std::clamp(gx - x0, 0.0, 1.0), fy = std::clamp(gy - y0, 0.0, 1.0);
+  const float* row0 = &surface_distance_[static_cast<size_t>(y0) * width_ + x0];
+  const float* row1 = row0 + width_;
+  *distance = (1 - fy) * ((1 - fx) * row0[0] + fx * row0[1]) + fy * ((1 - fx) * row1[0] + fx * row1[1]);
+  if (gradient) {
+    *gradient = Point2((1 - fy) * (row0[1] - row0[0]) + fy * (row1[1] - row1[0]),
+                       (1 - fx) * (row1[0] - row0[0]) + fx * (row1[1] - row0[1])) *
+                inv_resolution_;
+  }
+  return true;
+}
+
+}  // namespace navd::localization
