@@ -14,6 +14,7 @@
 #include "services/common/text_file.h"
 #include "services/common/world.h"
 #include "services/localization/localization_service.h"
+#include "services/localization/ekf_localizer.h"
 #include "services/localization/localizer_selector.h"
 #include "services/localization/odometry_localizer.h"
 #include "services/localization/particle_filter.h"
@@ -64,6 +65,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   if (robot.drive == DriveType::kOmni) filter_options.motion_model = localization::MotionModel::kOmni;
   localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid, filter_options));
   localizer.Add(std::make_unique<localization::OdometryLocalizer>());
+  localizer.Add(std::make_unique<localization::EkfLocalizer>(map->grid));
   localizer.Select(o.localizer);
   localizer.SetPose(initial_pose, Eigen::Matrix3d::Zero());  // checks it, too
 

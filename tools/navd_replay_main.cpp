@@ -1,9 +1,10 @@
 // navd-replay: runs navd's library code over a recorded CARMEN log, as fast as it can.
 //   navd-replay --log FILE[.gz] --mode map --out MAP.yaml [--resolution 0.05]
 //   navd-replay --log FILE[.gz] --mode localize --out EST.tum [--map MAP.yaml] [--odom-noise T,R]
-//               [--seed N]
+//               [--seed N] [--localizer amcl|ekf]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
-// map_server YAML + PGM, atomically. `localize` runs the particle filter on the log's scans with
+// map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
+// with scan-to-map matching) on the log's scans with
 // odometry made from the corrected poses and corrupted by a seeded noise model (per step between
 // scans: translation scaled by 1 + N(0, T); heading error N(0, R * distance) plus N(0, T * |turn|)),
 // writes one TUM line (t x y z qx qy qz qw) per scan and prints the error against the corrected
@@ -12,12 +13,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "services/common/carmen_log.h"
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
 #include "services/common/text_file.h"
 #include "services/common/world.h"
+#include "services/localization/ekf_localizer.h"
 #include "services/localization/particle_filter.h"
 #include "services/mapping/occupancy_grid_mapper.h"
 
@@ -36,15 +39,27 @@ int BuildMap(const navd::CarmenLog& log, const std::string& out, double resoluti
 }
 
 int Localize(const navd::CarmenLog& log, const std::string& out, const navd::OccupancyGrid& map,
-             double trans_noise, double rot_noise, uint64_t seed, double motion_noise) {
+             double trans_noise, double rot_noise, uint64_t seed, double motion_noise, const std::string& method) {
   using namespace navd;
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0.0, 1.0);
-  localization::ParticleFilterOptions o;
-  o.seed = seed;
-  o.range_max = 20.0;  // the z_rand density of a long-range (SICK) scanner's useful range
-  o.alpha1 = o.alpha2 = o.alpha3 = o.alpha4 = motion_noise;
-  localization::ParticleFilterLocalizer pf(map, o);
+  std::unique_ptr<localization::Localizer> localizer;
+  if (method == "ekf") {
+    // The filter's input noise is the replay's odometry noise model.
+    localization::EkfOptions o;
+    o.k_distance = trans_noise;
+    o.k_turn = trans_noise;
+    o.k_turn_per_metre = rot_noise;
+    o.field.range_max = 20.0;
+    localizer = std::make_unique<localization::EkfLocalizer>(map, o);
+  } else {
+    localization::ParticleFilterOptions o;
+    o.seed = seed;
+    o.range_max = 20.0;  // the z_rand density of a long-range (SICK) scanner's useful range
+    o.alpha1 = o.alpha2 = o.alpha3 = o.alpha4 = motion_noise;
+    localizer = std::make_unique<localization::ParticleFilterLocalizer>(map, o);
+  }
+  localization::Localizer& pf = *localizer;
   Pose2 odom;  // starts at the origin of its own frame
   pf.AddOdometry({odom, Eigen::Matrix3d::Zero(), log.scans.front().timestamp});
   pf.SetPose(log.scans.front().pose, Eigen::Matrix3d::Zero());
@@ -86,8 +101,8 @@ int Localize(const navd::CarmenLog& log, const std::string& out, const navd::Occ
   std::fprintf(stderr, "\n");
   WriteFileAtomically(out, tum);
   const double n_scans = static_cast<double>(log.scans.size());
-  std::printf("localize: %zu scans, position RMSE %.4f m, heading RMSE %.4f rad, worst %.3f m%s -> %s\n",
-              log.scans.size(), std::sqrt(sq_pos / n_scans), std::sqrt(sq_head / n_scans), worst,
+  std::printf("localize (%s): %zu scans, position RMSE %.4f m, heading RMSE %.4f rad, worst %.3f m%s -> %s\n",
+              method.c_str(), log.scans.size(), std::sqrt(sq_pos / n_scans), std::sqrt(sq_head / n_scans), worst,
               worst > 0.5 ? " (lost at times)" : ", never lost", out.c_str());
   return 0;
 }
@@ -136,6 +151,9 @@ int main(int argc, char** argv) {
   app.add_option("--map", map_path, "localize: map to localise on (default: built from the log's poses)");
   app.add_option("--odom-noise", odom_noise, "localize: T,R = relative translation noise, rad of heading noise per metre");
   app.add_option("--seed", seed, "localize: seed of the odometry noise and the filter");
+  std::string method = "amcl";
+  app.add_option("--localizer", method, "localize: amcl (particle filter, default) or ekf (seed 002's EKF with scan-to-map matching)")
+      ->check(CLI::IsMember({"amcl", "ekf"}));
   double motion_noise = 0.02;
   app.add_option("--motion-noise", motion_noise,
                  "localize: the filter's odometry noise alpha1..4 (variance per unit of motion squared)")
@@ -160,7 +178,7 @@ int main(int argc, char** argv) {
         throw std::invalid_argument("--odom-noise '" + odom_noise + "' is not T,R with T, R >= 0");
       }
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
-      rc = Localize(log, out, map, t, r, seed, motion_noise);
+      rc = Localize(log, out, map, t, r, seed, motion_noise, method);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double span = log.scans.back().timestamp - log.scans.front().timestamp;

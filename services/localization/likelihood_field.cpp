@@ -18,6 +18,18 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
     const double d = field.values()[i];
     surface_distance_[i] = static_cast<float>(d <= 0.0 ? -half : std::min(d - half, o_.max_distance));
   }
+  // Depth inside obstacles: the distance field of the free cells.
+  OccupancyGrid inverted = map;
+  for (size_t i = 0; i < inverted.cells().size(); ++i) {
+    const CellIndex c{static_cast<int>(i % width_), static_cast<int>(i / width_)};
+    inverted.set(c, map.IsOccupied(c) ? OccupancyGrid::kFree : OccupancyGrid::kOccupied);
+  }
+  const DistanceField depth(inverted);
+  signed_distance_ = surface_distance_;
+  for (size_t i = 0; i < signed_distance_.size(); ++i) {
+    const double d = depth.values()[i];
+    if (d > 0.0) signed_distance_[i] = static_cast<float>(-std::min(d - half, o_.max_distance));
+  }
   const double rand = o_.z_rand / o_.range_max;
   log_likelihood_table_.resize(static_cast<size_t>(o_.max_distance * 1000) + 2);
   for (size_t mm = 0; mm < log_likelihood_table_.size(); ++mm) {
@@ -35,7 +47,7 @@ bool LikelihoodField::SurfaceDistance(const Point2& p, double* distance, Point2*
   const int x0 = std::clamp(static_cast<int>(std::floor(gx)), 0, width_ - 2);
   const int y0 = std::clamp(static_cast<int>(std::floor(gy)), 0, height_ - 2);
   const double fx = std::clamp(gx - x0, 0.0, 1.0), fy = std::clamp(gy - y0, 0.0, 1.0);
-  const float* row0 = &surface_distance_[static_cast<size_t>(y0) * width_ + x0];
+  const float* row0 = &signed_distance_[static_cast<size_t>(y0) * width_ + x0];
   const float* row1 = row0 + width_;
   *distance = (1 - fy) * ((1 - fx) * row0[0] + fx * row0[1]) + fy * ((1 - fx) * row1[0] + fx * row1[1]);
   if (gradient) {

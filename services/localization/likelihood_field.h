@@ -43,8 +43,9 @@ class LikelihoodField {
   float ToCellY(double y) const { return static_cast<float>((y - origin_.y()) * inv_resolution_) - 0.5f; }
   double inv_resolution() const { return inv_resolution_; }
 
-  // Metres from the map-frame point p to the nearest obstacle surface (negative inside, at most
-  // max_distance), with its gradient (per metre) when `gradient` is given; false off the map.
+  // Signed metres from the map-frame point p to the nearest obstacle surface (inside an obstacle,
+  // minus the distance to its free side, so fits are pushed out of walls), at most max_distance,
+  // with its gradient (per metre) when `gradient` is given; false off the map.
   bool SurfaceDistance(const Point2& p, double* distance, Point2* gradient = nullptr) const;
   // The log-likelihood of a perfect fit (d = 0): quality figures compare with it.
   double best_log_likelihood() const { return log_likelihood_table_[0]; }
@@ -55,7 +56,8 @@ class LikelihoodField {
   int width_ = 0, height_ = 0;
   Point2 origin_;
   double resolution_ = 1.0, inv_resolution_ = 1.0;
-  std::vector<float> surface_distance_;
+  std::vector<float> surface_distance_;       // -half a cell anywhere inside obstacles (AMCL's field)
+  std::vector<float> signed_distance_;        // the same outside, the depth inside
   std::vector<float> log_likelihood_table_;  // log(z_hit * N(d) + z_rand / range) by |d| in mm
   float log_outside_ = 0.0f;                 // a beam ending outside the map
 };

@@ -5,11 +5,11 @@
 #include <unordered_set>
 
 #include "services/common/ziggurat_normal.h"
+#include "services/localization/scan_points.h"
 
 namespace navd::localization {
 
 namespace {
-constexpr size_t kOdometryHistory = 64;  // readings; 1.3 s at 50 Hz, 3 s at navd's 20 Hz
 constexpr double kScanlessSteps = 4.0;   // x the update thresholds
 }  // namespace
 
@@ -77,9 +77,7 @@ void ParticleFilterLocalizer::AddOdometry(const OdometryReading& reading) {
   }
   latest_odom_ = reading.pose;
   estimate_.stamp = reading.stamp;
-  if (!odom_history_.empty() && reading.stamp < odom_history_.back().stamp) odom_history_.clear();  // time went back
-  odom_history_.push_back(reading);
-  while (odom_history_.size() > kOdometryHistory) odom_history_.pop_front();
+  odom_history_.Add(reading);
   const Pose2 delta = last_odom_.inverse() * latest_odom_;
   const double moved = std::hypot(delta.x, delta.y), turned = std::abs(delta.theta);
   if (moved >= o_.update_min_distance || turned >= o_.update_min_angle) moved_since_scan_ = true;
@@ -90,19 +88,6 @@ void ParticleFilterLocalizer::AddOdometry(const OdometryReading& reading) {
     last_odom_ = latest_odom_;
     if (initialised_) UpdateEstimate();
   }
-}
-
-Pose2 ParticleFilterLocalizer::OdometryAtLocked(double stamp) const {
-  if (odom_history_.empty() || stamp >= odom_history_.back().stamp) return latest_odom_;
-  if (stamp <= odom_history_.front().stamp) return odom_history_.front().pose;
-  size_t i = 1;
-  while (odom_history_[i].stamp < stamp) ++i;
-  const OdometryReading& a = odom_history_[i - 1];
-  const OdometryReading& b = odom_history_[i];
-  const double span = b.stamp - a.stamp;
-  const double s = span > 0.0 ? (stamp - a.stamp) / span : 1.0;
-  const Pose2 d = a.pose.inverse() * b.pose;
-  return a.pose * Pose2{s * d.x, s * d.y, s * NormalizeAngle(d.theta)};
 }
 
 void ParticleFilterLocalizer::MoveParticles(const Pose2& from, const Pose2& to) {
@@ -150,25 +135,13 @@ void ParticleFilterLocalizer::MoveParticles(const Pose2& from, const Pose2& to) 
 }
 
 bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
-  if (scan.ranges.empty() || !std::isfinite(scan.angle_min) || !std::isfinite(scan.angle_increment) ||
-      !std::isfinite(scan.range_max) || !(scan.range_max > scan.range_min)) {
-    return false;
-  }
+  if (!ScanHeaderIsUsable(scan)) return false;
   std::lock_guard<std::mutex> lock(mutex_);
   if (!initialised_ || !have_odom_ || !moved_since_scan_) return false;
-  const Pose2 at_scan = OdometryAtLocked(scan.stamp);
+  const Pose2 at_scan = odom_history_.At(scan.stamp);
   MoveParticles(last_odom_, at_scan);
   last_odom_ = at_scan;
-  // Beam end points in the robot frame, on an even subset of beams; no-returns (NaN, inf, out of
-  // range) carry no information in a likelihood field and are skipped.
-  std::vector<Point2> ends;
-  const size_t step = std::max<size_t>(1, scan.ranges.size() / static_cast<size_t>(std::max(1, o_.beams)));
-  for (size_t i = 0; i < scan.ranges.size(); i += step) {
-    const double r = scan.ranges[i];
-    if (!std::isfinite(r) || r < scan.range_min || r >= scan.range_max) continue;
-    const double a = scan.angle_min + i * scan.angle_increment;
-    ends.push_back({r * std::cos(a), r * std::sin(a)});
-  }
+  const std::vector<Point2> ends = ScanEndPoints(scan, o_.beams);
   if (ends.size() < 5) return false;  // too little to judge by
 
   // Sensor log-likelihood of each particle, summed over the beams; in float cells of the map

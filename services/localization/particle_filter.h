@@ -11,7 +11,6 @@
 // Units: metres, radians; poses in the map frame; odometry in the odom frame.
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <mutex>
 #include <random>
 #include <vector>
@@ -19,6 +18,7 @@
 #include "services/common/occupancy_grid.h"
 #include "services/localization/likelihood_field.h"
 #include "services/localization/localizer.h"
+#include "services/localization/odometry_history.h"
 
 namespace navd::localization {
 
@@ -109,10 +109,7 @@ class ParticleFilterLocalizer : public Localizer {
   bool have_odom_ = false;
   Pose2 last_odom_;                     // odometry at the last filter update
   Pose2 latest_odom_;
-  // Recent odometry, oldest first: a scan is matched with the particles moved to the odometry of
-  // its own stamp, not to whatever arrived last (at 0.5 m/s, 50 ms is 2.5 cm of error).
-  std::deque<OdometryReading> odom_history_;
-  Pose2 OdometryAtLocked(double stamp) const;
+  OdometryHistory odom_history_;  // scans are matched with the particles moved to their own stamp
   bool moved_since_scan_ = true;
   double w_slow_ = 0.0, w_fast_ = 0.0;
   PoseEstimate estimate_;

@@ -13,44 +13,10 @@
 #include "services/localization/particle_filter.h"
 #include "services/common/diff_drive.h"
 #include "simulator/simulation.h"
+#include "tests/unit/simulated_drive.h"
 
 namespace navd::localization {
 namespace {
-
-ScanReading ToScan(const sim::Simulation& s, const std::vector<float>& ranges) {
-  ScanReading r;
-  r.ranges = ranges;
-  r.angle_min = s.robot().laser()->angle_min();
-  r.angle_increment = s.robot().laser()->increment();
-  r.range_min = s.world().laser.range_min;
-  r.range_max = s.world().laser.range_max;
-  r.stamp = s.now();
-  return r;
-}
-
-// Runs `seconds` of simulation under `command`, feeding the filter odometry at 50 Hz and scans at
-// 10 Hz as navd would. Returns the worst error over the last `settle` seconds.
-struct Errors {
-  double position = 0, heading = 0;
-};
-Errors Drive(sim::Simulation& s, ParticleFilterLocalizer& pf, double seconds,
-             const std::function<Twist2(double)>& command, double settle) {
-  Errors worst;
-  const double end = s.now() + seconds;
-  while (s.now() < end) {
-    const Twist2 c = command(s.now());
-    s.Command(0, {c.v, 0.0, c.omega});
-    const auto out = s.Step();
-    if (out.robots[0].odom) pf.AddOdometry({s.robot().base().odom_pose(), s.robot().base().odom_covariance(), s.now()});
-    if (out.robots[0].scan) pf.AddScan(ToScan(s, *out.robots[0].scan));
-    if (s.now() > end - settle) {
-      const Pose2 e = pf.Estimate().pose, t = s.robot().base().true_pose();
-      worst.position = std::max(worst.position, std::hypot(e.x - t.x, e.y - t.y));
-      worst.heading = std::max(worst.heading, std::abs(NormalizeAngle(e.theta - t.theta)));
-    }
-  }
-  return worst;
-}
 
 // navsim's robot at `start` and a particle filter on its map, both seeded, odometry anchored.
 struct Scenario {

@@ -1,0 +1,33 @@
+#include "services/localization/scan_points.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace navd::localization {
+
+bool ScanHeaderIsUsable(const ScanReading& scan) {
+  return !scan.ranges.empty() && std::isfinite(scan.angle_min) && std::isfinite(scan.angle_increment) &&
+         std::isfinite(scan.range_max) && std::isfinite(scan.range_min) && scan.range_max > scan.range_min;
+}
+
+std::vector<ScanBeam> SampleBeams(const ScanReading& scan, int count) {
+  std::vector<ScanBeam> beams;
+  const size_t n = scan.ranges.size();
+  const size_t step = count <= 0 ? 1 : std::max<size_t>(1, n / static_cast<size_t>(count));
+  for (size_t i = 0; i < n; i += step) {
+    const double r = scan.ranges[i];
+    const bool hit = std::isfinite(r) && r >= scan.range_min && r < scan.range_max;
+    beams.push_back({scan.angle_min + i * scan.angle_increment, hit ? r : scan.range_max, hit});
+  }
+  return beams;
+}
+
+std::vector<Point2> ScanEndPoints(const ScanReading& scan, int count) {
+  std::vector<Point2> ends;
+  for (const ScanBeam& b : SampleBeams(scan, count)) {
+    if (b.hit) ends.push_back({b.range * std::cos(b.angle), b.range * std::sin(b.angle)});
+  }
+  return ends;
+}
+
+}  // namespace navd::localization

@@ -1,0 +1,74 @@
+#pragma once
+// Localisers against navsim's robot and laser in-process (the simulator library, no network):
+// drive the robot, feed a localiser odometry at 50 Hz and scans at 10 Hz as navd would, and
+// measure its error against the ground truth.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "services/common/diff_drive.h"
+#include "services/localization/localizer.h"
+#include "simulator/simulation.h"
+
+namespace navd::localization {
+
+inline ScanReading ToScan(const sim::Simulation& s, const std::vector<float>& ranges) {
+  ScanReading r;
+  r.ranges = ranges;
+  r.angle_min = s.robot().laser()->angle_min();
+  r.angle_increment = s.robot().laser()->increment();
+  r.range_min = s.world().laser.range_min;
+  r.range_max = s.world().laser.range_max;
+  r.stamp = s.now();
+  return r;
+}
+
+struct Errors {
+  double position = 0, heading = 0;        // worst over the settle window
+  double mean_position = 0, mean_heading = 0;
+};
+
+// A systematic odometry error, as from a mis-measured wheel radius or wheel base: every increment's
+// translation is scaled by 1 + scale and its rotation by 1 + turn.
+struct OdometryBias {
+  double scale = 0.0;
+  double turn = 0.0;
+};
+
+// Runs `seconds` of simulation under `command`; returns the errors over the last `settle` seconds.
+inline Errors Drive(sim::Simulation& s, Localizer& localizer, double seconds,
+                    const std::function<Twist2(double)>& command, double settle, OdometryBias bias = {}) {
+  Errors e;
+  int samples = 0;
+  Pose2 last_odom = s.robot().base().odom_pose(), biased = last_odom;
+  const double end = s.now() + seconds;
+  while (s.now() < end) {
+    const Twist2 c = command(s.now());
+    s.Command(0, {c.v, 0.0, c.omega});
+    const auto out = s.Step();
+    if (out.robots[0].odom) {
+      const Pose2 odom = s.robot().base().odom_pose();
+      const Pose2 d = last_odom.inverse() * odom;
+      biased = biased * Pose2{d.x * (1 + bias.scale), d.y * (1 + bias.scale), d.theta * (1 + bias.turn)};
+      last_odom = odom;
+      localizer.AddOdometry({biased, s.robot().base().odom_covariance(), s.now()});
+    }
+    if (out.robots[0].scan) localizer.AddScan(ToScan(s, *out.robots[0].scan));
+    if (s.now() > end - settle) {
+      const Pose2 p = localizer.Estimate().pose, t = s.robot().base().true_pose();
+      const double dp = std::hypot(p.x - t.x, p.y - t.y), dh = std::abs(NormalizeAngle(p.theta - t.theta));
+      e.position = std::max(e.position, dp);
+      e.heading = std::max(e.heading, dh);
+      e.mean_position += dp;
+      e.mean_heading += dh;
+      ++samples;
+    }
+  }
+  if (samples > 0) {
+    e.mean_position /= samples;
+    e.mean_heading /= samples;
+  }
+  return e;
+}
+
+}  // namespace navd::localization
