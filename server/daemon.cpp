@@ -16,6 +16,7 @@
 #include "services/localization/localization_service.h"
 #include "services/localization/ekf_localizer.h"
 #include "services/localization/localizer_selector.h"
+#include "services/localization/odometric_calibration.h"
 #include "services/localization/odometry_localizer.h"
 #include "services/localization/particle_filter.h"
 #include "services/mapping/mapping_service.h"
@@ -66,6 +67,9 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid, filter_options));
   localizer.Add(std::make_unique<localization::OdometryLocalizer>());
   localizer.Add(std::make_unique<localization::EkfLocalizer>(map->grid));
+  localization::OdometricCalibrationOptions calibration;
+  calibration.wheel_base = robot.wheel_base;
+  localizer.Add(std::make_unique<localization::OdometricCalibrationLocalizer>(map->grid, calibration));
   localizer.Select(o.localizer);
   localizer.SetPose(initial_pose, Eigen::Matrix3d::Zero());  // checks it, too
 

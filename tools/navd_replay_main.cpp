@@ -1,7 +1,7 @@
 // navd-replay: runs navd's library code over a recorded CARMEN log, as fast as it can.
 //   navd-replay --log FILE[.gz] --mode map --out MAP.yaml [--resolution 0.05]
 //   navd-replay --log FILE[.gz] --mode localize --out EST.tum [--map MAP.yaml] [--odom-noise T,R]
-//               [--seed N] [--localizer amcl|ekf]
+//               [--seed N] [--localizer amcl|ekf|calibration]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with
@@ -21,6 +21,7 @@
 #include "services/common/text_file.h"
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
+#include "services/localization/odometric_calibration.h"
 #include "services/localization/particle_filter.h"
 #include "services/mapping/occupancy_grid_mapper.h"
 
@@ -44,7 +45,11 @@ int Localize(const navd::CarmenLog& log, const std::string& out, const navd::Occ
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0.0, 1.0);
   std::unique_ptr<localization::Localizer> localizer;
-  if (method == "ekf") {
+  if (method == "calibration") {
+    localization::OdometricCalibrationOptions o;
+    o.turn_threshold = 1e9;  // the log's scans are seconds apart: no turn rate to gate on
+    localizer = std::make_unique<localization::OdometricCalibrationLocalizer>(map, o);
+  } else if (method == "ekf") {
     // The filter's input noise is the replay's odometry noise model.
     localization::EkfOptions o;
     o.k_distance = trans_noise;
@@ -152,8 +157,10 @@ int main(int argc, char** argv) {
   app.add_option("--odom-noise", odom_noise, "localize: T,R = relative translation noise, rad of heading noise per metre");
   app.add_option("--seed", seed, "localize: seed of the odometry noise and the filter");
   std::string method = "amcl";
-  app.add_option("--localizer", method, "localize: amcl (particle filter, default) or ekf (seed 002's EKF with scan-to-map matching)")
-      ->check(CLI::IsMember({"amcl", "ekf"}));
+  app.add_option("--localizer", method,
+                 "localize: amcl (particle filter, default), ekf (seed 002's EKF with scan-to-map matching) or "
+                 "calibration (seed 000's odometric calibration)")
+      ->check(CLI::IsMember({"amcl", "ekf", "calibration"}));
   double motion_noise = 0.02;
   app.add_option("--motion-noise", motion_noise,
                  "localize: the filter's odometry noise alpha1..4 (variance per unit of motion squared)")

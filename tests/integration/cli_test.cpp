@@ -127,7 +127,7 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
 
 // Real laser data: the Intel Research Lab log in ../shared/data (present wherever CI runs). The
 // map is built from the log's corrected poses; the odometry is corrupted (5%, 2 deg/m, seeded).
-// The particle filter and seed 002's EKF both localise on it.
+// The particle filter, seed 002's EKF and seed 000's odometric calibration all localise on it.
 class NavdReplayLocalisation : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(NavdReplayLocalisation, LocalisesOnTheIntelLog) {
@@ -151,7 +151,7 @@ TEST_P(NavdReplayLocalisation, LocalisesOnTheIntelLog) {
   for (std::string line; std::getline(tum, line);) ++lines;
   EXPECT_EQ(lines, 910);
 }
-INSTANTIATE_TEST_SUITE_P(Localisers, NavdReplayLocalisation, ::testing::Values("amcl", "ekf"),
+INSTANTIATE_TEST_SUITE_P(Localisers, NavdReplayLocalisation, ::testing::Values("amcl", "ekf", "calibration"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 TEST(Daemons, BadWorldAndMapFilesExitNonZeroWithOneLine) {

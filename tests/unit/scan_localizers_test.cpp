@@ -8,10 +8,12 @@
 #include "services/common/ray_caster.h"
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
+#include "services/localization/odometric_calibration.h"
 #include "services/localization/odometry_localizer.h"
 #include "services/localization/scan_points.h"
 #include "services/localization/scan_to_map_fit.h"
 #include "simulator/laser_scanner.h"
+#include "simulator/scenario.h"
 #include "tests/unit/simulated_drive.h"
 
 namespace navd::localization {
@@ -154,6 +156,54 @@ TEST(Ekf, IgnoresMalformedInputAndRefusesMatchesOutsideItsGate) {
   EXPECT_TRUE(ekf.AddScan(far));
   e = ekf.Estimate();
   EXPECT_LT(std::hypot(e.pose.x - ahead.x, e.pose.y - ahead.y), 0.02);
+}
+
+// Seed 000's own validation case for its odometric calibration (section 5.3): the robot at
+// (2.45, 4.23, pi), the estimate started at (2.25, 4.20, 3.0), a moving obstacle crossing the
+// laser's view, ten runs. The robot turns slowly on the spot and back (below T_dv, so calibration
+// keeps running), then stands still for the last half second, when the error is measured. The
+// seed reached about 0.05 m and 0.03 rad; the issue asks for 0.02 m and 0.01 rad.
+TEST(OdometricCalibration, CorrectsTheSeedZeroValidationCaseWithAMovingObstacleInView) {
+  for (int run = 0; run < 10; ++run) {
+    sim::Scenario scenario = sim::ScenarioFromWorld(WithStart({2.45, 4.23, M_PI}));
+    sim::MovingObstacleDescription walker;
+    walker.name = "walker";
+    walker.speed = 0.4;
+    walker.loop = {{1.2, 3.0}, {1.2, 5.6}};  // back and forth across the laser's view, 1.25 m ahead
+    scenario.moving_obstacles.push_back(walker);
+    sim::Simulation s(scenario, Seeded(700 + run));
+    OdometricCalibrationLocalizer calibration(scenario.world.map);
+    calibration.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
+    calibration.SetPose({2.25, 4.20, 3.0}, Eigen::Matrix3d::Identity() * 0.04);
+    const Errors e = Drive(s, calibration, 13.0, [](double t) { return Twist2{0.0, t < 6 ? 0.2 : t < 12 ? -0.2 : 0.0}; }, 0.5);
+    std::printf("calibration validation run %d: worst error standing still %.4f m, %.4f rad, %d searches\n", run,
+                e.position, e.heading, calibration.searches());
+    EXPECT_LT(e.position, 0.02) << "run " << run;
+    EXPECT_LT(e.heading, 0.01) << "run " << run;
+    EXPECT_GE(calibration.searches(), 1);
+  }
+}
+
+// With odometry 3% long and turning 4% too far, calibration keeps the pose on a drive (up the
+// corridor, a half turn on the spot slow enough to stay under T_dv, and back) where dead reckoning
+// drifts by most of a metre.
+TEST(OdometricCalibration, KeepsThePoseWhileOdometryDrifts) {
+  World world = DefaultWorld();
+  world.robot.encoder_noise = 0.03;
+  sim::Simulation s(world, {});
+  OdometricCalibrationLocalizer calibration(world.map, {}, world.start);
+  calibration.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
+  const Errors e = Drive(s, calibration, 56.0, [](double t) {
+    if (t < 20) return Twist2{0.3, 0.0};
+    if (t < 36) return Twist2{0.0, M_PI / 16};  // 0.065 m/s of wheel speed difference < T_dv
+    return Twist2{0.3, 0.0};
+  }, 56.0, {0.03, 0.04});
+  std::printf("calibration drive: worst %.3f m / %.3f rad, mean %.4f m / %.4f rad, %d searches\n", e.position,
+              e.heading, e.mean_position, e.mean_heading, calibration.searches());
+  EXPECT_LT(e.position, 0.06);
+  EXPECT_LT(e.heading, 0.04);
+  EXPECT_LT(e.mean_position, 0.02);
+  EXPECT_GE(calibration.searches(), 5);
 }
 
 }  // namespace
