@@ -15,6 +15,7 @@
 #include "services/common/world.h"
 #include "services/localization/localization_service.h"
 #include "services/localization/ekf_localizer.h"
+#include "services/localization/histogram_localizer.h"
 #include "services/localization/localizer_selector.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/odometry_localizer.h"
@@ -70,6 +71,13 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   localization::OdometricCalibrationOptions calibration;
   calibration.wheel_base = robot.wheel_base;
   localizer.Add(std::make_unique<localization::OdometricCalibrationLocalizer>(map->grid, calibration));
+  // Grid localisation only where its grid is small enough (10 cm x 10 degrees).
+  try {
+    localizer.Add(std::make_unique<localization::HistogramLocalizer>(map->grid));
+  } catch (const Error& e) {
+    if (o.localizer == "histogram") throw;
+    spdlog::info("histogram localisation not offered: {}", e.what());
+  }
   localizer.Select(o.localizer);
   localizer.SetPose(initial_pose, Eigen::Matrix3d::Zero());  // checks it, too
 

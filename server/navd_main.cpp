@@ -28,8 +28,9 @@ int main(int argc, char** argv) {
   app.add_flag("--use-sim-time", o.use_sim_time, "Follow the simulator's rt/clock instead of the system clock");
   app.add_option("--localizer", o.localizer,
                  "amcl (particle filter on laser scans, default), ekf (seed 002's EKF with scan-to-map matching), "
-                 "calibration (seed 000's odometric calibration), odometry, or auto (the chapter-10 arbiter chooses)")
-      ->check(CLI::IsMember({"amcl", "ekf", "calibration", "odometry", "auto"}));
+                 "calibration (seed 000's odometric calibration), histogram (grid localisation, small maps), odometry, "
+                 "or auto (the chapter-10 arbiter chooses)")
+      ->check(CLI::IsMember({"amcl", "ekf", "calibration", "histogram", "odometry", "auto"}));
   app.add_option("--brain", o.brain_path, "Utility-function brain YAML (default: built in, as config/brain.yaml)");
   app.add_option("--control-rate", o.control_rate, "Control loop rate, Hz")->check(CLI::Range(1.0, 200.0));
   app.add_option("--inflation-margin", o.inflation_margin, "Metres added to the robot radius for lethal inflation")

@@ -5,9 +5,11 @@
 
 #include <cmath>
 
+#include "services/common/error.h"
 #include "services/common/ray_caster.h"
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
+#include "services/localization/histogram_localizer.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/odometry_localizer.h"
 #include "services/localization/scan_points.h"
@@ -204,6 +206,51 @@ TEST(OdometricCalibration, KeepsThePoseWhileOdometryDrifts) {
   EXPECT_LT(e.heading, 0.04);
   EXPECT_LT(e.mean_position, 0.02);
   EXPECT_GE(calibration.searches(), 5);
+}
+
+// Book chapter 3's delta: one action moves the belief to the intended neighbour with p = 2/3 and
+// to each of the two beside it with 1/6. A certain belief moved one cell along x shows exactly that
+// along x.
+TEST(Histogram, OneCellOfMotionSpreadsTheBeliefAsTheChaptersDelta) {
+  const World world = DefaultWorld();
+  HistogramLocalizer h(world.map);
+  h.AddOdometry({{0, 0, 0}, Eigen::Matrix3d::Zero(), 0.0});
+  const Pose2 at{4.05, 5.05, 0.0};  // a cell centre in the open middle of the room
+  h.SetPose(at, Eigen::Matrix3d::Zero());
+  const int c = h.ColumnOf(at.x);
+  EXPECT_NEAR(h.MarginalX()[c], 1.0, 1e-6);
+  h.AddOdometry({{0.1, 0, 0}, Eigen::Matrix3d::Zero(), 0.1});
+  const std::vector<double> m = h.MarginalX();
+  EXPECT_NEAR(m[c], 1.0 / 6, 1e-5);
+  EXPECT_NEAR(m[c + 1], 2.0 / 3, 1e-5);
+  EXPECT_NEAR(m[c + 2], 1.0 / 6, 1e-5);
+  EXPECT_NEAR(h.Estimate().pose.x, at.x + 0.1, 1e-6);
+}
+
+// With no prior at all (uniform over the free space), the histogram filter finds the robot in the
+// rooms once it has looked around, as the particle filter does.
+TEST(Histogram, FindsTheRobotWithNoPrior) {
+  const Pose2 starts[3] = {{8.5, 8.4, M_PI}, {4.0, 5.0, 0.0}, {3.0, 2.6, M_PI / 2}};
+  for (int run = 0; run < 3; ++run) {
+    World world = WithStart(starts[run]);
+    sim::Simulation s(world, Seeded(900 + run));
+    HistogramLocalizer h(world.map);
+    h.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
+    const Errors e = Drive(s, h, 14.0, [](double t) { return Twist2{0.0, t < 12 ? 0.6 : 0.0}; }, 1.0);
+    std::printf("histogram global run %d: error %.3f m, %.3f rad\n", run, e.position, e.heading);
+    EXPECT_LT(e.position, 0.1) << "run " << run;
+    EXPECT_LT(e.heading, 0.1) << "run " << run;
+  }
+}
+
+TEST(Histogram, RefusesMapsTooLargeForItsGrid) {
+  OccupancyGrid big(4000, 4000, 0.05, {0, 0});
+  try {
+    HistogramLocalizer h(big);
+    FAIL() << "a 200 x 200 m map at 0.1 m x 36 headings was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("max_states"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
