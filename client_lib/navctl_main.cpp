@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "client_lib/door_command.h"
+#include "client_lib/replay_command.h"
 #include "client_lib/follow_command.h"
 #include "client_lib/navctl_text.h"
 #include "client_lib/navd_client.h"
@@ -203,6 +204,21 @@ int main(int argc, char** argv) {
   door->add_option("--wait", door_options.wait, "Seconds to wait for navsim to do it")->check(seconds);
   door->add_flag("--json", door_options.json, "Print one JSON object");
 
+  auto* replay = app.add_subcommand("replay", "Play a CARMEN log over DDS like a robot while navd localises; judge its poses");
+  navd::navctl::ReplayOptions replay_options;
+  replay->add_option("--log", replay_options.log, "CARMEN log (.log or .log.gz)")->required();
+  replay->add_option("--rate", replay_options.rate, "Log seconds per wall second")->check(CLI::Range(0.01, 10000.0));
+  replay->add_option("--domain", replay_options.domain, "navd's DDS domain id")->check(CLI::Range(0, 232));
+  replay->add_option("--namespace", replay_options.robot_namespace, "Robot namespace of navd's topics");
+  replay->add_option("--server", replay_options.server, "navd's gRPC address, to set the first pose (\"\" to skip)");
+  replay->add_option("--odom-noise", replay_options.odom_noise, "T,R: relative translation noise, rad of heading noise per metre");
+  replay->add_option("--seed", replay_options.seed, "Seed of the odometry noise");
+  replay->add_option("--max-scans", replay_options.max_scans, "Replay only the first N scans")->check(CLI::NonNegativeNumber);
+  replay->add_option("--range-max", replay_options.range_max, "Beams are cut at this range, metres")->check(CLI::Range(0.1, 100.0));
+  replay->add_option("--out", replay_options.out, "Write navd's poses as TUM (t x y z qx qy qz qw)");
+  replay->add_flag("--strict", replay_options.strict, "Stop at the first malformed log line");
+  replay->add_option("--wait", replay_options.wait, "Seconds to wait for navd on DDS")->check(seconds);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -210,6 +226,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (replay->parsed()) return navd::navctl::RunReplay(replay_options);
     if (door->parsed()) {
       door_options.close = door_action == "close";
       return navd::navctl::RunDoor(door_options);

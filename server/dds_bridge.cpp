@@ -41,10 +41,7 @@ std::optional<localization::OdometryReading> DdsBridge::LatestOdometry() const {
   localization::OdometryReading r;
   r.pose = dds::FromPose(m->pose().pose());
   r.stamp = dds::FromTime(m->header().stamp());
-  const auto& c = m->pose().covariance();
-  const int idx[3] = {0, 1, 5};
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) r.covariance(i, k) = c[idx[i] * 6 + idx[k]];
+  r.covariance = dds::FromCovariance6(m->pose().covariance());
   return r;
 }
 
@@ -77,9 +74,7 @@ void DdsBridge::PublishPose(const localization::PoseEstimate& pose, double now) 
   m.header().stamp(dds::ToTime(pose.stamp > 0.0 ? pose.stamp : now));
   m.header().frame_id("map");
   m.pose().pose(dds::ToPose(pose.pose));
-  const int idx[3] = {0, 1, 5};  // x, y, yaw in ROS's 6x6 order
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) m.pose().covariance()[idx[r] * 6 + idx[c]] = pose.covariance(r, c);
+  m.pose().covariance(dds::ToCovariance6(pose.covariance));
   pose_writer_->Write(m);
 }
 

@@ -37,32 +37,11 @@ namespace msgs_sensor = sensor_msgs::msg::dds_;
 using navd::dds::Reliability;
 using navd::dds::TopicName;
 
-std_msgs::msg::dds_::Header_ Header(double t, const std::string& frame) {
-  std_msgs::msg::dds_::Header_ h;
-  h.stamp(navd::dds::ToTime(t));
-  h.frame_id(frame);
-  return h;
-}
-
-void FillCovariance(const Eigen::Matrix3d& c, std::array<double, 36>& out) {
-  // ROS order (x, y, z, roll, pitch, yaw): our (x, y, theta) sit at indices 0, 1, 5.
-  const int idx[3] = {0, 1, 5};
-  out.fill(0.0);
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k) out[idx[r] * 6 + idx[k]] = c(r, k);
-}
+using navd::dds::MakeHeader;
 
 nav_msgs::msg::dds_::Odometry_ MakeOdometry(double t, const Pose2& pose, const sim::BodyTwist& twist,
                                              const Eigen::Matrix3d& cov, const std::string& frame) {
-  nav_msgs::msg::dds_::Odometry_ m;
-  m.header(Header(t, frame));
-  m.child_frame_id("base_link");
-  m.pose().pose(navd::dds::ToPose(pose));
-  FillCovariance(cov, m.pose().covariance());
-  m.twist().twist().linear().x(twist.vx);
-  m.twist().twist().linear().y(twist.vy);
-  m.twist().twist().angular().z(twist.omega);
-  return m;
+  return navd::dds::MakeOdometry(t, pose, twist.vx, twist.vy, twist.omega, cov, frame);
 }
 
 // One robot's DDS endpoints. Commands arrive on DDS threads and wait in `pending` until the
@@ -123,7 +102,7 @@ class RobotTopics {
                double real_time_factor) {
     const auto& base = robot.base();
     if (in.scan) {
-      scan_msg_.header(Header(t, "base_scan"));
+      scan_msg_.header(MakeHeader(t, "base_scan"));
       scan_msg_.ranges(*in.scan);
       scan_.Write(scan_msg_);
     }
@@ -132,7 +111,7 @@ class RobotTopics {
     if (in.odom) odom_.Write(MakeOdometry(t, base.odom_pose(), base.odom_twist(), base.odom_covariance(), "odom"));
     if (in.encoders) {
       msgs_sensor::JointState_ j;
-      j.header(Header(t, "base_link"));
+      j.header(MakeHeader(t, "base_link"));
       const auto angles = base.wheel_angles();
       const auto speeds = base.wheel_speeds();
       for (size_t i = 0; i < angles.size(); ++i) {
@@ -144,7 +123,7 @@ class RobotTopics {
     }
     if (in.bumper) {
       msgs_sim::BumperState_ b;
-      b.header(Header(t, "base_link"));
+      b.header(MakeHeader(t, "base_link"));
       b.front(robot.bumper().front);
       b.rear(robot.bumper().rear);
       bumper_.Write(b);
@@ -152,7 +131,7 @@ class RobotTopics {
     if (truth) truth_.Write(MakeOdometry(t, base.true_pose(), base.true_twist(), Eigen::Matrix3d::Zero(), "map"));
     if (status || robot.collisions() != reported_collisions_) {
       msgs_sim::SimStatus_ s;
-      s.header(Header(t, "map"));
+      s.header(MakeHeader(t, "map"));
       s.x(base.true_pose().x);
       s.y(base.true_pose().y);
       s.theta(base.true_pose().theta);
@@ -172,7 +151,7 @@ class RobotTopics {
     const auto& d = array.description();
     for (size_t i = 0; i < ranges.size(); ++i) {
       msgs_sensor::Range_ r;
-      r.header(Header(t, kind + "_" + std::to_string(i)));
+      r.header(MakeHeader(t, kind + "_" + std::to_string(i)));
       r.radiation_type(radiation);
       r.field_of_view(static_cast<float>(d.cone));
       r.min_range(static_cast<float>(d.range_min));
@@ -201,7 +180,7 @@ class RobotTopics {
 
 msgs_sim::WorldState_ MakeWorldState(double t, const sim::Simulation& s) {
   msgs_sim::WorldState_ w;
-  w.header(Header(t, "map"));
+  w.header(MakeHeader(t, "map"));
   auto add = [&](const std::string& name, const char* kind, const Pose2& pose, const Point2& v, double radius) {
     msgs_sim::Body_ b;
     b.name(name);
@@ -393,7 +372,7 @@ int Run(int argc, char** argv) {
       spdlog::warn("navsim: collision of '{}' with {} at ({:.2f}, {:.2f}) t={:.2f}s", e.robot, e.other, e.where.x(),
                    e.where.y(), e.time);
       msgs_sim::CollisionEvent_ m;
-      m.header(Header(e.time, "map"));
+      m.header(MakeHeader(e.time, "map"));
       m.robot(e.robot);
       m.other(e.other);
       m.x(e.where.x());

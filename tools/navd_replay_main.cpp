@@ -5,8 +5,9 @@
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with
-// odometry made from the corrected poses and corrupted by a seeded noise model (per step between
-// scans: translation scaled by 1 + N(0, T); heading error N(0, R * distance) plus N(0, T * |turn|)),
+// odometry made from the corrected poses and corrupted by the seeded noise model of
+// services/common/odometry_noise.h (per step between scans: translation scaled by 1 + N(0, T);
+// heading error N(0, R * distance) plus N(0, T * |turn|)),
 // writes one TUM line (t x y z qx qy qz qw) per scan and prints the error against the corrected
 // poses. Without --map it first builds the map from those poses.
 #include <CLI/CLI.hpp>
@@ -18,6 +19,7 @@
 #include "services/common/carmen_log.h"
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
+#include "services/common/odometry_noise.h"
 #include "services/common/text_file.h"
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
@@ -25,7 +27,6 @@
 #include "services/localization/particle_filter.h"
 #include "services/mapping/occupancy_grid_mapper.h"
 
-#include <random>
 
 namespace {
 
@@ -40,10 +41,9 @@ int BuildMap(const navd::CarmenLog& log, const std::string& out, double resoluti
 }
 
 int Localize(const navd::CarmenLog& log, const std::string& out, const navd::OccupancyGrid& map,
-             double trans_noise, double rot_noise, uint64_t seed, double motion_noise, const std::string& method) {
+             const navd::OdometryNoise& noise, uint64_t seed, double motion_noise, const std::string& method) {
   using namespace navd;
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> n(0.0, 1.0);
+  OdometryCorruptor odometry(noise, seed);
   std::unique_ptr<localization::Localizer> localizer;
   if (method == "calibration") {
     localization::OdometricCalibrationOptions o;
@@ -52,9 +52,9 @@ int Localize(const navd::CarmenLog& log, const std::string& out, const navd::Occ
   } else if (method == "ekf") {
     // The filter's input noise is the replay's odometry noise model.
     localization::EkfOptions o;
-    o.k_distance = trans_noise;
-    o.k_turn = trans_noise;
-    o.k_turn_per_metre = rot_noise;
+    o.k_distance = noise.translation;
+    o.k_turn = noise.translation;
+    o.k_turn_per_metre = noise.rotation_per_metre;
     o.field.range_max = 20.0;
     localizer = std::make_unique<localization::EkfLocalizer>(map, o);
   } else {
@@ -65,22 +65,13 @@ int Localize(const navd::CarmenLog& log, const std::string& out, const navd::Occ
     localizer = std::make_unique<localization::ParticleFilterLocalizer>(map, o);
   }
   localization::Localizer& pf = *localizer;
-  Pose2 odom;  // starts at the origin of its own frame
-  pf.AddOdometry({odom, Eigen::Matrix3d::Zero(), log.scans.front().timestamp});
+  pf.AddOdometry({odometry.Next(log.scans.front().pose), Eigen::Matrix3d::Zero(), log.scans.front().timestamp});
   pf.SetPose(log.scans.front().pose, Eigen::Matrix3d::Zero());
   std::string tum;
   double sq_pos = 0.0, sq_head = 0.0, worst = 0.0;
   for (size_t k = 0; k < log.scans.size(); ++k) {
     const CarmenScan& s = log.scans[k];
-    if (k > 0) {
-      // The true step between scans, corrupted.
-      const Pose2 step = log.scans[k - 1].pose.inverse() * s.pose;
-      const double dist = std::hypot(step.x, step.y);
-      const double scale = 1.0 + trans_noise * n(rng);
-      const double dtheta = step.theta + rot_noise * dist * n(rng) + trans_noise * std::abs(step.theta) * n(rng);
-      odom = odom * Pose2{step.x * scale, step.y * scale, dtheta};
-      pf.AddOdometry({odom, Eigen::Matrix3d::Zero(), s.timestamp});
-    }
+    if (k > 0) pf.AddOdometry({odometry.Next(s.pose), Eigen::Matrix3d::Zero(), s.timestamp});
     localization::ScanReading scan;
     scan.ranges = s.ranges;
     scan.angle_min = s.angle_min;
@@ -180,12 +171,9 @@ int main(int argc, char** argv) {
     if (mode == "map") {
       rc = BuildMap(log, out, resolution);
     } else {
-      double t = 0, r = 0;
-      if (std::sscanf(odom_noise.c_str(), "%lf,%lf", &t, &r) != 2 || !(t >= 0) || !(r >= 0)) {
-        throw std::invalid_argument("--odom-noise '" + odom_noise + "' is not T,R with T, R >= 0");
-      }
+      const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
-      rc = Localize(log, out, map, t, r, seed, motion_noise, method);
+      rc = Localize(log, out, map, noise, seed, motion_noise, method);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double span = log.scans.back().timestamp - log.scans.front().timestamp;

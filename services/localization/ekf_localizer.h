@@ -62,14 +62,19 @@ class EkfLocalizer : public Localizer {
 
  private:
   void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
-  void Predict(const Pose2& from, const Pose2& to);
+  struct Belief {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();  // (x, y, theta), map frame
+    Eigen::Matrix3d p = Eigen::Matrix3d::Identity();
+  };
+  // The belief moved by the robot-frame odometry increment d.
+  Belief Predicted(const Belief& b, const Pose2& d) const;
 
   const LikelihoodField field_;
   const EkfOptions o_;
   const ScanToMapFit fit_;
   mutable std::mutex mutex_;
-  Eigen::Vector3d x_;                // (x, y, theta), map frame
-  Eigen::Matrix3d p_;
+  Belief belief_;                    // at the odometry predicted_at_odom_
+  Pose2 predicted_at_odom_;
   OdometryHistory odom_history_;
   bool have_odom_ = false;
   Pose2 latest_odom_;

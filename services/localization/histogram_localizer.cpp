@@ -235,14 +235,7 @@ bool HistogramLocalizer::AddScan(const ScanReading& scan) {
   Normalise();
   moved_since_scan_ = false;
   UpdateEstimateLocked();
-  // Quality: how well the scan fits at the estimate (per beam, against a perfect fit).
-  const Pose2& e = estimate_.pose;
-  const double c = std::cos(e.theta), s = std::sin(e.theta);
-  double sum = 0.0;
-  for (const Point2& p : ends) {
-    sum += field_.LogLikelihoodAtCell(field_.ToCellX(e.x + c * p.x() - s * p.y()), field_.ToCellY(e.y + s * p.x() + c * p.y()));
-  }
-  estimate_.quality = std::exp(sum / nb - field_.best_log_likelihood());
+  estimate_.quality = field_.Agreement(estimate_.pose, ends);
   return true;
 }
 

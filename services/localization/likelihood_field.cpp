@@ -58,4 +58,15 @@ bool LikelihoodField::SurfaceDistance(const Point2& p, double* distance, Point2*
   return true;
 }
 
+double LikelihoodField::Agreement(const Pose2& pose, const std::vector<Point2>& ends) const {
+  if (ends.empty()) return 0.0;
+  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  const float best = log_likelihood_table_[0];
+  double sum = 0.0;
+  for (const Point2& p : ends) {
+    sum += std::exp(LogLikelihoodAtCell(ToCellX(pose.x + c * p.x() - s * p.y()), ToCellY(pose.y + s * p.x() + c * p.y())) - best);
+  }
+  return sum / ends.size();
+}
+
 }  // namespace navd::localization

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
+#include "services/common/pose2.h"
 
 namespace navd::localization {
 
@@ -47,6 +48,11 @@ class LikelihoodField {
   // minus the distance to its free side, so fits are pushed out of walls), at most max_distance,
   // with its gradient (per metre) when `gradient` is given; false off the map.
   bool SurfaceDistance(const Point2& p, double* distance, Point2* gradient = nullptr) const;
+  // How well a scan (end points in the robot frame) agrees with the map at `pose`, 0..1: the mean
+  // over the beams of each beam's likelihood relative to a perfect fit. A mean of ratios, not of
+  // logs: a few beams on people or clutter lower it by their share, they do not sink it (which
+  // made real scans look "lost"), while a wrong pose, where most beams miss, still scores near 0.
+  double Agreement(const Pose2& pose, const std::vector<Point2>& ends) const;
   // The log-likelihood of a perfect fit (d = 0): quality figures compare with it.
   double best_log_likelihood() const { return log_likelihood_table_[0]; }
   const LikelihoodFieldOptions& options() const { return o_; }

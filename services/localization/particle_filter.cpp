@@ -163,7 +163,7 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
     sensor[k] = sum;
   }
   // The belief's expected per-beam log-likelihood: how well the scan fits where the filter thinks
-  // the robot is. Augmented MCL tracks it on two time scales; quality compares it with a perfect fit.
+  // the robot is. Augmented MCL tracks it on two time scales.
   double expected = 0.0;
   for (size_t k = 0; k < particles_.size(); ++k) expected += particles_[k].weight * sensor[k];
   const double beam_log_likelihood = expected / ends.size();
@@ -171,7 +171,6 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   if (w_slow_ == 0.0) w_slow_ = w_fast_ = w_avg;
   w_slow_ += o_.alpha_slow * (w_avg - w_slow_);
   w_fast_ += o_.alpha_fast * (w_avg - w_fast_);
-  estimate_.quality = std::exp(beam_log_likelihood - field_.best_log_likelihood());
 
   // Posterior weights, normalised in log space. During global relocalisation, until the belief
   // has gathered (spread under tempering_spread), the likelihood is tempered: beams are far from
@@ -199,6 +198,7 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   if (effective < particles_.size() / 2.0 || inject > 0.0) Resample();
   moved_since_scan_ = false;
   UpdateEstimate();
+  estimate_.quality = field_.Agreement(estimate_.pose, ends);
   return true;
 }
 

@@ -154,6 +154,41 @@ TEST_P(NavdReplayLocalisation, LocalisesOnTheIntelLog) {
 INSTANTIATE_TEST_SUITE_P(Localisers, NavdReplayLocalisation, ::testing::Values("amcl", "ekf", "calibration"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
+// Online: navctl replay plays the Intel log over DDS like a robot (log-time clock, corrupted
+// odometry, scans) while a real navd localises on the map built from the log, and judges navd's
+// published poses (between scans too) against the corrected poses. The first 200 scans (11
+// minutes of log) at 50x; the whole log is in the issue note.
+TEST(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
+  const std::string log = SourceDir() + "/../shared/data/carmen/intel-corrected.log.gz";
+  if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
+  const std::string dir = MakeTempDir();
+  ASSERT_EQ(RunCommand({NavdReplayBinary(), "--log", log, "--mode", "map", "--out", dir + "/intel.yaml"}, 60.0).exit_code, 0);
+  StackOptions o;
+  o.start_sim = false;
+  o.navd_args = {"--map", dir + "/intel.yaml"};
+  NavdStack stack(o);
+  const auto r = RunCommand({NavctlBinary(), "replay", "--log", log, "--rate", "50", "--max-scans", "200", "--domain",
+                             std::to_string(stack.domain()), "--server", stack.address(), "--out", dir + "/online.tum"},
+                            120.0);
+  ASSERT_EQ(r.exit_code, 0) << r.output << stack.Logs();
+  double rmse = -1, heading = -1;
+  int poses = 0;
+  const size_t at = r.output.find("navd: ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + at, "navd: %d poses, position RMSE %lf m, heading RMSE %lf rad", &poses, &rmse,
+                        &heading), 3) << r.output;
+  std::printf("online Intel replay: %d poses, position RMSE %.4f m, heading RMSE %.4f rad\n", poses, rmse, heading);
+  EXPECT_GT(poses, 200);
+  EXPECT_LE(rmse, 0.15) << stack.Logs();
+  EXPECT_LE(heading, 0.06);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/online.tum"));
+  // No navd on the domain: one line, non-zero.
+  const auto lonely = RunCommand({NavctlBinary(), "replay", "--log", log, "--domain", std::to_string(ReserveDomain()),
+                                  "--server", "", "--max-scans", "5", "--wait", "1"}, 60.0);
+  EXPECT_NE(lonely.exit_code, 0);
+  EXPECT_EQ(Lines(lonely.output), 1) << lonely.output;
+}
+
 TEST(Daemons, BadWorldAndMapFilesExitNonZeroWithOneLine) {
   const std::string dir = MakeTempDir();
   std::ofstream(dir + "/broken.yaml") << "map: {size: [10, 10]\n";

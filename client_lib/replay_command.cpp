@@ -1,0 +1,195 @@
+#include "client_lib/replay_command.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "client_lib/navd_client.h"
+#include "dds/conversions.h"
+#include "dds/participant.h"
+#include "dds/topics.h"
+#include "geometry_msgsPubSubTypes.h"
+#include "nav_msgsPubSubTypes.h"
+#include "rosgraph_msgsPubSubTypes.h"
+#include "sensor_msgsPubSubTypes.h"
+#include "services/common/carmen_log.h"
+#include "services/common/odometry_noise.h"
+#include "services/common/text_file.h"
+
+namespace navd::navctl {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+// Clock and odometry between scans, per log second: enough for navd's control loop (20 Hz of its
+// clock) to see fresh odometry, capped in wall terms so fast replays do not flood DDS.
+constexpr double kTicksPerLogSecond = 20.0;
+constexpr double kMaxTicksPerWallSecond = 400.0;
+
+// a + s (b - a) on poses, the heading the short way round.
+Pose2 Interpolate(const Pose2& a, const Pose2& b, double s) {
+  return {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), NormalizeAngle(a.theta + s * NormalizeAngle(b.theta - a.theta))};
+}
+
+struct StampedPose {
+  double stamp;
+  Pose2 pose;
+};
+
+}  // namespace
+
+int RunReplay(const ReplayOptions& o) {
+  if (!(o.rate > 0.0) || !std::isfinite(o.rate)) throw std::runtime_error("--rate must be a positive number");
+  const OdometryNoise noise = ParseOdometryNoise(o.odom_noise);
+  CarmenLog log = ReadCarmenLog(o.log, o.strict);
+  if (log.skipped_lines > 0) std::fprintf(stderr, "navctl replay: skipped %d malformed lines\n", log.skipped_lines);
+  if (o.max_scans > 0 && log.scans.size() > static_cast<size_t>(o.max_scans)) log.scans.resize(o.max_scans);
+  if (log.scans.size() < 2) throw std::runtime_error(o.log + ": fewer than two laser scans to replay");
+  std::vector<Pose2> odometry;
+  OdometryCorruptor corruptor(noise, o.seed);
+  for (const auto& s : log.scans) odometry.push_back(corruptor.Next(s.pose));
+
+  dds::ParticipantOptions popts;
+  popts.domain = o.domain;
+  popts.name = "navctl-replay";
+  dds::Participant participant(popts);
+  dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock(participant, dds::kClock, dds::Reliability::kBestEffort, 1);
+  dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> odom(
+      participant, dds::TopicName(o.robot_namespace, dds::kOdom), dds::Reliability::kBestEffort, 5);
+  dds::Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(
+      participant, dds::TopicName(o.robot_namespace, dds::kScan), dds::Reliability::kBestEffort, 5);
+  std::mutex mutex;
+  std::vector<StampedPose> poses;
+  dds::Reader<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType> pose_reader(
+      participant, dds::TopicName(o.robot_namespace, dds::kPose), dds::Reliability::kReliable,
+      [&](const geometry_msgs::msg::dds_::PoseWithCovarianceStamped_& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        poses.push_back({dds::FromTime(m.header().stamp()), dds::FromPose(m.pose().pose())});
+      },
+      50);
+  const auto deadline = Clock::now() + std::chrono::duration<double>(o.wait);
+  while ((scan.matched() == 0 || odom.matched() == 0) && Clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (scan.matched() == 0 || odom.matched() == 0) {
+    throw std::runtime_error("no navd reading " + dds::TopicName(o.robot_namespace, dds::kScan) + " on DDS domain " +
+                             std::to_string(o.domain) + " within " + std::to_string(o.wait).substr(0, 4) + " s");
+  }
+
+  const double t0 = log.scans.front().timestamp, t_end = log.scans.back().timestamp;
+  auto publish_odometry = [&](double t, const Pose2& p) {
+    rosgraph_msgs::msg::dds_::Clock_ c;
+    c.clock(dds::ToTime(t));
+    clock.Write(c);
+    odom.Write(dds::MakeOdometry(t, p, 0.0, 0.0, 0.0, Eigen::Matrix3d::Zero(), "odom"));
+  };
+  sensor_msgs::msg::dds_::LaserScan_ msg;
+  auto publish_scan = [&](const CarmenScan& s) {
+    msg.header(dds::MakeHeader(s.timestamp, "base_scan"));
+    msg.angle_min(static_cast<float>(s.angle_min));
+    msg.angle_increment(static_cast<float>(s.angle_increment));
+    msg.angle_max(static_cast<float>(s.angle_min + (s.ranges.size() - 1) * s.angle_increment));
+    msg.range_min(0.05f);
+    msg.range_max(static_cast<float>(s.range_max > 0 ? std::min(s.range_max, o.range_max) : o.range_max));
+    msg.ranges(s.ranges);
+    scan.Write(msg);
+  };
+
+  // navd first hears the robot standing at the first scan, then is told where that is.
+  publish_odometry(t0, odometry.front());
+  if (!o.server.empty()) {
+    ClientOptions copts;
+    copts.server = o.server;
+    Client client(copts);
+    const auto until = Clock::now() + std::chrono::duration<double>(o.wait);
+    while (true) {
+      publish_odometry(t0, odometry.front());
+      try {
+        client.SetPose(log.scans.front().pose.x, log.scans.front().pose.y, log.scans.front().pose.theta);
+        std::lock_guard<std::mutex> lock(mutex);
+        poses.clear();  // what navd thought before it was told
+        break;
+      } catch (const std::exception& e) {
+        if (Clock::now() > until) throw std::runtime_error(std::string("navd refused the first pose: ") + e.what());
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+    }
+  }
+
+  const double tick = std::max(1.0 / kTicksPerLogSecond, o.rate / kMaxTicksPerWallSecond);
+  const auto wall0 = Clock::now();
+  auto pace = [&](double t) { std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((t - t0) / o.rate)); };
+  size_t next = 1;  // scan 0 was "published" as the starting pose; it is sent below at t0
+  publish_scan(log.scans.front());
+  for (double t = t0 + tick; next < log.scans.size();) {
+    const CarmenScan& s = log.scans[next];
+    if (s.timestamp <= t) {
+      // The scan at its own time, the odometry of that instant just before it.
+      pace(s.timestamp);
+      publish_odometry(s.timestamp, odometry[next]);
+      publish_scan(s);
+      ++next;
+      if (next % 100 == 0 || next == log.scans.size()) {
+        std::fprintf(stderr, "\r  replayed %zu/%zu scans", next, log.scans.size());
+      }
+      continue;
+    }
+    pace(t);
+    const double span = s.timestamp - log.scans[next - 1].timestamp;
+    const double f = span > 0 ? (t - log.scans[next - 1].timestamp) / span : 1.0;
+    publish_odometry(t, Interpolate(odometry[next - 1], odometry[next], std::clamp(f, 0.0, 1.0)));
+    t += tick;
+  }
+  std::fprintf(stderr, "\n");
+  // The last estimates come after the last scan.
+  publish_odometry(t_end + tick, odometry.back());
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+
+  std::vector<StampedPose> got;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    got = poses;
+  }
+  // Each pose against the corrected trajectory at its stamp.
+  double sq_pos = 0, sq_head = 0, worst = 0;
+  int judged = 0;
+  std::string tum;
+  size_t k = 1;
+  std::sort(got.begin(), got.end(), [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
+  for (const StampedPose& p : got) {
+    if (p.stamp < t0 || p.stamp > t_end) continue;
+    while (k + 1 < log.scans.size() && log.scans[k].timestamp < p.stamp) ++k;
+    const CarmenScan& a = log.scans[k - 1];
+    const CarmenScan& b = log.scans[k];
+    const double span = b.timestamp - a.timestamp;
+    const Pose2 truth = Interpolate(a.pose, b.pose, span > 0 ? std::clamp((p.stamp - a.timestamp) / span, 0.0, 1.0) : 1.0);
+    const double ep = std::hypot(p.pose.x - truth.x, p.pose.y - truth.y);
+    const double eh = std::abs(NormalizeAngle(p.pose.theta - truth.theta));
+    sq_pos += ep * ep;
+    sq_head += eh * eh;
+    worst = std::max(worst, ep);
+    ++judged;
+    char line[160];
+    std::snprintf(line, sizeof line, "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n", p.stamp, p.pose.x, p.pose.y,
+                  std::sin(p.pose.theta / 2), std::cos(p.pose.theta / 2));
+    tum += line;
+  }
+  if (!o.out.empty()) WriteFileAtomically(o.out, tum);
+  std::printf("replay: %zu scans, %.0f s of log in %.1f s (%.0fx real time)\n", log.scans.size(), t_end - t0, wall,
+              wall > 0 ? (t_end - t0) / wall : 0.0);
+  if (judged == 0) {
+    std::printf("navd published no poses on %s\n", dds::TopicName(o.robot_namespace, dds::kPose).c_str());
+    return 1;
+  }
+  std::printf("navd: %d poses, position RMSE %.4f m, heading RMSE %.4f rad, worst %.3f m%s\n", judged,
+              std::sqrt(sq_pos / judged), std::sqrt(sq_head / judged), worst,
+              worst > 0.5 ? " (lost at times)" : ", never lost");
+  return 0;
+}
+
+}  // namespace navd::navctl

@@ -1,0 +1,36 @@
+#include "services/common/odometry_noise.h"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace navd {
+
+OdometryNoise ParseOdometryNoise(const std::string& text, const std::string& option) {
+  OdometryNoise n;
+  char rest = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf%c", &n.translation, &n.rotation_per_metre, &rest) != 2 ||
+      !(n.translation >= 0) || !(n.rotation_per_metre >= 0) || !std::isfinite(n.translation) ||
+      !std::isfinite(n.rotation_per_metre)) {
+    throw std::invalid_argument(option + " '" + text + "' is not T,R with T, R >= 0");
+  }
+  return n;
+}
+
+Pose2 OdometryCorruptor::Next(const Pose2& truth) {
+  if (!started_) {
+    started_ = true;
+    last_truth_ = truth;
+    return odometry_;
+  }
+  const Pose2 step = last_truth_.inverse() * truth;
+  last_truth_ = truth;
+  const double dist = std::hypot(step.x, step.y);
+  const double scale = 1.0 + noise_.translation * normal_(rng_);
+  const double per_metre = noise_.rotation_per_metre * dist * normal_(rng_);
+  const double per_turn = noise_.translation * std::abs(step.theta) * normal_(rng_);
+  odometry_ = odometry_ * Pose2{step.x * scale, step.y * scale, step.theta + per_metre + per_turn};
+  return odometry_;
+}
+
+}  // namespace navd
