@@ -33,7 +33,9 @@ struct ParticleFilterOptions {
   MotionModel motion_model = MotionModel::kDiffDrive;
   int min_particles = 500;
   int max_particles = 5000;
-  int global_particles = 30000;     // scattered for global relocalisation; resampling trims them
+  // Scattered for global relocalisation; resampling trims them. 30 000 found 93 of 100 random
+  // warehouse poses, 60 000 95-99, 100 000 all (relocalization_bench, seeds 1-3).
+  int global_particles = 100000;
   double kld_error = 0.01;          // KLD bound epsilon
   double kld_z = 2.326;             // upper standard normal quantile for 1 - delta = 0.99
   double kld_bin_xy = 0.25;         // m

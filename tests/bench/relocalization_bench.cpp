@@ -1,14 +1,17 @@
 // Global relocalisation success rate: the robot at N random free poses of the warehouse, the
-// particle filter with no prior (GlobalRelocalize); the robot turns on the spot for 12 s (the
-// wake-up behaviour: look around) and stands for one second. Success: within 0.1 m and 0.1 rad.
-//   build/tests/relocalization_bench [--runs N] [--seed S]
+// particle filter (or the histogram filter) with no prior (GlobalRelocalize); the robot turns on
+// the spot for 12 s (the wake-up behaviour: look around) and stands for one second. Success:
+// within 0.1 m and 0.1 rad.
+//   build/tests/relocalization_bench [--runs N] [--seed S] [--localizer amcl|histogram]
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 
 #include "services/common/world.h"
+#include "services/localization/histogram_localizer.h"
 #include "services/localization/particle_filter.h"
 #include "services/common/diff_drive.h"
 #include "simulator/simulation.h"
@@ -20,6 +23,8 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   app.add_option("--runs", runs)->check(CLI::Range(1, 10000));
   app.add_option("--seed", seed);
+  std::string method = "amcl";
+  app.add_option("--localizer", method, "amcl (particle filter) or histogram (grid)")->check(CLI::IsMember({"amcl", "histogram"}));
   CLI11_PARSE(app, argc, argv);
 
   const World base = DefaultWorld();
@@ -37,9 +42,15 @@ int main(int argc, char** argv) {
     sim::SimulationOptions so;
     so.seed = seed * 1000 + run;
     sim::Simulation s(world, so);
-    localization::ParticleFilterOptions po;
-    po.seed = seed * 7919 + run;
-    localization::ParticleFilterLocalizer pf(world.map, po);
+    std::unique_ptr<localization::Localizer> localizer;
+    if (method == "histogram") {
+      localizer = std::make_unique<localization::HistogramLocalizer>(world.map);
+    } else {
+      localization::ParticleFilterOptions po;
+      po.seed = seed * 7919 + run;
+      localizer = std::make_unique<localization::ParticleFilterLocalizer>(world.map, po);
+    }
+    localization::Localizer& pf = *localizer;
     pf.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
     pf.GlobalRelocalize();
     while (s.now() < 13.0) {
@@ -60,7 +71,11 @@ int main(int argc, char** argv) {
     const Pose2 e = pf.Estimate().pose, t = s.robot().base().true_pose();
     const double err = std::hypot(e.x - t.x, e.y - t.y), herr = std::abs(NormalizeAngle(e.theta - t.theta));
     errors.push_back(err);
-    if (err < 0.1 && herr < 0.1) ++success;
+    if (err < 0.1 && herr < 0.1) {
+      ++success;
+    } else {
+      std::fprintf(stderr, "\n  run %d from (%.2f, %.2f, %.2f): error %.3f m, %.3f rad\n", run, t.x, t.y, t.theta, err, herr);
+    }
     std::fprintf(stderr, "\r  %d/%d runs, %d found", run + 1, runs, success);
   }
   std::sort(errors.begin(), errors.end());
