@@ -1,5 +1,7 @@
 #include "server/control_loop.h"
 
+#include <spdlog/spdlog.h>
+
 #include <chrono>
 
 namespace navd::server {
@@ -11,7 +13,7 @@ constexpr int kZeroCommandsAfterGoal = 5;
 }  // namespace
 
 ControlLoop::ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
-                         localization::Localizer& localizer, navigation::NavigationExecutive& executive)
+                         localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive)
     : options_(options), clock_(clock), bridge_(bridge), localizer_(localizer), executive_(executive) {}
 
 ControlLoop::~ControlLoop() { Stop(); }
@@ -61,7 +63,14 @@ void ControlLoop::StaleTick(double now) {
 }
 
 void ControlLoop::Tick(uint64_t tick, double now) {
-  if (auto odom = bridge_.LatestOdometry()) localizer_.AddOdometry(*odom);
+  if (auto odom = bridge_.LatestOdometry()) {
+    localizer_.AddOdometry(*odom);
+    if (localizer_.odometry_jumps() != odometry_jumps_seen_) {
+      odometry_jumps_seen_ = localizer_.odometry_jumps();
+      spdlog::warn("odometry jumped to ({:.2f}, {:.2f}, {:.2f}) at t={:.2f}s: taken as no motion (jump {})", odom->pose.x,
+                   odom->pose.y, odom->pose.theta, odom->stamp, odometry_jumps_seen_);
+    }
+  }
   if (bridge_.scan_count() != scans_seen_) {
     scans_seen_ = bridge_.scan_count();
     if (executive_.localization_active()) {

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "server/dds_bridge.h"
+#include "services/localization/localizer_selector.h"
 #include "services/navigation/navigation_executive.h"
 
 namespace navd::server {
@@ -19,7 +20,7 @@ struct ControlLoopOptions {
 class ControlLoop {
  public:
   ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
-              localization::Localizer& localizer, navigation::NavigationExecutive& executive);
+              localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive);
   ~ControlLoop();
   void Start();
   // Stops the loop and sends the robot a zero command.
@@ -35,7 +36,8 @@ class ControlLoop {
   ControlLoopOptions options_;
   Clock& clock_;
   DdsBridge& bridge_;
-  localization::Localizer& localizer_;
+  localization::LocalizerSelector& localizer_;
+  int odometry_jumps_seen_ = 0;
   navigation::NavigationExecutive& executive_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

@@ -1,4 +1,7 @@
 #include "server/dds_bridge.h"
+#include "services/localization/scan_points.h"
+
+#include <spdlog/spdlog.h>
 
 #include "dds/conversions.h"
 #include "dds/topics.h"
@@ -24,8 +27,9 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
         if (m.front() || m.rear()) last_contact_ = arrival_clock_.Now();
       },
       2);
+  scan_topic_ = dds::TopicName(ns, dds::kScan);
   scan_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
-      participant_, dds::TopicName(ns, dds::kScan), Reliability::kBestEffort,
+      participant_, scan_topic_, Reliability::kBestEffort,
       [this](const sensor_msgs::msg::dds_::LaserScan_&) { last_scan_arrival_ = arrival_clock_.Now(); }, 2);
   cmd_writer_ = std::make_unique<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kCmdVel), Reliability::kReliable, 5);
@@ -48,6 +52,14 @@ std::optional<localization::OdometryReading> DdsBridge::LatestOdometry() const {
 std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
   const auto m = scan_reader_->Latest();
   if (!m) return std::nullopt;
+  const std::string bad =
+      localization::ScanGeometryError(m->ranges().size(), m->angle_min(), m->angle_max(), m->angle_increment());
+  if (!bad.empty()) {
+    // Said on the first bad scan and every tenfold after, not at the laser's rate.
+    const int n = ++bad_scans_;
+    if (n == 1 || n == 10 || n == 100 || n % 1000 == 0) spdlog::warn("{}: scan ignored ({} so far): {}", scan_topic_, n, bad);
+    return std::nullopt;
+  }
   localization::ScanReading s;
   s.ranges = m->ranges();
   s.angle_min = m->angle_min();

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "dds/participant.h"
 #include "geometry_msgsPubSubTypes.h"
@@ -55,6 +56,8 @@ class DdsBridge {
   std::atomic<double> last_odom_arrival_{-1e9};
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_reader_;
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_reader_;
+  std::string scan_topic_;
+  mutable std::atomic<int> bad_scans_{0};
   std::unique_ptr<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>> clock_reader_;
   std::unique_ptr<dds::Reader<navsim_msgs::msg::dds_::BumperState_PubSubType>> bumper_reader_;
   std::atomic<double> last_contact_{-1e9};

@@ -58,7 +58,12 @@ Localizer& LocalizerSelector::Selected() const {
 
 std::string LocalizerSelector::name() const { return Selected().name(); }
 
-void LocalizerSelector::AddOdometry(const OdometryReading& reading) {
+void LocalizerSelector::AddOdometry(const OdometryReading& raw) {
+  OdometryReading reading;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    reading = jump_filter_.Filter(raw);
+  }
   for (auto& l : localizers_) l->AddOdometry(reading);
   Arbitrate(reading.stamp);
 }
@@ -77,6 +82,11 @@ bool LocalizerSelector::AddScan(const ScanReading& scan) {
 }
 
 PoseEstimate LocalizerSelector::Estimate() const { return Selected().Estimate(); }
+
+int LocalizerSelector::odometry_jumps() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return jump_filter_.jumps();
+}
 
 bool LocalizerSelector::GlobalRelocalize() {
   bool any = false;

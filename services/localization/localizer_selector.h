@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "services/localization/localizer.h"
+#include "services/localization/odometry_jump_filter.h"
 
 namespace navd::localization {
 
@@ -29,7 +30,10 @@ class LocalizerSelector : public Localizer {
   static constexpr double kLaserTimeout = 1.0;      // s without a scan before the laser counts as gone
 
   std::string name() const override;  // the selected method's
+  // Odometry jumps are taken out first (OdometryJumpFilter) for every localiser.
   void AddOdometry(const OdometryReading& reading) override;
+  // Jumps taken out of the odometry so far (navd logs each).
+  int odometry_jumps() const;
   bool AddScan(const ScanReading& scan) override;
   PoseEstimate Estimate() const override;
   bool GlobalRelocalize() override;   // on every localiser that can; true if any did
@@ -43,6 +47,7 @@ class LocalizerSelector : public Localizer {
   void Arbitrate(double stamp);
 
   std::vector<std::unique_ptr<Localizer>> localizers_;  // fixed after start-up
+  OdometryJumpFilter jump_filter_;                       // guarded by mutex_
   mutable std::mutex mutex_;
   size_t selected_ = 0;
   std::unique_ptr<MethodArbiter> arbiter_;  // set while "auto" is selected

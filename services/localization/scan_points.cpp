@@ -10,6 +10,19 @@ bool ScanHeaderIsUsable(const ScanReading& scan) {
          std::isfinite(scan.range_max) && std::isfinite(scan.range_min) && scan.range_max > scan.range_min;
 }
 
+std::string ScanGeometryError(size_t ranges, double angle_min, double angle_max, double angle_increment) {
+  if (!std::isfinite(angle_min) || !std::isfinite(angle_max) || !std::isfinite(angle_increment) || angle_increment == 0.0) {
+    return "angle_min, angle_max and angle_increment must be finite and angle_increment non-zero";
+  }
+  if (ranges == 0) return "ranges is empty";
+  const double beams = (angle_max - angle_min) / angle_increment + 1.0;
+  if (!(beams >= 1.0) || std::abs(beams - static_cast<double>(ranges)) > 1.01) {
+    return "ranges has " + std::to_string(ranges) + " beams but angle_min..angle_max / angle_increment gives " +
+           std::to_string(static_cast<long>(std::lround(beams)));
+  }
+  return "";
+}
+
 std::vector<ScanBeam> SampleBeams(const ScanReading& scan, int count) {
   std::vector<ScanBeam> beams;
   const size_t n = scan.ranges.size();

@@ -1,5 +1,6 @@
 #pragma once
 // What the scan-based localisers read from a laser scan. Robot frame, metres, radians.
+#include <string>
 #include <vector>
 
 #include "services/localization/localizer.h"
@@ -8,6 +9,10 @@ namespace navd::localization {
 
 // Whether a scan's header can be used at all: some ranges, finite angles, range_max > range_min.
 bool ScanHeaderIsUsable(const ScanReading& scan);
+
+// Why a scan's geometry is inconsistent ("" when it is not): non-finite or zero increment, or a
+// beam count that disagrees with angle_min..angle_max (LaserScan's fields), naming the fields.
+std::string ScanGeometryError(size_t ranges, double angle_min, double angle_max, double angle_increment);
 
 // One beam of a scan: its bearing in the robot frame and its range (a no-return has range_max).
 struct ScanBeam {

@@ -10,6 +10,7 @@
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
 #include "services/localization/histogram_localizer.h"
+#include "services/localization/localizer_selector.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/odometry_localizer.h"
 #include "services/localization/scan_points.h"
@@ -238,6 +239,45 @@ TEST(Histogram, RefusesMapsTooLargeForItsGrid) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("max_states"), std::string::npos) << e.what();
   }
+}
+
+// A jump in the odometry (the odom frame reset, a glitch) is taken as no motion: the estimate stays
+// where the robot was, and motion after it carries on from there.
+TEST(LocalizerInput, OdometryJumpsCountAsNoMotion) {
+  const World world = DefaultWorld();
+  LocalizerSelector selector;
+  selector.Add(std::make_unique<OdometryLocalizer>(world.start));
+  selector.Add(std::make_unique<EkfLocalizer>(world.map, EkfOptions{}, world.start));
+  selector.AddOdometry({{0, 0, 0}, Eigen::Matrix3d::Zero(), 0.0});
+  selector.SetPose(world.start, Eigen::Matrix3d::Zero());
+  for (int i = 1; i <= 10; ++i) selector.AddOdometry({{0.01 * i, 0, 0}, Eigen::Matrix3d::Zero(), 0.02 * i});
+  const Pose2 before = selector.Estimate().pose;
+  selector.AddOdometry({{5.1, -3.0, 1.0}, Eigen::Matrix3d::Zero(), 0.22});  // 6 m in 20 ms
+  EXPECT_EQ(selector.odometry_jumps(), 1);
+  for (const std::string method : {"odometry", "ekf"}) {
+    selector.Select(method);
+    EXPECT_NEAR(selector.Estimate().pose.x, before.x, 1e-9) << method;
+    EXPECT_NEAR(selector.Estimate().pose.y, before.y, 1e-9) << method;
+    EXPECT_NEAR(selector.Estimate().pose.theta, before.theta, 1e-9) << method;
+  }
+  // 10 cm forward in the new odom frame (heading 1.0 there) is 10 cm forward for the robot.
+  selector.AddOdometry({{5.1 + 0.1 * std::cos(1.0), -3.0 + 0.1 * std::sin(1.0), 1.0}, Eigen::Matrix3d::Zero(), 0.5});
+  EXPECT_EQ(selector.odometry_jumps(), 1);
+  const Pose2 after = selector.Estimate().pose;
+  EXPECT_NEAR(after.x, before.x + 0.1 * std::cos(before.theta), 1e-6);
+  EXPECT_NEAR(after.y, before.y + 0.1 * std::sin(before.theta), 1e-6);
+  // A fast but possible step (1 m in 0.5 s) is motion, not a jump.
+  selector.AddOdometry({{5.1 + 1.1 * std::cos(1.0), -3.0 + 1.1 * std::sin(1.0), 1.0}, Eigen::Matrix3d::Zero(), 1.0});
+  EXPECT_EQ(selector.odometry_jumps(), 1);
+}
+
+TEST(LocalizerInput, ScanGeometryMustAgreeWithItsBeamCount) {
+  const double min = -2.0944, inc = 4.1888 / 682;
+  EXPECT_EQ(ScanGeometryError(683, min, min + 682 * inc, inc), "");
+  EXPECT_NE(ScanGeometryError(600, min, min + 682 * inc, inc).find("ranges has 600 beams"), std::string::npos);
+  EXPECT_NE(ScanGeometryError(683, min, min + 682 * inc, 0.0).find("angle_increment"), std::string::npos);
+  EXPECT_NE(ScanGeometryError(683, NAN, 1.0, inc).find("angle_min"), std::string::npos);
+  EXPECT_NE(ScanGeometryError(0, 0, 0, 1).find("empty"), std::string::npos);
 }
 
 }  // namespace
