@@ -65,6 +65,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   localization::LocalizerSelector localizer;
   localization::ParticleFilterOptions filter_options;
   if (robot.drive == DriveType::kOmni) filter_options.motion_model = localization::MotionModel::kOmni;
+  if (o.laser_model == "beam") filter_options.sensor_model = localization::SensorModel::kBeam;
   localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid, filter_options));
   localizer.Add(std::make_unique<localization::OdometryLocalizer>());
   localizer.Add(std::make_unique<localization::EkfLocalizer>(map->grid));

@@ -14,7 +14,8 @@ struct DaemonOptions {
   dds::ParticipantOptions dds;
   std::string robot_namespace;
   bool use_sim_time = false;
-  std::string localizer = "amcl";   // amcl | odometry
+  std::string localizer = "amcl";   // amcl | ekf | calibration | histogram | odometry | auto
+  std::string laser_model = "likelihood_field";  // the particle filter's: likelihood_field | beam
   std::string brain_path;           // utility-function brain YAML; empty: the built-in default
   double control_rate = 20.0;       // Hz, in the daemon's clock
   double sensor_timeout = 0.3;      // s without odometry or laser before the robot is stopped (3 scans)

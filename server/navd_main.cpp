@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
                  "calibration (seed 000's odometric calibration), histogram (grid localisation, small maps), odometry, "
                  "or auto (the chapter-10 arbiter chooses)")
       ->check(CLI::IsMember({"amcl", "ekf", "calibration", "histogram", "odometry", "auto"}));
+  app.add_option("--laser-model", o.laser_model,
+                 "The particle filter's sensor model: likelihood_field (default) or beam (ray casts per particle)")
+      ->check(CLI::IsMember({"likelihood_field", "beam"}));
   app.add_option("--brain", o.brain_path, "Utility-function brain YAML (default: built in, as config/brain.yaml)");
   app.add_option("--control-rate", o.control_rate, "Control loop rate, Hz")->check(CLI::Range(1.0, 200.0));
   app.add_option("--inflation-margin", o.inflation_margin, "Metres added to the robot radius for lethal inflation")

@@ -18,6 +18,7 @@ ParticleFilterLocalizer::ParticleFilterLocalizer(const OccupancyGrid& map, const
       o_(options),
       field_(map, {options.sigma_hit, options.z_hit, options.z_rand, options.max_distance, options.range_max}),
       rng_(options.seed) {
+  if (o_.sensor_model == SensorModel::kBeam) caster_.emplace(map);
   for (size_t i = 0; i < map_.cells().size(); ++i)
     if (map_.cells()[i] == OccupancyGrid::kFree) free_cells_.push_back(static_cast<int32_t>(i));
 }
@@ -143,7 +144,22 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   last_odom_ = at_scan;
   const std::vector<Point2> ends = ScanEndPoints(scan, o_.beams);
   if (ends.size() < 5) return false;  // too little to judge by
+  std::vector<double> sensor(particles_.size());
+  size_t beam_count = ends.size();
+  if (o_.sensor_model == SensorModel::kBeam) {
+    const std::vector<ScanBeam> beams = SampleBeams(scan, o_.beam_model.beams);
+    for (size_t k = 0; k < particles_.size(); ++k) {
+      sensor[k] = BeamModelLogLikelihood(particles_[k].pose, beams, scan.range_max);
+    }
+    beam_count = beams.size();
+  } else {
+    WeighByLikelihoodField(ends, sensor);
+  }
+  Reweigh(ends, sensor, beam_count);
+  return true;
+}
 
+void ParticleFilterLocalizer::WeighByLikelihoodField(const std::vector<Point2>& ends, std::vector<double>& sensor) const {
   // Sensor log-likelihood of each particle, summed over the beams; in float cells of the map
   // (shifted by half a cell) from here on, since this loop runs particles x beams times.
   std::vector<float> end_x(ends.size()), end_y(ends.size());
@@ -151,7 +167,6 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
     end_x[j] = static_cast<float>(ends[j].x() * field_.inv_resolution());
     end_y[j] = static_cast<float>(ends[j].y() * field_.inv_resolution());
   }
-  std::vector<double> sensor(particles_.size());
   for (size_t k = 0; k < particles_.size(); ++k) {
     const Pose2& p = particles_[k].pose;
     const float c = static_cast<float>(std::cos(p.theta)), s = static_cast<float>(std::sin(p.theta));
@@ -162,11 +177,35 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
     }
     sensor[k] = sum;
   }
+}
+
+double ParticleFilterLocalizer::BeamModelLogLikelihood(const Pose2& pose, const std::vector<ScanBeam>& beams,
+                                                       double range_max) const {
+  const BeamModelOptions& b = o_.beam_model;
+  const double norm = 1.0 / (b.sigma_hit * std::sqrt(2 * M_PI));
+  double sum = 0.0;
+  for (const ScanBeam& beam : beams) {
+    const double expected = std::min(caster_->Cast(pose.translation(), pose.theta + beam.angle, range_max), range_max);
+    const double z = beam.range;
+    double p = b.z_rand / range_max;
+    if (!beam.hit) {
+      p += b.z_max;  // a no-return: the max-range spike
+    } else {
+      const double d = z - expected;
+      p += b.z_hit * norm * std::exp(-0.5 * d * d / (b.sigma_hit * b.sigma_hit));
+      if (z < expected) p += b.z_short * b.lambda_short * std::exp(-b.lambda_short * z) / (1.0 - std::exp(-b.lambda_short * expected));
+    }
+    sum += std::log(p);
+  }
+  return sum;
+}
+
+void ParticleFilterLocalizer::Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams) {
   // The belief's expected per-beam log-likelihood: how well the scan fits where the filter thinks
   // the robot is. Augmented MCL tracks it on two time scales.
   double expected = 0.0;
   for (size_t k = 0; k < particles_.size(); ++k) expected += particles_[k].weight * sensor[k];
-  const double beam_log_likelihood = expected / ends.size();
+  const double beam_log_likelihood = expected / static_cast<double>(std::max<size_t>(1, beams));
   const double w_avg = std::exp(beam_log_likelihood);
   if (w_slow_ == 0.0) w_slow_ = w_fast_ = w_avg;
   w_slow_ += o_.alpha_slow * (w_avg - w_slow_);
@@ -199,7 +238,6 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   moved_since_scan_ = false;
   UpdateEstimate();
   estimate_.quality = field_.Agreement(estimate_.pose, ends);
-  return true;
 }
 
 void ParticleFilterLocalizer::Resample() {

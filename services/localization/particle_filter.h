@@ -4,7 +4,9 @@
 //  - the odometry motion model (sample_motion_model_odometry, noise alpha1..alpha4; or the
 //    omnidirectional variant with alpha5 for sideways slip),
 //  - the likelihood-field sensor model on the map's exact distance field (z_hit Gaussian of the
-//    distance from a beam's end to the nearest obstacle, plus z_rand), on a subset of beams,
+//    distance from a beam's end to the nearest obstacle, plus z_rand), on a subset of beams, or
+//    the beam model (ch. 6.3: each beam ray-cast in the map from the particle, a mixture of
+//    z_hit N(z - z*), z_short exponential, z_max at no-returns and z_rand), AMCL's "beam",
 //  - KLD-sampling to size the particle set to the spread of the belief,
 //  - augmented MCL (w_slow, w_fast) to inject uniformly drawn particles when the sensors stop
 //    agreeing with the map (recovery from a wrong pose or a kidnapping).
@@ -12,13 +14,16 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
+#include "services/common/ray_caster.h"
 #include "services/localization/likelihood_field.h"
 #include "services/localization/localizer.h"
 #include "services/localization/odometry_history.h"
+#include "services/localization/scan_points.h"
 
 namespace navd::localization {
 
@@ -28,6 +33,18 @@ namespace navd::localization {
 // "omni" model). Using the diff-drive model for a sideways slide would read it as two quarter
 // turns and smear the particles' headings.
 enum class MotionModel { kDiffDrive, kOmni };
+
+// How a scan is weighed: against the map's distance field (fast, smooth; AMCL's default) or beam
+// by beam against ray casts from each particle (sees no-returns and short readings).
+enum class SensorModel { kLikelihoodField, kBeam };
+
+// The beam model's mixture (AMCL's defaults).
+struct BeamModelOptions {
+  int beams = 30;              // ray casts per particle per scan
+  double sigma_hit = 0.2;      // m
+  double z_hit = 0.95, z_short = 0.1, z_max = 0.05, z_rand = 0.05;
+  double lambda_short = 0.1;   // 1/m
+};
 
 struct ParticleFilterOptions {
   MotionModel motion_model = MotionModel::kDiffDrive;
@@ -44,6 +61,8 @@ struct ParticleFilterOptions {
   // translation from translation, translation from rotation.
   double alpha1 = 0.1, alpha2 = 0.1, alpha3 = 0.1, alpha4 = 0.1;
   double alpha5 = 0.1;              // omni only: sideways slip from translation
+  SensorModel sensor_model = SensorModel::kLikelihoodField;
+  BeamModelOptions beam_model;
   // Likelihood field.
   int beams = 90;                   // beams used per scan, evenly spread
   double sigma_hit = 0.07;           // m
@@ -99,10 +118,18 @@ class ParticleFilterLocalizer : public Localizer {
   void Resample();
   Pose2 RandomFreePose();
   void UpdateEstimate();
+  // Sensor log-likelihood of each particle by the likelihood field, into `sensor`.
+  void WeighByLikelihoodField(const std::vector<Point2>& ends, std::vector<double>& sensor) const;
+  // Posterior weights from the sensor log-likelihoods (summed over `beams` beams), resampling,
+  // estimate; with the mutex held.
+  void Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams);
 
   const OccupancyGrid map_;
   ParticleFilterOptions o_;
   const LikelihoodField field_;
+  std::optional<RayCaster> caster_;  // the beam model's ray casts, built only when it is chosen
+  // Sum over `beams` of the beam model's log-likelihood from `pose` (map frame).
+  double BeamModelLogLikelihood(const Pose2& pose, const std::vector<ScanBeam>& beams, double range_max) const;
   std::vector<int32_t> free_cells_;
 
   mutable std::mutex mutex_;

@@ -1,9 +1,14 @@
-// Particle filter speed: one laser update (likelihood field on 60 beams, resampling when due) with
-// 2,000 particles, on the warehouse with scans from navsim's laser model.
+// Localiser speed on the warehouse with scans from navsim's laser model: one particle filter update
+// (likelihood field on 60 or 90 beams, or the beam model's ray casts on 30; resampling when due)
+// with 2,000 particles, one EKF correction (scan-to-map fit) and one calibration check.
 //   build/tests/localization_bench
 #include <benchmark/benchmark.h>
 
+#include <memory>
+
 #include "services/common/world.h"
+#include "services/localization/ekf_localizer.h"
+#include "services/localization/odometric_calibration.h"
 #include "services/localization/particle_filter.h"
 #include "simulator/laser_scanner.h"
 
@@ -16,6 +21,10 @@ void BM_ParticleFilterUpdate(benchmark::State& state) {
   localization::ParticleFilterOptions o;
   o.min_particles = o.max_particles = static_cast<int>(state.range(0));
   o.beams = static_cast<int>(state.range(1));
+  if (state.range(2)) {
+    o.sensor_model = localization::SensorModel::kBeam;
+    o.beam_model.beams = static_cast<int>(state.range(1));
+  }
   localization::ParticleFilterLocalizer pf(world.map, o);
   pf.AddOdometry({{0, 0, 0}, Eigen::Matrix3d::Zero(), 0.0});
   Eigen::Matrix3d prior = Eigen::Matrix3d::Zero();
@@ -40,7 +49,47 @@ void BM_ParticleFilterUpdate(benchmark::State& state) {
   }
   state.counters["particles"] = static_cast<double>(pf.particle_count());
 }
-BENCHMARK(BM_ParticleFilterUpdate)->Args({2000, 60})->Args({2000, 90})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ParticleFilterUpdate)
+    ->ArgNames({"particles", "beams", "beam_model"})
+    ->Args({2000, 60, 0})
+    ->Args({2000, 90, 0})
+    ->Args({2000, 30, 1})
+    ->Unit(benchmark::kMillisecond);
+
+// The same scan through the EKF (a Gauss-Newton fit from a pose 5 cm and 0.05 rad off) and through
+// the odometric calibration (virtual scans; a search each time, since the pose is off).
+template <typename Make>
+void CorrectionBench(benchmark::State& state, Make make) {
+  const World world = DefaultWorld();
+  sim::LaserScanner laser(world.laser);
+  std::mt19937_64 rng(1);
+  localization::ScanReading scan;
+  scan.ranges = laser.Scan(world.start, RayCaster(world.map), {}, -1, rng);
+  scan.angle_min = laser.angle_min();
+  scan.angle_increment = laser.increment();
+  scan.range_min = world.laser.range_min;
+  scan.range_max = world.laser.range_max;
+  auto localizer = make(world);
+  double t = 0.0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    t += 1.0;
+    localizer->AddOdometry({{0, 0, 0}, Eigen::Matrix3d::Zero(), t});
+    localizer->SetPose({world.start.x + 0.05, world.start.y, world.start.theta + 0.05}, Eigen::Matrix3d::Identity() * 0.01);
+    localizer->AddOdometry({{0.06, 0, 0}, Eigen::Matrix3d::Zero(), t + 0.1});
+    scan.stamp = t + 0.1;
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(localizer->AddScan(scan));
+  }
+}
+void BM_EkfCorrection(benchmark::State& state) {
+  CorrectionBench(state, [](const World& w) { return std::make_unique<localization::EkfLocalizer>(w.map); });
+}
+BENCHMARK(BM_EkfCorrection)->Unit(benchmark::kMillisecond);
+void BM_CalibrationSearch(benchmark::State& state) {
+  CorrectionBench(state, [](const World& w) { return std::make_unique<localization::OdometricCalibrationLocalizer>(w.map); });
+}
+BENCHMARK(BM_CalibrationSearch)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -57,6 +57,36 @@ TEST(ParticleFilter, CorrectsTheSeedZeroValidationCase) {
   }
 }
 
+// The beam model (AMCL's "beam": ray casts from each particle) on the same case, and on a drive with
+// biased odometry.
+TEST(ParticleFilter, BeamModelCorrectsTheValidationCaseAndTracksADrive) {
+  ParticleFilterOptions po;
+  po.sensor_model = SensorModel::kBeam;
+  for (int run = 0; run < 3; ++run) {
+    const sim::Scenario scenario = SeedZeroValidationScenario();
+    sim::Simulation s(scenario, Scenario::Options(400 + run));
+    po.seed = 401 + run;
+    ParticleFilterLocalizer pf(scenario.world.map, po);
+    const Errors e = RunSeedZeroValidation(s, pf);
+    std::printf("beam model validation run %d: %.4f m, %.4f rad\n", run, e.position, e.heading);
+    EXPECT_LT(e.position, 0.03) << "run " << run;
+    EXPECT_LT(e.heading, 0.02) << "run " << run;
+  }
+  World world = DefaultWorld();
+  sim::Simulation s(world, {});
+  ParticleFilterLocalizer pf(world.map, po);
+  pf.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
+  pf.SetPose(world.start, Eigen::Matrix3d::Zero());
+  const Errors e = Drive(s, pf, 50.0, [](double t) {
+    if (t < 20) return Twist2{0.3, 0.0};
+    if (t < 30) return Twist2{0.0, M_PI / 10};
+    return Twist2{0.3, 0.0};
+  }, 50.0, {0.03, 0.04});
+  std::printf("beam model drive: worst %.3f m / %.3f rad, mean %.4f m\n", e.position, e.heading, e.mean_position);
+  EXPECT_LT(e.position, 0.15);
+  EXPECT_LT(e.mean_position, 0.05);
+}
+
 TEST(ParticleFilter, TracksADriveWhileOdometryDrifts) {
   World world = DefaultWorld();
   world.robot.encoder_noise = 0.03;  // six times navsim's default slip
