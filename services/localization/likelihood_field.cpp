@@ -12,11 +12,19 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
       resolution_(map.resolution()),
       inv_resolution_(1.0 / map.resolution()) {
   const DistanceField field(map);
-  surface_distance_.resize(field.values().size());
   const double half = resolution_ / 2;
-  for (size_t i = 0; i < surface_distance_.size(); ++i) {
+  std::vector<float> surface(field.values().size());
+  for (size_t i = 0; i < surface.size(); ++i) {
     const double d = field.values()[i];
-    surface_distance_[i] = static_cast<float>(d <= 0.0 ? -half : std::min(d - half, o_.max_distance));
+    surface[i] = static_cast<float>(d <= 0.0 ? -half : std::min(d - half, o_.max_distance));
+  }
+  padded_width_ = width_ + 2;
+  surface_distance_.resize(static_cast<size_t>(padded_width_) * (height_ + 2));
+  for (int y = -1; y <= height_; ++y) {
+    for (int x = -1; x <= width_; ++x) {
+      const int cx = std::clamp(x, 0, width_ - 1), cy = std::clamp(y, 0, height_ - 1);
+      surface_distance_[static_cast<size_t>(y + 1) * padded_width_ + (x + 1)] = surface[static_cast<size_t>(cy) * width_ + cx];
+    }
   }
   // Depth inside obstacles: the distance field of the free cells.
   OccupancyGrid inverted = map;
@@ -25,7 +33,7 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
     inverted.set(c, map.IsOccupied(c) ? OccupancyGrid::kFree : OccupancyGrid::kOccupied);
   }
   const DistanceField depth(inverted);
-  signed_distance_ = surface_distance_;
+  signed_distance_ = std::move(surface);
   for (size_t i = 0; i < signed_distance_.size(); ++i) {
     const double d = depth.values()[i];
     if (d > 0.0) signed_distance_[i] = static_cast<float>(-std::min(d - half, o_.max_distance));

@@ -31,11 +31,12 @@ class LikelihoodField {
   // beams times per scan, in float.
   [[gnu::always_inline]] float LogLikelihoodAtCell(float gx, float gy) const {
     if (!(gx >= -0.5f && gy >= -0.5f && gx < width_ - 0.5f && gy < height_ - 0.5f)) return log_outside_;
-    const int x0 = std::min(std::max(static_cast<int>(gx), 0), width_ - 2);
-    const int y0 = std::min(std::max(static_cast<int>(gy), 0), height_ - 2);
-    const float fx = std::min(std::max(gx - x0, 0.0f), 1.0f), fy = std::min(std::max(gy - y0, 0.0f), 1.0f);
-    const float* row0 = &surface_distance_[static_cast<size_t>(y0) * width_ + x0];
-    const float* row1 = row0 + width_;
+    // In the padded field, cell (x, y) is at (x + 1, y + 1): no clamping of indices or weights.
+    const float px = gx + 1.0f, py = gy + 1.0f;
+    const int x0 = static_cast<int>(px), y0 = static_cast<int>(py);
+    const float fx = px - x0, fy = py - y0;
+    const float* row0 = &surface_distance_[static_cast<size_t>(y0) * padded_width_ + x0];
+    const float* row1 = row0 + padded_width_;
     const float d = (1 - fy) * ((1 - fx) * row0[0] + fx * row0[1]) + fy * ((1 - fx) * row1[0] + fx * row1[1]);
     const size_t mm = std::min(static_cast<size_t>(std::abs(d) * 1000.0f), log_likelihood_table_.size() - 1);
     return log_likelihood_table_[mm];
@@ -62,7 +63,10 @@ class LikelihoodField {
   int width_ = 0, height_ = 0;
   Point2 origin_;
   double resolution_ = 1.0, inv_resolution_ = 1.0;
-  std::vector<float> surface_distance_;       // -half a cell anywhere inside obstacles (AMCL's field)
+  // -half a cell anywhere inside obstacles (AMCL's field), with a ring of one cell repeating the
+  // edge, (width + 2) x (height + 2).
+  std::vector<float> surface_distance_;
+  int padded_width_ = 0;
   std::vector<float> signed_distance_;        // the same outside, the depth inside
   std::vector<float> log_likelihood_table_;  // log(z_hit * N(d) + z_rand / range) by |d| in mm
   float log_outside_ = 0.0f;                 // a beam ending outside the map
