@@ -80,10 +80,11 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   // A laser that has spoken and then gone silent is stale too; a robot without one is not.
   const bool laser_fresh = !bridge_.scan_seen() || now - bridge_.last_scan_arrival() <= options_.sensor_timeout;
   const bool fresh = laser_fresh && now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
-  const bool was_active = executive_.navigator().Status().active;
+  const bool was_active = executive_.navigator().Status().active || was_searching_;
   const WheelSpeeds wheels = executive_.Step({fresh, bridge_.Contact(options_.sensor_timeout)}, now);
   const navigation::NavigationStatus status = executive_.navigator().Status();
-  if (status.active) {
+  was_searching_ = executive_.searching();
+  if (status.active || was_searching_) {
     bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));
     zero_commands_left_ = kZeroCommandsAfterGoal;
   } else if (was_active || zero_commands_left_ > 0) {

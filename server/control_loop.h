@@ -38,6 +38,7 @@ class ControlLoop {
   DdsBridge& bridge_;
   localization::LocalizerSelector& localizer_;
   int odometry_jumps_seen_ = 0;
+  bool was_searching_ = false;  // the wake-up behaviour drove the robot last tick
   navigation::NavigationExecutive& executive_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

@@ -35,12 +35,15 @@ struct MissionRequest {
 };
 
 // When the pose estimate counts as lost: the scan fits the map worse than lost_quality (the
-// localiser's 0..1 agreement) for lost_after seconds of motion. Found again once the fit is
-// back above found_quality with the position spread under max_spread.
+// localiser's 0..1 agreement, the mean per-beam likelihood ratio) for lost_after seconds. Found
+// again once the fit is back above found_quality with the position spread under max_spread.
+// Measured agreement: at true poses 0.99 in navsim's warehouse, 0.94 median and 0.43 at the 1st
+// percentile on the real Intel log; at wrong poses in the warehouse 0.15 median, 0.48 at most
+// (200 random pairs).
 struct LocalizationWatchOptions {
-  double lost_quality = 0.2;
+  double lost_quality = 0.45;
   double lost_after = 3.0;     // s
-  double found_quality = 0.4;
+  double found_quality = 0.6;
   double max_spread = 0.3;     // m, sqrt(var x + var y)
   double search_turn_rate = 0.5;  // rad/s: the wake-up behaviour turns in place while it searches
 };
@@ -76,6 +79,9 @@ class NavigationExecutive {
 
   const Navigator& navigator() const { return navigator_; }
   bool localization_lost() const { return lost_; }
+  // The wake-up behaviour has the robot (its pose is lost): it turns the robot in place whether or
+  // not a mission is active, since an idle robot that stands still can never be found again.
+  bool searching() const { return wake_up_ >= 0 && static_cast<long>(brain_.active_motor()) == wake_up_; }
   // Whether the localisation process runs (laser corrections of the pose); the control loop asks
   // before it hands the localiser a scan.
   bool localization_active() const { return localization_ >= 0 && brain_.active(static_cast<size_t>(localization_)); }

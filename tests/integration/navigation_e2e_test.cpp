@@ -3,7 +3,10 @@
 // ground truth.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "client_lib/telemetry.h"
 #include "services/common/world.h"
@@ -72,6 +75,43 @@ TEST(NavigationE2E, LaserLocalisationCorrectsAWrongInitialPose) {
   std::printf("wrong initial pose: true position error at the goal %.3f m\n", error);
   EXPECT_LT(error, 0.12);
   EXPECT_EQ(truth->collisions(), 0u);
+}
+
+// Wake-up (seed 000 section 7), automatically: navd is told a pose metres away from the truth. The
+// scans stop fitting, the executive declares the pose lost after 3 s, the wake-up behaviour takes
+// the robot, relocalises over the whole map and turns in place until the estimate fits; then the
+// estimate is back on the true pose.
+TEST(NavigationE2E, WakeUpRelocalisesAutomaticallyWhenThePoseIsLost) {
+  StackOptions options;
+  options.rate = 5.0;
+  NavdStack stack(options);
+  std::atomic<bool> woke{false};
+  TelemetryOptions topts;
+  topts.dds.domain = stack.domain();
+  topts.dds.name = "test";
+  Telemetry telemetry(topts, [&](const navd_msgs::msg::dds_::NavStatus_& m) {
+    if (m.behaviour() == "wake_up") woke = true;
+  });
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  // Out of the start corridor first: along a featureless corridor no search can tell where it is.
+  ASSERT_EQ(stack.client().NavigateTo(3.0, 2.6, std::nullopt, {}, 120.0).outcome(), v1::SUCCEEDED) << stack.Logs();
+  ASSERT_TRUE(telemetry.WaitForSimStatus(5.0));
+  stack.client().SetPose(6.0, 5.0, -1.0);
+  bool found = false;
+  double error = 0, heading = 0;
+  for (int i = 0; i < 300 && !found; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    const auto truth = telemetry.LatestSimStatus();
+    const auto pose = stack.client().GetPose();
+    if (!truth) continue;
+    error = std::hypot(pose.pose().x() - truth->x(), pose.pose().y() - truth->y());
+    heading = std::abs(NormalizeAngle(pose.pose().theta() - truth->theta()));
+    found = woke && error < 0.15 && heading < 0.1;
+  }
+  std::printf("wake-up: behaviour seen %d; estimate %.3f m / %.3f rad from the truth\n", woke.load(), error, heading);
+  EXPECT_TRUE(woke.load()) << stack.Logs();
+  EXPECT_TRUE(found) << stack.Logs();
+  EXPECT_EQ(telemetry.LatestSimStatus()->collisions(), 0u);
 }
 
 TEST(NavigationE2E, StreamReportsProgressAndCancelStopsTheRobot) {
