@@ -104,7 +104,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive);
 
   planning::PlanningService planning_service(planning);
-  localization::LocalizationService localization_service(localizer);
+  localization::LocalizationService localization_service(localizer, maps);
   mapping::MappingService mapping_service(maps);
   navigation::NavigationService navigation_service(executive);
 

@@ -79,7 +79,16 @@ grpc::Status LocalizationService::SetPose(grpc::ServerContext*, const v1::SetPos
       }
       for (int i = 0; i < 9; ++i) cov(i / 3, i % 3) = request->covariance(i);
     }
-    localizer_.SetPose(FromProto(request->pose()), cov);
+    const Pose2 pose = FromProto(request->pose());
+    if (const auto map = maps_.Get(); map && pose.finite()) {
+      if (!map->grid.ContainsPoint(pose.translation())) {
+        throw Error(ErrorCode::kInvalidArgument, "pose " + FormatPoint(pose.translation()) + " lies outside the map");
+      }
+      if (map->grid.IsOccupied(map->grid.CellOf(pose.translation()))) {
+        throw Error(ErrorCode::kInvalidArgument, "pose " + FormatPoint(pose.translation()) + " is inside an obstacle");
+      }
+    }
+    localizer_.SetPose(pose, cov);
   });
 }
 

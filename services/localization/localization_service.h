@@ -1,13 +1,15 @@
 #pragma once
 // gRPC adapter of navd.v1.LocalizationService over the LocalizerSelector.
 #include "navd/v1/localization.grpc.pb.h"
+#include "services/common/map_store.h"
 #include "services/localization/localizer_selector.h"
 
 namespace navd::localization {
 
 class LocalizationService final : public v1::LocalizationService::Service {
  public:
-  explicit LocalizationService(LocalizerSelector& localizer) : localizer_(localizer) {}
+  // `maps`: the served map, so SetPose can refuse poses off it or inside obstacles.
+  LocalizationService(LocalizerSelector& localizer, const MapStore& maps) : localizer_(localizer), maps_(maps) {}
   grpc::Status GetPose(grpc::ServerContext* context, const v1::GetPoseRequest* request,
                        v1::GetPoseResponse* response) override;
   grpc::Status SetPose(grpc::ServerContext* context, const v1::SetPoseRequest* request,
@@ -23,6 +25,7 @@ class LocalizationService final : public v1::LocalizationService::Service {
 
  private:
   LocalizerSelector& localizer_;
+  const MapStore& maps_;
 };
 
 }  // namespace navd::localization

@@ -59,6 +59,29 @@ TEST_F(BadInput, NonFiniteCoordinates) {
   ExpectError([&] { client().SetPose(1, INFINITY, 0); }, grpc::StatusCode::INVALID_ARGUMENT, {"pose.y"});
 }
 
+TEST_F(BadInput, SetPoseOffTheMapOrInAWallIsRefusedAndTheEstimateKept) {
+  const auto before = client().GetPose();
+  ExpectError([&] { client().SetPose(-3, 2, 0); }, grpc::StatusCode::INVALID_ARGUMENT, {"pose", "outside the map"});
+  ExpectError([&] { client().SetPose(0.02, 5, 0); }, grpc::StatusCode::INVALID_ARGUMENT, {"pose", "inside an obstacle"});
+  const auto after = client().GetPose();
+  EXPECT_NEAR(after.pose().x(), before.pose().x(), 0.05);
+  EXPECT_NEAR(after.pose().y(), before.pose().y(), 0.05);
+}
+
+// navd with no robot (no simulator): no odometry has arrived, so there is no pose to give.
+TEST(BadInputWithoutARobot, PoseBeforeAnySensorDataIsAFailedPrecondition) {
+  StackOptions o;
+  o.start_sim = false;
+  NavdStack stack(o);
+  try {
+    stack.client().GetPose();
+    ADD_FAILURE() << "GetPose answered without odometry";
+  } catch (const ClientError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::FAILED_PRECONDITION) << e.what();
+    EXPECT_NE(std::string(e.what()).find("odometry"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(BadInput, WaypointInsideAnObstacleIsNamed) {
   ExpectError([&] { client().ComputePathThroughPoses(0.8, 1, {{3.0, 2.6}, {8.5, 1.5}, {8.8, 8.8}}); },
               grpc::StatusCode::INVALID_ARGUMENT, {"waypoints[1]", "inside an obstacle"});
