@@ -10,7 +10,7 @@
 #include "services/localization/ekf_localizer.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/particle_filter.h"
-#include "simulator/laser_scanner.h"
+#include "tests/support/simulated_drive.h"
 
 namespace {
 
@@ -30,14 +30,8 @@ void BM_ParticleFilterUpdate(benchmark::State& state) {
   Eigen::Matrix3d prior = Eigen::Matrix3d::Zero();
   prior.diagonal() << 0.04, 0.04, 0.04;
   pf.SetPose(world.start, prior);
-  sim::LaserScanner laser(world.laser);
   std::mt19937_64 rng(1);
-  localization::ScanReading scan;
-  scan.ranges = laser.Scan(world.start, RayCaster(world.map), {}, -1, rng);
-  scan.angle_min = laser.angle_min();
-  scan.angle_increment = laser.increment();
-  scan.range_min = world.laser.range_min;
-  scan.range_max = world.laser.range_max;
+  localization::ScanReading scan = localization::SimulatedScan(world, world.start, rng);
   double x = 0.0;
   for (auto _ : state) {
     state.PauseTiming();
@@ -61,14 +55,8 @@ BENCHMARK(BM_ParticleFilterUpdate)
 template <typename Make>
 void CorrectionBench(benchmark::State& state, Make make) {
   const World world = DefaultWorld();
-  sim::LaserScanner laser(world.laser);
   std::mt19937_64 rng(1);
-  localization::ScanReading scan;
-  scan.ranges = laser.Scan(world.start, RayCaster(world.map), {}, -1, rng);
-  scan.angle_min = laser.angle_min();
-  scan.angle_increment = laser.increment();
-  scan.range_min = world.laser.range_min;
-  scan.range_max = world.laser.range_max;
+  localization::ScanReading scan = localization::SimulatedScan(world, world.start, rng);
   auto localizer = make(world);
   double t = 0.0;
   for (auto _ : state) {

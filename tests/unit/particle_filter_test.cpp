@@ -13,7 +13,7 @@
 #include "services/localization/particle_filter.h"
 #include "services/common/diff_drive.h"
 #include "simulator/simulation.h"
-#include "tests/unit/simulated_drive.h"
+#include "tests/support/simulated_drive.h"
 
 namespace navd::localization {
 namespace {
@@ -77,11 +77,7 @@ TEST(ParticleFilter, BeamModelCorrectsTheValidationCaseAndTracksADrive) {
   ParticleFilterLocalizer pf(world.map, po);
   pf.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
   pf.SetPose(world.start, Eigen::Matrix3d::Zero());
-  const Errors e = Drive(s, pf, 50.0, [](double t) {
-    if (t < 20) return Twist2{0.3, 0.0};
-    if (t < 30) return Twist2{0.0, M_PI / 10};
-    return Twist2{0.3, 0.0};
-  }, 50.0, {0.03, 0.04});
+  const Errors e = Drive(s, pf, 50.0, UpTheCorridorAndBack, 50.0, {0.03, 0.04});
   std::printf("beam model drive: worst %.3f m / %.3f rad, mean %.4f m\n", e.position, e.heading, e.mean_position);
   EXPECT_LT(e.position, 0.15);
   EXPECT_LT(e.mean_position, 0.05);
@@ -95,11 +91,7 @@ TEST(ParticleFilter, TracksADriveWhileOdometryDrifts) {
   pf.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
   pf.SetPose(world.start, Eigen::Matrix3d::Zero());
   // Up the corridor and back: 2 x ~6 m.
-  const Errors e = Drive(s, pf, 50.0, [](double t) {
-    if (t < 20) return Twist2{0.3, 0.0};
-    if (t < 30) return Twist2{0.0, M_PI / 10};
-    return Twist2{0.3, 0.0};
-  }, 50.0);
+  const Errors e = Drive(s, pf, 50.0, UpTheCorridorAndBack, 50.0);
   const Pose2 odom = world.start * s.robot().base().odom_pose();
   const Pose2 truth = s.robot().base().true_pose();
   std::printf("drive: filter worst error %.3f m / %.3f rad; odometry error at the end %.3f m\n", e.position,

@@ -17,7 +17,7 @@
 #include "services/localization/scan_to_map_fit.h"
 #include "simulator/laser_scanner.h"
 #include "simulator/scenario.h"
-#include "tests/unit/simulated_drive.h"
+#include "tests/support/simulated_drive.h"
 
 namespace navd::localization {
 namespace {
@@ -41,23 +41,16 @@ TEST(ScanToMapFit, PullsADisplacedPoseBackOntoTheWalls) {
   const World world = DefaultWorld();
   const LikelihoodField field(world.map);
   const ScanToMapFit fit(field);
-  const RayCaster caster(world.map);
-  const sim::LaserScanner laser(world.laser);
   std::mt19937_64 rng(5);
   const Pose2 truths[3] = {{2.45, 4.23, M_PI}, world.start, {8.5, 8.4, 2.0}};
   for (const Pose2& truth : truths) {
-    ScanReading scan;
-    scan.ranges = laser.Scan(truth, caster, {}, -1, rng);
-    scan.angle_min = laser.angle_min();
-    scan.angle_increment = laser.increment();
-    scan.range_min = world.laser.range_min;
-    scan.range_max = world.laser.range_max;
-    const auto points = ScanEndPoints(scan, 120);
+    const auto points = ScanEndPoints(SimulatedScan(world, truth, rng), 120);
     for (const Pose2& offset : {Pose2{-0.2, -0.03, -0.12}, Pose2{0.15, 0.1, 0.08}, Pose2{0.0, -0.2, 0.05}}) {
       const Pose2 start{truth.x + offset.x, truth.y + offset.y, truth.theta + offset.theta};
       const ScanToMapFitResult r = fit.Fit(points, start);
       ASSERT_TRUE(r.ok);
-      EXPECT_LT(std::hypot(r.pose.x - truth.x, r.pose.y - truth.y), 0.01) << truth.x << "," << truth.y << " from " << offset.x << "," << offset.y << " to " << r.pose.x << "," << r.pose.y << " it " << r.iterations;
+      EXPECT_LT(std::hypot(r.pose.x - truth.x, r.pose.y - truth.y), 0.01)
+          << "truth (" << truth.x << ", " << truth.y << "), found (" << r.pose.x << ", " << r.pose.y << ")";
       EXPECT_LT(std::abs(NormalizeAngle(r.pose.theta - truth.theta)), 0.005);
       EXPECT_LT(r.rms, 0.03);
       EXPECT_GT(r.inliers, 100);
@@ -88,19 +81,11 @@ TEST(Ekf, TracksADriveWhileOdometryDrifts) {
   sim::Simulation s(world, {});
   EkfLocalizer ekf(world.map, {}, world.start, Eigen::Matrix3d::Identity() * 1e-4);
   ekf.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
-  const Errors e = Drive(s, ekf, 50.0, [](double t) {
-    if (t < 20) return Twist2{0.3, 0.0};
-    if (t < 30) return Twist2{0.0, M_PI / 10};
-    return Twist2{0.3, 0.0};
-  }, 50.0, {0.03, 0.04});
+  const Errors e = Drive(s, ekf, 50.0, UpTheCorridorAndBack, 50.0, {0.03, 0.04});
   // Dead reckoning with the same bias, for comparison.
   sim::Simulation again(world, {});
   OdometryLocalizer odometry(world.start);
-  Drive(again, odometry, 50.0, [](double t) {
-    if (t < 20) return Twist2{0.3, 0.0};
-    if (t < 30) return Twist2{0.0, M_PI / 10};
-    return Twist2{0.3, 0.0};
-  }, 50.0, {0.03, 0.04});
+  Drive(again, odometry, 50.0, UpTheCorridorAndBack, 50.0, {0.03, 0.04});
   const Pose2 odom = odometry.Estimate().pose;
   const Pose2 truth = again.robot().base().true_pose();
   const double odometry_error = std::hypot(odom.x - truth.x, odom.y - truth.y);
@@ -133,18 +118,12 @@ TEST(Ekf, IgnoresMalformedInputAndRefusesMatchesOutsideItsGate) {
 
   // Scans taken 0.3 m ahead of where a confident filter (1 cm) is: the fit finds that place, the
   // gate refuses it, the estimate stays...
-  const RayCaster caster(world.map);
-  const sim::LaserScanner laser(world.laser);
   std::mt19937_64 rng(1);
   const Pose2 ahead = world.start * Pose2{0.3, 0.0, 0.0};
   ScanReading far;
-  far.angle_min = laser.angle_min();
-  far.angle_increment = laser.increment();
-  far.range_min = world.laser.range_min;
-  far.range_max = world.laser.range_max;
   for (int i = 1; i < o.reanchor_after; ++i) {
     ekf.AddOdometry({{0, 0, 0}, Eigen::Matrix3d::Zero(), 0.1 * i});
-    far.ranges = laser.Scan(ahead, caster, {}, -1, rng);
+    far = SimulatedScan(world, ahead, rng);
     far.stamp = 0.1 * i;
     EXPECT_FALSE(ekf.AddScan(far)) << i;
     EXPECT_NEAR(ekf.Estimate().pose.x, world.start.x, 1e-9);

@@ -1,17 +1,34 @@
 #pragma once
 // Localisers against navsim's robot and laser in-process (the simulator library, no network):
-// drive the robot, feed a localiser odometry at 50 Hz and scans at 10 Hz as navd would, and
-// measure its error against the ground truth.
+// single simulated scans, and drives that feed a localiser odometry at 50 Hz and scans at 10 Hz
+// as navd would and measure its error against the ground truth. Header-only: the unit tests and
+// the localisation benchmarks share it.
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <random>
 
 #include "services/common/diff_drive.h"
+#include "services/common/ray_caster.h"
+#include "services/common/world.h"
 #include "services/localization/localizer.h"
+#include "simulator/laser_scanner.h"
 #include "simulator/scenario.h"
 #include "simulator/simulation.h"
 
 namespace navd::localization {
+
+// One scan of `world`'s laser (with its noise) taken at `pose`, with the scan's header filled in.
+inline ScanReading SimulatedScan(const World& world, const Pose2& pose, std::mt19937_64& rng) {
+  const sim::LaserScanner laser(world.laser);
+  ScanReading r;
+  r.ranges = laser.Scan(pose, RayCaster(world.map), {}, -1, rng);
+  r.angle_min = laser.angle_min();
+  r.angle_increment = laser.increment();
+  r.range_min = world.laser.range_min;
+  r.range_max = world.laser.range_max;
+  return r;
+}
 
 inline ScanReading ToScan(const sim::Simulation& s, const std::vector<float>& ranges) {
   ScanReading r;
@@ -70,6 +87,13 @@ inline Errors Drive(sim::Simulation& s, Localizer& localizer, double seconds,
     e.mean_heading /= samples;
   }
   return e;
+}
+
+// Up the default world's corridor for 20 s at 0.3 m/s, a half turn on the spot, and back.
+inline Twist2 UpTheCorridorAndBack(double t) {
+  if (t < 20) return Twist2{0.3, 0.0};
+  if (t < 30) return Twist2{0.0, M_PI / 10};
+  return Twist2{0.3, 0.0};
 }
 
 // Seed 000's validation case for pose correction (sections 4.3 and 5.3): the robot at
