@@ -100,7 +100,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain);
 
   // --- Transport ----------------------------------------------------------------------------
-  DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock);
+  DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr);
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive);
 
   planning::PlanningService planning_service(planning);

@@ -15,6 +15,7 @@ struct DaemonOptions {
   std::string robot_namespace;
   bool use_sim_time = false;
   std::string localizer = "amcl";   // amcl | ekf | calibration | histogram | odometry | auto
+  std::string odometry = "odom";    // odom: the robot's rt/odom; encoders: navd integrates joint_states
   std::string laser_model = "likelihood_field";  // the particle filter's: likelihood_field | beam
   std::string brain_path;           // utility-function brain YAML; empty: the built-in default
   double control_rate = 20.0;       // Hz, in the daemon's clock

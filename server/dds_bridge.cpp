@@ -1,26 +1,42 @@
 #include "server/dds_bridge.h"
-#include "services/localization/scan_points.h"
 
 #include <spdlog/spdlog.h>
 
 #include "dds/conversions.h"
 #include "dds/topics.h"
+#include "services/localization/scan_points.h"
 
 namespace navd::server {
 
 using dds::Reliability;
 
 DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& ns, SimClock* sim_clock,
-                     const Clock& arrival_clock)
+                     const Clock& arrival_clock, const RobotDescription* encoders)
     : participant_(options), arrival_clock_(arrival_clock) {
+  if (encoders) {
+    wheel_odometry_ = std::make_unique<localization::WheelOdometry>(*encoders);
+    joints_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::JointState_PubSubType>>(
+        participant_, dds::TopicName(ns, dds::kJointStates), Reliability::kBestEffort,
+        [this](const sensor_msgs::msg::dds_::JointState_& m) {
+          std::lock_guard<std::mutex> lock(wheel_mutex_);
+          const auto reading = wheel_odometry_->AddWheelAngles(m.position(), dds::FromTime(m.header().stamp()));
+          if (!reading) return;  // wrong wheel count or non-finite angles: never integrated
+          wheel_reading_ = reading;
+          ++wheel_count_;
+          last_odom_arrival_ = arrival_clock_.Now();
+        },
+        5);
+  }
   if (sim_clock) {
     clock_reader_ = std::make_unique<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
         participant_, dds::kClock, Reliability::kBestEffort,
         [sim_clock](const rosgraph_msgs::msg::dds_::Clock_& m) { sim_clock->Set(dds::FromTime(m.clock())); }, 1);
   }
-  odom_reader_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>>(
-      participant_, dds::TopicName(ns, dds::kOdom), Reliability::kBestEffort,
-      [this](const nav_msgs::msg::dds_::Odometry_&) { last_odom_arrival_ = arrival_clock_.Now(); }, 5);
+  if (!encoders) {
+    odom_reader_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>>(
+        participant_, dds::TopicName(ns, dds::kOdom), Reliability::kBestEffort,
+        [this](const nav_msgs::msg::dds_::Odometry_&) { last_odom_arrival_ = arrival_clock_.Now(); }, 5);
+  }
   bumper_reader_ = std::make_unique<dds::Reader<navsim_msgs::msg::dds_::BumperState_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kBumper), Reliability::kBestEffort,
       [this](const navsim_msgs::msg::dds_::BumperState_& m) {
@@ -40,6 +56,10 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
 }
 
 std::optional<localization::OdometryReading> DdsBridge::LatestOdometry() const {
+  if (wheel_odometry_) {
+    std::lock_guard<std::mutex> lock(wheel_mutex_);
+    return wheel_reading_;
+  }
   const auto m = odom_reader_->Latest();
   if (!m) return std::nullopt;
   localization::OdometryReading r;

@@ -3,6 +3,7 @@
 // and publishes velocity commands and navd_msgs telemetry.
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -16,6 +17,7 @@
 #include "services/common/clock.h"
 #include "services/common/diff_drive.h"
 #include "services/localization/localizer.h"
+#include "services/localization/wheel_odometry.h"
 #include "services/navigation/navigator.h"
 
 namespace navd::server {
@@ -23,14 +25,15 @@ namespace navd::server {
 class DdsBridge {
  public:
   // sim_clock: when given, rt/clock samples drive it. arrival_clock stamps odometry arrival for
-  // the staleness check.
+  // the staleness check. encoders: when given, odometry is computed from the robot's wheel
+  // encoders (rt/<ns>/joint_states, with this robot's kinematics) instead of read from rt/<ns>/odom.
   DdsBridge(const dds::ParticipantOptions& options, const std::string& robot_namespace, SimClock* sim_clock,
-            const Clock& arrival_clock);
+            const Clock& arrival_clock, const RobotDescription* encoders = nullptr);
 
   // The newest odometry reading, if any, and when (arrival clock) it arrived.
   std::optional<localization::OdometryReading> LatestOdometry() const;
   double last_odometry_arrival() const { return last_odom_arrival_.load(); }
-  uint64_t odometry_count() const { return odom_reader_->count(); }
+  uint64_t odometry_count() const { return wheel_odometry_ ? wheel_count_.load() : odom_reader_->count(); }
 
   // The newest scan and how many have arrived (to tell a new one from the last).
   std::optional<localization::ScanReading> LatestScan() const;
@@ -55,6 +58,12 @@ class DdsBridge {
   const Clock& arrival_clock_;
   std::atomic<double> last_odom_arrival_{-1e9};
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_reader_;
+  // Odometry from the wheel encoders, when navd computes it (--odometry encoders).
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::JointState_PubSubType>> joints_reader_;
+  std::unique_ptr<localization::WheelOdometry> wheel_odometry_;
+  mutable std::mutex wheel_mutex_;
+  std::optional<localization::OdometryReading> wheel_reading_;
+  std::atomic<uint64_t> wheel_count_{0};
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_reader_;
   std::string scan_topic_;
   mutable std::atomic<int> bad_scans_{0};

@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
                  "calibration (seed 000's odometric calibration), histogram (grid localisation, small maps), odometry, "
                  "or auto (the chapter-10 arbiter chooses)")
       ->check(CLI::IsMember({"amcl", "ekf", "calibration", "histogram", "odometry", "auto"}));
+  app.add_option("--odometry", o.odometry,
+                 "odom (the robot's rt/odom, default) or encoders (navd integrates rt/joint_states wheel angles "
+                 "with the robot's kinematics, book ch. 1)")
+      ->check(CLI::IsMember({"odom", "encoders"}));
   app.add_option("--laser-model", o.laser_model,
                  "The particle filter's sensor model: likelihood_field (default) or beam (ray casts per particle)")
       ->check(CLI::IsMember({"likelihood_field", "beam"}));

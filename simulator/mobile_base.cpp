@@ -9,29 +9,18 @@
 namespace navd::sim {
 
 MobileBase::MobileBase(const RobotDescription& description, const Pose2& start, uint64_t seed)
-    : d_(description), rng_(seed), pose_(start), proposed_(start) {
-  if (d_.drive == DriveType::kOmni) {
-    // Eq. 12 in the robot frame (theta = 0): v_i = -sin(a_i) vx + cos(a_i) vy + R omega.
-    wheels_n_ = 3;
-    for (int i = 0; i < 3; ++i) {
-      const double a = d_.omni_wheel_angles[i];
-      jacobian_.row(i) << -std::sin(a), std::cos(a), d_.omni_wheel_distance;
-    }
-  } else {
-    // Eq. 8: left and right rims; a differential drive cannot move sideways.
-    wheels_n_ = 2;
-    jacobian_.row(0) << 1.0, 0.0, -d_.wheel_base / 2.0;
-    jacobian_.row(1) << 1.0, 0.0, d_.wheel_base / 2.0;
-  }
-  inverse_ = jacobian_.completeOrthogonalDecomposition().pseudoInverse();
+    : d_(description), kinematics_(description), rng_(seed), pose_(start), proposed_(start) {
+  wheels_n_ = kinematics_.wheels();
   ticks_.assign(wheels_n_, 0.0);
   counted_.assign(wheels_n_, 0);
 }
 
-Eigen::Vector3d MobileBase::WheelsOf(const BodyTwist& t) const { return jacobian_ * Eigen::Vector3d(t.vx, t.vy, t.omega); }
+Eigen::Vector3d MobileBase::WheelsOf(const BodyTwist& t) const {
+  return kinematics_.WheelsOf(Eigen::Vector3d(t.vx, t.vy, t.omega));
+}
 
 BodyTwist MobileBase::TwistOf(const Eigen::Vector3d& wheels) const {
-  const Eigen::Vector3d t = inverse_ * wheels;
+  const Eigen::Vector3d t = kinematics_.TwistOf(wheels);
   return {t.x(), t.y(), t.z()};
 }
 
@@ -122,7 +111,7 @@ void MobileBase::CommitMotion(bool blocked, double dt) {
   odom_pose_ = IntegrateTwist(odom_pose_, step.vx, step.vy, step.omega);
   // Odometry uncertainty grows with wheel travel: body-frame covariance of this step, rotated
   // into the odometry frame.
-  const Eigen::Matrix3d body = inverse_ * variance.asDiagonal() * inverse_.transpose();
+  const Eigen::Matrix3d body = kinematics_.TwistCovariance(variance);
   Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
   const double c = std::cos(odom_pose_.theta), s = std::sin(odom_pose_.theta);
   rot.topLeftCorner<2, 2>() << c, -s, s, c;

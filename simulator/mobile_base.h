@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "services/common/pose2.h"
+#include "services/common/wheel_kinematics.h"
 #include "services/common/world.h"
 
 namespace navd::sim {
@@ -52,17 +53,14 @@ class MobileBase {
 
  private:
   // Rim speeds for a body twist and its least-squares inverse (book ch. 1 Eqs. 8 and 12).
-  // Fixed 3-wheel storage (a differential drive leaves the third row zero): fixed sizes keep these
-  // Eigen instantiations distinct from the dynamic-size ones inside libompl.
   Eigen::Vector3d WheelsOf(const BodyTwist& t) const;
   BodyTwist TwistOf(const Eigen::Vector3d& wheels) const;
   void ClampToLimits(Eigen::Vector3d& wheels) const;
 
   RobotDescription d_;
+  WheelKinematics kinematics_;
   std::mt19937_64 rng_;
   int wheels_n_ = 2;
-  Eigen::Matrix3d jacobian_ = Eigen::Matrix3d::Zero();  // rim speeds = jacobian_ * (vx, vy, omega)
-  Eigen::Matrix3d inverse_ = Eigen::Matrix3d::Zero();   // (vx, vy, omega) = inverse_ * rim speeds
   Pose2 pose_;
   Pose2 proposed_;
   BodyTwist twist_;                 // achieved this step

@@ -244,7 +244,13 @@ TEST(Daemons, NavdStopsAndReportsWhenSensorsGoStale) {
     options.rate = 1.0;
     NavdStack stack(options);
     ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
-    EXPECT_FALSE(stack.client().GetStatus().sensors_stale());
+    // Fresh while the simulator runs (the first status after start-up may predate the laser).
+    bool fresh = false;
+    for (int i = 0; i < 100 && !fresh; ++i) {
+      fresh = !stack.client().GetStatus().sensors_stale();
+      if (!fresh) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    EXPECT_TRUE(fresh) << (sim_time ? "with" : "without") << " --use-sim-time";
     stack.sim()->Stop(SIGKILL, 5.0);
     bool stale = false;
     for (int i = 0; i < 100 && !stale; ++i) {

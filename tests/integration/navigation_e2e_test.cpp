@@ -96,7 +96,7 @@ TEST(NavigationE2E, WakeUpRelocalisesAutomaticallyWhenThePoseIsLost) {
   // Out of the start corridor first: along a featureless corridor no search can tell where it is.
   ASSERT_EQ(stack.client().NavigateTo(3.0, 2.6, std::nullopt, {}, 120.0).outcome(), v1::SUCCEEDED) << stack.Logs();
   ASSERT_TRUE(telemetry.WaitForSimStatus(5.0));
-  stack.client().SetPose(6.0, 5.0, -1.0);
+  stack.client().SetPose(4.0, 5.0, -1.0);  // free space metres away; truth near (3.0, 2.6)
   bool found = false;
   double error = 0, heading = 0;
   for (int i = 0; i < 300 && !found; ++i) {
@@ -112,6 +112,22 @@ TEST(NavigationE2E, WakeUpRelocalisesAutomaticallyWhenThePoseIsLost) {
   EXPECT_TRUE(woke.load()) << stack.Logs();
   EXPECT_TRUE(found) << stack.Logs();
   EXPECT_EQ(telemetry.LatestSimStatus()->collisions(), 0u);
+}
+
+// navd computes odometry itself from the wheel encoders (rt/joint_states) instead of reading the
+// robot's rt/odom, and still gets the robot to its goal.
+TEST(NavigationE2E, NavigatesWithOdometryFromTheWheelEncoders) {
+  StackOptions options;
+  options.navd_args = {"--odometry", "encoders"};
+  NavdStack stack(options);
+  const auto telemetry = stack.MakeTelemetry();
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  const auto result = stack.client().NavigateTo(3.0, 2.6, std::nullopt, {}, 120.0);
+  ASSERT_EQ(result.outcome(), v1::SUCCEEDED) << result.message() << stack.Logs();
+  const auto truth = telemetry->WaitForSimStatus(5.0);
+  ASSERT_TRUE(truth);
+  EXPECT_LT(std::hypot(truth->x() - 3.0, truth->y() - 2.6), 0.12);
+  EXPECT_EQ(truth->collisions(), 0u);
 }
 
 TEST(NavigationE2E, StreamReportsProgressAndCancelStopsTheRobot) {

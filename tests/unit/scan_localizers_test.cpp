@@ -15,6 +15,7 @@
 #include "services/localization/odometry_localizer.h"
 #include "services/localization/scan_points.h"
 #include "services/localization/scan_to_map_fit.h"
+#include "services/localization/wheel_odometry.h"
 #include "simulator/laser_scanner.h"
 #include "simulator/scenario.h"
 #include "tests/support/simulated_drive.h"
@@ -257,6 +258,41 @@ TEST(LocalizerInput, ScanGeometryMustAgreeWithItsBeamCount) {
   EXPECT_NE(ScanGeometryError(683, min, min + 682 * inc, 0.0).find("angle_increment"), std::string::npos);
   EXPECT_NE(ScanGeometryError(683, NAN, 1.0, inc).find("angle_min"), std::string::npos);
   EXPECT_NE(ScanGeometryError(0, 0, 0, 1).find("empty"), std::string::npos);
+}
+
+// Odometry from wheel encoders (book ch. 1, Eqs. 7-12): navsim's robot firmware integrates its
+// encoder ticks; navd's WheelOdometry, given only the wheel angles of each step, gets the same pose
+// for a differential drive and for the three-wheel omnidirectional base.
+TEST(WheelOdometry, ReproducesTheRobotsOdometryFromItsWheelAngles) {
+  for (const DriveType drive : {DriveType::kDiffDrive, DriveType::kOmni}) {
+    World world = DefaultWorld();
+    world.robot.drive = drive;
+    sim::Simulation s(world, {});
+    WheelOdometry odometry(world.robot);
+    ASSERT_TRUE(odometry.AddWheelAngles(s.robot().base().wheel_angles(), 0.0));
+    const Pose2 anchor = s.robot().base().odom_pose();
+    OdometryReading last;
+    for (int i = 0; i < 1500; ++i) {
+      const double t = 0.01 * i;
+      s.Command(0, {0.3, drive == DriveType::kOmni ? 0.15 : 0.0, t < 8 ? 0.4 : -0.3});
+      s.Step();
+      const auto reading = odometry.AddWheelAngles(s.robot().base().wheel_angles(), s.now());
+      ASSERT_TRUE(reading);
+      last = *reading;
+    }
+    const Pose2 expected = anchor.inverse() * s.robot().base().odom_pose();
+    std::printf("%s: wheel odometry (%.4f, %.4f, %.4f), firmware (%.4f, %.4f, %.4f)\n", DriveTypeName(drive),
+                last.pose.x, last.pose.y, last.pose.theta, expected.x, expected.y, expected.theta);
+    EXPECT_NEAR(last.pose.x, expected.x, 1e-9);
+    EXPECT_NEAR(last.pose.y, expected.y, 1e-9);
+    EXPECT_NEAR(last.pose.theta, expected.theta, 1e-9);
+    EXPECT_GT(std::hypot(last.pose.x, last.pose.y), 0.5);  // it went somewhere
+    EXPECT_GT(last.covariance(0, 0), 0.0);
+  }
+  // Wrong wheel counts and non-finite angles are refused, not integrated.
+  WheelOdometry odometry(DefaultWorld().robot);
+  EXPECT_FALSE(odometry.AddWheelAngles({1.0, 2.0, 3.0}, 0.0));
+  EXPECT_FALSE(odometry.AddWheelAngles({NAN, 2.0}, 0.0));
 }
 
 }  // namespace
