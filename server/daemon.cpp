@@ -53,6 +53,10 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   planning::PlanningEngineOptions planning_options;
   planning_options.costmap.inflation_radius = robot.radius + o.inflation_margin;
   planning_options.costmap.decay_radius = o.cost_decay;
+  planning_options.velocity.max_speed = robot.max_wheel_speed;
+  planning_options.velocity.max_acceleration = robot.max_wheel_accel;
+  // Opposite rims at full acceleration turn the body at 2 a / wheel base.
+  planning_options.velocity.max_angular_acceleration = 2.0 * robot.max_wheel_accel / robot.wheel_base;
   planning::PlanningEngine planning(maps, planning_options);
   planning::RegisterDefaultPlanners(planning);
   planning.CurrentCostmap();  // built now rather than on the first request

@@ -230,6 +230,7 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     plan.speed_limits.push_back(cells.speed_limits.back());
   }
   plan.length = PathLength(plan.points);
+  AddVelocityProfile(plan);
   plan.planning_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return plan;
 }
@@ -266,7 +267,15 @@ PathPlan PlanningEngine::ComputePathThroughPoses(const Point2& start, const std:
     total.planner = leg.planner;
     from = waypoints[i];
   }
+  AddVelocityProfile(total);  // one run through every waypoint, at rest only at the last
   return total;
+}
+
+void PlanningEngine::AddVelocityProfile(PathPlan& plan) const {
+  const VelocityProfile profile = TimeOptimalProfile(plan.points, options_.velocity);
+  plan.speeds = SpeedsAtPathPoints(plan.points, profile);
+  plan.times = TimesAtPathPoints(plan.points, profile);
+  plan.duration = profile.duration;
 }
 
 }  // namespace navd::planning

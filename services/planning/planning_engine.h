@@ -12,6 +12,7 @@
 #include "services/common/map_store.h"
 #include "services/planning/costmap.h"
 #include "services/planning/global_planner.h"
+#include "services/planning/velocity_profile.h"
 
 namespace navd::planning {
 
@@ -21,11 +22,18 @@ struct PlanningEngineOptions {
   // A start inside the inflation zone (robot close to a wall) is moved to the nearest free cell
   // within this distance, as Nav2 does; farther means the robot is in collision.
   double start_recovery_radius = 0.5;
+  // The robot's limits for the velocity profile every plan carries.
+  VelocityLimits velocity;
 };
 
 struct PathPlan {
   std::vector<Point2> points;  // start first, goal last
   std::vector<double> speed_limits;  // per point, fraction of top speed; empty unless the planner gives them
+  // The time-optimal velocity profile along the path (book ch. 9), at each point: m/s (0 at the
+  // goal) and seconds from the start; its total time.
+  std::vector<double> speeds;
+  std::vector<double> times;
+  double duration = 0.0;
   double length = 0.0;         // metres
   double planning_time = 0.0;  // wall seconds
   uint64_t expansions = 0;
@@ -66,6 +74,7 @@ class PlanningEngine {
 
  private:
   const GlobalPlanner& Find(const std::string& name) const;
+  void AddVelocityProfile(PathPlan& plan) const;
   PlannerOptions ResolveOptions(const GlobalPlanner& planner, const std::map<std::string, double>& given) const;
 
   const MapStore& maps_;

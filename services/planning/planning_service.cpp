@@ -12,6 +12,9 @@ void ToProto(const PathPlan& plan, v1::ComputePathResponse* response) {
   response->set_planner(plan.planner);
   response->set_expansions(plan.expansions);
   for (double v : plan.speed_limits) response->add_speed_limits(v);
+  for (double v : plan.speeds) response->add_speeds(v);
+  for (double t : plan.times) response->add_times(t);
+  response->set_duration(plan.duration);
 }
 }  // namespace
 

@@ -87,6 +87,18 @@ TEST_F(BadInput, WaypointInsideAnObstacleIsNamed) {
               grpc::StatusCode::INVALID_ARGUMENT, {"waypoints[1]", "inside an obstacle"});
   const auto ok = client().ComputePathThroughPoses(0.8, 1, {{3.0, 2.6}, {8.8, 8.8}});
   EXPECT_GT(ok.length(), 10.0);
+  // Every plan carries its time-optimal velocity profile: at rest at both ends, never above the
+  // robot's top speed, times rising to the total duration.
+  ASSERT_EQ(ok.speeds_size(), ok.path_size());
+  ASSERT_EQ(ok.times_size(), ok.path_size());
+  EXPECT_DOUBLE_EQ(ok.speeds(0), 0.0);
+  EXPECT_DOUBLE_EQ(ok.speeds(ok.speeds_size() - 1), 0.0);
+  for (int i = 1; i < ok.times_size(); ++i) {
+    EXPECT_GT(ok.times(i), ok.times(i - 1));
+    EXPECT_LE(ok.speeds(i), 0.5 + 1e-9);
+  }
+  EXPECT_GT(ok.duration(), ok.length() / 0.5);
+  EXPECT_NEAR(ok.times(ok.times_size() - 1), ok.duration(), 0.05);
 }
 
 TEST_F(BadInput, UnknownPlanner) {

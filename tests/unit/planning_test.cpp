@@ -9,6 +9,7 @@
 #include "services/planning/grid_astar_planner.h"
 #include "services/planning/planner_catalog.h"
 #include "services/planning/planning_engine.h"
+#include "services/planning/velocity_profile.h"
 
 namespace navd::planning {
 namespace {
@@ -230,6 +231,69 @@ TEST(Engine, WithoutAMapFailsPrecondition) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kFailedPrecondition);
+  }
+}
+
+// Book chapter 9's velocity profile on a straight 10 m line: accelerate at a, cruise at the top
+// speed, brake to rest at the end: 10 / v + v / a seconds exactly.
+TEST(VelocityProfile, StraightLineIsATrapezoidEndingAtRest) {
+  VelocityLimits l;
+  l.max_speed = 0.8;
+  l.max_acceleration = 0.5;
+  const VelocityProfile p = TimeOptimalProfile({{0, 0}, {10, 0}}, l);
+  // Exact on every step but the two where the ramps meet the top speed between grid points.
+  EXPECT_NEAR(p.duration, 10.0 / 0.8 + 0.8 / 0.5, 1e-3);
+  EXPECT_DOUBLE_EQ(p.speed.front(), 0.0);
+  EXPECT_DOUBLE_EQ(p.speed.back(), 0.0);
+  EXPECT_NEAR(p.speed[p.speed.size() / 2], 0.8, 1e-12);
+  EXPECT_NEAR(p.arc.back(), 10.0, 1e-9);
+  // Never faster than the limits allow between neighbouring points (Eqs. 15-16).
+  for (size_t i = 1; i < p.speed.size(); ++i) {
+    const double ds = p.arc[i] - p.arc[i - 1];
+    EXPECT_LE(std::abs(p.speed[i] * p.speed[i] - p.speed[i - 1] * p.speed[i - 1]), 2 * l.max_acceleration * ds + 1e-9);
+  }
+  l.start_speed = 0.3;
+  EXPECT_NEAR(TimeOptimalProfile({{0, 0}, {10, 0}}, l).speed.front(), 0.3, 1e-12);
+}
+
+// On a circle of radius R the friction limit v^2 / R <= g mu sets the speed (Eq. 8), and the
+// steering torque limit slows the robot where the curvature changes (entering the arc).
+TEST(VelocityProfile, CurvesAreTakenAtTheFrictionLimit) {
+  std::vector<Point2> path{{-3, 0}};
+  for (int i = 0; i <= 300; ++i) {
+    const double a = -M_PI / 2 + M_PI * i / 300.0;  // a half circle of radius 1 around (0, 1)
+    path.push_back({std::cos(a), 1.0 + std::sin(a)});
+  }
+  path.front() = {-3, 0};
+  path.insert(path.begin() + 1, Point2(0, 0));
+  VelocityLimits l;
+  l.max_speed = 0.8;
+  l.friction = 0.02;  // sqrt(9.81 * 0.02 * 1) = 0.443 m/s on the circle
+  l.max_angular_acceleration = 100.0;
+  const VelocityProfile p = TimeOptimalProfile(path, l);
+  const double friction_speed = std::sqrt(9.81 * 0.02 * 1.0);
+  double on_arc_max = 0.0, before_arc = 0.0;
+  for (size_t i = 0; i < p.points.size(); ++i) {
+    if (p.points[i].x() > 0.2 && p.points[i].y() > 0.5 && p.points[i].y() < 1.5) on_arc_max = std::max(on_arc_max, p.speed[i]);
+    if (p.points[i].x() < -1.5) before_arc = std::max(before_arc, p.speed[i]);
+  }
+  EXPECT_NEAR(on_arc_max, friction_speed, 0.02 * friction_speed);
+  EXPECT_GT(before_arc, 0.6);  // faster on the straight
+  EXPECT_DOUBLE_EQ(p.speed.back(), 0.0);
+  // A weak steering torque slows the entry into the arc, where the curvature jumps from 0 to 1/m.
+  l.max_angular_acceleration = 0.05;
+  const VelocityProfile slow = TimeOptimalProfile(path, l);
+  EXPECT_GT(slow.duration, p.duration);
+}
+
+TEST(VelocityProfile, BadLimitsAreNamed) {
+  VelocityLimits l;
+  l.max_acceleration = -1;
+  try {
+    TimeOptimalProfile({{0, 0}, {1, 0}}, l);
+    FAIL() << "a negative acceleration was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("max_acceleration"), std::string::npos) << e.what();
   }
 }
 
