@@ -6,13 +6,15 @@
 #include <algorithm>
 
 #include "services/common/error.h"
+#include "services/planning/elastic_band.h"
 
 namespace navd::planning {
 namespace {
 
 const std::vector<PlannerOptionSpec>& CommonOptions() {
   static const std::vector<PlannerOptionSpec> kCommon = {
-      {"smooth", 1.0, "1: shorten the path by line-of-sight shortcuts on the costmap, 0: raw cell path"}};
+      {"smooth", 1.0, "1: shorten the path by line-of-sight shortcuts on the costmap, 0: raw cell path"},
+      {"elastic_band", 0.0, "1: then relax it as an elastic band (book ch. 9 R-snake: contraction, curvature, obstacle forces)"}};
   return kCommon;
 }
 
@@ -101,8 +103,8 @@ PlannerOptions PlanningEngine::ResolveOptions(const GlobalPlanner& planner,
                   "options: planner '" + planner.name() + "' has no option '" + name + "'");
     }
     if (!std::isfinite(value)) throw Error(ErrorCode::kInvalidArgument, "options: '" + name + "' is not finite");
-    if (name == "smooth" && value != 0.0 && value != 1.0) {
-      throw Error(ErrorCode::kInvalidArgument, "options: 'smooth' must be 0 or 1");
+    if ((name == "smooth" || name == "elastic_band") && value != 0.0 && value != 1.0) {
+      throw Error(ErrorCode::kInvalidArgument, "options: '" + name + "' must be 0 or 1");
     }
     resolved[name] = value;
   }
@@ -222,6 +224,9 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     } else {
       plan.points = ShortcutPath(*costmap, plan.points, stop);
     }
+  }
+  if (options.at("elastic_band") != 0.0 && !cells.keep_shape && cells.speed_limits.empty()) {
+    plan.points = ElasticBand(*costmap, plan.points);
   }
   if (!cells.speed_limits.empty()) {
     // Speeds belong to cells.points, which keep their shape: start and goal take their neighbours'.

@@ -6,6 +6,7 @@
 #include "services/common/error.h"
 #include "services/common/map_store.h"
 #include "services/planning/costmap.h"
+#include "services/planning/elastic_band.h"
 #include "services/planning/grid_astar_planner.h"
 #include "services/planning/planner_catalog.h"
 #include "services/planning/planning_engine.h"
@@ -147,6 +148,26 @@ TEST_F(EngineTest, PlansAroundTheWallWithShortcutPath) {
   EXPECT_LT(p.length, 2 * std::hypot(3.3, 7.5) + 0.3);
   auto cm = engine.CurrentCostmap();
   for (size_t i = 1; i < p.points.size(); ++i) EXPECT_TRUE(cm->SegmentFree(p.points[i - 1], p.points[i]));
+}
+
+// The elastic band (book ch. 9 R-snake) rounds the shortcut path's sharp turn around the wall's end:
+// the band stays free on the costmap, keeps its end points and about its length, and the
+// chapter's velocity profile gets through the rounded turn faster.
+TEST_F(EngineTest, ElasticBandRoundsTheTurnsAndTheRobotGetsThroughFaster) {
+  const PathPlan sharp = engine.ComputePath({1, 1}, {8, 1}, "", {});
+  const PathPlan band = engine.ComputePath({1, 1}, {8, 1}, "", {{"elastic_band", 1.0}});
+  EXPECT_EQ(band.points.front(), Point2(1, 1));
+  EXPECT_EQ(band.points.back(), Point2(8, 1));
+  auto cm = engine.CurrentCostmap();
+  for (size_t i = 1; i < band.points.size(); ++i) EXPECT_TRUE(cm->SegmentFree(band.points[i - 1], band.points[i]));
+  std::printf("elastic band: max turn %.2f -> %.2f rad, length %.2f -> %.2f m, profile %.2f -> %.2f s\n",
+              MaxTurn(sharp.points), MaxTurn(band.points), sharp.length, band.length, sharp.duration, band.duration);
+  EXPECT_LT(MaxTurn(band.points), 0.35);
+  EXPECT_GT(MaxTurn(sharp.points), 0.9);
+  EXPECT_LT(band.length, sharp.length * 1.05);
+  EXPECT_LT(band.duration, sharp.duration);
+  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "", {{"elastic_band", 2.0}}); }), ErrorCode::kInvalidArgument);
+  EXPECT_NE(message.find("elastic_band"), std::string::npos) << message;
 }
 
 TEST_F(EngineTest, RejectsNonFiniteCoordinates) {
