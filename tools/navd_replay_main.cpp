@@ -20,6 +20,7 @@
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
 #include "services/common/odometry_noise.h"
+#include "services/common/png_format.h"
 #include "services/common/text_file.h"
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
@@ -32,9 +33,10 @@ namespace {
 
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution);
 
-int BuildMap(const navd::CarmenLog& log, const std::string& out, double resolution) {
+int BuildMap(const navd::CarmenLog& log, const std::string& out, double resolution, const std::string& png) {
   const navd::OccupancyGrid grid = MapFromLog(log, resolution);
   navd::SaveMapServerMap(grid, out);
+  if (!png.empty()) navd::SaveMapPng(grid, png);
   std::printf("map: %dx%d cells at %.3f m, origin (%.2f, %.2f), from %zu scans -> %s\n", grid.width(), grid.height(),
               grid.resolution(), grid.origin().x(), grid.origin().y(), log.scans.size(), out.c_str());
   return 0;
@@ -160,6 +162,8 @@ int main(int argc, char** argv) {
                  "localize: the filter's odometry noise alpha1..4 (variance per unit of motion squared)")
       ->check(CLI::Range(0.0, 10.0));
   app.add_option("--resolution", resolution, "Map resolution, metres")->check(CLI::Range(0.005, 10.0));
+  std::string png;
+  app.add_option("--png", png, "map: also write the map as a PNG image for people");
   app.add_flag("--strict", strict, "Stop at the first malformed line instead of skipping it");
   try {
     app.parse(argc, argv);
@@ -172,7 +176,7 @@ int main(int argc, char** argv) {
     if (log.skipped_lines > 0) std::fprintf(stderr, "navd-replay: skipped %d malformed lines\n", log.skipped_lines);
     int rc;
     if (mode == "map") {
-      rc = BuildMap(log, out, resolution);
+      rc = BuildMap(log, out, resolution, png);
     } else {
       const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);

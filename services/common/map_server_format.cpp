@@ -109,20 +109,25 @@ OccupancyGrid DecodeMapServerImage(const std::string& bytes, const MapServerPara
   return grid;
 }
 
+std::vector<uint8_t> MapImage(const OccupancyGrid& grid) {
+  std::vector<uint8_t> image(grid.cells().size());
+  for (int y = 0; y < grid.height(); ++y)
+    for (int x = 0; x < grid.width(); ++x) {
+      const int8_t v = grid.at({x, y});
+      uint8_t px = 205;
+      if (v >= OccupancyGrid::kOccupiedThreshold) px = 0;
+      else if (v >= 0 && v < 20) px = 254;
+      image[static_cast<size_t>(grid.height() - 1 - y) * grid.width() + x] = px;
+    }
+  return image;
+}
+
 void SaveMapServerMap(const OccupancyGrid& grid, const std::string& yaml_path) {
   const std::filesystem::path yaml(yaml_path);
   const std::filesystem::path pgm = std::filesystem::path(yaml).replace_extension(".pgm");
   std::string image = "P5\n# navd map\n" + std::to_string(grid.width()) + " " + std::to_string(grid.height()) + "\n255\n";
-  const size_t header = image.size();
-  image.resize(header + grid.cells().size());
-  for (int y = 0; y < grid.height(); ++y)
-    for (int x = 0; x < grid.width(); ++x) {
-      const int8_t v = grid.at({x, y});
-      unsigned char px = 205;
-      if (v >= OccupancyGrid::kOccupiedThreshold) px = 0;
-      else if (v >= 0 && v < 20) px = 254;
-      image[header + static_cast<size_t>(grid.height() - 1 - y) * grid.width() + x] = static_cast<char>(px);  // top row first
-    }
+  const std::vector<uint8_t> pixels = MapImage(grid);
+  image.append(reinterpret_cast<const char*>(pixels.data()), pixels.size());
   std::ostringstream meta;
   meta.precision(10);
   meta << "image: " << pgm.filename().string() << "\nresolution: " << grid.resolution() << "\norigin: ["

@@ -1,7 +1,9 @@
 #pragma once
 // Reads maps in the ROS map_server format: a YAML file (image, resolution, origin, negate,
 // occupied_thresh, free_thresh, mode) naming a PGM image. Throws navd::Error naming the bad field.
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "services/common/occupancy_grid.h"
 
@@ -14,6 +16,10 @@ OccupancyGrid LoadMapServerMap(const std::string& yaml_path);
 // else unknown grey (205), as ROS's map_saver does). The PGM goes beside the YAML, named after it;
 // both files are written atomically.
 void SaveMapServerMap(const OccupancyGrid& grid, const std::string& yaml_path);
+
+// The map as grey pixels, top row (largest y) first: occupied 0, free 254, unknown 205 (what
+// map_server's trinary mode reads back). Shared by the PGM and PNG writers.
+std::vector<uint8_t> MapImage(const OccupancyGrid& grid);
 
 // Decodes an 8-bit PGM (P5 binary or P2 ASCII) into map cells as map_server's trinary/scale/raw
 // modes do. `source` names the file in error messages.

@@ -1,12 +1,15 @@
-// map_server YAML + PGM reading, world files, and the embedded default world.
+// map_server YAML + PGM reading, PNG export, world files, and the embedded default world.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
+#include "services/common/png_format.h"
 #include "services/common/text_file.h"
 #include "services/common/world.h"
 #include "services/planning/costmap.h"
@@ -250,6 +253,47 @@ TEST(TextFile, WritesAtomically) {
   size_t files = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
   EXPECT_EQ(files, 1u);  // no temporary left behind
+}
+
+// The PNG for people: a valid 8-bit grey PNG (signature, IHDR, CRCs, deflated rows) whose pixels
+// are the map north up, in map_server's trinary shades.
+TEST(MapPng, WritesTheMapNorthUpAsGreyPixels) {
+  OccupancyGrid grid(5, 3, 0.1, {0, 0}, OccupancyGrid::kFree);
+  grid.set({0, 2}, OccupancyGrid::kOccupied);   // top-left in the image
+  grid.set({4, 0}, OccupancyGrid::kUnknown);    // bottom-right
+  const std::string path = ::testing::TempDir() + "/map.png";
+  SaveMapPng(grid, path);
+  std::ifstream in(path, std::ios::binary);
+  const std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  auto u32 = [&](size_t at) {
+    return (uint32_t(uint8_t(png[at])) << 24) | (uint32_t(uint8_t(png[at + 1])) << 16) |
+           (uint32_t(uint8_t(png[at + 2])) << 8) | uint32_t(uint8_t(png[at + 3]));
+  };
+  std::string idat, types;
+  for (size_t at = 8; at < png.size();) {
+    const uint32_t n = u32(at);
+    const std::string type = png.substr(at + 4, 4);
+    types += type + " ";
+    EXPECT_EQ(u32(at + 8 + n), crc32(0L, reinterpret_cast<const Bytef*>(png.data() + at + 4), n + 4)) << type;
+    if (type == "IHDR") {
+      EXPECT_EQ(u32(at + 8), 5u);
+      EXPECT_EQ(u32(at + 12), 3u);
+      EXPECT_EQ(png[at + 16], 8);  // bit depth
+      EXPECT_EQ(png[at + 17], 0);  // greyscale
+    }
+    if (type == "IDAT") idat += png.substr(at + 8, n);
+    at += 12 + n;
+  }
+  EXPECT_EQ(types, "IHDR IDAT IEND ");
+  std::string raw(3 * 6, '\0');
+  uLongf size = raw.size();
+  ASSERT_EQ(uncompress(reinterpret_cast<Bytef*>(raw.data()), &size, reinterpret_cast<const Bytef*>(idat.data()), idat.size()), Z_OK);
+  ASSERT_EQ(size, 18u);
+  EXPECT_EQ(uint8_t(raw[1]), 0);          // row 0 (top, y = 2), x = 0: occupied
+  EXPECT_EQ(uint8_t(raw[2]), 254);        // free
+  EXPECT_EQ(uint8_t(raw[2 * 6 + 5]), 205);  // row 2 (bottom, y = 0), x = 4: unknown
+  EXPECT_THROW(SaveMapPng(OccupancyGrid(), path), Error);
 }
 
 }  // namespace
