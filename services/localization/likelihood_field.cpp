@@ -13,7 +13,7 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
       inv_resolution_(1.0 / map.resolution()) {
   const DistanceField field(map);
   const double half = resolution_ / 2;
-  std::vector<float> surface(field.values().size());
+  std::vector<float> surface(field.values().size());  // unpadded
   for (size_t i = 0; i < surface.size(); ++i) {
     const double d = field.values()[i];
     surface[i] = static_cast<float>(d <= 0.0 ? -half : std::min(d - half, o_.max_distance));
@@ -26,18 +26,6 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
       surface_distance_[static_cast<size_t>(y + 1) * padded_width_ + (x + 1)] = surface[static_cast<size_t>(cy) * width_ + cx];
     }
   }
-  // Depth inside obstacles: the distance field of the free cells.
-  OccupancyGrid inverted = map;
-  for (size_t i = 0; i < inverted.cells().size(); ++i) {
-    const CellIndex c{static_cast<int>(i % width_), static_cast<int>(i / width_)};
-    inverted.set(c, map.IsOccupied(c) ? OccupancyGrid::kFree : OccupancyGrid::kOccupied);
-  }
-  const DistanceField depth(inverted);
-  signed_distance_ = std::move(surface);
-  for (size_t i = 0; i < signed_distance_.size(); ++i) {
-    const double d = depth.values()[i];
-    if (d > 0.0) signed_distance_[i] = static_cast<float>(-std::min(d - half, o_.max_distance));
-  }
   const double rand = o_.z_rand / o_.range_max;
   log_likelihood_table_.resize(static_cast<size_t>(o_.max_distance * 1000) + 2);
   for (size_t mm = 0; mm < log_likelihood_table_.size(); ++mm) {
@@ -48,6 +36,31 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
   log_outside_ = static_cast<float>(std::log(rand));
 }
 
+const std::vector<float>& LikelihoodField::SignedDistance() const {
+  // Built on first use: only the scan-to-map fit needs depths inside obstacles, and a second
+  // distance transform at start-up would be wasted on the particle and histogram filters.
+  std::call_once(signed_once_, [this] {
+    // Inverted: the free side is the "obstacle" whose distance the transform measures.
+    OccupancyGrid inverted(width_, height_, resolution_, origin_, OccupancyGrid::kFree);
+    signed_distance_.resize(static_cast<size_t>(width_) * height_);
+    const float inside = static_cast<float>(-resolution_ / 2);  // the surface field's value in obstacles
+    for (int y = 0; y < height_; ++y) {
+      for (int x = 0; x < width_; ++x) {
+        const float d = surface_distance_[static_cast<size_t>(y + 1) * padded_width_ + (x + 1)];
+        signed_distance_[static_cast<size_t>(y) * width_ + x] = d;
+        if (d != inside) inverted.set({x, y}, OccupancyGrid::kOccupied);
+      }
+    }
+    const DistanceField depth(inverted);  // from each obstacle cell to the nearest free one
+    const double half = resolution_ / 2;
+    for (size_t i = 0; i < signed_distance_.size(); ++i) {
+      const double d = depth.values()[i];
+      if (d > 0.0) signed_distance_[i] = static_cast<float>(-std::min(d - half, o_.max_distance));
+    }
+  });
+  return signed_distance_;
+}
+
 bool LikelihoodField::SurfaceDistance(const Point2& p, double* distance, Point2* gradient) const {
   const double gx = (p.x() - origin_.x()) * inv_resolution_ - 0.5;
   const double gy = (p.y() - origin_.y()) * inv_resolution_ - 0.5;
@@ -55,7 +68,7 @@ bool LikelihoodField::SurfaceDistance(const Point2& p, double* distance, Point2*
   const int x0 = std::clamp(static_cast<int>(std::floor(gx)), 0, width_ - 2);
   const int y0 = std::clamp(static_cast<int>(std::floor(gy)), 0, height_ - 2);
   const double fx = std::clamp(gx - x0, 0.0, 1.0), fy = std::clamp(gy - y0, 0.0, 1.0);
-  const float* row0 = &signed_distance_[static_cast<size_t>(y0) * width_ + x0];
+  const float* row0 = &SignedDistance()[static_cast<size_t>(y0) * width_ + x0];
   const float* row1 = row0 + width_;
   *distance = (1 - fy) * ((1 - fx) * row0[0] + fx * row0[1]) + fy * ((1 - fx) * row1[0] + fx * row1[1]);
   if (gradient) {

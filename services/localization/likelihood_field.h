@@ -7,6 +7,7 @@
 // interpolated, so fits are not quantised to cells. Metres, map frame.
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
@@ -67,7 +68,10 @@ class LikelihoodField {
   // edge, (width + 2) x (height + 2).
   std::vector<float> surface_distance_;
   int padded_width_ = 0;
-  std::vector<float> signed_distance_;        // the same outside, the depth inside
+  // The same outside, the depth inside obstacles; unpadded, built on first use.
+  const std::vector<float>& SignedDistance() const;
+  mutable std::once_flag signed_once_;
+  mutable std::vector<float> signed_distance_;
   std::vector<float> log_likelihood_table_;  // log(z_hit * N(d) + z_rand / range) by |d| in mm
   float log_outside_ = 0.0f;                 // a beam ending outside the map
 };
