@@ -27,6 +27,8 @@ class Costmap {
   Costmap(std::shared_ptr<const OccupancyGrid> grid, const CostmapOptions& options);
 
   const OccupancyGrid& grid() const { return *grid_; }
+  // The shared grid itself, for caches that must tell one map from the next.
+  const std::shared_ptr<const OccupancyGrid>& grid_ptr() const { return grid_; }
   const CostmapOptions& options() const { return options_; }
   int width() const { return grid_->width(); }
   int height() const { return grid_->height(); }

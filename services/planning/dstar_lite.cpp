@@ -10,8 +10,8 @@
 namespace navd::planning {
 namespace {
 const OctileCost kInf = OctileCost::Infinite();
-constexpr OctileCost kStraight{1, 0};
-constexpr OctileCost kDiagonal{0, 1};
+constexpr OctileCost kStraight = OctileCost::Steps(1, 0);
+constexpr OctileCost kDiagonal = OctileCost::Steps(0, 1);
 }  // namespace
 
 DStarLite::DStarLite(const Costmap& costmap, const CellIndex& start, const CellIndex& goal)
@@ -19,6 +19,11 @@ DStarLite::DStarLite(const Costmap& costmap, const CellIndex& start, const CellI
       blocked_(costmap.lethal_data(), costmap.lethal_data() + static_cast<size_t>(width_) * height_),
       g_(blocked_.size(), kInf), rhs_(blocked_.size(), kInf), queued_key_(blocked_.size()),
       in_queue_(blocked_.size(), 0), start_(start), goal_(goal), last_(start) {
+  // A path visits each cell once, so the grid's size bounds every finite cost (keys add the
+  // heuristic and k_m, hence the factor).
+  if (static_cast<int64_t>(blocked_.size()) * 4 > OctileCost::kMaxCells)
+    throw Error(ErrorCode::kInvalidArgument, "map: " + std::to_string(width_) + " x " + std::to_string(height_) +
+                                                 " cells is too large for D* Lite's exact costs");
   rhs_[Index(goal)] = OctileCost{};
   Push(Index(goal));
 }
@@ -36,8 +41,7 @@ void DStarLite::Push(int32_t u) {
   const Key k = CalculateKey(u);
   queued_key_[u] = k;
   in_queue_[u] = 1;
-  heap_.push_back({k, u});
-  std::push_heap(heap_.begin(), heap_.end());
+  heap_.push(k, u);
 }
 
 template <typename F>
@@ -71,10 +75,9 @@ void DStarLite::UpdateVertex(int32_t u) {
 bool DStarLite::ComputeShortestPath(const StopRequested& stop) {
   const int32_t s_start = Index(start_);
   while (!heap_.empty()) {
-    const QueueEntry top = heap_.front();
+    const auto top = heap_.top();
     if (!in_queue_[top.node] || !(queued_key_[top.node] == top.key)) {  // stale entry
-      std::pop_heap(heap_.begin(), heap_.end());
-      heap_.pop_back();
+      heap_.pop();
       continue;
     }
     // Stop once nothing queued can lower the start's cost (exact comparison: see OctileCost).
@@ -85,8 +88,7 @@ bool DStarLite::ComputeShortestPath(const StopRequested& stop) {
     }
     const int32_t u = top.node;
     const Key k_new = CalculateKey(u);
-    std::pop_heap(heap_.begin(), heap_.end());
-    heap_.pop_back();
+    heap_.pop();
     in_queue_[u] = 0;
     if (top.key < k_new) {
       Push(u);  // its key rose since it was queued (k_m grew): requeue

@@ -8,6 +8,7 @@
 
 #include "services/planning/global_planner.h"
 #include "services/planning/octile_cost.h"
+#include "services/planning/quaternary_heap.h"
 
 namespace navd::planning {
 
@@ -36,11 +37,6 @@ class DStarLite {
     bool operator<(const Key& o) const { return k1 < o.k1 || (k1 == o.k1 && k2 < o.k2); }
     bool operator==(const Key& o) const { return k1 == o.k1 && k2 == o.k2; }
   };
-  struct QueueEntry {
-    Key key;
-    int32_t node;
-    bool operator<(const QueueEntry& o) const { return o.key < key; }  // min-heap
-  };
 
   int32_t Index(const CellIndex& c) const { return c.y * width_ + c.x; }
   CellIndex Cell(int32_t i) const { return {i % width_, i / width_}; }
@@ -60,7 +56,7 @@ class DStarLite {
   std::vector<OctileCost> g_, rhs_;
   std::vector<Key> queued_key_;    // the key u is queued with, valid while in_queue_
   std::vector<uint8_t> in_queue_;
-  std::vector<QueueEntry> heap_;   // lazy deletion: entries whose key no longer matches are skipped
+  QuaternaryHeap<Key> heap_;  // lazy deletion: entries whose key no longer matches are skipped
   CellIndex start_, goal_, last_;
   OctileCost km_;
   uint64_t expansions_ = 0;

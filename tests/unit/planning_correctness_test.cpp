@@ -99,7 +99,7 @@ std::vector<uint8_t> Reachable(const Costmap& cm, CellIndex start) {
 TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> pos(0.05, 5.95);
-  int planned = 0, unreachable = 0;
+  int planned = 0, unreachable = 0, contracted_planned = 0;
   for (int m = 0; m < 30; ++m) {
     MapStore maps;
     RandomMap(maps, rng);
@@ -113,10 +113,15 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
       const bool reachable = Reachable(*cm, sc)[cm->grid().Flat(gc)] != 0;
       double astar_length = -1;
       for (const std::string planner : {"astar", "dijkstra", "thetastar", "dstar_lite", "distance_transform",
-                                        "path_transform"}) {
+                                        "path_transform", "convex_grid", "meadow_map", "topological"}) {
         for (const double smooth : {0.0, 1.0}) {
+          std::map<std::string, double> options{{"smooth", smooth}};
+          // The convex-cell planners search a contracted map (obstacles grown by a square, not a
+          // disc), which may close gaps the costmap leaves open: they may miss a reachable goal,
+          // never reach an unreachable one.
+          const bool contracted = planner == "convex_grid" || planner == "meadow_map" || planner == "topological";
           try {
-            const PathPlan p = engine.ComputePath(s, g, planner, {{"smooth", smooth}});
+            const PathPlan p = engine.ComputePath(s, g, planner, options);
             EXPECT_TRUE(reachable) << planner << " found a path to an unreachable goal";
             EXPECT_EQ(p.points.front(), s);
             EXPECT_EQ(p.points.back(), g);
@@ -129,8 +134,9 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
               EXPECT_LE(p.length, astar_length + 1e-9);
             }
             ++planned;
+            contracted_planned += contracted;
           } catch (const Error& e) {
-            EXPECT_FALSE(reachable) << planner << ": " << e.what();
+            if (!contracted) EXPECT_FALSE(reachable) << planner << ": " << e.what();
             EXPECT_EQ(e.code(), ErrorCode::kNotFound);
             ++unreachable;
           }
@@ -139,6 +145,7 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
     }
   }
   EXPECT_GT(planned, 500);
+  EXPECT_GT(contracted_planned, 150);
   EXPECT_GT(unreachable, 0);  // the random maps do wall some goals off
 }
 
