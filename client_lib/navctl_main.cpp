@@ -41,10 +41,28 @@ std::map<std::string, double> ParseOptions(const std::vector<std::string>& texts
   return out;
 }
 
+// "--person X,Y[,VX,VY]" and "--obstacle X,Y,R[,VX,VY]" flags into moving bodies.
+std::vector<navd::planning::MovingBody> ParseMoving(const std::vector<std::string>& people,
+                                                    const std::vector<std::string>& obstacles) {
+  std::vector<navd::planning::MovingBody> out;
+  for (const auto& t : people) {
+    const auto v = ParseTuple(t, "--person", 2, 4);
+    if (v.size() == 3) throw std::invalid_argument("--person '" + t + "' is not X,Y or X,Y,VX,VY");
+    out.push_back({{v[0], v[1]}, {v.size() == 4 ? v[2] : 0.0, v.size() == 4 ? v[3] : 0.0}, 0.25, true});
+  }
+  for (const auto& t : obstacles) {
+    const auto v = ParseTuple(t, "--obstacle", 3, 5);
+    if (v.size() == 4) throw std::invalid_argument("--obstacle '" + t + "' is not X,Y,R or X,Y,R,VX,VY");
+    out.push_back({{v[0], v[1]}, {v.size() == 5 ? v[3] : 0.0, v.size() == 5 ? v[4] : 0.0}, v[2], false});
+  }
+  return out;
+}
+
 // `navctl plan --map FILE [--scen FILE]`: plans in this process with navd's planning library.
 int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, const std::string& from,
                    const std::string& to, std::vector<std::string> planners, bool json_out, double inflation,
-                   const std::map<std::string, double>& planner_options) {
+                   const std::map<std::string, double>& planner_options,
+                   const std::vector<navd::planning::MovingBody>& moving) {
   navd::MapStore maps;
   std::string name;
   const auto snapshot = maps.Set(navd::LoadAnyMapFile(map_path, &name), name);
@@ -63,7 +81,7 @@ int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, co
     if (from.empty() || to.empty()) throw std::invalid_argument("plan --map needs --scen, or --from and --to");
     const auto a = ParseTuple(from, "--from", 2, 2), b = ParseTuple(to, "--to", 2, 2);
     for (const auto& p : planners) {
-      const auto r = engine.ComputePath({a[0], a[1]}, {b[0], b[1]}, p, planner_options);
+      const auto r = engine.ComputePath({a[0], a[1]}, {b[0], b[1]}, p, planner_options, {}, {moving});
       std::printf("%s: %zu waypoints, length %.4f m, %.3f ms, %lu expansions\n", r.planner.c_str(), r.points.size(),
                   r.length, r.planning_time * 1e3, static_cast<unsigned long>(r.expansions));
     }
@@ -126,6 +144,11 @@ int main(int argc, char** argv) {
   plan->add_flag("--json", json_out, "Print one JSON object");
   std::vector<std::string> option_texts;
   plan->add_option("--option", option_texts, "Planner option NAME=VALUE (see 'planners'), repeatable");
+  std::vector<std::string> person_texts, obstacle_texts;
+  plan->add_option("--person", person_texts,
+                   "A person at X,Y[,VX,VY] (m, m/s) for planners that plan around people (kinodynamic), repeatable");
+  plan->add_option("--obstacle", obstacle_texts,
+                   "A moving obstacle X,Y,R[,VX,VY] (kinodynamic, convex_grid), repeatable");
   double offline_inflation = -1.0;
   plan->add_option("--inflation", offline_inflation,
                    "With --map: obstacle inflation radius, m (default 0 for MovingAI maps, robot radius + 0.10 otherwise)");
@@ -262,7 +285,7 @@ int main(int argc, char** argv) {
 
     if (plan->parsed() && !offline_map.empty()) {
       return RunOfflinePlan(offline_map, scen, from, to, plan_planners, json_out, offline_inflation,
-                            ParseOptions(option_texts));
+                            ParseOptions(option_texts), ParseMoving(person_texts, obstacle_texts));
     }
     if (plan->parsed()) {
       if (from.empty() || to.empty()) throw std::invalid_argument("plan needs --from and --to (or --map with --scen)");
@@ -279,7 +302,17 @@ int main(int argc, char** argv) {
     }
     if (plan->parsed()) {
       const auto a = ParseTuple(from, "--from", 2, 2), b = ParseTuple(to, "--to", 2, 2);
-      const auto r = client.ComputePath(a[0], a[1], b[0], b[1], planner, ParseOptions(option_texts));
+      std::vector<navd::v1::MovingBody> moving;
+      for (const auto& m : ParseMoving(person_texts, obstacle_texts)) {
+        navd::v1::MovingBody& b = moving.emplace_back();
+        b.mutable_position()->set_x(m.position.x());
+        b.mutable_position()->set_y(m.position.y());
+        b.mutable_velocity()->set_x(m.velocity.x());
+        b.mutable_velocity()->set_y(m.velocity.y());
+        b.set_radius(m.radius);
+        b.set_person(m.person);
+      }
+      const auto r = client.ComputePath(a[0], a[1], b[0], b[1], planner, ParseOptions(option_texts), moving);
       if (json_out) {
         json path = json::array();
         for (const auto& p : r.path()) path.push_back({p.x(), p.y()});

@@ -47,8 +47,10 @@ grpc::health::v1::HealthCheckResponse::ServingStatus Client::Health(const std::s
 }
 
 v1::ComputePathResponse Client::ComputePath(double start_x, double start_y, double goal_x, double goal_y,
-                                            const std::string& planner, const std::map<std::string, double>& options) {
+                                            const std::string& planner, const std::map<std::string, double>& options,
+                                            const std::vector<v1::MovingBody>& moving) {
   v1::ComputePathRequest req;
+  for (const auto& m : moving) *req.add_moving() = m;
   req.mutable_start()->set_x(start_x);
   req.mutable_start()->set_y(start_y);
   req.mutable_goal()->set_x(goal_x);

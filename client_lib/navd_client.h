@@ -42,9 +42,11 @@ class Client {
   // grpc.health.v1 status of `service` ("" = the whole server).
   grpc::health::v1::HealthCheckResponse::ServingStatus Health(const std::string& service = "");
 
+  // `moving`: people and moving obstacles for the planners that plan around them.
   v1::ComputePathResponse ComputePath(double start_x, double start_y, double goal_x, double goal_y,
                                       const std::string& planner = "",
-                                      const std::map<std::string, double>& options = {});
+                                      const std::map<std::string, double>& options = {},
+                                      const std::vector<v1::MovingBody>& moving = {});
   // start = (x, y); waypoints visited in order, the last being the goal.
   v1::ComputePathResponse ComputePathThroughPoses(double start_x, double start_y,
                                                   const std::vector<std::pair<double, double>>& waypoints,

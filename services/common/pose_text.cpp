@@ -20,7 +20,10 @@ std::vector<double> ParseTuple(const std::string& text, const std::string& flag,
     out.push_back(v);
   }
   if (out.size() < min || out.size() > max) {
-    throw std::invalid_argument(flag + " '" + text + "' must be " + (max == 2 ? "X,Y" : "X,Y[,THETA]"));
+    const std::string form = max == 2 && min == 2   ? "X,Y"
+                             : max == 3 && min == 2 ? "X,Y[,THETA]"
+                                                    : std::to_string(min) + " to " + std::to_string(max) + " numbers";
+    throw std::invalid_argument(flag + " '" + text + "' must be " + form);
   }
   return out;
 }

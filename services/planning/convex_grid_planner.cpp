@@ -129,6 +129,12 @@ std::vector<PlannerOptionSpec> ConvexGridPlanner::options() const {
 
 CellPath ConvexGridPlanner::Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
                                  const PlannerOptions& options, const StopRequested& stop) const {
+  return PlanInScene(costmap, start, goal, options, {}, stop);
+}
+
+CellPath ConvexGridPlanner::PlanInScene(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
+                                        const PlannerOptions& options, const PlanningScene& scene,
+                                        const StopRequested& stop) const {
   const double iterations = options.at("iterations"), seed = options.at("seed");
   if (!(iterations >= 1 && iterations <= 10000)) throw Error(ErrorCode::kInvalidArgument, "iterations must be in 1..10000");
   if (!(seed >= 0 && seed < 1e18)) throw Error(ErrorCode::kInvalidArgument, "seed must be a number >= 0");
@@ -137,8 +143,10 @@ CellPath ConvexGridPlanner::Plan(const Costmap& costmap, const CellIndex& start,
   o.iterations = static_cast<int>(iterations);
   o.waypoint_spacing = options.at("waypoint_spacing");
   o.seed = static_cast<uint64_t>(seed);
+  std::vector<MovingObstacleCircle> obstacles;
+  for (const MovingBody& b : scene.moving) obstacles.push_back({b.position, b.radius});
   const ConvexGridPath path = PlanOnConvexGrid(*grid, costmap, costmap.grid().CellCenter(start),
-                                               costmap.grid().CellCenter(goal), o, {}, stop);
+                                               costmap.grid().CellCenter(goal), o, obstacles, stop);
   CellPath result;
   result.cells = {start, goal};
   result.points = path.points;

@@ -56,6 +56,10 @@ class ConvexGridPlanner : public GlobalPlanner {
   Objective objective() const override { return Objective::kCost; }
   CellPath Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal, const PlannerOptions& options,
                 const StopRequested& stop) const override;
+  // The scene's moving bodies are the detected moving obstacles (circles where they are now).
+  CellPath PlanInScene(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
+                       const PlannerOptions& options, const PlanningScene& scene,
+                       const StopRequested& stop) const override;
 
  private:
   std::shared_ptr<ConvexCellMapCache> cells_;

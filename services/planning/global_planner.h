@@ -36,6 +36,20 @@ struct CellPath {
   uint64_t expansions = 0;        // search nodes expanded, or roadmap/tree vertices
 };
 
+// A body that moves through the map, as the robot's perception reports it now: map frame, metres,
+// m/s. Planners that plan around moving things predict it at constant velocity; the others ignore it.
+struct MovingBody {
+  Point2 position = Point2::Zero();
+  Point2 velocity = Point2::Zero();
+  double radius = 0.25;  // metres
+  bool person = false;   // a person (book ch. 7's comfort zones) or an obstacle (seed 000's circle)
+};
+
+// What a request knows beyond the map.
+struct PlanningScene {
+  std::vector<MovingBody> moving;
+};
+
 class GlobalPlanner {
  public:
   virtual ~GlobalPlanner() = default;
@@ -53,6 +67,12 @@ class GlobalPlanner {
   // stop() turns true.
   virtual CellPath Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
                         const PlannerOptions& options, const StopRequested& stop) const = 0;
+  // The same among the scene's moving bodies; planners that take them into account override it.
+  virtual CellPath PlanInScene(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
+                               const PlannerOptions& options, const PlanningScene& /*scene*/,
+                               const StopRequested& stop) const {
+    return Plan(costmap, start, goal, options, stop);
+  }
 };
 
 }  // namespace navd::planning

@@ -3,6 +3,7 @@
 #include "services/planning/convex_grid_planner.h"
 #include "services/planning/dstar_lite.h"
 #include "services/planning/grid_astar_planner.h"
+#include "services/planning/kinodynamic_planner.h"
 #include "services/planning/meadow_map_planner.h"
 #include "services/planning/ompl_planner.h"
 #include "services/planning/path_transform_planner.h"
@@ -30,6 +31,7 @@ void RegisterDefaultPlanners(PlanningEngine& engine) {
                        OmplPlanner::Algorithm::kBitStar}) {
     engine.Register(std::make_unique<OmplPlanner>(a));
   }
+  engine.Register(std::make_unique<KinodynamicPlanner>());
 }
 
 }  // namespace navd::planning

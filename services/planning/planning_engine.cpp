@@ -124,10 +124,18 @@ std::shared_ptr<const Costmap> PlanningEngine::CurrentCostmap() {
 }
 
 PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, const std::string& planner_name,
-                                     const std::map<std::string, double>& given, const StopRequested& stop) {
+                                     const std::map<std::string, double>& given, const StopRequested& stop,
+                                     const PlanningScene& scene) {
   const auto t0 = std::chrono::steady_clock::now();
   CheckFinite(start, "start");
   CheckFinite(goal, "goal");
+  for (size_t i = 0; i < scene.moving.size(); ++i) {
+    const std::string field = "moving[" + std::to_string(i) + "]";
+    CheckFinite(scene.moving[i].position, field + ".position");
+    CheckFinite(scene.moving[i].velocity, field + ".velocity");
+    if (!(scene.moving[i].radius >= 0.0 && scene.moving[i].radius < 1e3))
+      throw Error(ErrorCode::kInvalidArgument, field + ".radius must be a number of metres >= 0");
+  }
   const GlobalPlanner& planner = Find(planner_name);
   const PlannerOptions options = ResolveOptions(planner, given);
   const auto costmap = CurrentCostmap();
@@ -190,7 +198,7 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     }
   }
 
-  const CellPath cells = planner.Plan(*costmap, start_cell, goal_cell, options, stop);
+  const CellPath cells = planner.PlanInScene(*costmap, start_cell, goal_cell, options, scene, stop);
   if (cells.cells.empty()) {
     throw Error(ErrorCode::kNotFound, "no path from start " + FormatPoint(start) + " to goal " + FormatPoint(goal));
   }

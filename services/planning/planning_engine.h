@@ -60,8 +60,10 @@ class PlanningEngine {
   // Throws navd::Error: kInvalidArgument for non-finite, out-of-map or blocked points and unknown
   // planners or options (the message names the field), kNotFound when no path exists,
   // kFailedPrecondition when no map is loaded, kDeadlineExceeded when stop() turns true.
+  // `scene`: moving bodies for the planners that plan around them (checked: finite, radius >= 0).
   PathPlan ComputePath(const Point2& start, const Point2& goal, const std::string& planner,
-                       const std::map<std::string, double>& options, const StopRequested& stop = {});
+                       const std::map<std::string, double>& options, const StopRequested& stop = {},
+                       const PlanningScene& scene = {});
 
   // Plans start -> waypoints[0] -> ... as one path (legs joined, shared points once). Errors are
   // those of ComputePath with the field renamed to the waypoint (`waypoints[2]`).

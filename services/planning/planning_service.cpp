@@ -24,8 +24,11 @@ grpc::Status PlanningService::ComputePath(grpc::ServerContext* context, const v1
     if (!request->has_start()) throw Error(ErrorCode::kInvalidArgument, "start is missing");
     if (!request->has_goal()) throw Error(ErrorCode::kInvalidArgument, "goal is missing");
     const std::map<std::string, double> options(request->options().begin(), request->options().end());
+    PlanningScene scene;
+    for (const auto& m : request->moving())
+      scene.moving.push_back({FromProto(m.position()), FromProto(m.velocity()), m.radius(), m.person()});
     ToProto(engine_.ComputePath(FromProto(request->start()), FromProto(request->goal()), request->planner(), options,
-                                StopWhenDone(context)),
+                                StopWhenDone(context), scene),
             response);
   });
 }

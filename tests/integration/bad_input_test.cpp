@@ -101,6 +101,29 @@ TEST_F(BadInput, WaypointInsideAnObstacleIsNamed) {
   EXPECT_NEAR(ok.times(ok.times_size() - 1), ok.duration(), 0.05);
 }
 
+// Moving bodies reach the planners that use them: the kinodynamic planner's trajectory misses a
+// person standing on the straight line, with speeds per point; bad bodies are named.
+TEST_F(BadInput, MovingBodiesReachTheKinodynamicPlannerAndBadOnesAreNamed) {
+  v1::MovingBody person;
+  person.mutable_position()->set_x(2.5);
+  person.mutable_position()->set_y(2.2);
+  person.mutable_velocity();
+  person.set_radius(0.25);
+  person.set_person(true);
+  const auto plan = client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {{"time_limit", 2.0}}, {person});
+  EXPECT_EQ(plan.planner(), "kinodynamic");
+  ASSERT_GT(plan.path_size(), 10);
+  EXPECT_EQ(plan.speed_limits_size(), plan.path_size());
+  for (const auto& p : plan.path()) EXPECT_GT(std::hypot(p.x() - 2.5, p.y() - 2.2), 0.25 + 0.3) << p.x() << ", " << p.y();
+  person.set_radius(-1);
+  ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {}, {person}); },
+              grpc::StatusCode::INVALID_ARGUMENT, {"moving[0].radius"});
+  person.set_radius(0.25);
+  person.mutable_velocity()->set_x(NAN);
+  ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "astar", {}, {person}); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"moving[0].velocity.x"});
+}
+
 TEST_F(BadInput, UnknownPlanner) {
   ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "warp_drive"); }, grpc::StatusCode::INVALID_ARGUMENT,
               {"planner", "warp_drive", "astar"});
