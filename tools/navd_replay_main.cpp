@@ -26,10 +26,75 @@
 #include "services/localization/ekf_localizer.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/particle_filter.h"
+#include "services/mapping/graph_slam.h"
 #include "services/mapping/occupancy_grid_mapper.h"
+#include "services/common/trajectory_alignment.h"
 
 
 namespace {
+
+// Graph SLAM over the log's scans with corrupted odometry: the TUM trajectory of every scan (the
+// final, optimised poses), judged against the log's corrected poses after SE(2) alignment; each
+// accepted loop closure judged against the corrected relative pose.
+int Slam(const navd::CarmenLog& log, const std::string& out, const std::string& map_out, const std::string& png,
+         double resolution, const navd::OdometryNoise& noise, uint64_t seed) {
+  using namespace navd;
+  OdometryCorruptor odometry(noise, seed);
+  // The map frame starts at the log's first pose, so the map lines up with the log's own.
+  mapping::GraphSlamOptions options;
+  options.first_pose = log.scans.front().pose;
+  mapping::GraphSlam slam(options);
+  double busy = 0.0;
+  for (size_t k = 0; k < log.scans.size(); ++k) {
+    const CarmenScan& s = log.scans[k];
+    const Pose2 odom = odometry.Next(s.pose);
+    mapping::RangeScan scan{s.ranges, s.angle_min, s.angle_increment, s.timestamp};
+    const auto t0 = std::chrono::steady_clock::now();
+    slam.AddScan(odom, scan);
+    busy += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if ((k + 1) % 50 == 0 || k + 1 == log.scans.size())
+      std::fprintf(stderr, "\r  slam %zu/%zu scans, %d loop closures", k + 1, log.scans.size(), slam.loop_closures());
+  }
+  std::fprintf(stderr, "\n");
+  const std::vector<Pose2> estimate = slam.Trajectory();
+  std::vector<Pose2> truth;
+  for (const CarmenScan& s : log.scans) truth.push_back(s.pose);
+  const TrajectoryError error = AlignedTrajectoryError(estimate, truth);
+  std::string tum;
+  for (size_t k = 0; k < estimate.size(); ++k) {
+    const Pose2& e = estimate[k];
+    char line[160];
+    std::snprintf(line, sizeof line, "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n", log.scans[k].timestamp, e.x, e.y,
+                  std::sin(e.theta / 2), std::cos(e.theta / 2));
+    tum += line;
+  }
+  WriteFileAtomically(out, tum);
+  // A closure is wrong when it disagrees with the corrected poses by more than 0.3 m or 0.1 rad.
+  int wrong = 0;
+  for (const auto& c : slam.closures()) {
+    const Pose2 true_relative = truth[c.from_scan].inverse() * truth[c.to_scan];
+    const Pose2 diff = true_relative.inverse() * c.measurement;
+    if (std::hypot(diff.x, diff.y) > 0.3 || std::abs(diff.theta) > 0.1) {
+      ++wrong;
+      std::fprintf(stderr, "wrong loop closure: scan %d to scan %d (score %.3f) is %.3f m, %.3f rad off the corrected poses\n",
+                   c.from_scan, c.to_scan, c.score, std::hypot(diff.x, diff.y), diff.theta);
+    }
+  }
+  std::printf("slam: %zu scans, %d nodes, %d loop closures (%d wrong) of %d attempts, ATE RMSE %.4f m after SE(2) "
+              "alignment, heading RMSE %.4f rad, worst %.3f m, %.2f ms per scan -> %s\n",
+              estimate.size(), slam.nodes(), slam.loop_closures(), wrong, slam.loop_attempts(), error.position_rmse,
+              error.heading_rmse, error.worst, 1e3 * busy / static_cast<double>(estimate.size()), out.c_str());
+  if (!map_out.empty() || !png.empty()) {
+    mapping::MapperOptions o;
+    o.resolution = resolution;
+    const OccupancyGrid grid = slam.RenderMap(o);
+    if (!map_out.empty()) SaveMapServerMap(grid, map_out);
+    if (!png.empty()) SaveMapPng(grid, png);
+    std::printf("map: %dx%d cells at %.3f m%s%s%s%s\n", grid.width(), grid.height(), grid.resolution(),
+                map_out.empty() ? "" : " -> ", map_out.c_str(), png.empty() ? "" : " -> ", png.c_str());
+  }
+  return 0;
+}
 
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution);
 
@@ -141,14 +206,19 @@ int main(int argc, char** argv) {
   double resolution = 0.05;
   bool strict = false;
   app.add_option("--log", log_path, "CARMEN log (.log or .log.gz)")->required();
-  app.add_option("--mode", mode, "map: build a map from the log's corrected poses; localize: particle filter")
-      ->check(CLI::IsMember({"map", "localize"}));
-  app.add_option("--out", out, "Output: map_server YAML (map) or TUM trajectory (localize)")->required();
+  app.add_option("--mode", mode,
+                 "map: build a map from the log's corrected poses; localize: a localiser on a map; slam: graph SLAM "
+                 "from corrupted odometry")
+      ->check(CLI::IsMember({"map", "localize", "slam"}));
+  app.add_option("--out", out, "Output: map_server YAML (map) or TUM trajectory (localize, slam)")->required();
+  std::string map_out;
+  app.add_option("--map-out", map_out, "slam: also write the map built as map_server YAML + PGM");
   std::string map_path, odom_noise = "0.05,0.035";
   uint64_t seed = 1;
   app.add_option("--map", map_path, "localize: map to localise on (default: built from the log's poses)");
-  app.add_option("--odom-noise", odom_noise, "localize: T,R = relative translation noise, rad of heading noise per metre");
-  app.add_option("--seed", seed, "localize: seed of the odometry noise and the filter");
+  app.add_option("--odom-noise", odom_noise,
+                 "localize, slam: T,R = relative translation noise, rad of heading noise per metre");
+  app.add_option("--seed", seed, "localize, slam: seed of the odometry noise (and the filter)");
   std::string method = "amcl";
   app.add_option("--localizer", method,
                  "localize: amcl (particle filter, default), ekf (seed 002's EKF with scan-to-map matching) or "
@@ -163,7 +233,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 10.0));
   app.add_option("--resolution", resolution, "Map resolution, metres")->check(CLI::Range(0.005, 10.0));
   std::string png;
-  app.add_option("--png", png, "map: also write the map as a PNG image for people");
+  app.add_option("--png", png, "map, slam: also write the map as a PNG image for people");
   app.add_flag("--strict", strict, "Stop at the first malformed line instead of skipping it");
   try {
     app.parse(argc, argv);
@@ -177,6 +247,8 @@ int main(int argc, char** argv) {
     int rc;
     if (mode == "map") {
       rc = BuildMap(log, out, resolution, png);
+    } else if (mode == "slam") {
+      rc = Slam(log, out, map_out, png, resolution, navd::ParseOdometryNoise(odom_noise), seed);
     } else {
       const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);

@@ -1,0 +1,155 @@
+#include "services/mapping/correlative_scan_matcher.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "services/common/error.h"
+
+namespace navd::mapping {
+
+CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double resolution, double sigma)
+    : resolution_(resolution) {
+  if (reference.empty()) return;
+  const double reach = 3.0 * sigma;
+  Point2 lo = reference.front(), hi = reference.front();
+  for (const Point2& p : reference) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  // A margin of the smear plus the largest window anyone searches (loop closures: a few metres).
+  const double margin = reach + 2.0 * resolution;
+  origin_ = Point2(std::floor((lo.x() - margin) / resolution) * resolution, std::floor((lo.y() - margin) / resolution) * resolution);
+  width_ = static_cast<int>(std::ceil((hi.x() + margin - origin_.x()) / resolution)) + 1;
+  height_ = static_cast<int>(std::ceil((hi.y() + margin - origin_.y()) / resolution)) + 1;
+  if (static_cast<long long>(width_) * height_ > 64'000'000LL)
+    throw Error(ErrorCode::kInvalidArgument, "scan matching: reference points span too large an area");
+  cells_.assign(static_cast<size_t>(width_) * height_, 0.0f);
+  const int r = static_cast<int>(std::ceil(reach / resolution));
+  const double inv = 1.0 / (2.0 * sigma * sigma);
+  // exp(-q) tabulated over the smear's reach (q <= 4.5 inside 3 sigma): the grid is rebuilt for
+  // every scan, and exp was most of its cost.
+  constexpr int kTable = 512;
+  constexpr double kMaxQ = 4.5;
+  static const std::vector<float> table = [] {
+    std::vector<float> t(kTable + 2);
+    for (int i = 0; i < kTable + 2; ++i) t[i] = static_cast<float>(std::exp(-kMaxQ * i / kTable));
+    return t;
+  }();
+  for (const Point2& p : reference) {
+    const int cx = CellX(p.x()), cy = CellY(p.y());
+    for (int y = cy - r; y <= cy + r; ++y) {
+      const double dy = origin_.y() + (y + 0.5) * resolution - p.y();
+      float* row = &cells_[static_cast<size_t>(y) * width_];
+      for (int x = cx - r; x <= cx + r; ++x) {
+        const double dx = origin_.x() + (x + 0.5) * resolution - p.x();
+        const double q = (dx * dx + dy * dy) * inv * (kTable / kMaxQ);
+        if (q >= kTable) continue;
+        const int i = static_cast<int>(q);
+        const float v = table[i] + static_cast<float>(q - i) * (table[i + 1] - table[i]);
+        if (v > row[x]) row[x] = v;
+      }
+    }
+  }
+}
+
+double CorrelationGrid::At(const Point2& p) const {
+  // Cell centres are the sample points.
+  const double fx = (p.x() - origin_.x()) / resolution_ - 0.5, fy = (p.y() - origin_.y()) / resolution_ - 0.5;
+  const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+  const double ax = fx - x0, ay = fy - y0;
+  return (1 - ay) * ((1 - ax) * AtCell(x0, y0) + ax * AtCell(x0 + 1, y0)) +
+         ay * ((1 - ax) * AtCell(x0, y0 + 1) + ax * AtCell(x0 + 1, y0 + 1));
+}
+
+std::vector<Point2> ThinPoints(const std::vector<Point2>& points, double spacing) {
+  std::vector<Point2> out;
+  for (const Point2& p : points)
+    if (out.empty() || Distance(out.back(), p) >= spacing) out.push_back(p);
+  return out;
+}
+
+ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& points, const Pose2& prior,
+                    const ScanMatchOptions& o) {
+  ScanMatch best{prior, 0.0};
+  if (grid.empty() || points.empty()) return best;
+  const double res = grid.resolution();
+  const int n_xy = static_cast<int>(std::ceil(o.window_xy / res));
+  const int n_theta = static_cast<int>(std::ceil(o.window_theta / o.angle_step));
+  const double inv_n = 1.0 / static_cast<double>(points.size());
+
+  // Coarse: every angle, whole-cell offsets (integer lookups of the rotated points' cells).
+  struct Candidate {
+    double score;
+    int dx, dy;
+    double theta;
+  };
+  std::vector<Candidate> top;  // the best few, best first
+  std::vector<int> cx(points.size()), cy(points.size());
+  const int side = 2 * n_xy + 1;
+  std::vector<float> coarse;  // every coarse score, for the ambiguity check
+  if (o.distinct_xy > 0.0) coarse.resize(static_cast<size_t>(2 * n_theta + 1) * side * side);
+  for (int a = -n_theta; a <= n_theta; ++a) {
+    const double theta = prior.theta + a * o.angle_step;
+    const double c = std::cos(theta), s = std::sin(theta);
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Point2& p = points[i];
+      cx[i] = grid.CellX(prior.x + c * p.x() - s * p.y());
+      cy[i] = grid.CellY(prior.y + s * p.x() + c * p.y());
+    }
+    for (int dy = -n_xy; dy <= n_xy; ++dy) {
+      for (int dx = -n_xy; dx <= n_xy; ++dx) {
+        double sum = 0.0;
+        for (size_t i = 0; i < points.size(); ++i) sum += grid.AtCell(cx[i] + dx, cy[i] + dy);
+        const double score = sum * inv_n;
+        if (!coarse.empty())
+          coarse[(static_cast<size_t>(a + n_theta) * side + (dy + n_xy)) * side + (dx + n_xy)] = static_cast<float>(score);
+        if (static_cast<int>(top.size()) < o.refine_candidates || score > top.back().score) {
+          top.push_back({score, dx, dy, theta});
+          std::sort(top.begin(), top.end(), [](const Candidate& l, const Candidate& r) { return l.score > r.score; });
+          if (static_cast<int>(top.size()) > o.refine_candidates) top.pop_back();
+        }
+      }
+    }
+  }
+
+  double coarse_best = 0.0, coarse_elsewhere = 0.0, coarse_spread = 0.0;
+  if (!coarse.empty() && !top.empty()) {
+    coarse_best = top.front().score;
+    const double min_cells = o.distinct_xy / res;
+    for (int a = 0; a < 2 * n_theta + 1; ++a) {
+      for (int dy = -n_xy; dy <= n_xy; ++dy) {
+        for (int dx = -n_xy; dx <= n_xy; ++dx) {
+          const double score = coarse[(static_cast<size_t>(a) * side + (dy + n_xy)) * side + (dx + n_xy)];
+          const double cells = std::hypot(dx - top.front().dx, dy - top.front().dy);
+          if (cells >= min_cells) coarse_elsewhere = std::max(coarse_elsewhere, score);
+          if (score >= 0.95 * coarse_best) coarse_spread = std::max(coarse_spread, cells * res);
+        }
+      }
+    }
+  }
+
+  // Fine: sixths of a cell and quarter angle steps, half a coarse step either way of each coarse
+  // winner, bilinear lookups.
+  for (const Candidate& cand : top) {
+    const double x0 = prior.x + cand.dx * res, y0 = prior.y + cand.dy * res;
+    for (int a = -2; a <= 2; ++a) {
+      const double theta = cand.theta + a * o.angle_step / 4.0;
+      const double c = std::cos(theta), s = std::sin(theta);
+      for (int j = -3; j <= 3; ++j) {
+        for (int i = -3; i <= 3; ++i) {
+          const double x = x0 + i * res / 6.0, y = y0 + j * res / 6.0;
+          double sum = 0.0;
+          for (const Point2& p : points) sum += grid.At({x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()});
+          const double score = sum * inv_n;
+          if (score > best.score) best = {{x, y, NormalizeAngle(theta)}, score};
+        }
+      }
+    }
+  }
+  best.coarse_best = coarse_best;
+  best.coarse_elsewhere = coarse_elsewhere;
+  best.coarse_spread = coarse_spread;
+  return best;
+}
+
+}  // namespace navd::mapping

@@ -1,0 +1,67 @@
+#pragma once
+// Correlative scan matching (Olson 2009, as in Karto and Cartographer's real-time matcher): the
+// reference points are smeared into a lookup grid, each cell holding exp(-d²/2σ²) for the distance
+// d to the nearest reference point, and a scan is scored at every pose of a search window as the
+// mean lookup value of its points. The search is coarse to fine: whole cells and coarse angles
+// first over the whole window, then a sub-cell, sub-step search (bilinear lookups) around the best
+// few coarse poses. Map frame, metres, radians.
+#include <vector>
+
+#include "services/common/pose2.h"
+
+namespace navd::mapping {
+
+struct ScanMatchOptions {
+  double resolution = 0.05;     // m, lookup cells
+  double sigma = 0.05;          // m, smear of each reference point
+  double window_xy = 0.25;      // m, half-size of the translational window
+  double window_theta = 0.15;   // rad, half-size of the angular window
+  double angle_step = 0.01;     // rad, coarse angular step
+  int refine_candidates = 3;    // coarse poses refined
+  // Poses at least this far (m) from the best count as another place: the best coarse score among
+  // them is reported, so callers can refuse ambiguous matches (corridors). 0: not computed.
+  double distinct_xy = 0.0;
+};
+
+struct ScanMatch {
+  Pose2 pose;
+  double score = 0.0;  // mean lookup value of the scan's points, 0..1
+  // The best coarse score at least distinct_xy from the best coarse pose, and that best coarse
+  // score (comparable with each other, not with `score`).
+  double coarse_best = 0.0, coarse_elsewhere = 0.0;
+  // How far (m) from the best coarse pose poses scoring within 5% of it reach: a long plateau
+  // means the scan slides along a corridor.
+  double coarse_spread = 0.0;
+};
+
+// A lookup grid over reference points (world frame).
+class CorrelationGrid {
+ public:
+  CorrelationGrid(const std::vector<Point2>& reference, double resolution, double sigma);
+  // Bilinear lookup at a world point (0 outside).
+  double At(const Point2& p) const;
+  // Lookup of the cell holding a world point, by integer cell (0 outside).
+  float AtCell(int x, int y) const {
+    return x >= 0 && y >= 0 && x < width_ && y < height_ ? cells_[static_cast<size_t>(y) * width_ + x] : 0.0f;
+  }
+  int CellX(double x) const { return static_cast<int>(std::floor((x - origin_.x()) / resolution_)); }
+  int CellY(double y) const { return static_cast<int>(std::floor((y - origin_.y()) / resolution_)); }
+  double resolution() const { return resolution_; }
+  bool empty() const { return cells_.empty(); }
+
+ private:
+  double resolution_;
+  Point2 origin_ = Point2::Zero();  // world position of cell (0, 0)'s corner
+  int width_ = 0, height_ = 0;
+  std::vector<float> cells_;
+};
+
+// The best pose within the window around `prior` for `points` (robot frame) on `grid`.
+ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& points, const Pose2& prior,
+                    const ScanMatchOptions& options);
+
+// Points at least `spacing` metres apart (the first of each close group kept): an even sample of a
+// scan for matching, however its beams bunch up near walls.
+std::vector<Point2> ThinPoints(const std::vector<Point2>& points, double spacing);
+
+}  // namespace navd::mapping

@@ -1,0 +1,151 @@
+#include "services/mapping/graph_slam.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "services/common/error.h"
+
+namespace navd::mapping {
+namespace {
+
+Eigen::Matrix3d Information(double sigma_xy, double sigma_theta) {
+  return Eigen::Vector3d(1.0 / (sigma_xy * sigma_xy), 1.0 / (sigma_xy * sigma_xy), 1.0 / (sigma_theta * sigma_theta))
+      .asDiagonal();
+}
+
+}  // namespace
+
+GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options) {}
+
+std::vector<Point2> GraphSlam::Returns(const RangeScan& scan) const {
+  std::vector<Point2> points;
+  points.reserve(scan.ranges.size());
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double r = scan.ranges[i];
+    if (!std::isfinite(r) || r < 0.05 || r >= o_.usable_range) continue;
+    const double a = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
+    points.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  return points;
+}
+
+std::vector<Point2> GraphSlam::NodePointsInMap(int first, int last) const {
+  std::vector<Point2> out;
+  for (int n = std::max(0, first); n <= last && n < nodes(); ++n) {
+    const Pose2& pose = graph_.nodes()[n];
+    for (const Point2& p : node_points_[n]) out.push_back(pose * p);
+  }
+  return out;
+}
+
+Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
+  if (!odometry.finite()) throw Error(ErrorCode::kInvalidArgument, "odometry pose is not finite");
+  if (graph_.nodes().empty()) {
+    graph_.AddNode(o_.first_pose);
+    node_scans_.push_back(scan);
+    node_points_.push_back(Returns(scan));
+    node_odometry_.push_back(odometry);
+    node_scan_.push_back(0);
+    scan_node_.push_back(0);
+    scan_offset_.push_back(Pose2{});
+    return o_.first_pose;
+  }
+  const int last = nodes() - 1;
+  const Pose2 moved = node_odometry_[last].inverse() * odometry;
+  const Pose2 predicted = graph_.nodes()[last] * moved;
+  if (std::hypot(moved.x, moved.y) < o_.node_travel && std::abs(moved.theta) < o_.node_turn) {
+    scan_node_.push_back(last);  // too close to the last node to add anything: carried by odometry
+    scan_offset_.push_back(moved);
+    return predicted;
+  }
+
+  // Front end: the scan against the local map of recent nodes, around the odometry's prediction.
+  std::vector<Point2> points = Returns(scan);
+  const CorrelationGrid local(NodePointsInMap(last - o_.local_map_nodes + 1, last), o_.sequential.resolution,
+                              o_.sequential.sigma);
+  const ScanMatch match = MatchScan(local, ThinPoints(points, o_.match_point_spacing), predicted, o_.sequential);
+  // A scan that explains too little of the local map (empty scan, a new room seen through a door)
+  // keeps the odometry's prediction.
+  const Pose2 pose = match.score > 0.1 ? match.pose : predicted;
+
+  travel_since_closure_ += Distance(pose.translation(), graph_.nodes()[last].translation());
+  const int node = graph_.AddNode(pose);
+  graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose,
+                  Information(o_.sequential_sigma_xy, o_.sequential_sigma_theta), false});
+  node_scans_.push_back(scan);
+  node_points_.push_back(std::move(points));
+  node_odometry_.push_back(odometry);
+  node_scan_.push_back(static_cast<int>(scan_node_.size()));
+  scan_node_.push_back(node);
+  scan_offset_.push_back(Pose2{});
+  TryLoopClosure(node);
+  return graph_.nodes()[node];
+}
+
+void GraphSlam::TryLoopClosure(int node) {
+  const Pose2 here = graph_.nodes()[node];
+  int candidate = -1;
+  double nearest = o_.loop_search_radius;
+  for (int j = 0; j + o_.loop_min_node_gap <= node; ++j) {
+    const double d = Distance(graph_.nodes()[j].translation(), here.translation());
+    if (d < nearest) {
+      nearest = d;
+      candidate = j;
+    }
+  }
+  if (candidate < 0) return;
+  const std::vector<Point2> scan = ThinPoints(node_points_[node], o_.match_point_spacing);
+  if (static_cast<int>(scan.size()) < o_.loop_min_points) return;
+  ++loop_attempts_;
+  const std::vector<Point2> reference =
+      NodePointsInMap(candidate - o_.loop_neighbourhood, std::min(node - o_.loop_min_node_gap, candidate + o_.loop_neighbourhood));
+  // Coarse over the wide window on a 10 cm grid, then fine on a 5 cm grid around the result.
+  ScanMatchOptions coarse = o_.sequential;
+  coarse.resolution = 2.0 * o_.sequential.resolution;
+  coarse.sigma = 2.0 * o_.sequential.sigma;
+  // The window only needs to reach as far as the correction gate lets a closure move the node.
+  const double allowance = o_.loop_max_correction + o_.loop_correction_per_metre * travel_since_closure_;
+  coarse.window_xy = std::min(o_.loop_window_xy, allowance + coarse.resolution);
+  coarse.window_theta = o_.loop_window_theta;
+  coarse.angle_step = 2.0 * o_.sequential.angle_step;
+  coarse.refine_candidates = 3;
+  coarse.distinct_xy = o_.loop_distinct_xy;
+  const ScanMatch rough = MatchScan(CorrelationGrid(reference, coarse.resolution, coarse.sigma), scan, here, coarse);
+  ScanMatchOptions fine = o_.sequential;
+  fine.window_xy = 2.0 * coarse.resolution;
+  fine.window_theta = 2.0 * coarse.angle_step;
+  const ScanMatch match = MatchScan(CorrelationGrid(reference, fine.resolution, fine.sigma), scan, rough.pose, fine);
+  if (match.score < o_.loop_min_score) return;
+  if (rough.coarse_elsewhere > o_.loop_max_ambiguity * rough.coarse_best) return;
+  if (Distance(match.pose.translation(), here.translation()) > allowance) return;
+
+  const Pose2 relative = graph_.nodes()[candidate].inverse() * match.pose;
+  graph_.AddEdge({candidate, node, relative, Information(o_.loop_sigma_xy, o_.loop_sigma_theta), true});
+  closures_.push_back({node_scan_[candidate], node_scan_[node], relative, match.score});
+  travel_since_closure_ = 0.0;
+  graph_.Optimize(o_.optimizer);
+}
+
+std::vector<Pose2> GraphSlam::Trajectory() const {
+  std::vector<Pose2> out;
+  out.reserve(scan_node_.size());
+  for (size_t k = 0; k < scan_node_.size(); ++k) out.push_back(graph_.nodes()[scan_node_[k]] * scan_offset_[k]);
+  return out;
+}
+
+OccupancyGrid GraphSlam::RenderMap(const MapperOptions& options) const {
+  if (graph_.nodes().empty()) throw Error(ErrorCode::kFailedPrecondition, "no scans mapped yet");
+  Point2 lo = graph_.nodes().front().translation(), hi = lo;
+  for (const Pose2& p : graph_.nodes()) {
+    lo = lo.cwiseMin(p.translation());
+    hi = hi.cwiseMax(p.translation());
+  }
+  const double reach = std::min(options.usable_range, o_.usable_range) + 1.0;
+  OccupancyGridMapper mapper(lo - Point2(reach, reach), hi + Point2(reach, reach), options);
+  for (int n = 0; n < nodes(); ++n)
+    mapper.AddScan(graph_.nodes()[n], node_scans_[n].ranges, node_scans_[n].angle_min, node_scans_[n].angle_increment);
+  return mapper.ToGrid();
+}
+
+}  // namespace navd::mapping

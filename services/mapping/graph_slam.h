@@ -1,0 +1,105 @@
+#pragma once
+// Graph SLAM with a correlative scan-matching front end and a pose-graph back end (the design of
+// Karto and slam_toolbox, with Cartographer's "submap" as the recent scans):
+//  - each scan is matched against a local map made of the last few node scans, around the
+//    odometry prediction (CorrelativeScanMatcher): the match is the node's pose and the edge to
+//    the previous node;
+//  - each new node looks for a loop: the nearest old node (farther back along the chain than the
+//    local map reaches) within a search radius; the new scan is matched against that node's
+//    neighbourhood over a wide window, coarse (10 cm) then fine (5 cm); a match that explains
+//    enough of the scan becomes a robust (Cauchy) edge and the graph is optimised;
+//  - the map re-renders from the optimised poses (OccupancyGridMapper).
+// Map frame: the first scan sits at options.first_pose (the origin by default); metres, radians.
+#include <vector>
+
+#include "services/common/occupancy_grid.h"
+#include "services/common/pose2.h"
+#include "services/mapping/correlative_scan_matcher.h"
+#include "services/mapping/occupancy_grid_mapper.h"
+#include "services/mapping/pose_graph.h"
+
+namespace navd::mapping {
+
+// A laser scan as recorded: ranges (m) at angle_min + i * increment in the robot frame.
+struct RangeScan {
+  std::vector<float> ranges;
+  double angle_min = 0.0, angle_increment = 0.0;
+  double stamp = 0.0;
+};
+
+struct GraphSlamOptions {
+  Pose2 first_pose;                  // the first scan's pose in the map frame
+  double usable_range = 20.0;        // m: longer readings are no-returns for matching
+  double match_point_spacing = 0.1;  // m between the scan points matched
+  int local_map_nodes = 8;           // recent nodes forming the local map
+  double node_travel = 0.2;          // m, or
+  double node_turn = 0.2;            // rad, of odometry since the last node make a new node
+  ScanMatchOptions sequential;       // the front end's window (defaults: ±0.25 m, ±0.15 rad)
+  double sequential_sigma_xy = 0.03, sequential_sigma_theta = 0.01;  // edge uncertainty
+  // Loop closing.
+  double loop_search_radius = 4.0;   // m between the new node and a candidate
+  int loop_min_node_gap = 30;        // nodes back along the chain, at least
+  int loop_neighbourhood = 5;        // candidate's neighbours either side forming its map
+  double loop_window_xy = 1.5, loop_window_theta = 0.4;
+  double loop_min_score = 0.65;      // mean lookup value of the scan on the candidate's map
+  // Scans with fewer matched points (0.1 m apart) close no loops: a robot turning in a tight
+  // corner sees a small, nearly round outline that matches at many headings.
+  int loop_min_points = 50;
+  // The most a closure may move the new node: drift grows with the distance driven since the
+  // last closure, so the gate does too.
+  double loop_max_correction = 0.15;           // m, plus
+  double loop_correction_per_metre = 0.01;     // of travel since the last accepted closure
+  // Refused as ambiguous when a pose at least loop_distinct_xy away scores within this fraction
+  // of the best (corridors, rows of identical rooms).
+  double loop_distinct_xy = 0.5;
+  double loop_max_ambiguity = 0.9;
+  double loop_sigma_xy = 0.05, loop_sigma_theta = 0.02;
+  PoseGraphOptions optimizer;
+};
+
+// An accepted loop closure: scans by their order of arrival, the matched pose of `to_scan` in
+// `from_scan`'s frame, and the match's score.
+struct LoopClosure {
+  int from_scan = 0, to_scan = 0;
+  Pose2 measurement;
+  double score = 0.0;
+};
+
+class GraphSlam {
+ public:
+  explicit GraphSlam(const GraphSlamOptions& options = {});
+
+  // Adds a scan taken at odometry pose `odometry` (any fixed frame); returns the scan's pose in
+  // the map frame as estimated now.
+  Pose2 AddScan(const Pose2& odometry, const RangeScan& scan);
+
+  // Every scan's pose as the graph stands now (nodes optimised, scans between nodes carried by
+  // their odometry from the node before), in the order added.
+  std::vector<Pose2> Trajectory() const;
+  int loop_closures() const { return static_cast<int>(closures_.size()); }
+  const std::vector<LoopClosure>& closures() const { return closures_; }
+  int loop_attempts() const { return loop_attempts_; }
+  int nodes() const { return static_cast<int>(graph_.nodes().size()); }
+  // The occupancy grid of every node's scan at its optimised pose.
+  OccupancyGrid RenderMap(const MapperOptions& options) const;
+
+ private:
+  std::vector<Point2> Returns(const RangeScan& scan) const;  // robot frame, no-returns dropped
+  std::vector<Point2> NodePointsInMap(int first, int last) const;
+  void TryLoopClosure(int node);
+
+  GraphSlamOptions o_;
+  PoseGraph graph_;
+  std::vector<RangeScan> node_scans_;
+  std::vector<std::vector<Point2>> node_points_;  // robot frame
+  std::vector<Pose2> node_odometry_;
+  std::vector<int> node_scan_;  // the scan each node was made from
+  // Per scan added: its node, and its odometry offset from that node.
+  std::vector<int> scan_node_;
+  std::vector<Pose2> scan_offset_;
+  std::vector<LoopClosure> closures_;
+  double travel_since_closure_ = 0.0;  // m
+  int loop_attempts_ = 0;
+};
+
+}  // namespace navd::mapping
