@@ -154,6 +154,37 @@ TEST_P(NavdReplayLocalisation, LocalisesOnTheIntelLog) {
 INSTANTIATE_TEST_SUITE_P(Localisers, NavdReplayLocalisation, ::testing::Values("amcl", "ekf", "calibration"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
+// Graph SLAM on the Intel log with corrupted odometry (5%, 2 deg/m, seed 3): the trajectory of
+// every scan within 0.10 m RMSE of the corrected poses after SE(2) alignment, loops closed, none of
+// them wrong (each judged against the corrected poses), the map written as map_server YAML + PGM.
+TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
+  const std::string log = SourceDir() + "/../shared/data/carmen/intel-corrected.log.gz";
+  if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
+  const std::string dir = MakeTempDir();
+  const auto r = RunCommand({NavdReplayBinary(), "--log", log, "--mode", "slam", "--seed", "3", "--out",
+                             dir + "/est.tum", "--map-out", dir + "/map.yaml"}, 180.0);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  int closures = -1, wrong = -1;
+  double ate = -1;
+  const size_t at = r.output.find("slam: ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const size_t loops = r.output.find(" loop closures (", at), rmse = r.output.find("ATE RMSE ", at);
+  ASSERT_NE(loops, std::string::npos);
+  ASSERT_NE(rmse, std::string::npos);
+  size_t start = r.output.rfind(", ", loops);
+  ASSERT_EQ(std::sscanf(r.output.c_str() + start, ", %d loop closures (%d wrong)", &closures, &wrong), 2) << r.output;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + rmse, "ATE RMSE %lf", &ate), 1);
+  std::printf("Intel log, slam: ATE RMSE %.4f m, %d loop closures, %d wrong\n", ate, closures, wrong);
+  EXPECT_LE(ate, 0.10);
+  EXPECT_GE(closures, 1);
+  EXPECT_EQ(wrong, 0) << r.output;
+  std::ifstream tum(dir + "/est.tum");
+  int lines = 0;
+  for (std::string line; std::getline(tum, line);) ++lines;
+  EXPECT_EQ(lines, 910);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/map.pgm"));
+}
+
 // Online: navctl replay plays the Intel log over DDS like a robot (log-time clock, corrupted
 // odometry, scans) while a real navd localises on the map built from the log, and judges navd's
 // published poses (between scans too) against the corrected poses. The first 200 scans (11

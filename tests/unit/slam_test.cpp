@@ -1,0 +1,149 @@
+// The parts of graph SLAM: the correlative scan matcher and the SE(2) pose graph.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "services/common/ray_caster.h"
+#include "services/mapping/correlative_scan_matcher.h"
+#include "services/mapping/graph_slam.h"
+#include "services/mapping/pose_graph.h"
+
+namespace navd::mapping {
+namespace {
+
+// An L-shaped 8 x 6 m room with a pillar, 5 cm cells.
+OccupancyGrid Room() {
+  OccupancyGrid g(200, 160, 0.05, Point2::Zero());
+  g.FillBox({0.0, 0.0}, {10.0, 0.1});
+  g.FillBox({0.0, 7.9}, {10.0, 8.0});
+  g.FillBox({0.0, 0.0}, {0.1, 8.0});
+  g.FillBox({9.9, 0.0}, {10.0, 8.0});
+  g.FillBox({6.0, 5.0}, {10.0, 8.0});
+  g.FillBox({3.0, 3.0}, {3.6, 3.4});
+  return g;
+}
+
+// A 360-beam scan of `map` from `pose`, ranges in the robot frame.
+RangeScan ScanFrom(const OccupancyGrid& map, const Pose2& pose, std::mt19937* noise = nullptr) {
+  const RayCaster caster(map);
+  RangeScan scan;
+  scan.angle_min = -M_PI;
+  scan.angle_increment = 2.0 * M_PI / 360.0;
+  std::normal_distribution<double> n(0.0, 0.01);
+  for (int i = 0; i < 360; ++i) {
+    const double a = pose.theta + scan.angle_min + i * scan.angle_increment;
+    double r = caster.Cast(pose.translation(), a, 20.0);
+    if (noise && r < 20.0) r += n(*noise);
+    scan.ranges.push_back(static_cast<float>(r));
+  }
+  return scan;
+}
+
+std::vector<Point2> Points(const RangeScan& scan) {
+  std::vector<Point2> out;
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    if (scan.ranges[i] >= 20.0f) continue;
+    const double a = scan.angle_min + i * scan.angle_increment;
+    out.emplace_back(scan.ranges[i] * std::cos(a), scan.ranges[i] * std::sin(a));
+  }
+  return out;
+}
+
+TEST(CorrelativeScanMatcher, RecoversThePoseFromAnOffsetPrior) {
+  const OccupancyGrid map = Room();
+  const Pose2 reference_pose{2.0, 2.0, 0.3}, truth{2.6, 2.4, 0.5};
+  std::vector<Point2> reference;
+  for (const Point2& p : Points(ScanFrom(map, reference_pose))) reference.push_back(reference_pose * p);
+  const CorrelationGrid grid(reference, 0.05, 0.05);
+  const std::vector<Point2> scan = ThinPoints(Points(ScanFrom(map, truth)), 0.1);
+  const Pose2 prior{truth.x + 0.15, truth.y - 0.12, truth.theta + 0.08};
+  const ScanMatch m = MatchScan(grid, scan, prior, {});
+  EXPECT_NEAR(m.pose.x, truth.x, 0.02);
+  EXPECT_NEAR(m.pose.y, truth.y, 0.02);
+  EXPECT_NEAR(m.pose.theta, truth.theta, 0.006);
+  EXPECT_GT(m.score, 0.6);
+  // Outside the window the true pose cannot be found: the score says so.
+  const ScanMatch far = MatchScan(grid, scan, {truth.x + 1.0, truth.y, truth.theta}, {});
+  EXPECT_LT(far.score, 0.6 * m.score);
+}
+
+TEST(PoseGraph, ALoopClosureRemovesTheOdometryDrift) {
+  // A 4 x 4 m square driven in 16 steps; the odometry edges all turn 2 degrees too far per corner.
+  std::vector<Pose2> truth;
+  Pose2 p;
+  for (int i = 0; i < 16; ++i) {
+    truth.push_back(p);
+    p = p * Pose2{1.0, 0.0, (i % 4 == 3) ? M_PI / 2 : 0.0};
+  }
+  PoseGraph graph;
+  Pose2 estimate;
+  std::vector<Pose2> steps;
+  for (int i = 0; i < 16; ++i) {
+    graph.AddNode(estimate);
+    Pose2 step = truth[i].inverse() * truth[(i + 1) % 16];
+    if (i % 4 == 3) step.theta += 2.0 * M_PI / 180.0;  // biased turn
+    steps.push_back(step);
+    estimate = estimate * step;
+  }
+  for (int i = 0; i + 1 < 16; ++i) graph.AddEdge({i, i + 1, steps[i], Eigen::Matrix3d::Identity() * 100.0, false});
+  const double drift_before = Distance(graph.nodes()[15].translation(), truth[15].translation());
+  EXPECT_GT(drift_before, 0.1);
+  // The closure: node 15 seen from node 0 where it truly is.
+  graph.AddEdge({0, 15, truth[0].inverse() * truth[15], Eigen::Matrix3d::Identity() * 1000.0, true});
+  // A wrong closure, robust: it must not bend the map.
+  graph.AddEdge({2, 10, Pose2{0.0, 0.0, 0.0}, Eigen::Matrix3d::Identity() * 1000.0, true});
+  graph.Optimize();
+  double worst = 0.0;
+  for (int i = 0; i < 16; ++i) worst = std::max(worst, Distance(graph.nodes()[i].translation(), truth[i].translation()));
+  EXPECT_LT(worst, 0.5 * drift_before) << "drift before " << drift_before;
+  EXPECT_LT(Distance(graph.nodes()[15].translation(), truth[15].translation()), 0.05);
+  EXPECT_NEAR(graph.nodes()[0].x, 0.0, 1e-9);  // the anchor stays
+}
+
+TEST(GraphSlam, MapsARoomFromNoisyOdometryAndClosesTheLoop) {
+  const OccupancyGrid map = Room();
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  // Round the room twice, 0.4 m steps, odometry 5% and 2 degrees per metre off.
+  std::vector<Pose2> truth;
+  const std::vector<Point2> corners{{1.5, 1.5}, {8.5, 1.5}, {8.5, 4.0}, {4.5, 4.0}, {4.5, 6.5}, {1.5, 6.5}};
+  for (int lap = 0; lap < 2; ++lap) {
+    for (size_t c = 0; c < corners.size(); ++c) {
+      const Point2 a = corners[c], b = corners[(c + 1) % corners.size()];
+      const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
+      const int steps = static_cast<int>(Distance(a, b) / 0.4);
+      for (int k = 0; k < steps; ++k) {
+        const Point2 q = a + (b - a) * (double(k) / steps);
+        truth.push_back({q.x(), q.y(), heading});
+      }
+    }
+  }
+  GraphSlamOptions o;
+  o.first_pose = truth.front();
+  o.loop_min_node_gap = 20;
+  GraphSlam slam(o);
+  Pose2 odometry = truth.front();
+  for (size_t i = 0; i < truth.size(); ++i) {
+    if (i > 0) {
+      const Pose2 step = truth[i - 1].inverse() * truth[i];
+      const double d = std::hypot(step.x, step.y);
+      odometry = odometry * Pose2{step.x * (1.0 + 0.05 * n(rng)), step.y, step.theta + 0.035 * d * n(rng)};
+    }
+    slam.AddScan(odometry, ScanFrom(map, truth[i], &rng));
+  }
+  const std::vector<Pose2> estimate = slam.Trajectory();
+  ASSERT_EQ(estimate.size(), truth.size());
+  double sq = 0.0;
+  for (size_t i = 0; i < truth.size(); ++i) sq += std::pow(Distance(estimate[i].translation(), truth[i].translation()), 2);
+  EXPECT_LT(std::sqrt(sq / truth.size()), 0.05);
+  EXPECT_GE(slam.loop_closures(), 1);
+  // The map: the pillar's cells are occupied where the truth has them, the room's middle free.
+  MapperOptions mo;
+  const OccupancyGrid built = slam.RenderMap(mo);
+  EXPECT_TRUE(built.IsOccupied(built.CellOf({3.0, 3.2})) || built.IsOccupied(built.CellOf({3.05, 3.2})));
+  EXPECT_GE(built.at(built.CellOf({5.0, 2.0})), 0);
+  EXPECT_LT(built.at(built.CellOf({5.0, 2.0})), 20);
+}
+
+}  // namespace
+}  // namespace navd::mapping
