@@ -21,6 +21,15 @@ OccupancyGridMapper::OccupancyGridMapper(const Point2& min, const Point2& max, c
   seen_.assign(log_odds_.size(), 0);
 }
 
+void OccupancyGridMapper::Update(size_t k, double log_odds, int himm) {
+  if (o_.rule == MapUpdateRule::kHimm) {
+    log_odds_[k] = static_cast<float>(std::clamp(static_cast<int>(log_odds_[k]) + himm, 0, 15));
+  } else {
+    log_odds_[k] = static_cast<float>(std::clamp(log_odds_[k] + log_odds, o_.l_min, o_.l_max));
+  }
+  seen_[k] = 1;
+}
+
 void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& ranges, double angle_min,
                                   double increment) {
   for (size_t i = 0; i < ranges.size(); ++i) {
@@ -38,15 +47,86 @@ void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& r
     TraverseSegment(geometry_, from, to, [&](const CellIndex& c, double) {
       if (!geometry_.Contains(c)) return true;
       if (hit && c == end) return true;  // the end cell is updated below
-      const size_t k = geometry_.Flat(c);
-      log_odds_[k] = std::max(static_cast<float>(o_.l_min), log_odds_[k] + static_cast<float>(o_.l_free));
-      seen_[k] = 1;
+      Update(geometry_.Flat(c), o_.l_free, -1);
       return true;
     });
-    if (hit && geometry_.Contains(end)) {
-      const size_t k = geometry_.Flat(end);
-      log_odds_[k] = std::min(static_cast<float>(o_.l_max), log_odds_[k] + static_cast<float>(o_.l_occupied));
-      seen_[k] = 1;
+    if (hit && geometry_.Contains(end)) Update(geometry_.Flat(end), o_.l_occupied, +3);
+  }
+}
+
+void OccupancyGridMapper::AddSonar(const Pose2& sensor, double range, double half_angle, double max_range) {
+  if (!std::isfinite(range) || range <= 0.0 || !(half_angle > 0.0) || !sensor.finite()) return;
+  const bool hit = range < max_range;
+  const double reach = std::min(range, max_range);
+  const double res = geometry_.resolution();
+  if (o_.rule == MapUpdateRule::kHimm) {
+    // Borenstein: the cells on the acoustic axis only.
+    const Point2 dir(std::cos(sensor.theta), std::sin(sensor.theta));
+    const Point2 from = sensor.translation(), to = from + reach * dir;
+    const CellIndex end = geometry_.CellOf(to + 0.01 * res * dir);
+    TraverseSegment(geometry_, from, to, [&](const CellIndex& c, double) {
+      if (geometry_.Contains(c) && !(hit && c == end)) Update(geometry_.Flat(c), 0.0, -1);
+      return true;
+    });
+    if (hit && geometry_.Contains(end)) Update(geometry_.Flat(end), 0.0, +3);
+    return;
+  }
+  // Elfes' cone: cells within the cone up to the reading; free short of the arc, occupied on it
+  // (an arc of +-1.5 cells), each weighted by (1 - (beta/alpha)^2) so the axis counts most.
+  const double tolerance = 1.5 * res;
+  const int r = static_cast<int>(std::ceil((reach + tolerance) / res));
+  const CellIndex c0 = geometry_.CellOf(sensor.translation());
+  for (int y = c0.y - r; y <= c0.y + r; ++y) {
+    for (int x = c0.x - r; x <= c0.x + r; ++x) {
+      if (!geometry_.Contains({x, y})) continue;
+      const Point2 d = geometry_.CellCenter({x, y}) - sensor.translation();
+      const double rho = d.norm();
+      if (rho > reach + tolerance || rho < 1e-9) continue;
+      const double beta = std::abs(NormalizeAngle(std::atan2(d.y(), d.x()) - sensor.theta));
+      if (beta > half_angle) continue;
+      const double weight = 1.0 - (beta / half_angle) * (beta / half_angle);
+      if (hit && std::abs(rho - range) <= tolerance) {
+        Update(geometry_.Flat({x, y}), weight * o_.l_occupied, 0);
+      } else if (rho < reach - tolerance) {
+        Update(geometry_.Flat({x, y}), weight * o_.l_free * (1.0 - rho / (reach + tolerance)), 0);
+      }
+    }
+  }
+}
+
+void OccupancyGridMapper::FuseLocalMap(const OccupancyGrid& local, const Pose2& local_pose) {
+  if (o_.rule != MapUpdateRule::kLogOdds) throw Error(ErrorCode::kFailedPrecondition, "local map fusion needs the log-odds rule");
+  const double lr = local.resolution();
+  const Pose2 to_local = local_pose.inverse();
+  // The global cells the local map's footprint can touch.
+  Point2 lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const Point2& corner : {Point2(0, 0), Point2(local.size_x(), 0), Point2(0, local.size_y()), Point2(local.size_x(), local.size_y())}) {
+    const Point2 w = local_pose * corner;
+    lo = lo.cwiseMin(w);
+    hi = hi.cwiseMax(w);
+  }
+  const CellIndex a = geometry_.CellOf(lo), b = geometry_.CellOf(hi);
+  for (int y = std::max(0, a.y); y <= std::min(geometry_.height() - 1, b.y); ++y) {
+    for (int x = std::max(0, a.x); x <= std::min(geometry_.width() - 1, b.x); ++x) {
+      // The global cell's centre in local cell coordinates (centres at half-integers).
+      const Point2 p = to_local * geometry_.CellCenter({x, y});
+      const double fx = p.x() / lr - 0.5, fy = p.y() / lr - 0.5;
+      const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+      double sum = 0.0, weights = 0.0;
+      for (int j = 0; j <= 1; ++j) {
+        for (int i = 0; i <= 1; ++i) {
+          const CellIndex c{x0 + i, y0 + j};
+          if (!local.Contains(c) || local.at(c) < 0) continue;
+          // Bilinear weight: the area of the opposite sub-rectangle (seed 002 prints the distances
+          // to the cell itself, which would weight the farthest cell most).
+          const double w = (1.0 - std::abs(fx - c.x)) * (1.0 - std::abs(fy - c.y));
+          sum += w * local.at(c) / 100.0;
+          weights += w;
+        }
+      }
+      if (weights < 1e-9) continue;
+      const double prob = std::clamp(sum / weights, 0.02, 0.98);
+      Update(geometry_.Flat({x, y}), std::log(prob / (1.0 - prob)), 0);
     }
   }
 }
@@ -57,7 +137,7 @@ OccupancyGrid OccupancyGridMapper::ToGrid() const {
     for (int x = 0; x < g.width(); ++x) {
       const size_t k = g.Flat({x, y});
       if (!seen_[k]) continue;
-      const double p = 1.0 - 1.0 / (1.0 + std::exp(log_odds_[k]));
+      const double p = o_.rule == MapUpdateRule::kHimm ? log_odds_[k] / 15.0 : 1.0 - 1.0 / (1.0 + std::exp(log_odds_[k]));
       g.set({x, y}, static_cast<int8_t>(std::lround(100.0 * p)));
     }
   return g;

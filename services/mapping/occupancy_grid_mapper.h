@@ -1,8 +1,16 @@
 #pragma once
-// Occupancy grid mapping with known poses (seed 002 section 2.2, Bayesian log-odds): each laser
-// beam lowers the log-odds of the cells it crosses (free) and raises the cell it ends in
-// (occupied); beams at maximum range only clear. The grid grows to fit the data. Map frame,
-// metres, radians.
+// Occupancy grid mapping with known poses. Two update rules:
+//  - Bayesian log-odds (seed 002 section 2.2, Elfes): each laser beam lowers the log-odds of the
+//    cells it crosses (free) and raises the cell it ends in (occupied); beams at maximum range
+//    only clear;
+//  - HIMM (Borenstein's Histogramic In-Motion Mapping, book chapter 4): an integer certainty
+//    0..15 per cell, +3 where a reading ends, -1 where it passed.
+// Sonar readings use a cone inverse sensor model (Moravec and Elfes 1985, as seed 002's robots):
+// free inside the cone short of the reading, occupied on its arc, both weighted down towards the
+// cone's edge; under HIMM only the acoustic axis is updated, as Borenstein's original. A local map
+// (robot-centred, e.g. one sensor sweep) fuses into the global one by seed 002's interpolation:
+// each global cell takes the local occupancy at its position, interpolated from the four nearest
+// local cells, through the Bayes update. Map frame, metres, radians.
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
@@ -10,7 +18,10 @@
 
 namespace navd::mapping {
 
+enum class MapUpdateRule { kLogOdds, kHimm };
+
 struct MapperOptions {
+  MapUpdateRule rule = MapUpdateRule::kLogOdds;
   double resolution = 0.05;    // m
   double l_occupied = 0.85;    // log-odds added at a hit
   double l_free = -0.4;        // log-odds added along a beam
@@ -25,13 +36,23 @@ class OccupancyGridMapper {
   OccupancyGridMapper(const Point2& min, const Point2& max, const MapperOptions& options = {});
   // Integrates a scan taken from `laser_pose`; beam i at angle_min + i * increment.
   void AddScan(const Pose2& laser_pose, const std::vector<float>& ranges, double angle_min, double increment);
+  // Integrates one sonar reading from `sensor_pose` (axis along its heading) with a cone of
+  // `half_angle` radians; ranges >= max_range are no-returns (clear only).
+  void AddSonar(const Pose2& sensor_pose, double range, double half_angle, double max_range);
+  // Fuses a local map whose cell (0, 0) corner sits at `local_pose` (its x axis along the pose's
+  // heading): seed 002's interpolated local occupancy enters each overlapping global cell through
+  // the Bayes update (log-odds rule only; unknown local cells are skipped).
+  void FuseLocalMap(const OccupancyGrid& local, const Pose2& local_pose);
+  // The map's geometry (size, origin, resolution).
+  const OccupancyGrid& geometry() const { return geometry_; }
   // Probabilities as map cells: 0..100, -1 where no beam ever reached.
   OccupancyGrid ToGrid() const;
 
  private:
   OccupancyGrid geometry_;       // size, origin and resolution only
   MapperOptions o_;
-  std::vector<float> log_odds_;
+  void Update(size_t cell, double log_odds, int himm);  // one observation of a cell
+  std::vector<float> log_odds_;      // log-odds, or the HIMM certainty 0..15
   std::vector<uint8_t> seen_;
 };
 

@@ -105,3 +105,72 @@ TEST(CarmenLog, ReadsScansAndOdometryFromGzipAndReportsBadLines) {
 
 }  // namespace
 }  // namespace navd
+
+namespace navd::mapping {
+namespace {
+
+// HIMM (book ch. 4): +3 per reading ending in a cell, -1 per reading through it, 0..15; the map
+// shows certainty / 15, so a wall needs four readings to count as an obstacle.
+TEST(MapperRules, HimmCountsReadingsUpToFifteen) {
+  MapperOptions o;
+  o.rule = MapUpdateRule::kHimm;
+  OccupancyGridMapper mapper({0.0, 0.0}, {4.0, 4.0}, o);
+  const Pose2 pose{0.5, 2.0, 0.0};
+  const std::vector<float> one_beam{2.0f};
+  mapper.AddScan(pose, one_beam, 0.0, 0.01);
+  OccupancyGrid g = mapper.ToGrid();
+  EXPECT_EQ(g.at(g.CellOf({2.5 + 0.01, 2.0})), 20);  // 3 / 15
+  EXPECT_EQ(g.at(g.CellOf({1.5, 2.0})), 0);
+  EXPECT_EQ(g.at(g.CellOf({3.5, 2.0})), OccupancyGrid::kUnknown);
+  for (int i = 0; i < 10; ++i) mapper.AddScan(pose, one_beam, 0.0, 0.01);
+  g = mapper.ToGrid();
+  EXPECT_EQ(g.at(g.CellOf({2.5 + 0.01, 2.0})), 100);  // capped at 15
+  EXPECT_TRUE(g.IsOccupied(g.CellOf({2.5 + 0.01, 2.0})));
+  // A person walked away: readings now pass through, one certainty step at a time.
+  const std::vector<float> longer{3.0f};
+  for (int i = 0; i < 4; ++i) mapper.AddScan(pose, longer, 0.0, 0.01);
+  g = mapper.ToGrid();
+  EXPECT_EQ(g.at(g.CellOf({2.5 + 0.01, 2.0})), 73);  // 11 / 15
+}
+
+// Elfes' sonar cone: free inside, occupied on the arc, the axis weighted most.
+TEST(MapperRules, SonarConeClearsInsideAndMarksTheArc) {
+  OccupancyGridMapper mapper({0.0, 0.0}, {5.0, 5.0}, {});
+  const Pose2 sensor{0.5, 2.5, 0.0};
+  const double half_angle = 15.0 * M_PI / 180.0;
+  for (int i = 0; i < 5; ++i) mapper.AddSonar(sensor, 3.0, half_angle, 5.0);
+  const OccupancyGrid g = mapper.ToGrid();
+  EXPECT_TRUE(g.IsOccupied(g.CellOf({3.5, 2.5})));       // on the axis, at the reading
+  EXPECT_GT(g.at(g.CellOf({3.45, 2.9})), 50);            // on the arc, off axis
+  EXPECT_LT(g.at(g.CellOf({2.0, 2.5})), 30);             // inside: free
+  EXPECT_EQ(g.at(g.CellOf({2.0, 4.0})), OccupancyGrid::kUnknown);  // outside the cone
+  EXPECT_EQ(g.at(g.CellOf({4.5, 2.5})), OccupancyGrid::kUnknown);  // beyond the reading
+  // A no-return only clears.
+  OccupancyGridMapper clear({0.0, 0.0}, {5.0, 5.0}, {});
+  clear.AddSonar(sensor, 6.0, half_angle, 5.0);
+  const OccupancyGrid c = clear.ToGrid();
+  EXPECT_LT(c.at(c.CellOf({3.5, 2.5})), 50);
+}
+
+// Seed 002's local-to-global fusion: a robot-centred local map, turned and shifted, lands in the
+// global map where it belongs.
+TEST(MapperRules, LocalMapsFuseIntoTheGlobalMapByInterpolation) {
+  OccupancyGrid local(40, 40, 0.05, Point2::Zero(), OccupancyGrid::kUnknown);
+  local.FillBox({0.0, 0.0}, {2.0, 2.0}, 10);           // seen free
+  local.FillBox({1.5, 0.0}, {1.6, 2.0}, 95);           // a wall 1.5 m ahead
+  OccupancyGridMapper global({0.0, 0.0}, {6.0, 6.0}, {});
+  const Pose2 where{3.0, 1.0, M_PI / 2};                // the local x axis points up the map
+  global.FuseLocalMap(local, where);
+  global.FuseLocalMap(local, where);
+  const OccupancyGrid g = global.ToGrid();
+  EXPECT_TRUE(g.IsOccupied(g.CellOf({2.0, 2.55})));     // the wall, 1.5 m up from y = 1
+  EXPECT_LT(g.at(g.CellOf({2.0, 1.8})), 10);            // free before it
+  EXPECT_EQ(g.at(g.CellOf({4.0, 2.0})), OccupancyGrid::kUnknown);  // right of the footprint
+  MapperOptions himm;
+  himm.rule = MapUpdateRule::kHimm;
+  OccupancyGridMapper h({0.0, 0.0}, {6.0, 6.0}, himm);
+  EXPECT_THROW(h.FuseLocalMap(local, where), Error);
+}
+
+}  // namespace
+}  // namespace navd::mapping
