@@ -6,10 +6,7 @@ namespace navd {
 
 Client::Client(const ClientOptions& options)
     : options_(options) {
-  grpc::ChannelArguments args;
-  // Maps travel whole in GetMap: a 4000 x 4000 grid is 16 MB, past gRPC's 4 MB default.
-  args.SetMaxReceiveMessageSize(256 * 1024 * 1024);
-  channel_ = grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
+  channel_ = grpc::CreateChannel(options.server, grpc::InsecureChannelCredentials());
   health_ = grpc::health::v1::Health::NewStub(channel_);
   planning_ = v1::PlanningService::NewStub(channel_);
   localization_ = v1::LocalizationService::NewStub(channel_);
@@ -125,10 +122,71 @@ void Client::StreamPose(double rate_hz, const std::function<bool(const v1::GetPo
   }
 }
 
-v1::GetMapResponse Client::GetMap(bool info_only) {
+v1::GetMapResponse Client::GetMap(bool info_only, v1::MapSource source) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, options_.timeout);
   v1::GetMapRequest req;
   req.set_info_only(info_only);
-  return Call(*mapping_, &v1::MappingService::Stub::GetMap, req);
+  req.set_source(source);
+  auto reader = mapping_->GetMap(&ctx, req);
+  // The chunks' rows joined into one message.
+  v1::GetMapResponse whole, chunk;
+  std::string cells;
+  while (reader->Read(&chunk)) {
+    *whole.mutable_info() = chunk.info();
+    cells += chunk.cells();
+  }
+  const grpc::Status s = reader->Finish();
+  if (!s.ok()) Fail(s);
+  whole.set_rows(whole.info().height());
+  if (!info_only) whole.set_cells(std::move(cells));
+  return whole;
+}
+
+v1::SaveMapResponse Client::SaveMap(const std::string& path, v1::MapFormat format, v1::MapSource source) {
+  v1::SaveMapRequest req;
+  req.set_path(path);
+  req.set_format(format);
+  req.set_source(source);
+  return Call(*mapping_, &v1::MappingService::Stub::SaveMap, req);
+}
+
+v1::MappingStatus Client::StartMapping(v1::MappingMode mode, double resolution, double size) {
+  v1::StartMappingRequest req;
+  req.set_mode(mode);
+  req.set_resolution(resolution);
+  req.set_size(size);
+  return Call(*mapping_, &v1::MappingService::Stub::StartMapping, req);
+}
+
+v1::MappingStatus Client::StopMapping(bool serve) {
+  v1::StopMappingRequest req;
+  req.set_serve(serve);
+  return Call(*mapping_, &v1::MappingService::Stub::StopMapping, req);
+}
+
+v1::MappingStatus Client::GetMappingStatus() {
+  return Call(*mapping_, &v1::MappingService::Stub::GetMappingStatus, v1::GetMappingStatusRequest());
+}
+
+void Client::StreamMapUpdates(double min_period, const std::function<bool(const v1::MapUpdate&)>& on_update,
+                              double timeout) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, timeout);
+  v1::StreamMapUpdatesRequest req;
+  req.set_min_period(min_period);
+  auto reader = mapping_->StreamMapUpdates(&ctx, req);
+  v1::MapUpdate update;
+  while (reader->Read(&update)) {
+    if (!on_update(update)) {
+      ctx.TryCancel();
+      break;
+    }
+  }
+  const grpc::Status s = reader->Finish();
+  if (!s.ok() && s.error_code() != grpc::StatusCode::CANCELLED && s.error_code() != grpc::StatusCode::DEADLINE_EXCEEDED) {
+    Fail(s);
+  }
 }
 
 v1::MapInfo Client::LoadMap(const std::string& path) {

@@ -61,7 +61,16 @@ class Client {
   // Streams pose estimates at `rate_hz` to `on_pose` until it returns false or `timeout` passes.
   void StreamPose(double rate_hz, const std::function<bool(const v1::GetPoseResponse&)>& on_pose, double timeout);
 
-  v1::GetMapResponse GetMap(bool info_only = false);
+  // The whole map (its chunks joined): the served map, or the mapping run's.
+  v1::GetMapResponse GetMap(bool info_only = false, v1::MapSource source = v1::MAP_SOURCE_SERVED);
+  v1::SaveMapResponse SaveMap(const std::string& path, v1::MapFormat format = v1::MAP_FORMAT_MAP_SERVER,
+                              v1::MapSource source = v1::MAP_SOURCE_SERVED);
+  v1::MappingStatus StartMapping(v1::MappingMode mode = v1::MAPPING_MODE_SLAM, double resolution = 0.0,
+                                 double size = 0.0);
+  v1::MappingStatus StopMapping(bool serve = false);
+  v1::MappingStatus GetMappingStatus();
+  // Calls `on_update` with each changed region until it returns false, the run ends or `timeout`.
+  void StreamMapUpdates(double min_period, const std::function<bool(const v1::MapUpdate&)>& on_update, double timeout);
   v1::MapInfo LoadMap(const std::string& path);
 
   using FeedbackCallback = std::function<void(const v1::NavigationFeedback&)>;

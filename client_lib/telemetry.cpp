@@ -19,6 +19,8 @@ Telemetry::Telemetry(const TelemetryOptions& o, StatusCallback on_status, TruthC
       std::move(on_truth));
   pose_ = std::make_unique<dds::Reader<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>>(
       participant_, dds::TopicName(o.robot_namespace, dds::kPose), Reliability::kReliable, std::move(on_pose));
+  map_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>>(
+      participant_, dds::TopicName(o.robot_namespace, dds::kMap), Reliability::kReliable);
 }
 
 std::optional<navsim_msgs::msg::dds_::SimStatus_> Telemetry::WaitForSimStatus(double timeout) const {

@@ -31,6 +31,9 @@ class Telemetry {
   std::optional<nav_msgs::msg::dds_::Odometry_> LatestGroundTruth() const { return truth_->Latest(); }
   std::optional<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_> LatestPose() const { return pose_->Latest(); }
   uint64_t pose_count() const { return pose_->count(); }
+  // navd's map on rt/<ns>/map (nav_msgs/OccupancyGrid), every couple of seconds.
+  std::optional<nav_msgs::msg::dds_::OccupancyGrid_> LatestMap() const { return map_->Latest(); }
+  uint64_t map_count() const { return map_->count(); }
   uint64_t status_count() const { return status_->count(); }
   uint64_t sim_status_count() const { return sim_status_->count(); }
 
@@ -43,6 +46,7 @@ class Telemetry {
   std::unique_ptr<dds::Reader<navsim_msgs::msg::dds_::SimStatus_PubSubType>> sim_status_;
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> truth_;
   std::unique_ptr<dds::Reader<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_;
+  std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>> map_;
 };
 
 }  // namespace navd

@@ -97,9 +97,11 @@ Qos EndpointQos(Qos qos, Reliability reliability, int depth) {
   return qos;
 }
 
-DataWriter* Participant::CreateWriter(const std::string& topic, TypeSupport type, Reliability reliability, int depth) {
+DataWriter* Participant::CreateWriter(const std::string& topic, TypeSupport type, Reliability reliability, int depth,
+                                      bool large) {
   std::lock_guard<std::mutex> lock(mutex_);
-  const DataWriterQos qos = EndpointQos(DATAWRITER_QOS_DEFAULT, reliability, depth);
+  DataWriterQos qos = EndpointQos(DATAWRITER_QOS_DEFAULT, reliability, depth);
+  if (large) qos.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
   DataWriter* w = publisher_->create_datawriter(TopicFor(topic, type), qos);
   if (!w) throw std::runtime_error("cannot create DDS writer on " + topic);
   return w;

@@ -49,8 +49,10 @@ class Participant {
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
 
+  // `large`: samples may exceed a UDP datagram (maps): published asynchronously, so Fast DDS
+  // fragments them.
   eprosima::fastdds::dds::DataWriter* CreateWriter(const std::string& topic, eprosima::fastdds::dds::TypeSupport type,
-                                                   Reliability reliability, int depth);
+                                                   Reliability reliability, int depth, bool large = false);
   eprosima::fastdds::dds::DataReader* CreateReader(const std::string& topic, eprosima::fastdds::dds::TypeSupport type,
                                                    Reliability reliability, int depth,
                                                    eprosima::fastdds::dds::DataReaderListener* listener);
@@ -75,10 +77,11 @@ template <typename PubSubType>
 class Writer {
  public:
   using Message = typename PubSubType::type;
-  Writer(Participant& participant, const std::string& topic, Reliability reliability, int depth = 10)
+  Writer(Participant& participant, const std::string& topic, Reliability reliability, int depth = 10,
+         bool large = false)
       : participant_(participant),
         writer_(participant.CreateWriter(topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()), reliability,
-                                         depth)) {}
+                                         depth, large)) {}
   ~Writer() { participant_.DeleteWriter(writer_); }
   Writer(const Writer&) = delete;
   Writer& operator=(const Writer&) = delete;

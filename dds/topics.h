@@ -23,6 +23,7 @@ inline constexpr const char* kWorldState = "rt/sim/world_state";  // navsim_msgs
 inline constexpr const char* kCollisions = "rt/sim/collisions";   // navsim_msgs/CollisionEvent, global
 inline constexpr const char* kDoorCommand = "rt/sim/door_command";  // navsim_msgs/DoorCommand, global
 inline constexpr const char* kNavStatus = "navd/status";     // navd_msgs/NavStatus
+inline constexpr const char* kMap = "map";                   // nav_msgs/OccupancyGrid, map frame
 inline constexpr const char* kPose = "pose";                 // geometry_msgs/PoseWithCovarianceStamped, map frame
 
 }  // namespace navd::dds

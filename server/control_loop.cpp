@@ -13,8 +13,10 @@ constexpr int kZeroCommandsAfterGoal = 5;
 }  // namespace
 
 ControlLoop::ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
-                         localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive)
-    : options_(options), clock_(clock), bridge_(bridge), localizer_(localizer), executive_(executive) {}
+                         localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive,
+                         const MapStore& maps, mapping::MapBuilder& map_builder)
+    : options_(options), clock_(clock), bridge_(bridge), localizer_(localizer), executive_(executive), maps_(maps),
+      map_builder_(map_builder) {}
 
 ControlLoop::~ControlLoop() { Stop(); }
 
@@ -65,6 +67,7 @@ void ControlLoop::StaleTick(double now) {
 void ControlLoop::Tick(uint64_t tick, double now) {
   if (auto odom = bridge_.LatestOdometry()) {
     localizer_.AddOdometry(*odom);
+    odometry_history_.Add(*odom);
     if (localizer_.odometry_jumps() != odometry_jumps_seen_) {
       odometry_jumps_seen_ = localizer_.odometry_jumps();
       spdlog::warn("odometry jumped to ({:.2f}, {:.2f}, {:.2f}) at t={:.2f}s: taken as no motion (jump {})", odom->pose.x,
@@ -73,8 +76,25 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   }
   if (bridge_.scan_count() != scans_seen_) {
     scans_seen_ = bridge_.scan_count();
-    if (executive_.localization_active()) {
-      if (auto scan = bridge_.LatestScan()) localizer_.AddScan(*scan);
+    const auto scan = bridge_.LatestScan();
+    if (scan && executive_.localization_active()) localizer_.AddScan(*scan);
+    if (scan && map_builder_.active() && !odometry_history_.empty()) {
+      // A mapping run takes the scan with the odometry of its own stamp (a robot turning at 1 rad/s
+      // turns 0.05 rad in one control period), and the localiser's pose carried to that stamp.
+      const Pose2 odom_at_scan = odometry_history_.At(scan->stamp);
+      const localization::PoseEstimate estimate = localizer_.Estimate();
+      const Pose2 localised = estimate.pose * (odometry_history_.At(estimate.stamp).inverse() * odom_at_scan);
+      mapping::RangeScan r{scan->ranges, scan->angle_min, scan->angle_increment, scan->stamp};
+      if (scan->range_max > 0.0) r.range_max = scan->range_max;
+      map_builder_.Submit(odom_at_scan, localised, r);
+    }
+  }
+  if (now >= next_map_publication_) {
+    next_map_publication_ = now + options_.map_period;
+    if (const auto session = map_builder_.session(); session && session->status().active) {
+      bridge_.PublishMap(*session->Map(), now);
+    } else if (const auto served = maps_.Get()) {
+      bridge_.PublishMap(served->grid, now);
     }
   }
   // A laser that has spoken and then gone silent is stale too; a robot without one is not.

@@ -6,7 +6,10 @@
 #include <thread>
 
 #include "server/dds_bridge.h"
+#include "services/common/map_store.h"
 #include "services/localization/localizer_selector.h"
+#include "services/localization/odometry_history.h"
+#include "services/mapping/map_builder.h"
 #include "services/navigation/navigation_executive.h"
 
 namespace navd::server {
@@ -15,12 +18,14 @@ struct ControlLoopOptions {
   double rate = 20.0;            // Hz
   double sensor_timeout = 0.3;   // s
   double wheel_base = 0.33;      // m, to turn wheel speeds into a twist
+  double map_period = 2.0;       // s between rt/map messages (the map being built, else the served map)
 };
 
 class ControlLoop {
  public:
   ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
-              localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive);
+              localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive,
+              const MapStore& maps, mapping::MapBuilder& map_builder);
   ~ControlLoop();
   void Start();
   // Stops the loop and sends the robot a zero command.
@@ -40,6 +45,10 @@ class ControlLoop {
   int odometry_jumps_seen_ = 0;
   bool was_searching_ = false;  // the wake-up behaviour drove the robot last tick
   navigation::NavigationExecutive& executive_;
+  const MapStore& maps_;
+  mapping::MapBuilder& map_builder_;
+  double next_map_publication_ = 0.0;
+  localization::OdometryHistory odometry_history_{128};  // the odometry at a scan's own stamp, for mapping
   std::atomic<bool> stop_{false};
   std::thread thread_;
   int zero_commands_left_ = 0;

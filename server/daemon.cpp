@@ -105,11 +105,17 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
 
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr);
-  ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive);
+  mapping::MapBuilder map_builder;
+  ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive, maps,
+                   map_builder);
 
   planning::PlanningService planning_service(planning);
   localization::LocalizationService localization_service(localizer, maps);
-  mapping::MappingService mapping_service(maps);
+  mapping::MappingService mapping_service(maps, map_builder, [&localizer]() -> std::optional<Pose2> {
+    const localization::PoseEstimate e = localizer.Estimate();
+    if (!e.valid) return std::nullopt;
+    return e.pose;
+  });
   navigation::NavigationService navigation_service(executive);
 
   grpc::EnableDefaultHealthCheckService(true);

@@ -53,6 +53,8 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
       participant_, dds::TopicName(ns, dds::kNavStatus), Reliability::kReliable, 5);
   pose_writer_ = std::make_unique<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kPose), Reliability::kReliable, 5);
+  map_writer_ = std::make_unique<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>>(
+      participant_, dds::TopicName(ns, dds::kMap), Reliability::kReliable, 1, true);
 }
 
 std::optional<localization::OdometryReading> DdsBridge::LatestOdometry() const {
@@ -108,6 +110,19 @@ void DdsBridge::PublishPose(const localization::PoseEstimate& pose, double now) 
   m.pose().pose(dds::ToPose(pose.pose));
   m.pose().covariance(dds::ToCovariance6(pose.covariance));
   pose_writer_->Write(m);
+}
+
+void DdsBridge::PublishMap(const OccupancyGrid& grid, double now) {
+  nav_msgs::msg::dds_::OccupancyGrid_ m;
+  m.header(dds::MakeHeader(now, "map"));
+  m.info().map_load_time(dds::ToTime(now));
+  m.info().resolution(static_cast<float>(grid.resolution()));
+  m.info().width(grid.width());
+  m.info().height(grid.height());
+  m.info().origin(dds::ToPose(Pose2{grid.origin().x(), grid.origin().y(), 0.0}));
+  m.data().assign(reinterpret_cast<const char*>(grid.cells().data()),
+                  reinterpret_cast<const char*>(grid.cells().data()) + grid.cells().size());
+  map_writer_->Write(m);
 }
 
 void DdsBridge::StopRobot() {

@@ -52,6 +52,8 @@ class DdsBridge {
                      const std::string& localizer, double now);
   // The pose estimate on rt/<ns>/pose, as AMCL publishes amcl_pose (x, y, yaw covariance in ROS order).
   void PublishPose(const localization::PoseEstimate& pose, double now);
+  // A map on rt/<ns>/map in nav_msgs/OccupancyGrid layout (ROS 2 viewers show it), map frame.
+  void PublishMap(const OccupancyGrid& grid, double now);
 
  private:
   dds::Participant participant_;
@@ -74,6 +76,7 @@ class DdsBridge {
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_writer_;
+  std::unique_ptr<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>> map_writer_;
 };
 
 }  // namespace navd::server

@@ -49,6 +49,7 @@ int Slam(const navd::CarmenLog& log, const std::string& out, const std::string& 
     const CarmenScan& s = log.scans[k];
     const Pose2 odom = odometry.Next(s.pose);
     mapping::RangeScan scan{s.ranges, s.angle_min, s.angle_increment, s.timestamp};
+    if (s.range_max > 0) scan.range_max = s.range_max;
     const auto t0 = std::chrono::steady_clock::now();
     slam.AddScan(odom, scan);
     busy += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -23,7 +23,7 @@ std::vector<Point2> GraphSlam::Returns(const RangeScan& scan) const {
   points.reserve(scan.ranges.size());
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i];
-    if (!std::isfinite(r) || r < 0.05 || r >= o_.usable_range) continue;
+    if (!std::isfinite(r) || r < 0.05 || r >= o_.usable_range || r >= scan.range_max) continue;
     const double a = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
     points.emplace_back(r * std::cos(a), r * std::sin(a));
   }
@@ -143,9 +143,14 @@ OccupancyGrid GraphSlam::RenderMap(const MapperOptions& options) const {
   }
   const double reach = std::min(options.usable_range, o_.usable_range) + 1.0;
   OccupancyGridMapper mapper(lo - Point2(reach, reach), hi + Point2(reach, reach), options);
-  for (int n = 0; n < nodes(); ++n)
-    mapper.AddScan(graph_.nodes()[n], node_scans_[n].ranges, node_scans_[n].angle_min, node_scans_[n].angle_increment);
+  RenderInto(mapper);
   return mapper.ToGrid();
+}
+
+void GraphSlam::RenderInto(OccupancyGridMapper& mapper) const {
+  for (int n = 0; n < nodes(); ++n)
+    mapper.AddScan(graph_.nodes()[n], node_scans_[n].ranges, node_scans_[n].angle_min, node_scans_[n].angle_increment,
+                   node_scans_[n].range_max);
 }
 
 }  // namespace navd::mapping

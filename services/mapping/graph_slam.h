@@ -10,6 +10,7 @@
 //    enough of the scan becomes a robust (Cauchy) edge and the graph is optimised;
 //  - the map re-renders from the optimised poses (OccupancyGridMapper).
 // Map frame: the first scan sits at options.first_pose (the origin by default); metres, radians.
+#include <limits>
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
@@ -25,6 +26,7 @@ struct RangeScan {
   std::vector<float> ranges;
   double angle_min = 0.0, angle_increment = 0.0;
   double stamp = 0.0;
+  double range_max = std::numeric_limits<double>::infinity();  // readings here or beyond: no return
 };
 
 struct GraphSlamOptions {
@@ -82,6 +84,11 @@ class GraphSlam {
   int nodes() const { return static_cast<int>(graph_.nodes().size()); }
   // The occupancy grid of every node's scan at its optimised pose.
   OccupancyGrid RenderMap(const MapperOptions& options) const;
+  // The same into a mapper of the caller's extent.
+  void RenderInto(OccupancyGridMapper& mapper) const;
+  // The latest node's pose and scan (for incremental maps), or nullptr before the first scan.
+  const RangeScan* last_node_scan() const { return node_scans_.empty() ? nullptr : &node_scans_.back(); }
+  Pose2 last_node_pose() const { return graph_.nodes().empty() ? Pose2{} : graph_.nodes().back(); }
 
  private:
   std::vector<Point2> Returns(const RangeScan& scan) const;  // robot frame, no-returns dropped

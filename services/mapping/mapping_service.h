@@ -1,20 +1,39 @@
 #pragma once
-// gRPC adapter of navd.v1.MappingService over the MapStore.
+// gRPC adapter of navd.v1.MappingService: the served map (MapStore) and the mapping runs
+// (MapBuilder).
+#include <functional>
+#include <optional>
+
 #include "navd/v1/mapping.grpc.pb.h"
 #include "services/common/map_store.h"
+#include "services/mapping/map_builder.h"
 
 namespace navd::mapping {
 
 class MappingService final : public v1::MappingService::Service {
  public:
-  explicit MappingService(MapStore& maps) : maps_(maps) {}
+  // `robot_pose`: the localiser's current estimate (map frame), where a mapping run starts.
+  MappingService(MapStore& maps, MapBuilder& builder, std::function<std::optional<Pose2>()> robot_pose)
+      : maps_(maps), builder_(builder), robot_pose_(std::move(robot_pose)) {}
   grpc::Status GetMap(grpc::ServerContext* context, const v1::GetMapRequest* request,
-                      v1::GetMapResponse* response) override;
+                      grpc::ServerWriter<v1::GetMapResponse>* writer) override;
   grpc::Status LoadMap(grpc::ServerContext* context, const v1::LoadMapRequest* request,
                        v1::LoadMapResponse* response) override;
+  grpc::Status SaveMap(grpc::ServerContext* context, const v1::SaveMapRequest* request,
+                       v1::SaveMapResponse* response) override;
+  grpc::Status StartMapping(grpc::ServerContext* context, const v1::StartMappingRequest* request,
+                            v1::MappingStatus* response) override;
+  grpc::Status StopMapping(grpc::ServerContext* context, const v1::StopMappingRequest* request,
+                           v1::MappingStatus* response) override;
+  grpc::Status GetMappingStatus(grpc::ServerContext* context, const v1::GetMappingStatusRequest* request,
+                                v1::MappingStatus* response) override;
+  grpc::Status StreamMapUpdates(grpc::ServerContext* context, const v1::StreamMapUpdatesRequest* request,
+                                grpc::ServerWriter<v1::MapUpdate>* writer) override;
 
  private:
   MapStore& maps_;
+  MapBuilder& builder_;
+  std::function<std::optional<Pose2>()> robot_pose_;
 };
 
 }  // namespace navd::mapping

@@ -31,11 +31,12 @@ void OccupancyGridMapper::Update(size_t k, double log_odds, int himm) {
 }
 
 void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& ranges, double angle_min,
-                                  double increment) {
+                                  double increment, double range_max) {
+  const double no_return = std::min(o_.max_range, range_max);
   for (size_t i = 0; i < ranges.size(); ++i) {
     const double r = ranges[i];
     if (!std::isfinite(r) || r <= 0.0) continue;
-    const bool hit = r < o_.max_range && r <= o_.usable_range;
+    const bool hit = r < no_return && r <= o_.usable_range;
     const double length = std::min(r, o_.usable_range);
     const double a = pose.theta + angle_min + i * increment;
     const Point2 from = pose.translation();

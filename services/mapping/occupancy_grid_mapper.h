@@ -11,6 +11,7 @@
 // (robot-centred, e.g. one sensor sweep) fuses into the global one by seed 002's interpolation:
 // each global cell takes the local occupancy at its position, interpolated from the four nearest
 // local cells, through the Bayes update. Map frame, metres, radians.
+#include <limits>
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
@@ -34,8 +35,10 @@ class OccupancyGridMapper {
  public:
   // `min`/`max`: the map-frame extent to cover (e.g. the poses' bounding box plus the range).
   OccupancyGridMapper(const Point2& min, const Point2& max, const MapperOptions& options = {});
-  // Integrates a scan taken from `laser_pose`; beam i at angle_min + i * increment.
-  void AddScan(const Pose2& laser_pose, const std::vector<float>& ranges, double angle_min, double increment);
+  // Integrates a scan taken from `laser_pose`; beam i at angle_min + i * increment. Readings at or
+  // beyond `range_max` (the scanner's own, when it reports one) are no-returns: they only clear.
+  void AddScan(const Pose2& laser_pose, const std::vector<float>& ranges, double angle_min, double increment,
+               double range_max = std::numeric_limits<double>::infinity());
   // Integrates one sonar reading from `sensor_pose` (axis along its heading) with a cone of
   // `half_angle` radians; ranges >= max_range are no-returns (clear only).
   void AddSonar(const Pose2& sensor_pose, double range, double half_angle, double max_range);

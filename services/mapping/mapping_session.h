@@ -1,0 +1,95 @@
+#pragma once
+// A mapping run inside navd: scans (with the odometry and the localiser's pose at the time) are
+// handed over without blocking the caller, a worker thread builds the map, and readers take
+// snapshots. Two modes: SLAM (GraphSlam from odometry and scans; the map re-renders from the
+// optimised poses after loop closures) and known poses (the localiser's pose, each scan straight
+// into the grid). The map is a square of `size` metres centred on the robot's pose at the start,
+// in navd's map frame; it tracks which cells changed so clients can fetch changed regions only.
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "services/mapping/graph_slam.h"
+#include "services/mapping/occupancy_grid_mapper.h"
+
+namespace navd::mapping {
+
+enum class MappingMode { kSlam, kKnownPoses };
+
+struct MappingSessionOptions {
+  MappingMode mode = MappingMode::kSlam;
+  double resolution = 0.05;       // m
+  double size = 60.0;             // m, the side of the square mapped
+  double rerender_period = 2.0;   // s of wall time between re-renders after loop closures
+  GraphSlamOptions slam;
+  MapperOptions mapper;
+};
+
+// A changed region: cells [min, max] (inclusive) of the session's grid.
+struct MapRegion {
+  CellIndex min, max;
+};
+
+struct MappingStatus {
+  bool active = false;
+  MappingMode mode = MappingMode::kSlam;
+  uint64_t scans = 0;          // scans integrated (the worker drops scans it cannot keep up with)
+  uint64_t dropped = 0;
+  int nodes = 0, loop_closures = 0;
+  Pose2 pose;                  // the robot's latest mapped pose, map frame
+  uint64_t version = 0;        // increments with every change of the map
+};
+
+class MappingSession {
+ public:
+  // Throws navd::Error(kInvalidArgument) for a bad resolution or size (refused before allocating).
+  MappingSession(const MappingSessionOptions& options, const Pose2& start);
+  ~MappingSession();
+  MappingSession(const MappingSession&) = delete;
+  MappingSession& operator=(const MappingSession&) = delete;
+
+  // Hands a scan to the worker; a scan still waiting is replaced (the newest wins).
+  void Submit(const Pose2& odometry, const Pose2& localised, const RangeScan& scan);
+  // Stops taking scans; the worker finishes the one in hand. The map stays readable.
+  void Finish();
+
+  MappingStatus status() const;
+  // The map as it stands (occupancy 0..100, -1 unknown).
+  std::shared_ptr<const OccupancyGrid> Map() const;
+  // The region changed since `version`, or nullopt when nothing changed; the whole map when the
+  // changes are too old to tell apart.
+  std::optional<MapRegion> ChangedSince(uint64_t version) const;
+
+ private:
+  struct Item {
+    Pose2 odometry, localised;
+    RangeScan scan;
+  };
+  void Work();
+  void Integrate(const Item& item);
+  void MarkChanged(const MapRegion& region);
+
+  MappingSessionOptions o_;
+  OccupancyGrid geometry_;                       // the grid's size, origin and resolution (fixed)
+  std::unique_ptr<OccupancyGridMapper> mapper_;  // replaced by the worker (under mapper_mutex_)
+  std::unique_ptr<GraphSlam> slam_;              // worker only
+  int rendered_closures_ = 0;
+  double last_render_ = -1e9;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::optional<Item> waiting_;
+  bool finishing_ = false;
+  MappingStatus status_;
+  mutable std::shared_ptr<const OccupancyGrid> snapshot_;  // rebuilt on demand when stale
+  mutable uint64_t snapshot_version_ = 0;
+  std::deque<std::pair<uint64_t, MapRegion>> changes_;   // recent changes, oldest first
+  mutable std::mutex mapper_mutex_;                      // the worker writes, Map() reads
+  std::thread worker_;
+};
+
+}  // namespace navd::mapping
