@@ -110,7 +110,7 @@ TEST_F(BadInput, MovingBodiesReachTheKinodynamicPlannerAndBadOnesAreNamed) {
   person.mutable_velocity();
   person.set_radius(0.25);
   person.set_person(true);
-  const auto plan = client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {{"time_limit", 2.0}}, {person});
+  const auto plan = client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {{"time_limit", 10.0}, {"algorithm", 2}}, {person});
   EXPECT_EQ(plan.planner(), "kinodynamic");
   ASSERT_GT(plan.path_size(), 10);
   EXPECT_EQ(plan.speed_limits_size(), plan.path_size());
