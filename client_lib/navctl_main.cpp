@@ -206,6 +206,25 @@ int main(int argc, char** argv) {
   auto* load_map = app.add_subcommand("load-map", "Load a map file the server can read");
   std::string map_path;
   load_map->add_option("path", map_path, "map_server YAML or world YAML")->required();
+  auto* save_map = app.add_subcommand("save-map", "Save the served map (or the one being built) on the server");
+  std::string save_path, save_format = "yaml";
+  bool save_built = false;
+  save_map->add_option("path", save_path, "Output path: map_server YAML (the PGM goes beside it) or PNG")->required();
+  save_map->add_option("--format", save_format, "yaml (map_server YAML + PGM) or png")
+      ->check(CLI::IsMember({"yaml", "png"}));
+  save_map->add_flag("--built", save_built, "Save the map of the current (or last) mapping run");
+  auto* mapping_cmd = app.add_subcommand("mapping", "Build a map from the robot's scans: start, stop, status");
+  std::string mapping_action, mapping_mode = "slam";
+  double mapping_resolution = 0.0, mapping_size = 0.0;
+  bool mapping_serve = false;
+  mapping_cmd->add_option("action", mapping_action, "start, stop or status")->required()->check(
+      CLI::IsMember({"start", "stop", "status"}));
+  mapping_cmd->add_option("--mode", mapping_mode, "start: slam (odometry + scan matching + loop closure) or known_poses")
+      ->check(CLI::IsMember({"slam", "known_poses"}));
+  mapping_cmd->add_option("--resolution", mapping_resolution, "start: metres per cell (default 0.05)");
+  mapping_cmd->add_option("--size", mapping_size, "start: metres, side of the square mapped around the robot (default 60)");
+  mapping_cmd->add_flag("--serve", mapping_serve, "stop: make the built map the one navd plans and localises on");
+  mapping_cmd->add_flag("--json", json_out, "Print one JSON object");
 
   auto* truth = app.add_subcommand("truth", "Print the simulator's ground truth (DDS)");
   int domain = 0;
@@ -456,6 +475,44 @@ int main(int argc, char** argv) {
       } else {
         std::printf("map '%s': %ux%u cells at %.3f m, origin (%.2f, %.2f), version %lu\n", m.name().c_str(), m.width(),
                     m.height(), m.resolution(), m.origin().x(), m.origin().y(), static_cast<unsigned long>(m.version()));
+      }
+      return 0;
+    }
+    if (save_map->parsed()) {
+      const auto r = client.SaveMap(std::filesystem::absolute(save_path).string(),
+                                    save_format == "png" ? navd::v1::MAP_FORMAT_PNG : navd::v1::MAP_FORMAT_MAP_SERVER,
+                                    save_built ? navd::v1::MAP_SOURCE_MAPPING : navd::v1::MAP_SOURCE_SERVED);
+      for (const auto& f : r.files()) std::printf("wrote %s\n", f.c_str());
+      return 0;
+    }
+    if (mapping_cmd->parsed()) {
+      navd::v1::MappingStatus st;
+      if (mapping_action == "start") {
+        st = client.StartMapping(mapping_mode == "slam" ? navd::v1::MAPPING_MODE_SLAM : navd::v1::MAPPING_MODE_KNOWN_POSES,
+                                 mapping_resolution, mapping_size);
+      } else if (mapping_action == "stop") {
+        st = client.StopMapping(mapping_serve);
+      } else {
+        st = client.GetMappingStatus();
+      }
+      if (json_out) {
+        std::printf("%s\n", json{{"exists", st.exists()}, {"active", st.active()},
+                                  {"mode", st.mode() == navd::v1::MAPPING_MODE_SLAM ? "slam" : "known_poses"},
+                                  {"scans", st.scans()}, {"dropped_scans", st.dropped_scans()}, {"nodes", st.nodes()},
+                                  {"loop_closures", st.loop_closures()}, {"pose", PoseJson(st.pose())},
+                                  {"width", st.info().width()}, {"height", st.info().height()},
+                                  {"resolution", st.info().resolution()}, {"version", st.version()}}
+                                 .dump()
+                                 .c_str());
+      } else if (!st.exists()) {
+        std::printf("no mapping run yet\n");
+      } else {
+        std::printf("mapping %s (%s): %lu scans (%lu dropped), %u nodes, %u loop closures, %ux%u cells at %.3f m, "
+                    "pose (%.2f, %.2f, %.2f)\n",
+                    st.active() ? "active" : "stopped", st.mode() == navd::v1::MAPPING_MODE_SLAM ? "slam" : "known poses",
+                    static_cast<unsigned long>(st.scans()), static_cast<unsigned long>(st.dropped_scans()), st.nodes(),
+                    st.loop_closures(), st.info().width(), st.info().height(), st.info().resolution(), st.pose().x(),
+                    st.pose().y(), st.pose().theta());
       }
       return 0;
     }

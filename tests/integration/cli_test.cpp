@@ -69,10 +69,28 @@ TEST(Navctl, HealthPlanPoseNavigateAgainstRealDaemons) {
   EXPECT_NEAR(p["pose"]["x"].get<double>(), 0.8, 0.05);
   EXPECT_EQ(p["covariance"].size(), 9u);
 
+  // Mapping while the robot drives: start, status, stop, save the built map.
+  auto start = RunCommand({NavctlBinary(), "--server", server, "mapping", "start", "--mode", "known_poses", "--size", "12"});
+  EXPECT_EQ(start.exit_code, 0) << start.output;
+  EXPECT_NE(start.output.find("mapping active"), std::string::npos) << start.output;
+
   auto nav = RunCommand({NavctlBinary(), "--server", server, "navigate", "--to", "0.8,2.5,1.57", "--timeout", "60"},
                         90.0);
   EXPECT_EQ(nav.exit_code, 0) << nav.output << stack.Logs();
   EXPECT_NE(nav.output.find("succeeded"), std::string::npos) << nav.output;
+  auto mapping = RunCommand({NavctlBinary(), "--server", server, "mapping", "stop", "--json"});
+  ASSERT_EQ(mapping.exit_code, 0) << mapping.output;
+  const auto m = nlohmann::json::parse(mapping.output);
+  EXPECT_FALSE(m["active"].get<bool>());
+  EXPECT_GT(m["scans"].get<int>(), 5);
+  EXPECT_EQ(m["width"].get<int>(), 240);
+  const std::string saved = stack.dir() + "/mapped.yaml";
+  auto save = RunCommand({NavctlBinary(), "--server", server, "save-map", saved, "--built"});
+  EXPECT_EQ(save.exit_code, 0) << save.output;
+  EXPECT_TRUE(std::filesystem::exists(stack.dir() + "/mapped.pgm")) << save.output;
+  auto stop_again = RunCommand({NavctlBinary(), "--server", server, "mapping", "stop"});
+  EXPECT_NE(stop_again.exit_code, 0);
+  EXPECT_EQ(Lines(stop_again.output), 1) << stop_again.output;
 
   auto truth = RunCommand({NavctlBinary(), "truth", "--domain", std::to_string(stack.domain()), "--json"});
   ASSERT_EQ(truth.exit_code, 0) << truth.output;
