@@ -38,7 +38,7 @@ MappingSession::MappingSession(const MappingSessionOptions& options, const Pose2
   status_.active = true;
   status_.mode = o_.mode;
   status_.pose = start;
-  worker_ = std::thread([this] { Work(); });
+  if (!o_.synchronous) worker_ = std::thread([this] { Work(); });
 }
 
 MappingSession::~MappingSession() {
@@ -47,6 +47,10 @@ MappingSession::~MappingSession() {
 }
 
 void MappingSession::Submit(const Pose2& odometry, const Pose2& localised, const RangeScan& scan) {
+  if (o_.synchronous) {
+    if (status().active) Integrate({odometry, localised, scan});
+    return;
+  }
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (finishing_) return;

@@ -25,6 +25,9 @@ struct MappingSessionOptions {
   double resolution = 0.05;       // m
   double size = 60.0;             // m, the side of the square mapped
   double rerender_period = 2.0;   // s of wall time between re-renders after loop closures
+  // Submit integrates in the caller's thread and nothing is dropped (offline tools, simulations
+  // in one process); otherwise a worker thread does, newest scan first.
+  bool synchronous = false;
   GraphSlamOptions slam;
   MapperOptions mapper;
 };

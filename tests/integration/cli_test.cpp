@@ -203,6 +203,33 @@ TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
   EXPECT_TRUE(std::filesystem::exists(dir + "/map.pgm"));
 }
 
+// Exploration of the warehouse from an empty map (simulator, SLAM, exploration goals and path
+// following in one process): each method maps at least 95% of the reachable free space, without
+// a collision, and stops by itself when no reachable frontier is left.
+class NavdExplore : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(NavdExplore, MapsTheWarehouseFromNothing) {
+  const auto r = RunCommand({NavdExploreBinary(), "--method", GetParam(), "--max-time", "900"}, 240.0);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  double mapped = -1, simulated = -1, driven = -1;
+  int collisions = -1;
+  const size_t at = r.output.find("complete, ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + at, "complete, %lf%%", &mapped), 1) << r.output;
+  const size_t sim = r.output.find(" s simulated, ", at);
+  ASSERT_NE(sim, std::string::npos);
+  ASSERT_EQ(std::sscanf(r.output.c_str() + r.output.rfind(", ", sim) + 2, "%lf s simulated, %lf m driven", &simulated, &driven), 2);
+  const size_t col = r.output.find(" collisions", at);
+  ASSERT_NE(col, std::string::npos);
+  ASSERT_EQ(std::sscanf(r.output.c_str() + r.output.rfind(", ", col) + 2, "%d collisions", &collisions), 1);
+  std::printf("explore (%s): %.1f%% mapped, %.1f s simulated, %.1f m driven, %d collisions\n", GetParam().c_str(), mapped,
+              simulated, driven, collisions);
+  EXPECT_GE(mapped, 95.0);
+  EXPECT_EQ(collisions, 0);
+}
+INSTANTIATE_TEST_SUITE_P(Methods, NavdExplore, ::testing::Values("greedy", "frontier", "vfm"),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
 // Online: navctl replay plays the Intel log over DDS like a robot (log-time clock, corrupted
 // odometry, scans) while a real navd localises on the map built from the log, and judges navd's
 // published poses (between scans too) against the corrected poses. The first 200 scans (11

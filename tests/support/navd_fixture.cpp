@@ -14,6 +14,7 @@ std::string NavdBinary() { return NAVD_BINARY; }
 std::string NavsimBinary() { return NAVSIM_BINARY; }
 std::string NavctlBinary() { return NAVCTL_BINARY; }
 std::string NavdReplayBinary() { return NAVD_REPLAY_BINARY; }
+std::string NavdExploreBinary() { return NAVD_EXPLORE_BINARY; }
 std::string SourceDir() { return NAVD_SOURCE_DIR; }
 
 ::testing::AssertionResult RobotStandsStill(const Telemetry& telemetry, double gap) {

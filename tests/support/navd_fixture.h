@@ -56,6 +56,7 @@ std::string NavdBinary();
 std::string NavsimBinary();
 std::string NavctlBinary();
 std::string NavdReplayBinary();
+std::string NavdExploreBinary();
 std::string SourceDir();
 
 }  // namespace navd::testing
