@@ -67,7 +67,6 @@ void ControlLoop::StaleTick(double now) {
 void ControlLoop::Tick(uint64_t tick, double now) {
   if (auto odom = bridge_.LatestOdometry()) {
     localizer_.AddOdometry(*odom);
-    odometry_history_.Add(*odom);
     if (localizer_.odometry_jumps() != odometry_jumps_seen_) {
       odometry_jumps_seen_ = localizer_.odometry_jumps();
       spdlog::warn("odometry jumped to ({:.2f}, {:.2f}, {:.2f}) at t={:.2f}s: taken as no motion (jump {})", odom->pose.x,
@@ -78,15 +77,16 @@ void ControlLoop::Tick(uint64_t tick, double now) {
     scans_seen_ = bridge_.scan_count();
     const auto scan = bridge_.LatestScan();
     if (scan && executive_.localization_active()) localizer_.AddScan(*scan);
-    if (scan && map_builder_.active() && !odometry_history_.empty()) {
+    const auto odom_at_scan = scan ? bridge_.OdometryAt(scan->stamp) : std::nullopt;
+    if (scan && map_builder_.active() && odom_at_scan) {
       // A mapping run takes the scan with the odometry of its own stamp (a robot turning at 1 rad/s
-      // turns 0.05 rad in one control period), and the localiser's pose carried to that stamp.
-      const Pose2 odom_at_scan = odometry_history_.At(scan->stamp);
+      // turns 0.05 rad in one control period, and under load ticks fall further apart), and the
+      // localiser's pose carried to that stamp.
       const localization::PoseEstimate estimate = localizer_.Estimate();
-      const Pose2 localised = estimate.pose * (odometry_history_.At(estimate.stamp).inverse() * odom_at_scan);
+      const Pose2 localised = estimate.pose * (bridge_.OdometryAt(estimate.stamp)->inverse() * *odom_at_scan);
       mapping::RangeScan r{scan->ranges, scan->angle_min, scan->angle_increment, scan->stamp};
       if (scan->range_max > 0.0) r.range_max = scan->range_max;
-      map_builder_.Submit(odom_at_scan, localised, r);
+      map_builder_.Submit(*odom_at_scan, localised, r);
     }
   }
   if (now >= next_map_publication_) {

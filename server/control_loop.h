@@ -8,7 +8,6 @@
 #include "server/dds_bridge.h"
 #include "services/common/map_store.h"
 #include "services/localization/localizer_selector.h"
-#include "services/localization/odometry_history.h"
 #include "services/mapping/map_builder.h"
 #include "services/navigation/navigation_executive.h"
 
@@ -48,7 +47,6 @@ class ControlLoop {
   const MapStore& maps_;
   mapping::MapBuilder& map_builder_;
   double next_map_publication_ = 0.0;
-  localization::OdometryHistory odometry_history_{128};  // the odometry at a scan's own stamp, for mapping
   std::atomic<bool> stop_{false};
   std::thread thread_;
   int zero_commands_left_ = 0;

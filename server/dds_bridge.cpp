@@ -22,6 +22,7 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
           const auto reading = wheel_odometry_->AddWheelAngles(m.position(), dds::FromTime(m.header().stamp()));
           if (!reading) return;  // wrong wheel count or non-finite angles: never integrated
           wheel_reading_ = reading;
+          Remember(*reading);
           ++wheel_count_;
           last_odom_arrival_ = arrival_clock_.Now();
         },
@@ -35,7 +36,11 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
   if (!encoders) {
     odom_reader_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>>(
         participant_, dds::TopicName(ns, dds::kOdom), Reliability::kBestEffort,
-        [this](const nav_msgs::msg::dds_::Odometry_&) { last_odom_arrival_ = arrival_clock_.Now(); }, 5);
+        [this](const nav_msgs::msg::dds_::Odometry_& m) {
+          last_odom_arrival_ = arrival_clock_.Now();
+          Remember({dds::FromPose(m.pose().pose()), Eigen::Matrix3d::Zero(), dds::FromTime(m.header().stamp())});
+        },
+        5);
   }
   bumper_reader_ = std::make_unique<dds::Reader<navsim_msgs::msg::dds_::BumperState_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kBumper), Reliability::kBestEffort,
@@ -90,6 +95,17 @@ std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
   s.range_max = m->range_max();
   s.stamp = dds::FromTime(m->header().stamp());
   return s;
+}
+
+void DdsBridge::Remember(const localization::OdometryReading& reading) {
+  std::lock_guard<std::mutex> lock(history_mutex_);
+  history_.Add(reading);
+}
+
+std::optional<Pose2> DdsBridge::OdometryAt(double stamp) const {
+  std::lock_guard<std::mutex> lock(history_mutex_);
+  if (history_.empty()) return std::nullopt;
+  return history_.At(stamp);
 }
 
 bool DdsBridge::Contact(double within) const { return arrival_clock_.Now() - last_contact_.load() <= within; }

@@ -17,6 +17,7 @@
 #include "services/common/clock.h"
 #include "services/common/diff_drive.h"
 #include "services/localization/localizer.h"
+#include "services/localization/odometry_history.h"
 #include "services/localization/wheel_odometry.h"
 #include "services/navigation/navigator.h"
 
@@ -34,6 +35,10 @@ class DdsBridge {
   std::optional<localization::OdometryReading> LatestOdometry() const;
   double last_odometry_arrival() const { return last_odom_arrival_.load(); }
   uint64_t odometry_count() const { return wheel_odometry_ ? wheel_count_.load() : odom_reader_->count(); }
+  // The odometry pose at `stamp`, interpolated from every reading that arrived (not only those
+  // the control loop saw: under load its ticks fall far apart in simulated time); nullopt before
+  // the first reading.
+  std::optional<Pose2> OdometryAt(double stamp) const;
 
   // The newest scan and how many have arrived (to tell a new one from the last).
   std::optional<localization::ScanReading> LatestScan() const;
@@ -65,6 +70,9 @@ class DdsBridge {
   std::unique_ptr<localization::WheelOdometry> wheel_odometry_;
   mutable std::mutex wheel_mutex_;
   std::optional<localization::OdometryReading> wheel_reading_;
+  void Remember(const localization::OdometryReading& reading);
+  mutable std::mutex history_mutex_;
+  localization::OdometryHistory history_{256};
   std::atomic<uint64_t> wheel_count_{0};
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_reader_;
   std::string scan_topic_;
