@@ -17,7 +17,8 @@ struct ControlLoopOptions {
   double rate = 20.0;            // Hz
   double sensor_timeout = 0.3;   // s
   double wheel_base = 0.33;      // m, to turn wheel speeds into a twist
-  double map_period = 2.0;       // s between rt/map messages (the map being built, else the served map)
+  double map_period = 2.0;       // s between rt/map messages of the map being built
+  double served_map_period = 30.0;  // s between repeats of the served map (also sent when it changes)
 };
 
 class ControlLoop {
@@ -47,6 +48,8 @@ class ControlLoop {
   const MapStore& maps_;
   mapping::MapBuilder& map_builder_;
   double next_map_publication_ = 0.0;
+  double next_served_map_publication_ = 0.0;
+  uint64_t served_map_version_ = 0;
   std::atomic<bool> stop_{false};
   std::thread thread_;
   int zero_commands_left_ = 0;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "services/common/map_server_format.h"
 #include "tests/support/navd_fixture.h"
 
 namespace navd::testing {
@@ -80,6 +81,28 @@ TEST(BadInputWithoutARobot, PoseBeforeAnySensorDataIsAFailedPrecondition) {
     EXPECT_EQ(e.code(), grpc::StatusCode::FAILED_PRECONDITION) << e.what();
     EXPECT_NE(std::string(e.what()).find("odometry"), std::string::npos) << e.what();
   }
+}
+
+// A 4000 x 4000 map (16 MB, four times gRPC's default message limit) loads and comes back whole
+// through GetMap's row chunks.
+TEST(LargeMaps, FourThousandSquareMapTravelsInChunks) {
+  StackOptions o;
+  o.start_sim = false;
+  NavdStack stack(o);
+  OccupancyGrid big(4000, 4000, 0.05, Point2::Zero());
+  big.FillBox({10.0, 20.0}, {190.0, 20.5});  // a long wall
+  big.set({3999, 3999}, OccupancyGrid::kOccupied);
+  const std::string path = stack.dir() + "/big.yaml";
+  SaveMapServerMap(big, path);
+  const v1::MapInfo loaded = stack.client().LoadMap(path);
+  EXPECT_EQ(loaded.width(), 4000u);
+  const v1::GetMapResponse map = stack.client().GetMap();
+  ASSERT_EQ(map.info().width(), 4000u);
+  ASSERT_EQ(map.info().height(), 4000u);
+  ASSERT_EQ(map.cells().size(), 4000u * 4000u);
+  EXPECT_EQ(static_cast<int8_t>(map.cells()[static_cast<size_t>(3999) * 4000 + 3999]), 100);
+  EXPECT_EQ(static_cast<int8_t>(map.cells()[static_cast<size_t>(405) * 4000 + 1000]), 100);  // on the wall
+  EXPECT_EQ(static_cast<int8_t>(map.cells()[0]), 0);
 }
 
 TEST_F(BadInput, WaypointInsideAnObstacleIsNamed) {
