@@ -14,8 +14,8 @@ constexpr int kZeroCommandsAfterGoal = 5;
 
 ControlLoop::ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
                          localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive,
-                         const MapStore& maps, mapping::MapBuilder& map_builder)
-    : options_(options), clock_(clock), bridge_(bridge), localizer_(localizer), executive_(executive), maps_(maps),
+                         mapping::MapBuilder& map_builder)
+    : options_(options), clock_(clock), bridge_(bridge), localizer_(localizer), executive_(executive),
       map_builder_(map_builder) {}
 
 ControlLoop::~ControlLoop() { Stop(); }
@@ -88,19 +88,6 @@ void ControlLoop::Tick(uint64_t tick, double now) {
       if (scan->range_max > 0.0) r.range_max = scan->range_max;
       map_builder_.Submit(*odom_at_scan, localised, r);
     }
-  }
-  const auto session = map_builder_.session();
-  if (session && session->status().active) {
-    if (now >= next_map_publication_) {
-      next_map_publication_ = now + options_.map_period;
-      bridge_.PublishMap(*session->Map(), now);
-    }
-  } else if (const auto served = maps_.Get();
-             served && (served->version != served_map_version_ || now >= next_served_map_publication_)) {
-    // The served map is large and rarely changes: when it does, and now and then for late joiners.
-    served_map_version_ = served->version;
-    next_served_map_publication_ = now + options_.served_map_period;
-    bridge_.PublishMap(served->grid, now);
   }
   // A laser that has spoken and then gone silent is stale too; a robot without one is not.
   const bool laser_fresh = !bridge_.scan_seen() || now - bridge_.last_scan_arrival() <= options_.sensor_timeout;

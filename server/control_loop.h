@@ -6,7 +6,6 @@
 #include <thread>
 
 #include "server/dds_bridge.h"
-#include "services/common/map_store.h"
 #include "services/localization/localizer_selector.h"
 #include "services/mapping/map_builder.h"
 #include "services/navigation/navigation_executive.h"
@@ -17,15 +16,13 @@ struct ControlLoopOptions {
   double rate = 20.0;            // Hz
   double sensor_timeout = 0.3;   // s
   double wheel_base = 0.33;      // m, to turn wheel speeds into a twist
-  double map_period = 2.0;       // s between rt/map messages of the map being built
-  double served_map_period = 30.0;  // s between repeats of the served map (also sent when it changes)
 };
 
 class ControlLoop {
  public:
   ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
               localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive,
-              const MapStore& maps, mapping::MapBuilder& map_builder);
+              mapping::MapBuilder& map_builder);
   ~ControlLoop();
   void Start();
   // Stops the loop and sends the robot a zero command.
@@ -45,11 +42,7 @@ class ControlLoop {
   int odometry_jumps_seen_ = 0;
   bool was_searching_ = false;  // the wake-up behaviour drove the robot last tick
   navigation::NavigationExecutive& executive_;
-  const MapStore& maps_;
   mapping::MapBuilder& map_builder_;
-  double next_map_publication_ = 0.0;
-  double next_served_map_publication_ = 0.0;
-  uint64_t served_map_version_ = 0;
   std::atomic<bool> stop_{false};
   std::thread thread_;
   int zero_commands_left_ = 0;

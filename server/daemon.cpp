@@ -9,6 +9,7 @@
 
 #include "server/control_loop.h"
 #include "server/dds_bridge.h"
+#include "server/map_publisher.h"
 #include "services/common/error.h"
 #include "services/common/map_store.h"
 #include "services/common/text_file.h"
@@ -106,8 +107,9 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr);
   mapping::MapBuilder map_builder;
-  ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive, maps,
+  ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
                    map_builder);
+  MapPublisher map_publisher(bridge, maps, map_builder, *clock);
 
   planning::PlanningService planning_service(planning);
   localization::LocalizationService localization_service(localizer, maps);
@@ -138,6 +140,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   const std::string host = o.listen.substr(0, o.listen.rfind(':'));
   if (!o.port_file.empty()) WriteFileAtomically(o.port_file, std::to_string(port) + "\n");
   loop.Start();
+  map_publisher.Start();
   spdlog::info("navd: listening on {}:{}, DDS domain {}, {} clock", host, port, o.dds.domain,
                o.use_sim_time ? "simulated (rt/clock)" : "system");
 
@@ -147,6 +150,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   spdlog::info("navd: shutting down");
   executive.Cancel();
   loop.Stop();  // also publishes a zero command
+  map_publisher.Stop();
   health->Shutdown();
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));
   spdlog::info("navd: stopped");
