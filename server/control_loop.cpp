@@ -93,7 +93,7 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   const bool laser_fresh = !bridge_.scan_seen() || now - bridge_.last_scan_arrival() <= options_.sensor_timeout;
   const bool fresh = laser_fresh && now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
   const bool was_active = executive_.navigator().Status().active || was_searching_;
-  const WheelSpeeds wheels = executive_.Step({fresh, bridge_.Contact(options_.sensor_timeout)}, now);
+  const WheelSpeeds wheels = executive_.Step({fresh, bridge_.Contact(options_.sensor_timeout), scans_seen_}, now);
   const navigation::NavigationStatus status = executive_.navigator().Status();
   was_searching_ = executive_.searching();
   if (status.active || was_searching_) {

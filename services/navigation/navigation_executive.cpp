@@ -130,24 +130,30 @@ void NavigationExecutive::PlanLeg(double now) {
   }
 }
 
-void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e, double now) {
+void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e, uint64_t scans, double now) {
   const double spread = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
+  const bool new_scan = scans != last_scans_;
+  last_scans_ = scans;
   if (lost_) {
     if (e.quality >= watch_.found_quality && spread <= watch_.max_spread) lost_ = false;
     poor_fit_since_ = -1.0;
+    poor_scans_ = 0;
     return;
   }
   if (e.quality < watch_.lost_quality) {
     if (poor_fit_since_ < 0.0) poor_fit_since_ = now;
-    if (now - poor_fit_since_ >= watch_.lost_after) lost_ = true;
+    if (new_scan) ++poor_scans_;
+    const bool enough_scans = scans == 0 || poor_scans_ >= watch_.lost_scans;
+    if (now - poor_fit_since_ >= watch_.lost_after && enough_scans) lost_ = true;
   } else {
     poor_fit_since_ = -1.0;
+    poor_scans_ = 0;
   }
 }
 
 WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   const localization::PoseEstimate estimate = localizer_.Estimate();
-  if (estimate.valid && in.sensors_fresh) WatchLocalization(estimate, now);
+  if (estimate.valid && in.sensors_fresh) WatchLocalization(estimate, in.scans, now);
 
   std::vector<double> z(brain_.options().state_variables.size(), 0.0);
   if (z_contact_ >= 0) z[z_contact_] = in.contact ? 1.0 : 0.0;
