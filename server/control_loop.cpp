@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <limits>
 
 namespace navd::server {
 
@@ -86,6 +87,9 @@ void ControlLoop::Tick(uint64_t tick, double now) {
       const Pose2 localised = estimate.pose * (bridge_.OdometryAt(estimate.stamp)->inverse() * *odom_at_scan);
       mapping::RangeScan r{scan->ranges, scan->angle_min, scan->angle_increment, scan->stamp};
       if (scan->range_max > 0.0) r.range_max = scan->range_max;
+      // Readings under the scanner's minimum (self-hits, glare) mark nothing.
+      for (float& range : r.ranges)
+        if (range < scan->range_min) range = std::numeric_limits<float>::infinity();
       map_builder_.Submit(*odom_at_scan, localised, r);
     }
   }

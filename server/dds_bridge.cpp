@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cmath>
+
 #include "dds/conversions.h"
 #include "dds/topics.h"
 #include "services/localization/scan_points.h"
@@ -98,6 +100,7 @@ std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
 }
 
 void DdsBridge::Remember(const localization::OdometryReading& reading) {
+  if (!reading.pose.finite() || !std::isfinite(reading.stamp)) return;  // never interpolated from
   std::lock_guard<std::mutex> lock(history_mutex_);
   history_.Add(reading);
 }

@@ -33,7 +33,8 @@ SourceMap Resolve(v1::MapSource source, const MapStore& maps, const MapBuilder& 
   if (source == v1::MAP_SOURCE_MAPPING) {
     const auto session = builder.session();
     if (!session) throw Error(ErrorCode::kFailedPrecondition, "source: no mapping run has started");
-    return {session->Map(), "mapping", session->status().version};
+    const uint64_t version = session->status().version;  // read first: the map is at least this new
+    return {session->Map(), "mapping", version};
   }
   const auto snapshot = maps.Get();
   if (!snapshot) throw Error(ErrorCode::kFailedPrecondition, "no map is loaded");
@@ -150,9 +151,9 @@ grpc::Status MappingService::StreamMapUpdates(grpc::ServerContext* context, cons
     uint64_t sent = 0;
     while (!context->IsCancelled()) {
       const bool active = session->status().active;
-      if (const auto region = session->ChangedSince(sent)) {
-        const uint64_t version = session->status().version;
-        const auto grid = session->Map();
+      uint64_t version = sent;
+      if (const auto region = session->ChangedSince(sent, &version)) {
+        const auto grid = session->Map();  // at least as new as `version`
         v1::MapUpdate update;
         FillInfo(*grid, "mapping", version, update.mutable_info());
         const int w = region->max.x - region->min.x + 1, h = region->max.y - region->min.y + 1;

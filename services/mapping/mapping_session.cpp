@@ -41,14 +41,17 @@ MappingSession::MappingSession(const MappingSessionOptions& options, const Pose2
   if (!o_.synchronous) worker_ = std::thread([this] { Work(); });
 }
 
-MappingSession::~MappingSession() {
-  Finish();
-  if (worker_.joinable()) worker_.join();
-}
+MappingSession::~MappingSession() { Finish(); }
 
 void MappingSession::Submit(const Pose2& odometry, const Pose2& localised, const RangeScan& scan) {
   if (o_.synchronous) {
-    if (status().active) Integrate({odometry, localised, scan});
+    if (!status().active) return;
+    try {
+      Integrate({odometry, localised, scan});
+    } catch (const std::exception&) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++status_.dropped;
+    }
     return;
   }
   {
@@ -61,12 +64,20 @@ void MappingSession::Submit(const Pose2& odometry, const Pose2& localised, const
 }
 
 void MappingSession::Finish() {
+  std::lock_guard<std::mutex> finishing(finish_mutex_);
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (finishing_) return;
     finishing_ = true;
     status_.active = false;
   }
   wake_.notify_one();
+  if (worker_.joinable()) worker_.join();
+  if (slam_ && slam_->loop_closures() != rendered_closures_) {
+    Render();
+    std::lock_guard<std::mutex> lock(mutex_);
+    MarkChanged({{0, 0}, {geometry_.width() - 1, geometry_.height() - 1}});
+  }
 }
 
 void MappingSession::Work() {
@@ -79,20 +90,37 @@ void MappingSession::Work() {
       item = std::move(*waiting_);
       waiting_.reset();
     }
-    Integrate(item);
+    try {
+      Integrate(item);
+    } catch (const std::exception&) {
+      // A reading the algorithms refuse (non-finite odometry, an unsolvable graph) costs that scan,
+      // never the daemon.
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++status_.dropped;
+    }
   }
+}
+
+void MappingSession::Render() {
+  auto fresh = std::make_unique<OccupancyGridMapper>(geometry_, o_.mapper);
+  slam_->RenderInto(*fresh);
+  std::lock_guard<std::mutex> lock(mapper_mutex_);
+  mapper_ = std::move(fresh);
+  rendered_closures_ = slam_->loop_closures();
+  last_render_ = WallSeconds();
 }
 
 void MappingSession::Integrate(const Item& item) {
   const OccupancyGrid& g = geometry_;
   auto footprint = [&](const Pose2& pose, const RangeScan& scan) {
-    // The cells a scan can touch: its reach around the pose.
+    // The cells a scan can touch: its reach around the pose (none when that lies off the map).
     double reach = 0.0;
     for (float r : scan.ranges)
       if (std::isfinite(r)) reach = std::max(reach, std::min<double>(r, o_.mapper.usable_range));
     const CellIndex a = g.CellOf(pose.translation() - Point2(reach, reach));
     const CellIndex b = g.CellOf(pose.translation() + Point2(reach, reach));
-    return MapRegion{{std::max(0, a.x), std::max(0, a.y)}, {std::min(g.width() - 1, b.x), std::min(g.height() - 1, b.y)}};
+    const MapRegion r{{std::max(0, a.x), std::max(0, a.y)}, {std::min(g.width() - 1, b.x), std::min(g.height() - 1, b.y)}};
+    return r.min.x <= r.max.x && r.min.y <= r.max.y ? std::optional<MapRegion>(r) : std::nullopt;
   };
   Pose2 pose = item.localised;
   std::optional<MapRegion> changed;
@@ -105,14 +133,7 @@ void MappingSession::Integrate(const Item& item) {
     const bool rerender = closures != rendered_closures_ && WallSeconds() - last_render_ >= o_.rerender_period;
     if (rerender) {
       // Loop closures moved the nodes: the map is drawn again from the optimised poses.
-      auto fresh = std::make_unique<OccupancyGridMapper>(g.origin(), g.origin() + Point2(g.size_x(), g.size_y()), o_.mapper);
-      slam_->RenderInto(*fresh);
-      {
-        std::lock_guard<std::mutex> lock(mapper_mutex_);
-        mapper_ = std::move(fresh);
-      }
-      rendered_closures_ = closures;
-      last_render_ = WallSeconds();
+      Render();
       changed = MapRegion{{0, 0}, {g.width() - 1, g.height() - 1}};
     } else if (nodes != nodes_before) {
       std::lock_guard<std::mutex> lock(mapper_mutex_);
@@ -162,8 +183,9 @@ std::shared_ptr<const OccupancyGrid> MappingSession::Map() const {
   return grid;
 }
 
-std::optional<MapRegion> MappingSession::ChangedSince(uint64_t version) const {
+std::optional<MapRegion> MappingSession::ChangedSince(uint64_t version, uint64_t* covers) const {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (covers) *covers = status_.version;
   if (version >= status_.version) return std::nullopt;
   const OccupancyGrid& g = geometry_;
   if (changes_.empty() || changes_.front().first > version + 1)

@@ -57,15 +57,16 @@ class MappingSession {
 
   // Hands a scan to the worker; a scan still waiting is replaced (the newest wins).
   void Submit(const Pose2& odometry, const Pose2& localised, const RangeScan& scan);
-  // Stops taking scans; the worker finishes the one in hand. The map stays readable.
+  // Stops taking scans and waits for the worker to finish the scan in hand and draw the map once
+  // more if loop closures moved nodes since it last did. The map stays readable.
   void Finish();
 
   MappingStatus status() const;
   // The map as it stands (occupancy 0..100, -1 unknown).
   std::shared_ptr<const OccupancyGrid> Map() const;
   // The region changed since `version`, or nullopt when nothing changed; the whole map when the
-  // changes are too old to tell apart.
-  std::optional<MapRegion> ChangedSince(uint64_t version) const;
+  // changes are too old to tell apart. `covers`: the version the region brings a reader up to.
+  std::optional<MapRegion> ChangedSince(uint64_t version, uint64_t* covers = nullptr) const;
 
  private:
   struct Item {
@@ -74,6 +75,7 @@ class MappingSession {
   };
   void Work();
   void Integrate(const Item& item);
+  void Render();  // the whole map again from the optimised nodes (SLAM)
   void MarkChanged(const MapRegion& region);
 
   MappingSessionOptions o_;
@@ -87,6 +89,7 @@ class MappingSession {
   std::condition_variable wake_;
   std::optional<Item> waiting_;
   bool finishing_ = false;
+  std::mutex finish_mutex_;  // one Finish at a time
   MappingStatus status_;
   mutable std::shared_ptr<const OccupancyGrid> snapshot_;  // rebuilt on demand when stale
   mutable uint64_t snapshot_version_ = 0;

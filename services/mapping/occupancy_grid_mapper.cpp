@@ -21,6 +21,10 @@ OccupancyGridMapper::OccupancyGridMapper(const Point2& min, const Point2& max, c
   seen_.assign(log_odds_.size(), 0);
 }
 
+OccupancyGridMapper::OccupancyGridMapper(const OccupancyGrid& geometry, const MapperOptions& options)
+    : geometry_(geometry.width(), geometry.height(), geometry.resolution(), geometry.origin(), OccupancyGrid::kUnknown),
+      o_(options), log_odds_(geometry.cells().size(), 0.0f), seen_(geometry.cells().size(), 0) {}
+
 void OccupancyGridMapper::Update(size_t k, double log_odds, int himm) {
   if (o_.rule == MapUpdateRule::kHimm) {
     log_odds_[k] = static_cast<float>(std::clamp(static_cast<int>(log_odds_[k]) + himm, 0, 15));

@@ -35,6 +35,8 @@ class OccupancyGridMapper {
  public:
   // `min`/`max`: the map-frame extent to cover (e.g. the poses' bounding box plus the range).
   OccupancyGridMapper(const Point2& min, const Point2& max, const MapperOptions& options = {});
+  // The same size, origin and resolution as `geometry` (its cells are not read).
+  OccupancyGridMapper(const OccupancyGrid& geometry, const MapperOptions& options);
   // Integrates a scan taken from `laser_pose`; beam i at angle_min + i * increment. Readings at or
   // beyond `range_max` (the scanner's own, when it reports one) are no-returns: they only clear.
   void AddScan(const Pose2& laser_pose, const std::vector<float>& ranges, double angle_min, double increment,

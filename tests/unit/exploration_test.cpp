@@ -1,6 +1,8 @@
 // Exploration goals on a map being built, and a mapping session's changed regions.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "services/common/error.h"
 #include "services/mapping/mapping_session.h"
 #include "services/navigation/frontier_exploration.h"
@@ -76,11 +78,24 @@ TEST(MappingSession, SynchronousRunsReportChangedRegionsAndRefuseAbsurdSizes) {
   EXPECT_LE(region->min.x, map->CellOf({5.0, 5.0}).x);
   EXPECT_GE(region->max.x, map->CellOf({7.0, 5.0}).x);
   EXPECT_FALSE(session.ChangedSince(session.status().version));
+  // A scan taken far outside the mapped square changes nothing (and breaks nothing).
+  const uint64_t before = session.status().version;
+  session.Submit({}, {50.0, 50.0, 0.0}, scan);
+  EXPECT_EQ(session.status().version, before);
+  EXPECT_FALSE(session.ChangedSince(before));
   session.Finish();
   session.Submit({}, {5.0, 5.0, 0.0}, scan);  // after Finish: ignored
-  EXPECT_EQ(session.status().scans, 1u);
+  EXPECT_EQ(session.status().scans, 2u);
   o.size = 1e6;
   EXPECT_THROW(mapping::MappingSession(o, {}), Error);
+  // SLAM refuses non-finite odometry: the scan is dropped, the run goes on.
+  o.size = 10.0;
+  o.mode = mapping::MappingMode::kSlam;
+  mapping::MappingSession slam(o, {5.0, 5.0, 0.0});
+  slam.Submit({0.0, 0.0, 0.0}, {}, scan);
+  slam.Submit({NAN, 0.0, 0.0}, {}, scan);
+  EXPECT_EQ(slam.status().dropped, 1u);
+  EXPECT_TRUE(slam.status().active);
 }
 
 }  // namespace
