@@ -109,17 +109,7 @@ void Client::StreamPose(double rate_hz, const std::function<bool(const v1::GetPo
   v1::StreamPoseRequest req;
   req.set_rate_hz(rate_hz);
   auto reader = localization_->StreamPose(&ctx, req);
-  v1::GetPoseResponse pose;
-  while (reader->Read(&pose)) {
-    if (!on_pose(pose)) {
-      ctx.TryCancel();
-      break;
-    }
-  }
-  const grpc::Status s = reader->Finish();
-  if (!s.ok() && s.error_code() != grpc::StatusCode::CANCELLED && s.error_code() != grpc::StatusCode::DEADLINE_EXCEEDED) {
-    Fail(s);
-  }
+  ReadWatch<v1::GetPoseResponse>(ctx, *reader, on_pose);
 }
 
 v1::GetMapResponse Client::GetMap(bool info_only, v1::MapSource source) {
@@ -176,17 +166,7 @@ void Client::StreamMapUpdates(double min_period, const std::function<bool(const 
   v1::StreamMapUpdatesRequest req;
   req.set_min_period(min_period);
   auto reader = mapping_->StreamMapUpdates(&ctx, req);
-  v1::MapUpdate update;
-  while (reader->Read(&update)) {
-    if (!on_update(update)) {
-      ctx.TryCancel();
-      break;
-    }
-  }
-  const grpc::Status s = reader->Finish();
-  if (!s.ok() && s.error_code() != grpc::StatusCode::CANCELLED && s.error_code() != grpc::StatusCode::DEADLINE_EXCEEDED) {
-    Fail(s);
-  }
+  ReadWatch<v1::MapUpdate>(ctx, *reader, on_update);
 }
 
 v1::MapInfo Client::LoadMap(const std::string& path) {

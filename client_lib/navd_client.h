@@ -105,6 +105,21 @@ class Client {
     if (!status.ok()) Fail(status);
     return response;
   }
+  // Reads a server stream into `on_message` until it returns false (the call is cancelled), the
+  // stream ends or its deadline passes; other failures throw ClientError.
+  template <typename Message, typename Reader, typename OnMessage>
+  void ReadWatch(grpc::ClientContext& context, Reader& reader, const OnMessage& on_message) const {
+    Message message;
+    while (reader.Read(&message)) {
+      if (!on_message(message)) {
+        context.TryCancel();
+        break;
+      }
+    }
+    const grpc::Status s = reader.Finish();
+    if (!s.ok() && s.error_code() != grpc::StatusCode::CANCELLED && s.error_code() != grpc::StatusCode::DEADLINE_EXCEEDED)
+      Fail(s);
+  }
   [[noreturn]] void Fail(const grpc::Status& status) const;
   // Reads a mission's feedback stream to its result.
   v1::NavigationResult ReadMission(grpc::ClientContext& context,
