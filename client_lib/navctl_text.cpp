@@ -24,6 +24,7 @@ const char* StateText(v1::NavigationState s) {
     case v1::PAUSED: return "paused";
     case v1::EMERGENCY_STOP: return "emergency_stop";
     case v1::PLANNING: return "planning";
+    case v1::AVOIDING: return "avoiding";
     default: return "unknown";
   }
 }

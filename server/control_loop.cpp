@@ -74,9 +74,10 @@ void ControlLoop::Tick(uint64_t tick, double now) {
                    odom->pose.y, odom->pose.theta, odom->stamp, odometry_jumps_seen_);
     }
   }
+  std::optional<localization::ScanReading> scan;  // the scan that arrived since the last tick
   if (bridge_.scan_count() != scans_seen_) {
     scans_seen_ = bridge_.scan_count();
-    const auto scan = bridge_.LatestScan();
+    scan = bridge_.LatestScan();
     if (scan && executive_.localization_active()) localizer_.AddScan(*scan);
     const auto odom_at_scan = scan ? bridge_.OdometryAt(scan->stamp) : std::nullopt;
     if (scan && map_builder_.active() && odom_at_scan) {
@@ -97,8 +98,23 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   const bool laser_fresh = !bridge_.scan_seen() || now - bridge_.last_scan_arrival() <= options_.sensor_timeout;
   const bool fresh = laser_fresh && now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
   const bool was_active = executive_.navigator().Status().active || was_searching_;
-  const WheelSpeeds wheels = executive_.Step({fresh, bridge_.Contact(options_.sensor_timeout), scans_seen_}, now);
+  navigation::ExecutiveInputs inputs;
+  inputs.sensors_fresh = fresh;
+  inputs.contact = bridge_.Contact(options_.sensor_timeout);
+  inputs.rear_contact_only = bridge_.RearContactOnly(options_.sensor_timeout);
+  inputs.scans = scans_seen_;
+  inputs.scan = scan ? &*scan : nullptr;
+  inputs.rear_free = bridge_.RearFree(options_.sensor_timeout);
+  const WheelSpeeds wheels = executive_.Step(inputs, now);
   const navigation::NavigationStatus status = executive_.navigator().Status();
+  if (status.feedback.behaviour != behaviour_ || status.hold_reason != hold_reason_) {
+    // Why the robot does what it does, in the log as well as in the telemetry.
+    const localization::PoseEstimate e = localizer_.Estimate();
+    spdlog::info("t={:.2f}s at ({:.2f}, {:.2f}, {:.2f}) behaviour {}{}{}", now, e.pose.x, e.pose.y, e.pose.theta,
+                 status.feedback.behaviour, status.hold_reason.empty() ? "" : ": ", status.hold_reason);
+    behaviour_ = status.feedback.behaviour;
+    hold_reason_ = status.hold_reason;
+  }
   was_searching_ = executive_.searching();
   if (status.active || was_searching_) {
     bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));

@@ -47,6 +47,7 @@ class ControlLoop {
   std::thread thread_;
   int zero_commands_left_ = 0;
   uint64_t scans_seen_ = 0;
+  std::string behaviour_, hold_reason_;  // at the last tick, to log changes
 };
 
 }  // namespace navd::server

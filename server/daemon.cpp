@@ -102,10 +102,14 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   navigator.follower.max_wheel_speed = robot.max_wheel_speed;
   const navigation::UtilityBrainOptions brain =
       o.brain_path.empty() ? navigation::DefaultBrainOptions() : navigation::LoadBrainFile(o.brain_path);
-  navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain);
+  navigation::MovingObstacleOptions moving;
+  moving.detection.robot_radius = robot.radius;
+  moving.avoidance.wheel_base = robot.wheel_base;
+  navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain, {}, moving);
 
   // --- Transport ----------------------------------------------------------------------------
-  DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr);
+  DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr,
+                   o.rear_range_frame);
   mapping::MapBuilder map_builder;
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
                    map_builder);

@@ -2,7 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "dds/conversions.h"
 #include "dds/topics.h"
@@ -13,7 +15,8 @@ namespace navd::server {
 using dds::Reliability;
 
 DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& ns, SimClock* sim_clock,
-                     const Clock& arrival_clock, const RobotDescription* encoders)
+                     const Clock& arrival_clock, const RobotDescription* encoders,
+                     const std::string& rear_range_frame)
     : participant_(options), arrival_clock_(arrival_clock) {
   if (encoders) {
     wheel_odometry_ = std::make_unique<localization::WheelOdometry>(*encoders);
@@ -48,8 +51,22 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
       participant_, dds::TopicName(ns, dds::kBumper), Reliability::kBestEffort,
       [this](const navsim_msgs::msg::dds_::BumperState_& m) {
         if (m.front() || m.rear()) last_contact_ = arrival_clock_.Now();
+        if (m.front()) last_front_contact_ = arrival_clock_.Now();
       },
       2);
+  if (!rear_range_frame.empty()) {
+    ir_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>>(
+        participant_, dds::TopicName(ns, dds::kIr), Reliability::kBestEffort,
+        [this, rear_range_frame](const sensor_msgs::msg::dds_::Range_& m) {
+          if (m.header().frame_id() != rear_range_frame) return;
+          // ROS: +inf (or anything past max_range) is "nothing in range".
+          const double r = std::isfinite(m.range()) ? std::min<double>(m.range(), m.max_range()) : m.max_range();
+          if (!(r >= 0.0)) return;
+          rear_range_ = r;
+          last_rear_arrival_ = arrival_clock_.Now();
+        },
+        8);
+  }
   scan_topic_ = dds::TopicName(ns, dds::kScan);
   scan_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
       participant_, scan_topic_, Reliability::kBestEffort,
@@ -112,6 +129,15 @@ std::optional<Pose2> DdsBridge::OdometryAt(double stamp) const {
 }
 
 bool DdsBridge::Contact(double within) const { return arrival_clock_.Now() - last_contact_.load() <= within; }
+
+bool DdsBridge::RearContactOnly(double within) const {
+  return Contact(within) && arrival_clock_.Now() - last_front_contact_.load() > within;
+}
+
+double DdsBridge::RearFree(double within) const {
+  if (arrival_clock_.Now() - last_rear_arrival_.load() > within) return std::numeric_limits<double>::infinity();
+  return rear_range_.load();
+}
 
 void DdsBridge::PublishCommand(const Twist2& twist) {
   geometry_msgs::msg::dds_::Twist_ m;

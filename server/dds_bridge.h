@@ -28,8 +28,11 @@ class DdsBridge {
   // sim_clock: when given, rt/clock samples drive it. arrival_clock stamps odometry arrival for
   // the staleness check. encoders: when given, odometry is computed from the robot's wheel
   // encoders (rt/<ns>/joint_states, with this robot's kinematics) instead of read from rt/<ns>/odom.
+  // rear_range_frame: the frame_id of the rear-facing range sensor on rt/<ns>/ir (seed 000's rear
+  // Sharp IR, ir_2 on navsim's robots); empty: none.
   DdsBridge(const dds::ParticipantOptions& options, const std::string& robot_namespace, SimClock* sim_clock,
-            const Clock& arrival_clock, const RobotDescription* encoders = nullptr);
+            const Clock& arrival_clock, const RobotDescription* encoders = nullptr,
+            const std::string& rear_range_frame = "");
 
   // The newest odometry reading, if any, and when (arrival clock) it arrived.
   std::optional<localization::OdometryReading> LatestOdometry() const;
@@ -49,6 +52,11 @@ class DdsBridge {
 
   // Whether a bumper reported contact within the last `within` seconds of the arrival clock.
   bool Contact(double within = 0.5) const;
+  // Whether only the rear bumper reported contact within the last `within` seconds.
+  bool RearContactOnly(double within = 0.5) const;
+  // Metres free behind the robot's rim by the rear range sensor (its maximum range when it sees
+  // nothing); infinity without a reading in the last `within` seconds.
+  double RearFree(double within = 0.5) const;
 
   void PublishCommand(const Twist2& twist);
   // Sends a zero command and waits (bounded) until the robot side acknowledged it; for shutdown.
@@ -80,6 +88,10 @@ class DdsBridge {
   std::unique_ptr<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>> clock_reader_;
   std::unique_ptr<dds::Reader<navsim_msgs::msg::dds_::BumperState_PubSubType>> bumper_reader_;
   std::atomic<double> last_contact_{-1e9};
+  std::atomic<double> last_front_contact_{-1e9};
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>> ir_reader_;
+  std::atomic<double> rear_range_{0.0};
+  std::atomic<double> last_rear_arrival_{-1e9};
   std::atomic<double> last_scan_arrival_{-1e9};
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;

@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
                  "The particle filter's sensor model: likelihood_field (default) or beam (ray casts per particle)")
       ->check(CLI::IsMember({"likelihood_field", "beam"}));
   app.add_option("--brain", o.brain_path, "Utility-function brain YAML (default: built in, as config/brain.yaml)");
+  app.add_option("--rear-range-frame", o.rear_range_frame,
+                 "frame_id of the rear-facing range sensor on rt/<ns>/ir, checked before backing up ('' for none)")
+      ->capture_default_str();
   app.add_option("--control-rate", o.control_rate, "Control loop rate, Hz")->check(CLI::Range(1.0, 200.0));
   app.add_option("--inflation-margin", o.inflation_margin, "Metres added to the robot radius for lethal inflation")
       ->check(CLI::Range(0.0, 5.0));

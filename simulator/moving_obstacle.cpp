@@ -16,6 +16,7 @@ MovingObstacle::MovingObstacle(MovingObstacleDescription description) : d_(std::
 Point2 MovingObstacle::PointAt(double s) const {
   if (length_ <= 0.0) return position_;
   s = std::fmod(s, length_);
+  if (s < 0.0) s += length_;
   for (size_t i = 0; i < d_.loop.size(); ++i) {
     if (s <= cumulative_[i + 1]) {
       const double seg = cumulative_[i + 1] - cumulative_[i];
@@ -29,8 +30,20 @@ Point2 MovingObstacle::PointAt(double s) const {
 void MovingObstacle::Advance(double dt) {
   const Point2 next = Peek(dt);
   velocity_ = (next - position_) / dt;
-  s_ = std::fmod(s_ + d_.speed * dt, length_ > 0 ? length_ : 1.0);
+  const double length = length_ > 0 ? length_ : 1.0;
+  s_ = std::fmod(s_ + direction_ * d_.speed * dt, length);
+  if (s_ < 0.0) s_ += length;
   position_ = next;
+  waited_ = 0.0;
+}
+
+void MovingObstacle::Hold(double dt) {
+  velocity_ = Point2::Zero();
+  waited_ += dt;
+  if (d_.patience > 0.0 && waited_ >= d_.patience) {
+    direction_ = -direction_;
+    waited_ = 0.0;
+  }
 }
 
 }  // namespace navd::sim

@@ -285,11 +285,12 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
     for (size_t i = 0; i < m.size(); ++i) {
       const std::string field = Index("moving_obstacles", i);
       f.ExpectMap(m[i], field);
-      f.CheckKeys(m[i], field, {"name", "radius", "speed", "loop"});
+      f.CheckKeys(m[i], field, {"name", "radius", "speed", "loop", "patience"});
       MovingObstacleDescription d;
       d.name = m[i]["name"] ? f.String(m[i]["name"], field + ".name") : "obstacle" + std::to_string(i + 1);
       f.Read(m[i], "radius", field + ".", d.radius, &YamlFields::Positive);
       f.Read(m[i], "speed", field + ".", d.speed, &YamlFields::NonNegative);
+      f.Read(m[i], "patience", field + ".", d.patience, &YamlFields::NonNegative);
       if (!m[i]["loop"]) f.Fail(field + ".loop", "is missing (a list of at least 2 [x, y] points)", m[i]);
       d.loop = f.Points(m[i]["loop"], field + ".loop", 2);
       // The whole loop must be clear of walls, or the obstacle would stall forever.

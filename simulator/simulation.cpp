@@ -185,7 +185,7 @@ StepOutputs Simulation::Step() {
     if (hit == kFree || hit == kWall) {
       o.Advance(dt);  // loops were checked clear of walls; grazing corners must not stall them
     } else {
-      o.Hold();
+      o.Hold(dt);
       if (hit < kFirstObstacleId) Touch(*robots_[hit], id, next, false);
     }
   }

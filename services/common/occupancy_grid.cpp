@@ -55,4 +55,14 @@ void OccupancyGrid::FillBox(const Point2& min, const Point2& max, int8_t value) 
   }
 }
 
+void OccupancyGrid::FillDisc(const Point2& centre, double radius, int8_t value) {
+  const CellIndex lo = CellOf(centre - Point2(radius, radius));
+  const CellIndex hi = CellOf(centre + Point2(radius, radius));
+  for (int y = std::max(lo.y, 0); y <= std::min(hi.y, height_ - 1); ++y) {
+    for (int x = std::max(lo.x, 0); x <= std::min(hi.x, width_ - 1); ++x) {
+      if ((CellCenter({x, y}) - centre).squaredNorm() <= radius * radius) set({x, y}, value);
+    }
+  }
+}
+
 }  // namespace navd

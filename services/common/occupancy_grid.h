@@ -58,6 +58,8 @@ class OccupancyGrid {
 
   // Marks every cell whose centre lies in the axis-aligned box [min, max] (map frame) as occupied.
   void FillBox(const Point2& min, const Point2& max, int8_t value = kOccupied);
+  // Marks every cell whose centre lies within `radius` of `centre` (map frame) as occupied.
+  void FillDisc(const Point2& centre, double radius, int8_t value = kOccupied);
 
  private:
   int width_ = 0;

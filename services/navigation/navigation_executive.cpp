@@ -7,7 +7,9 @@
 namespace navd::navigation {
 
 namespace {
-const char* const kMeasured[] = {"contact", "sensors_stale", "localization_lost"};
+const char* const kMeasured[] = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger"};
+const char* const kProcesses[] = {"navigation",  "emergency_stop", "wake_up", "localization", "moving_obstacle_detection",
+                                  "moving_obstacle_avoidance"};
 
 long StateIndexOr(const UtilityDecisionMaker& brain, const char* name) {
   const auto& vars = brain.options().state_variables;
@@ -19,15 +21,24 @@ long StateIndexOr(const UtilityDecisionMaker& brain, const char* name) {
 
 NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, localization::Localizer& localizer,
                                          const Clock& clock, const NavigatorOptions& options,
-                                         const UtilityBrainOptions& brain, const LocalizationWatchOptions& watch)
-    : planning_(planning), localizer_(localizer), clock_(clock), navigator_(options), brain_(brain), watch_(watch) {
+                                         const UtilityBrainOptions& brain, const LocalizationWatchOptions& watch,
+                                         const MovingObstacleOptions& moving)
+    : planning_(planning),
+      localizer_(localizer),
+      clock_(clock),
+      navigator_(options),
+      brain_(brain),
+      watch_(watch),
+      moving_(moving),
+      detector_(moving.detection),
+      avoider_(moving.avoidance) {
   for (const std::string& v : brain_.options().state_variables) {
     bool known = false;
     for (const char* m : kMeasured) known = known || v == m;
     if (!known) {
       throw Error(ErrorCode::kInvalidArgument,
                   "brain: state variable '" + v + "' is not one navd measures (contact, sensors_stale, "
-                  "localization_lost)");
+                  "localization_lost, moving_obstacle_danger)");
     }
   }
   const long nav = brain_.FindProcess("navigation");
@@ -38,25 +49,35 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
   emergency_stop_ = brain_.FindProcess("emergency_stop");
   wake_up_ = brain_.FindProcess("wake_up");
   localization_ = brain_.FindProcess("localization");
+  detection_ = brain_.FindProcess("moving_obstacle_detection");
+  avoidance_ = brain_.FindProcess("moving_obstacle_avoidance");
   for (const auto& [name, index] : {std::pair<const char*, long>{"emergency_stop", emergency_stop_},
-                                    {"wake_up", wake_up_}}) {
+                                    {"wake_up", wake_up_},
+                                    {"moving_obstacle_avoidance", avoidance_}}) {
     if (index >= 0 && brain_.options().processes[index].kind != ProcessKind::kMotor) {
       throw Error(ErrorCode::kInvalidArgument, std::string("brain: '") + name + "' must be a motor behaviour");
     }
   }
-  if (localization_ >= 0 && brain_.options().processes[localization_].kind != ProcessKind::kCognitive) {
-    throw Error(ErrorCode::kInvalidArgument, "brain: 'localization' must be a cognitive process");
+  for (const auto& [name, index] :
+       {std::pair<const char*, long>{"localization", localization_}, {"moving_obstacle_detection", detection_}}) {
+    if (index >= 0 && brain_.options().processes[index].kind != ProcessKind::kCognitive) {
+      throw Error(ErrorCode::kInvalidArgument, std::string("brain: '") + name + "' must be a cognitive process");
+    }
   }
   for (const auto& p : brain_.options().processes) {
-    if (p.name != "navigation" && p.name != "emergency_stop" && p.name != "wake_up" && p.name != "localization") {
+    bool known = false;
+    for (const char* k : kProcesses) known = known || p.name == k;
+    if (!known) {
       throw Error(ErrorCode::kInvalidArgument, "brain: process '" + p.name +
-                                                   "' is not one navd runs (navigation, emergency_stop, "
-                                                   "wake_up, localization)");
+                                                   "' is not one navd runs (navigation, emergency_stop, wake_up, "
+                                                   "localization, moving_obstacle_detection, "
+                                                   "moving_obstacle_avoidance)");
     }
   }
   z_contact_ = StateIndexOr(brain_, "contact");
   z_stale_ = StateIndexOr(brain_, "sensors_stale");
   z_lost_ = StateIndexOr(brain_, "localization_lost");
+  z_danger_ = StateIndexOr(brain_, "moving_obstacle_danger");
 }
 
 uint64_t NavigationExecutive::Navigate(const NavigateRequest& r, const planning::StopRequested& stop) {
@@ -121,13 +142,102 @@ void NavigationExecutive::PlanLeg(double now) {
   const std::optional<NavigationGoal> leg = navigator_.LegToPlan();
   if (!leg) return;
   const localization::PoseEstimate estimate = localizer_.Estimate();
+  const planning::PlanningScene scene = Scene(estimate.pose);
   try {
-    const planning::PathPlan plan =
-        planning_.ComputePath(estimate.pose.translation(), leg->pose.translation(), planner_, {});
+    planning::PathPlan plan;
+    try {
+      plan = planning_.ComputePath(estimate.pose.translation(), leg->pose.translation(), planner_, {}, {}, scene);
+    } catch (const Error&) {
+      // The obstacles may close every way for now; they move, so plan on the map alone rather
+      // than give the mission up (the avoidance behaviour handles them when they come close).
+      if (scene.moving.empty()) throw;
+      plan = planning_.ComputePath(estimate.pose.translation(), leg->pose.translation(), planner_, {});
+    }
     navigator_.SetLegPath(plan.points, plan.length, now);
   } catch (const Error& e) {
     navigator_.Abort("no path to waypoint " + FormatPoint(leg->pose.translation()) + ": " + e.what(), now);
   }
+}
+
+planning::PlanningScene NavigationExecutive::Scene(const Pose2& pose) const {
+  planning::PlanningScene scene;
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  for (const DetectedObstacle& o : detector_.confirmed()) {
+    // Seed 000 ignores obstacles beyond Delta: far away they will have moved by the time the
+    // robot gets there.
+    if ((o.position - pose.translation()).norm() > moving_.planning_range) continue;
+    scene.moving.push_back({o.position, o.velocity, o.radius, false});
+  }
+  return scene;
+}
+
+void NavigationExecutive::DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now) {
+  const auto map = planning_.maps().Get();
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  if (!map) return;
+  if (map->version != detector_map_version_) {
+    detector_map_ = std::make_shared<const RayCaster>(map->grid);
+    detector_map_version_ = map->version;
+    detector_.SetMap(detector_map_);
+    detector_.Reset();
+  }
+  detector_.Update(scan, pose, now);
+  scan_points_.clear();
+  const double range_max = scan.range_max > 0.0 ? scan.range_max : 30.0;
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double r = scan.ranges[i];
+    if (!std::isfinite(r) || r < scan.range_min || r >= range_max) continue;
+    const double a = scan.angle_min + scan.angle_increment * static_cast<double>(i);
+    scan_points_.push_back(pose * Point2(r * std::cos(a), r * std::sin(a)));
+  }
+}
+
+AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_free) const {
+  AvoidanceSensing sensing;
+  const double radius = moving_.detection.robot_radius;
+  std::vector<Point2> local;
+  {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    local.reserve(scan_points_.size());
+    for (const Point2& p : scan_points_) local.push_back(pose.inverse() * p);
+    // Behind the robot the laser is blind: the map says how far the wall is, the rear sensor the rest.
+    // The robot's whole disc is swept back, not one ray: a wall beside the robot's rim counts.
+    if (detector_map_) {
+      const Point2 back(-std::cos(pose.theta), -std::sin(pose.theta));
+      constexpr double kStep = 0.02, kHorizon = 1.0;
+      double wall = kHorizon;
+      for (double d = kStep; d <= kHorizon; d += kStep) {
+        if (detector_map_->DiscHitsWall(pose.translation() + d * back, radius + 0.02)) {
+          wall = d - kStep;
+          break;
+        }
+      }
+      rear_free = std::min(rear_free, wall);
+    }
+  }
+  sensing.rear_free = rear_free;
+  for (const Point2& p : local) sensing.nearest = std::min(sensing.nearest, p.norm() - radius);
+  sensing.free_along = [local = std::move(local), radius](double bearing) {
+    const double c = std::cos(bearing), s = std::sin(bearing);
+    double free = 4.0;
+    for (const Point2& p : local) {
+      const double along = c * p.x() + s * p.y();
+      const double lateral = -s * p.x() + c * p.y();
+      if (along > 0.0 && std::abs(lateral) < radius + 0.03) free = std::min(free, along - radius);
+    }
+    return std::max(free, 0.0);
+  };
+  return sensing;
+}
+
+std::vector<DetectedObstacle> NavigationExecutive::moving_obstacles() const {
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  return detector_.confirmed();
+}
+
+double NavigationExecutive::danger() const {
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  return detector_.danger();
 }
 
 void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e, uint64_t scans, double now) {
@@ -155,10 +265,36 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   const localization::PoseEstimate estimate = localizer_.Estimate();
   if (estimate.valid && in.sensors_fresh) WatchLocalization(estimate, in.scans, now);
 
+  const bool detecting = detection_ >= 0 && brain_.active(static_cast<size_t>(detection_));
+  if (in.scan && estimate.valid && detecting && !lost_) DetectMovingObstacles(*in.scan, estimate.pose, now);
+  if (lost_ || !detecting) {
+    // Detections made from a wrong pose are in the wrong place.
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    detector_.Reset();
+  }
+
+  // Seed 000 section 7: the emergency stop is for stationary things; a bumper pressed by a moving
+  // obstacle the robot can see (it would wait for the robot forever) is the avoidance behaviour's.
+  bool contact = in.contact;
+  double danger_level = danger();
+  if (contact && avoidance_ >= 0 && detecting) {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    for (const DetectedObstacle& o : detector_.confirmed()) {
+      const double gap = (o.position - estimate.pose.translation()).norm() - o.radius - moving_.detection.robot_radius;
+      // Only on the pressed side: the laser cannot see what presses the rear bumper.
+      const bool in_front = (estimate.pose.inverse() * o.position).x() > 0.0;
+      if (gap < moving_.touch_gap && in_front != in.rear_contact_only) {
+        contact = false;
+        danger_level = 1.0;
+      }
+    }
+  }
+
   std::vector<double> z(brain_.options().state_variables.size(), 0.0);
-  if (z_contact_ >= 0) z[z_contact_] = in.contact ? 1.0 : 0.0;
+  if (z_contact_ >= 0) z[z_contact_] = contact ? 1.0 : 0.0;
   if (z_stale_ >= 0) z[z_stale_] = in.sensors_fresh && estimate.valid ? 0.0 : 1.0;
   if (z_lost_ >= 0) z[z_lost_] = lost_ ? 1.0 : 0.0;
+  if (z_danger_ >= 0) z[z_danger_] = danger_level;
   const double dt = last_step_ < 0.0 || now <= last_step_ ? 0.0 : std::min(now - last_step_, 1.0);
   last_step_ = now;
   brain_.Update(dt, z);
@@ -170,8 +306,21 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   const bool fresh = in.sensors_fresh && estimate.valid;
   if (static_cast<long>(motor) == emergency_stop_) {
     if (!fresh) return navigator_.Step(estimate.pose, now, false);
-    navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop, in.contact ? "bumper pressed" : "emergency stop",
-                    fresh);
+    if (!in.contact) {
+      contact_since_ = -1.0;
+    } else if (contact_since_ < 0.0) {
+      contact_since_ = now;
+    }
+    const bool ease_off = in.contact && now - contact_since_ >= stop_options_.ease_off_after;
+    navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop,
+                    !in.contact ? "emergency stop" : ease_off ? "bumper pressed: easing off" : "bumper pressed", fresh);
+    if (ease_off) {
+      const AvoidanceSensing sensing = Sensing(estimate.pose, in.rear_free);
+      const double v = stop_options_.ease_off_speed;
+      const double way = moving_.avoidance.min_clearance;
+      if (in.rear_contact_only && sensing.free_along(0.0) > way) return {v, v};
+      if (!in.rear_contact_only && sensing.rear_free > way) return {-v, -v};
+    }
     return {};
   }
   if (static_cast<long>(motor) == wake_up_) {
@@ -180,6 +329,35 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
     const double v = watch_.search_turn_rate * navigator_.options().follower.wheel_base / 2.0;
     return {-v, v};
   }
+  if (avoidance_ >= 0 && static_cast<long>(motor) == avoidance_) {
+    // A pressed rear bumper closes the way back, whatever the rear sensor says.
+    const AvoidanceSensing sensing = Sensing(estimate.pose, in.contact && in.rear_contact_only ? 0.0 : in.rear_free);
+    const std::optional<DetectedObstacle> nearest = [&] {
+      std::lock_guard<std::mutex> lock(detector_mutex_);
+      return detector_.nearest_frontal();
+    }();
+    // A manoeuvre starts when the behaviour takes over, and again when the robot has stood still
+    // a while after one and the obstacle is still in the way (it waits for the robot, say).
+    const bool restart = avoider_.done() && now - avoidance_done_at_ > moving_.avoidance.wait_before_retry;
+    if ((brain_.activated(static_cast<size_t>(avoidance_)) || restart || avoider_.phase() == AvoidancePhase::kIdle) &&
+        nearest) {
+      avoider_.Start(estimate.pose, nearest->position, sensing, now, in.contact);
+    }
+    const bool was_done = avoider_.done();
+    const WheelSpeeds wheels = fresh ? avoider_.Step(estimate.pose, sensing, now) : WheelSpeeds{};
+    if (!avoider_.done()) {
+      // The behaviour keeps its own utility up while its manoeuvre runs (the seed's Gamma_5).
+      brain_.SetGamma(static_cast<size_t>(avoidance_), brain_.options().processes[avoidance_].gamma_on_activation);
+    } else if (!was_done) {
+      avoidance_done_at_ = now;
+    }
+    navigator_.Hold(estimate.pose, now, NavigationState::kAvoiding,
+                    std::string("avoiding a moving obstacle: ") + AvoidancePhaseName(avoider_.phase()) + " (zone " +
+                        std::to_string(avoider_.zone()) + ")",
+                    fresh);
+    return wheels;
+  }
+  avoider_.Stop();
   PlanLeg(now);
   const WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);
   PlanLeg(now);  // a leg that ended this step gets its path now, not a control period later

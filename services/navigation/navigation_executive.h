@@ -6,11 +6,15 @@
 // the planning engine from the current pose estimate, and hands the paths to the navigator. The
 // gRPC adapter and the control loop both talk to this class only.
 #include <atomic>
+#include <limits>
+#include <mutex>
 #include <string>
 #include <vector>
 
 #include "services/common/clock.h"
 #include "services/localization/localizer.h"
+#include "services/navigation/moving_obstacle_avoidance.h"
+#include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
 #include "services/navigation/utility_decision_maker.h"
 #include "services/planning/planning_engine.h"
@@ -51,11 +55,37 @@ struct LocalizationWatchOptions {
   double search_turn_rate = 0.5;  // rad/s: the wake-up behaviour turns in place while it searches
 };
 
+// Seed 000's moving obstacles: the detection process (section 4.4), the avoidance behaviour
+// (section 4.5), and Delta, the range within which detected obstacles enter the leg plans (the
+// grid navigation "will not deliberately plan a path that intersects a nearby moving obstacle").
+struct MovingObstacleOptions {
+  MovingObstacleDetectorOptions detection;
+  MovingObstacleAvoidanceOptions avoidance;
+  double planning_range = 3.0;  // m
+  // A bumper pressed while a detected obstacle's (enlarged) disc is this close to the robot's rim
+  // is that obstacle's doing.
+  double touch_gap = 0.15;      // m
+};
+
+// What the emergency stop does when a bumper stays pressed: something pushed into the robot (an
+// obstacle that waits for the robot to move, from where the laser cannot see) and both would wait
+// forever. After ease_off_after seconds of contact it creeps away from the pressed bumper, when
+// that way is free, until the contact ends.
+struct EmergencyStopOptions {
+  double ease_off_after = 1.5;  // s
+  double ease_off_speed = 0.05; // m/s
+};
+
 // What the control loop measured this step.
 struct ExecutiveInputs {
   bool sensors_fresh = true;   // odometry (and the laser) arrived recently
   bool contact = false;        // a bumper is pressed
+  bool rear_contact_only = false;  // ... and it is the rear one only
   uint64_t scans = 0;          // scans that have arrived so far (0: not counted)
+  // The scan that arrived since the last step, if one did.
+  const localization::ScanReading* scan = nullptr;
+  // m free behind the robot's rim by its rear range sensor; infinity without one.
+  double rear_free = std::numeric_limits<double>::infinity();
 };
 
 class NavigationExecutive {
@@ -64,7 +94,7 @@ class NavigationExecutive {
   // names a state variable navd does not measure (contact, sensors_stale, localization_lost).
   NavigationExecutive(planning::PlanningEngine& planning, localization::Localizer& localizer, const Clock& clock,
                       const NavigatorOptions& options, const UtilityBrainOptions& brain = DefaultBrainOptions(),
-                      const LocalizationWatchOptions& watch = {});
+                      const LocalizationWatchOptions& watch = {}, const MovingObstacleOptions& moving = {});
 
   // Throws navd::Error: kInvalidArgument (non-finite goal, goal outside the map or blocked,
   // unknown planner; field named), kFailedPrecondition (no pose yet, or a mission active without
@@ -89,11 +119,19 @@ class NavigationExecutive {
   // Whether the localisation process runs (laser corrections of the pose); the control loop asks
   // before it hands the localiser a scan.
   bool localization_active() const { return localization_ >= 0 && brain_.active(static_cast<size_t>(localization_)); }
+  // The moving obstacles the detection process confirmed (map frame), and its danger level.
+  std::vector<DetectedObstacle> moving_obstacles() const;
+  double danger() const;
 
  private:
   uint64_t StartMission(const Mission& mission, const std::string& planner, bool preempt,
                         const planning::StopRequested& stop);
   void PlanLeg(double now);
+  // Runs the detection process on a new scan (building its map view when the map changed).
+  void DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now);
+  // What the avoidance behaviour sees: the last scan's points and the rear clearance.
+  AvoidanceSensing Sensing(const Pose2& pose, double rear_free) const;
+  planning::PlanningScene Scene(const Pose2& pose) const;
   // Updates lost_ from the estimate; `moving`: whether the robot is meant to be moving.
   void WatchLocalization(const localization::PoseEstimate& estimate, uint64_t scans, double now);
 
@@ -104,8 +142,18 @@ class NavigationExecutive {
   UtilityDecisionMaker brain_;
   LocalizationWatchOptions watch_;
   size_t navigation_ = 0;
-  long emergency_stop_ = -1, wake_up_ = -1, localization_ = -1;
-  long z_contact_ = -1, z_stale_ = -1, z_lost_ = -1;
+  long emergency_stop_ = -1, wake_up_ = -1, localization_ = -1, detection_ = -1, avoidance_ = -1;
+  long z_contact_ = -1, z_stale_ = -1, z_lost_ = -1, z_danger_ = -1;
+  MovingObstacleOptions moving_;
+  mutable std::mutex detector_mutex_;  // the detector is read by gRPC and telemetry threads
+  MovingObstacleDetector detector_;
+  uint64_t detector_map_version_ = 0;
+  std::shared_ptr<const RayCaster> detector_map_;
+  std::vector<Point2> scan_points_;    // the last scan's returns, map frame
+  MovingObstacleAvoidance avoider_;
+  double avoidance_done_at_ = -1.0;
+  EmergencyStopOptions stop_options_;
+  double contact_since_ = -1.0;
   std::string planner_;            // the active mission's planner
   double last_step_ = -1.0;
   double poor_fit_since_ = -1.0;

@@ -30,6 +30,7 @@ const char* NavigationStateName(NavigationState s) {
     case NavigationState::kPaused: return "paused";
     case NavigationState::kEmergencyStop: return "emergency_stop";
     case NavigationState::kPlanning: return "planning";
+    case NavigationState::kAvoiding: return "avoiding";
   }
   return "unknown";
 }

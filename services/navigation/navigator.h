@@ -30,6 +30,7 @@ enum class NavigationState {
   kPaused = 6,
   kEmergencyStop = 7,   // held by the emergency-stop behaviour (contact, lost pose)
   kPlanning = 8,        // between legs, or replanning after a hold or resume
+  kAvoiding = 9,        // the moving-obstacle avoidance behaviour has the robot
 };
 // Mirrors navd.v1.Outcome.
 enum class Outcome { kNone = 0, kSucceeded = 1, kFailed = 2, kCanceled = 3, kPreempted = 4 };

@@ -57,6 +57,7 @@ class ConvexGridPlanner : public GlobalPlanner {
   CellPath Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal, const PlannerOptions& options,
                 const StopRequested& stop) const override;
   // The scene's moving bodies are the detected moving obstacles (circles where they are now).
+  bool plans_among_moving_bodies() const override { return true; }
   CellPath PlanInScene(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
                        const PlannerOptions& options, const PlanningScene& scene,
                        const StopRequested& stop) const override;

@@ -67,6 +67,9 @@ class GlobalPlanner {
   // stop() turns true.
   virtual CellPath Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
                         const PlannerOptions& options, const StopRequested& stop) const = 0;
+  // Whether PlanInScene plans around the scene's moving bodies itself; for the others the engine
+  // draws the bodies into the costmap as obstacles.
+  virtual bool plans_among_moving_bodies() const { return false; }
   // The same among the scene's moving bodies; planners that take them into account override it.
   virtual CellPath PlanInScene(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
                                const PlannerOptions& options, const PlanningScene& /*scene*/,

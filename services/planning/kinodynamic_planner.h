@@ -92,6 +92,7 @@ class KinodynamicPlanner : public GlobalPlanner {
   bool time_budgeted() const override { return true; }
   CellPath Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal, const PlannerOptions& options,
                 const StopRequested& stop) const override;
+  bool plans_among_moving_bodies() const override { return true; }
   CellPath PlanInScene(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
                        const PlannerOptions& options, const PlanningScene& scene,
                        const StopRequested& stop) const override;

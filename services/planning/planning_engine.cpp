@@ -123,6 +123,26 @@ std::shared_ptr<const Costmap> PlanningEngine::CurrentCostmap() {
   return costmap_;
 }
 
+std::shared_ptr<const Costmap> PlanningEngine::SceneCostmap(const std::shared_ptr<const Costmap>& map_costmap,
+                                                            const PlanningScene& scene, const Point2& start,
+                                                            const Point2& goal) const {
+  // Nav2's obstacle layer, for one request: each body becomes an obstacle disc the inflation then
+  // grows. A body over the start or the goal cannot be planned around now and is left out.
+  OccupancyGrid grid = map_costmap->grid();
+  const double keep_clear = options_.costmap.inflation_radius + grid.resolution();
+  bool drawn = false;
+  for (const MovingBody& body : scene.moving) {
+    if ((body.position - start).norm() < body.radius + keep_clear ||
+        (body.position - goal).norm() < body.radius + keep_clear) {
+      continue;
+    }
+    grid.FillDisc(body.position, body.radius);
+    drawn = true;
+  }
+  if (!drawn) return map_costmap;
+  return std::make_shared<const Costmap>(std::make_shared<const OccupancyGrid>(std::move(grid)), options_.costmap);
+}
+
 PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, const std::string& planner_name,
                                      const std::map<std::string, double>& given, const StopRequested& stop,
                                      const PlanningScene& scene) {
@@ -138,7 +158,7 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
   }
   const GlobalPlanner& planner = Find(planner_name);
   const PlannerOptions options = ResolveOptions(planner, given);
-  const auto costmap = CurrentCostmap();
+  std::shared_ptr<const Costmap> costmap = CurrentCostmap();
   const OccupancyGrid& grid = costmap->grid();
 
   auto check_inside = [&](const Point2& p, const std::string& field) {
@@ -198,6 +218,9 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     }
   }
 
+  if (!scene.moving.empty() && !planner.plans_among_moving_bodies()) {
+    costmap = SceneCostmap(costmap, scene, grid.CellCenter(start_cell), goal);
+  }
   const CellPath cells = planner.PlanInScene(*costmap, start_cell, goal_cell, options, scene, stop);
   if (cells.cells.empty()) {
     throw Error(ErrorCode::kNotFound, "no path from start " + FormatPoint(start) + " to goal " + FormatPoint(goal));

@@ -56,11 +56,14 @@ class PlanningEngine {
   void Register(std::unique_ptr<GlobalPlanner> planner);
   std::vector<PlannerInfo> Planners() const;
   const PlanningEngineOptions& options() const { return options_; }
+  const MapStore& maps() const { return maps_; }
 
   // Throws navd::Error: kInvalidArgument for non-finite, out-of-map or blocked points and unknown
   // planners or options (the message names the field), kNotFound when no path exists,
   // kFailedPrecondition when no map is loaded, kDeadlineExceeded when stop() turns true.
-  // `scene`: moving bodies for the planners that plan around them (checked: finite, radius >= 0).
+  // `scene`: moving bodies (checked: finite, radius >= 0). Planners that plan around them
+  // (plans_among_moving_bodies) get them; for the others they are obstacles where they are now,
+  // except one over the start or the goal.
   PathPlan ComputePath(const Point2& start, const Point2& goal, const std::string& planner,
                        const std::map<std::string, double>& options, const StopRequested& stop = {},
                        const PlanningScene& scene = {});
@@ -76,6 +79,10 @@ class PlanningEngine {
 
  private:
   const GlobalPlanner& Find(const std::string& name) const;
+  // The costmap with the scene's moving bodies drawn in, for planners that ignore scenes.
+  std::shared_ptr<const Costmap> SceneCostmap(const std::shared_ptr<const Costmap>& map_costmap,
+                                              const PlanningScene& scene, const Point2& start,
+                                              const Point2& goal) const;
   void AddVelocityProfile(PathPlan& plan) const;
   PlannerOptions ResolveOptions(const GlobalPlanner& planner, const std::map<std::string, double>& given) const;
 
