@@ -450,6 +450,17 @@ TEST(MovingObstacles, LoopAtTheirSpeedAndWaitForRobots) {
   for (int i = 0; i < 400; ++i) sim2.Step();
   EXPECT_NEAR(sim2.moving_obstacles()[0].position().x(), 2.0 - 0.4, 0.01);
   EXPECT_EQ(sim2.robot().collisions(), 0u);
+  // With patience it turns back along its loop after waiting that long.
+  const Scenario patient = ScenarioText(
+      "robots: [{start: [2.0, 1.0, 0.0]}]\n"
+      "moving_obstacles:\n"
+      "  - {name: cart, radius: 0.2, speed: 0.5, patience: 1.0, loop: [[1.0, 1.0], [3.0, 1.0]]}\n");
+  Simulation sim3(patient, {});
+  for (int i = 0; i < 220; ++i) sim3.Step();  // 1.2 s to the robot, 1 s waiting
+  EXPECT_NEAR(sim3.moving_obstacles()[0].position().x(), 1.6, 0.01);
+  for (int i = 0; i < 100; ++i) sim3.Step();  // then 1 s back
+  EXPECT_LT(sim3.moving_obstacles()[0].position().x(), 1.6 - 0.3);
+  EXPECT_EQ(sim3.robot().collisions(), 0u);
 }
 
 // A wide open 200 m street, walls far away, for motion statistics.
