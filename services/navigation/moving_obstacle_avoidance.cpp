@@ -83,7 +83,7 @@ WheelSpeeds MovingObstacleAvoidance::Step(const Pose2& pose, const AvoidanceSens
       last_heading_ = pose.theta;
       if (turned_ >= turn_target_) {
         const double ahead = sensing.free_along ? sensing.free_along(0.0) : 0.0;
-        if (ahead >= options_.pass_distance + options_.min_clearance) {
+        if (ahead >= options_.pass_distance + options_.pass_clearance) {
           Enter(AvoidancePhase::kPassing, pose, now);
           return Step(pose, sensing, now);
         }
@@ -97,15 +97,17 @@ WheelSpeeds MovingObstacleAvoidance::Step(const Pose2& pose, const AvoidanceSens
         phase_ = AvoidancePhase::kWaiting;
         return {};
       }
-      // Back off a little first when something is at the rim and there is room behind.
-      if (sensing.nearest < options_.turn_clearance && sensing.rear_free > options_.min_clearance) {
-        return {-0.5 * options_.backup_speed, -0.5 * options_.backup_speed};
+      // Something at the rim: back off a little first when there is room behind, else stand
+      // still (an obstacle that waits for the robot gives up sooner or later).
+      if (sensing.nearest < options_.turn_clearance) {
+        if (sensing.rear_free > options_.min_clearance) return {-0.5 * options_.backup_speed, -0.5 * options_.backup_speed};
+        return {};
       }
       return {-turn_sign_ * v, turn_sign_ * v};
     }
     case AvoidancePhase::kPassing: {
       const double ahead = sensing.free_along ? sensing.free_along(0.0) : 0.0;
-      if (travelled >= options_.pass_distance || ahead < options_.min_clearance ||
+      if (travelled >= options_.pass_distance || ahead < options_.pass_clearance ||
           overdue(options_.pass_distance, options_.pass_speed)) {
         phase_ = AvoidancePhase::kWaiting;
         return {};

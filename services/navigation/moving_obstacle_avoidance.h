@@ -30,10 +30,13 @@ struct MovingObstacleAvoidanceOptions {
   double wheel_base = 0.33;        // m, to time the turns
   double pass_distance = 0.50;     // m
   double pass_speed = 0.25;        // m/s
+  // Passing stops this far short of anything ahead: an obstacle may cross the way, and stopping
+  // takes the command's latency and the deceleration.
+  double pass_clearance = 0.25;    // m
   double min_clearance = 0.10;     // m kept free between the robot's rim and anything in its way
-  // Closer than this, even turning in place may graze (the wheels never turn perfectly in place):
-  // the robot backs off first.
-  double turn_clearance = 0.05;    // m
+  // Closer than this, even turning in place may graze (the wheels never turn perfectly in place,
+  // and a cart at 0.3 m/s closes 3 cm between two scans): the robot backs off first, or waits.
+  double turn_clearance = 0.12;    // m
   // s standing still after a manoeuvre before another one, when the behaviour still has the robot
   double wait_before_retry = 2.0;
 };

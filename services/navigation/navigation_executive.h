@@ -70,9 +70,10 @@ struct MovingObstacleOptions {
 // What the emergency stop does when a bumper stays pressed: something pushed into the robot (an
 // obstacle that waits for the robot to move, from where the laser cannot see) and both would wait
 // forever. After ease_off_after seconds of contact it creeps away from the pressed bumper, when
-// that way is free, until the contact ends.
+// that way is free, until the contact ends. Longer than an obstacle that gives up waits (the
+// simulator's carts turn back after 4 s): creeping away from one invites it to follow.
 struct EmergencyStopOptions {
-  double ease_off_after = 1.5;  // s
+  double ease_off_after = 6.0;  // s
   double ease_off_speed = 0.05; // m/s
 };
 
