@@ -97,12 +97,9 @@ WheelSpeeds MovingObstacleAvoidance::Step(const Pose2& pose, const AvoidanceSens
         phase_ = AvoidancePhase::kWaiting;
         return {};
       }
-      // Something at the rim: back off a little first when there is room behind, else stand
-      // still (an obstacle that waits for the robot gives up sooner or later).
-      if (sensing.nearest < options_.turn_clearance) {
-        if (sensing.rear_free > options_.min_clearance) return {-0.5 * options_.backup_speed, -0.5 * options_.backup_speed};
-        return {};
-      }
+      // Something at the rim: stand still rather than graze it (backing off could meet what the
+      // laser cannot see behind); an obstacle that waits for the robot gives up sooner or later.
+      if (sensing.nearest < options_.turn_clearance) return {};
       return {-turn_sign_ * v, turn_sign_ * v};
     }
     case AvoidancePhase::kPassing: {

@@ -35,7 +35,7 @@ struct MovingObstacleAvoidanceOptions {
   double pass_clearance = 0.25;    // m
   double min_clearance = 0.10;     // m kept free between the robot's rim and anything in its way
   // Closer than this, even turning in place may graze (the wheels never turn perfectly in place,
-  // and a cart at 0.3 m/s closes 3 cm between two scans): the robot backs off first, or waits.
+  // and a cart at 0.3 m/s closes 3 cm between two scans): the robot waits instead.
   double turn_clearance = 0.12;    // m
   // s standing still after a manoeuvre before another one, when the behaviour still has the robot
   double wait_before_retry = 2.0;

@@ -21,7 +21,7 @@ namespace navd::navigation {
 
 struct MovingObstacleDetectorOptions {
   double threshold = 0.30;         // m, T_mo: a beam this much shorter than the map says is an obstacle
-  double max_distance = 3.0;       // m, d_mo^max: candidates farther from the robot are dropped
+  double max_distance = 3.5;       // m, d_mo^max: candidates farther from the robot are dropped
   double min_radius = 0.04;        // m, r_mo^min: narrower runs are noise
   double margin = 0.5;             // the inferred radius is enlarged by 50 %
   double max_radius = 0.45;        // m, r_mo^max: larger (pose errors along a wall) is capped
@@ -42,8 +42,10 @@ struct MovingObstacleDetectorOptions {
   // plans route around it).
   double robot_radius = 0.20;      // m
   double contact_margin = 0.05;    // m
-  double ttc_near = 1.0;           // s
-  double ttc_far = 2.5;            // s
+  // A robot at 0.5 m/s meeting a cart at 0.3 m/s closes 0.8 m/s: mu passes ~0.7 about three
+  // scans after m does, and the robot needs ~0.3 s to stop.
+  double ttc_near = 1.5;           // s
+  double ttc_far = 3.0;            // s
   double danger_alpha = 0.4;       // alpha_mu in ]0, 1], per scan
   double closing_speed = 0.05;     // m/s
 };

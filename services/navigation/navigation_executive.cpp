@@ -214,9 +214,31 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
       }
       rear_free = std::min(rear_free, wall);
     }
+    // The laser is blind behind, but the obstacles it tracked are still known for a few scans:
+    // one whose disc lies across the way back closes it.
+    for (const DetectedObstacle& o : detector_.candidates()) {
+      const Point2 p = pose.inverse() * o.position;
+      if (p.x() < 0.0 && std::abs(p.y()) < o.radius + radius) {
+        rear_free = std::min(rear_free, std::max(0.0, -p.x() - o.radius - radius));
+      }
+    }
   }
   sensing.rear_free = rear_free;
   for (const Point2& p : local) sensing.nearest = std::min(sensing.nearest, p.norm() - radius);
+  {
+    // Where the tracked obstacles will be in the next second also closes a way: a cart crossing
+    // it from the side enters the corridor faster than the robot stops.
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    for (const DetectedObstacle& o : detector_.confirmed()) {
+      for (const double ahead : {0.5, 1.0}) {
+        const Point2 centre = pose.inverse() * (o.position + ahead * o.velocity);
+        for (int k = 0; k < 8; ++k) {
+          const double a = k * M_PI / 4.0;
+          local.push_back(centre + o.radius * Point2(std::cos(a), std::sin(a)));
+        }
+      }
+    }
+  }
   sensing.free_along = [local = std::move(local), radius](double bearing) {
     const double c = std::cos(bearing), s = std::sin(bearing);
     double free = 4.0;

@@ -1,0 +1,64 @@
+// Seed 004's task end to end: an office whose walls the robot knows, with small obstacles it does
+// not (worlds/scenarios/office.yaml: 15 at random), and goals picked at random; each must be
+// reached without touching anything. navsim + navd + navctl over loopback.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "services/common/ray_caster.h"
+#include "simulator/scenario.h"
+#include "tests/support/navd_fixture.h"
+
+namespace navd::testing {
+namespace {
+
+// `count` goals at random (seeded), each well inside the free space the robot knows and clear of
+// the obstacles it does not, at least `spacing` metres from the one before.
+std::vector<Point2> RandomGoals(const sim::Scenario& s, int count, unsigned seed, double spacing) {
+  const RayCaster known(s.world.map), truth(s.truth);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> x(0.0, s.world.map.size_x()), y(0.0, s.world.map.size_y());
+  std::vector<Point2> goals;
+  Point2 last = s.world.start.translation();
+  while (static_cast<int>(goals.size()) < count) {
+    const Point2 p(x(rng), y(rng));
+    if (known.Clearance(p) < 0.5 || truth.Clearance(p) < 0.5 || (p - last).norm() < spacing) continue;
+    goals.push_back(p);
+    last = p;
+  }
+  return goals;
+}
+
+TEST(OfficeE2E, TwentyRandomGoalsAmongUnknownObstaclesAreAllReached) {
+  const std::string scenario = SourceDir() + "/worlds/scenarios/office.yaml";
+  const sim::Scenario s = sim::LoadScenarioFile(scenario);
+  ASSERT_GT(s.hidden_obstacles, 0);
+  const std::vector<Point2> goals = RandomGoals(s, 20, 4, 4.0);
+  std::string waypoints;
+  for (const Point2& g : goals) {
+    waypoints += (waypoints.empty() ? "" : ";") + std::to_string(g.x()) + "," + std::to_string(g.y());
+  }
+  StackOptions options;
+  options.rate = 10.0;
+  options.sim_args = {"--scenario", scenario};
+  options.navd_args = {"--world", SourceDir() + "/worlds/office.yaml"};
+  NavdStack stack(options);
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  const auto run = RunCommand({NavctlBinary(), "--server", stack.address(), "follow", "--waypoints", waypoints,
+                               "--measure", "--domain", std::to_string(stack.domain()), "--json", "--timeout", "280"},
+                              300.0);
+  const std::string logs = stack.Logs();
+  ASSERT_NE(run.output.find('{'), std::string::npos) << run.output << logs;
+  const auto j = nlohmann::json::parse(run.output.substr(run.output.find('{')));
+  const auto& truth = j.at("truth");
+  std::printf("office: %d of %zu goals reached, %.1f m in %.1f s of simulated time, collisions %d\n",
+              j.at("waypoints_reached").get<int>(), goals.size(), truth.at("distance_travelled").get<double>(),
+              truth.at("sim_time").get<double>(), truth.at("collisions").get<int>());
+  EXPECT_EQ(run.exit_code, 0) << run.output << logs;
+  EXPECT_EQ(j.at("waypoints_reached").get<int>(), static_cast<int>(goals.size()));
+  EXPECT_EQ(truth.at("collisions").get<int>(), 0) << logs;
+}
+
+}  // namespace
+}  // namespace navd::testing
