@@ -208,6 +208,16 @@ void DdsBridge::PublishStatus(const navigation::NavigationStatus& status, const 
     p.active(u.active);
     m.utilities().push_back(p);
   }
+  m.danger(f.danger);
+  for (const planning::MovingBody& b : f.moving_obstacles) {
+    navd_msgs::msg::dds_::MovingObstacle_ o;
+    o.x(b.position.x());
+    o.y(b.position.y());
+    o.vx(b.velocity.x());
+    o.vy(b.velocity.y());
+    o.radius(b.radius);
+    m.moving_obstacles().push_back(o);
+  }
   status_writer_->Write(m);
 }
 

@@ -16,6 +16,7 @@ void MovingObstacleAvoidance::Enter(AvoidancePhase phase, const Pose2& pose, dou
   phase_ = phase;
   phase_start_ = pose.translation();
   phase_since_ = now;
+  last_heading_ = pose.theta;
 }
 
 void MovingObstacleAvoidance::BeginTurn(const Pose2& pose, double angle, double now) {
@@ -77,7 +78,12 @@ WheelSpeeds MovingObstacleAvoidance::Step(const Pose2& pose, const AvoidanceSens
         BeginTurn(pose, zone_ == 2 || zone_ == 3 ? options_.inner_turn : options_.outer_turn, now);
         return Step(pose, sensing, now);
       }
-      return {-options_.backup_speed, -options_.backup_speed};
+      {
+        // Straight back, holding the heading it started with (the wheels alone drift off it).
+        const double omega = -2.0 * NormalizeAngle(pose.theta - last_heading_);
+        const double turn = 0.5 * options_.wheel_base * omega;
+        return {-options_.backup_speed - turn, -options_.backup_speed + turn};
+      }
     case AvoidancePhase::kTurning: {
       turned_ += std::abs(NormalizeAngle(pose.theta - last_heading_));
       last_heading_ = pose.theta;
@@ -97,9 +103,9 @@ WheelSpeeds MovingObstacleAvoidance::Step(const Pose2& pose, const AvoidanceSens
         phase_ = AvoidancePhase::kWaiting;
         return {};
       }
-      // Something at the rim: stand still rather than graze it (backing off could meet what the
-      // laser cannot see behind); an obstacle that waits for the robot gives up sooner or later.
-      if (sensing.nearest < options_.turn_clearance) return {};
+      // Something at the rim (the laser's, or the rear sensor's): stand still rather than graze it;
+      // an obstacle that waits for the robot gives up sooner or later.
+      if (sensing.nearest < options_.turn_clearance || sensing.rear_free < options_.turn_clearance) return {};
       return {-turn_sign_ * v, turn_sign_ * v};
     }
     case AvoidancePhase::kPassing: {

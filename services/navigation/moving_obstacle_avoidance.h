@@ -83,7 +83,7 @@ class MovingObstacleAvoidance {
   double turn_sign_ = -1.0;     // -1: clockwise (away from an obstacle on the left)
   double turn_target_ = 0.0;    // rad still to turn at least
   double turned_ = 0.0;         // rad turned so far in this phase
-  double last_heading_ = 0.0;
+  double last_heading_ = 0.0;   // rad: at the phase's start (backing up), or at the last step (turning)
   Point2 phase_start_ = Point2::Zero();
   double phase_since_ = 0.0;    // s
 };

@@ -140,6 +140,9 @@ void MovingObstacleDetector::UpdateDanger(const Pose2& pose, double now) {
   for (const DetectedObstacle& c : candidates_) {
     if (!c.confirmed) continue;
     if ((pose.inverse() * c.position).x() <= 0.0) continue;  // behind: the seed handles frontal ones only
+    // A thing that stands still is no moving obstacle: the robot's plans go round it (a box the
+    // map lacks), and backing away from it would only bring the robot back.
+    if (c.velocity.norm() < options_.min_obstacle_speed) continue;
     const Point2 p = c.position - pose.translation();
     const Point2 w = c.velocity - robot_velocity_;
     const double distance = p.norm();

@@ -48,6 +48,8 @@ struct MovingObstacleDetectorOptions {
   double ttc_far = 3.0;            // s
   double danger_alpha = 0.4;       // alpha_mu in ]0, 1], per scan
   double closing_speed = 0.05;     // m/s
+  // Obstacles slower than this (tracked velocity) add no danger: they stand, and plans avoid them.
+  double min_obstacle_speed = 0.1; // m/s
 };
 
 struct DetectedObstacle {

@@ -239,7 +239,12 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
       }
     }
   }
-  sensing.free_along = [local = std::move(local), radius](double bearing) {
+  sensing.free_along = FreeAlong(std::move(local), radius);
+  return sensing;
+}
+
+std::function<double(double)> NavigationExecutive::FreeAlong(std::vector<Point2> local, double radius) {
+  return [local = std::move(local), radius](double bearing) {
     const double c = std::cos(bearing), s = std::sin(bearing);
     double free = 4.0;
     for (const Point2& p : local) {
@@ -249,7 +254,6 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
     }
     return std::max(free, 0.0);
   };
-  return sensing;
 }
 
 std::vector<DetectedObstacle> NavigationExecutive::moving_obstacles() const {
@@ -322,6 +326,12 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   brain_.Update(dt, z);
   const size_t motor = brain_.active_motor();
   navigator_.SetBehaviour(brain_.name(motor), brain_.Snapshot());
+  {
+    std::vector<planning::MovingBody> seen;
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    for (const DetectedObstacle& o : detector_.confirmed()) seen.push_back({o.position, o.velocity, o.radius, false});
+    navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
+  }
 
   if (wake_up_ >= 0 && brain_.activated(static_cast<size_t>(wake_up_))) localizer_.GlobalRelocalize();
 
@@ -380,10 +390,55 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
     return wheels;
   }
   avoider_.Stop();
+  if (now - last_blocked_check_ >= moving_.replan_period) {
+    // Nav2 replans at 1 Hz; we replan when something the map lacks has come to lie across the
+    // path ahead (an unknown box, a cart that stopped), so the plan goes round it in time.
+    last_blocked_check_ = now;
+    std::vector<std::pair<Point2, double>> discs;
+    {
+      std::lock_guard<std::mutex> lock(detector_mutex_);
+      for (const DetectedObstacle& o : detector_.confirmed()) {
+        discs.push_back({o.position, o.radius + moving_.detection.robot_radius});
+      }
+    }
+    navigator_.ReplanIfBlocked(discs, moving_.planning_range);
+  }
   PlanLeg(now);
-  const WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);
+  WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);
   PlanLeg(now);  // a leg that ended this step gets its path now, not a control period later
+  if (detecting) wheels = GuardSpeed(wheels, estimate.pose);
   return wheels;
+}
+
+WheelSpeeds NavigationExecutive::GuardSpeed(const WheelSpeeds& wheels, const Pose2& pose) const {
+  // Nav2's collision monitor, for what the map does not hold: never faster forward than the robot
+  // can stop in before a moving tracked obstacle (any candidate, now or in the next second). The danger
+  // level reacts to what closes in; this catches what appears close, round a corner. Walls are
+  // left out: the plans keep clear of them, and a waypoint near one must stay reachable.
+  const double v = 0.5 * (wheels.left + wheels.right);
+  if (v <= 0.0) return wheels;
+  std::vector<Point2> local;
+  {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    for (const DetectedObstacle& o : detector_.candidates()) {
+      // Standing things are the plans' business: they go round them, closer than a guard would let.
+      if (o.velocity.norm() < moving_.guard_min_speed) continue;
+      for (const double ahead : {0.0, 0.5, 1.0}) {
+        const Point2 centre = pose.inverse() * (o.position + ahead * o.velocity);
+        for (int k = 0; k < 8; ++k) {
+          const double a = k * M_PI / 4.0;
+          local.push_back(centre + o.radius * Point2(std::cos(a), std::sin(a)));
+        }
+      }
+    }
+  }
+  if (local.empty()) return wheels;
+  const double room =
+      std::max(0.0, FreeAlong(std::move(local), moving_.detection.robot_radius)(0.0) - moving_.guard_margin);
+  const double allowed = std::sqrt(2.0 * moving_.guard_deceleration * room);
+  if (v <= allowed) return wheels;
+  const double k = allowed / v;
+  return {wheels.left * k, wheels.right * k};
 }
 
 }  // namespace navd::navigation

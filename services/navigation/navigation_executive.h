@@ -62,9 +62,16 @@ struct MovingObstacleOptions {
   MovingObstacleDetectorOptions detection;
   MovingObstacleAvoidanceOptions avoidance;
   double planning_range = 3.0;  // m
+  double replan_period = 1.0;   // s between checks that a confirmed obstacle lies across the path
   // A bumper pressed while a detected obstacle's (enlarged) disc is this close to the robot's rim
   // is that obstacle's doing.
   double touch_gap = 0.15;      // m
+  // While navigating, the forward speed is capped so the robot could stop guard_margin short of
+  // a moving tracked obstacle ahead at guard_deceleration (a third of the seed robot's wheel limit, for the
+  // command's latency).
+  double guard_margin = 0.10;        // m
+  double guard_deceleration = 0.7;   // m/s^2
+  double guard_min_speed = 0.1;      // m/s: slower tracked obstacles are left to the plans
 };
 
 // What the emergency stop does when a bumper stays pressed: something pushed into the robot (an
@@ -133,6 +140,10 @@ class NavigationExecutive {
   // What the avoidance behaviour sees: the last scan's points and the rear clearance.
   AvoidanceSensing Sensing(const Pose2& pose, double rear_free) const;
   planning::PlanningScene Scene(const Pose2& pose) const;
+  WheelSpeeds GuardSpeed(const WheelSpeeds& wheels, const Pose2& pose) const;
+  // Free distance (m) from the rim of a robot of `radius` along a bearing, for a corridor as wide
+  // as the robot, among `local` points (robot frame).
+  static std::function<double(double)> FreeAlong(std::vector<Point2> local, double radius);
   // Updates lost_ from the estimate; `moving`: whether the robot is meant to be moving.
   void WatchLocalization(const localization::PoseEstimate& estimate, uint64_t scans, double now);
 
@@ -155,6 +166,7 @@ class NavigationExecutive {
   double avoidance_done_at_ = -1.0;
   EmergencyStopOptions stop_options_;
   double contact_since_ = -1.0;
+  double last_blocked_check_ = -1e9;
   std::string planner_;            // the active mission's planner
   double last_step_ = -1.0;
   double poor_fit_since_ = -1.0;

@@ -32,6 +32,14 @@ void ToProto(const NavigationFeedback& f, v1::NavigationFeedback* out) {
     p->set_gamma(u.gamma);
     p->set_active(u.active);
   }
+  out->set_danger(f.danger);
+  for (const planning::MovingBody& b : f.moving_obstacles) {
+    v1::MovingBody* m = out->add_moving_obstacles();
+    navd::ToProto(b.position, m->mutable_position());
+    navd::ToProto(b.velocity, m->mutable_velocity());
+    m->set_radius(b.radius);
+    m->set_person(b.person);
+  }
 }
 
 void ToProto(const NavigationStatus& s, v1::NavigationFeedback* out) {

@@ -356,6 +356,35 @@ void Navigator::SetBehaviour(const std::string& behaviour, std::vector<ProcessUt
   status_.feedback.utilities = std::move(utilities);
 }
 
+bool Navigator::ReplanIfBlocked(const std::vector<std::pair<Point2, double>>& discs, double ahead) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!status_.active || status_.paused || leg_needs_path_ || discs.empty()) return false;
+  const std::vector<Point2>& path = follower_.waypoints();
+  const size_t from = follower_.waypoint_index();
+  if (from >= path.size()) return false;
+  Point2 previous = last_pose_.translation();
+  double along = 0.0;
+  for (size_t i = from; i < path.size() && along <= ahead; ++i) {
+    // The waypoints are at most d_wp apart: checking them is checking the path.
+    along += Distance(previous, path[i]);
+    previous = path[i];
+    for (const auto& [centre, radius] : discs) {
+      if (Distance(path[i], centre) < radius) {
+        leg_needs_path_ = true;
+        BumpLocked();
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+void Navigator::SetMovingObstacles(double danger, std::vector<planning::MovingBody> obstacles) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  status_.feedback.danger = danger;
+  status_.feedback.moving_obstacles = std::move(obstacles);
+}
+
 NavigationStatus Navigator::Status() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return status_;

@@ -17,6 +17,7 @@
 #include "services/common/pose2.h"
 #include "services/navigation/path_follower.h"
 #include "services/navigation/utility_decision_maker.h"
+#include "services/planning/global_planner.h"
 
 namespace navd::navigation {
 
@@ -76,6 +77,8 @@ struct NavigationFeedback {
   double eta = 0.0;
   std::string behaviour;             // the motor behaviour in control
   std::vector<ProcessUtility> utilities;
+  double danger = 0.0;               // moving-obstacle danger level mu
+  std::vector<planning::MovingBody> moving_obstacles;  // confirmed by the detection process
 };
 
 struct NavigationStatus {
@@ -136,6 +139,11 @@ class Navigator {
   void Hold(const Pose2& pose, double now, NavigationState state, const std::string& reason, bool sensors_fresh);
   // The decision maker's standing, carried in the feedback.
   void SetBehaviour(const std::string& behaviour, std::vector<ProcessUtility> utilities);
+  // Replans the current leg when a disc (map frame, metres) lies across the rest of its path
+  // within `ahead` metres of the robot; returns whether it asked for a new path.
+  bool ReplanIfBlocked(const std::vector<std::pair<Point2, double>>& discs, double ahead);
+  // What the moving-obstacle detection sees, carried in the feedback.
+  void SetMovingObstacles(double danger, std::vector<planning::MovingBody> obstacles);
 
   NavigationStatus Status() const;
   // The result of mission `goal_id` once it has ended.

@@ -147,13 +147,17 @@ TEST(MovingObstacleAvoidance, ZonesAndTheSeedsManoeuvres) {
   EXPECT_NEAR(pose.x, -a.options().backup_distance, 0.03);
   EXPECT_NEAR(pose.y, 0.0, 1e-9);
 
-  // Zone 1 with the rear blocked: turn right (away), then drive forward.
+  // Zone 1 with no room to back up: turn right (away), then drive forward...
   pose = Pose2(0, 0, 0);
-  a.Start(pose, {1.0, 1.2}, OpenAround(0.05), 0.0);
+  a.Start(pose, {1.0, 1.2}, OpenAround(0.2), 0.0);
   EXPECT_EQ(a.phase(), AvoidancePhase::kTurning);
-  const WheelSpeeds turn = a.Step(pose, OpenAround(0.05), 0.0);
+  const WheelSpeeds turn = a.Step(pose, OpenAround(0.2), 0.0);
   EXPECT_GT(turn.left, 0.0);
   EXPECT_LT(turn.right, 0.0);
+  // ... but not with something right at the rim: turning in place would graze it.
+  const WheelSpeeds touching = a.Step(pose, OpenAround(0.05), 0.05);
+  EXPECT_EQ(touching.left, 0.0);
+  EXPECT_EQ(touching.right, 0.0);
 
   // Zone 2 (head on, slightly left): step aside to the right, turning by the inner angle first.
   pose = Pose2(0, 0, 0);
