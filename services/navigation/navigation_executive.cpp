@@ -1,6 +1,7 @@
 #include "services/navigation/navigation_executive.h"
 
 #include <cmath>
+#include <initializer_list>
 
 #include "services/common/error.h"
 
@@ -10,6 +11,19 @@ namespace {
 const char* const kMeasured[] = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger"};
 const char* const kProcesses[] = {"navigation",  "emergency_stop", "wake_up", "localization", "moving_obstacle_detection",
                                   "moving_obstacle_avoidance"};
+
+// Eight points on the rim of obstacle `o` at each of `ahead` seconds on at its velocity, in the
+// frame of a robot at `pose`.
+void AddPredictedRim(const DetectedObstacle& o, const Pose2& pose, std::initializer_list<double> ahead,
+                     std::vector<Point2>& out) {
+  for (const double t : ahead) {
+    const Point2 centre = pose.inverse() * (o.position + t * o.velocity);
+    for (int k = 0; k < 8; ++k) {
+      const double a = k * M_PI / 4.0;
+      out.push_back(centre + o.radius * Point2(std::cos(a), std::sin(a)));
+    }
+  }
+}
 
 long StateIndexOr(const UtilityDecisionMaker& brain, const char* name) {
   const auto& vars = brain.options().state_variables;
@@ -229,15 +243,7 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
     // Where the tracked obstacles will be in the next second also closes a way: a cart crossing
     // it from the side enters the corridor faster than the robot stops.
     std::lock_guard<std::mutex> lock(detector_mutex_);
-    for (const DetectedObstacle& o : detector_.confirmed()) {
-      for (const double ahead : {0.5, 1.0}) {
-        const Point2 centre = pose.inverse() * (o.position + ahead * o.velocity);
-        for (int k = 0; k < 8; ++k) {
-          const double a = k * M_PI / 4.0;
-          local.push_back(centre + o.radius * Point2(std::cos(a), std::sin(a)));
-        }
-      }
-    }
+    for (const DetectedObstacle& o : detector_.confirmed()) AddPredictedRim(o, pose, {0.5, 1.0}, local);
   }
   sensing.free_along = FreeAlong(std::move(local), radius);
   return sensing;
@@ -254,11 +260,6 @@ std::function<double(double)> NavigationExecutive::FreeAlong(std::vector<Point2>
     }
     return std::max(free, 0.0);
   };
-}
-
-std::vector<DetectedObstacle> NavigationExecutive::moving_obstacles() const {
-  std::lock_guard<std::mutex> lock(detector_mutex_);
-  return detector_.confirmed();
 }
 
 double NavigationExecutive::danger() const {
@@ -422,14 +423,7 @@ WheelSpeeds NavigationExecutive::GuardSpeed(const WheelSpeeds& wheels, const Pos
     std::lock_guard<std::mutex> lock(detector_mutex_);
     for (const DetectedObstacle& o : detector_.candidates()) {
       // Standing things are the plans' business: they go round them, closer than a guard would let.
-      if (o.velocity.norm() < moving_.guard_min_speed) continue;
-      for (const double ahead : {0.0, 0.5, 1.0}) {
-        const Point2 centre = pose.inverse() * (o.position + ahead * o.velocity);
-        for (int k = 0; k < 8; ++k) {
-          const double a = k * M_PI / 4.0;
-          local.push_back(centre + o.radius * Point2(std::cos(a), std::sin(a)));
-        }
-      }
+      if (o.velocity.norm() >= moving_.guard_min_speed) AddPredictedRim(o, pose, {0.0, 0.5, 1.0}, local);
     }
   }
   if (local.empty()) return wheels;

@@ -127,8 +127,7 @@ class NavigationExecutive {
   // Whether the localisation process runs (laser corrections of the pose); the control loop asks
   // before it hands the localiser a scan.
   bool localization_active() const { return localization_ >= 0 && brain_.active(static_cast<size_t>(localization_)); }
-  // The moving obstacles the detection process confirmed (map frame), and its danger level.
-  std::vector<DetectedObstacle> moving_obstacles() const;
+  // The detection process's danger level (its confirmed obstacles go out in the feedback).
   double danger() const;
 
  private:
