@@ -4,6 +4,7 @@
 #include <initializer_list>
 
 #include "services/common/error.h"
+#include "services/localization/scan_points.h"
 
 namespace navd::navigation {
 
@@ -196,14 +197,8 @@ void NavigationExecutive::DetectMovingObstacles(const localization::ScanReading&
     detector_.Reset();
   }
   detector_.Update(scan, pose, now);
-  scan_points_.clear();
-  const double range_max = scan.range_max > 0.0 ? scan.range_max : 30.0;
-  for (size_t i = 0; i < scan.ranges.size(); ++i) {
-    const double r = scan.ranges[i];
-    if (!std::isfinite(r) || r < scan.range_min || r >= range_max) continue;
-    const double a = scan.angle_min + scan.angle_increment * static_cast<double>(i);
-    scan_points_.push_back(pose * Point2(r * std::cos(a), r * std::sin(a)));
-  }
+  scan_points_ = localization::ScanEndPoints(scan, 0);
+  for (Point2& p : scan_points_) p = pose * p;
 }
 
 AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_free) const {
