@@ -158,8 +158,11 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
   }
   const GlobalPlanner& planner = Find(planner_name);
   const PlannerOptions options = ResolveOptions(planner, given);
-  std::shared_ptr<const Costmap> costmap = CurrentCostmap();
-  const OccupancyGrid& grid = costmap->grid();
+  // Held for the whole request: `grid` refers into it even after a scene costmap replaces
+  // `costmap`, and a concurrent LoadMap may drop the engine's own reference.
+  const std::shared_ptr<const Costmap> map_costmap = CurrentCostmap();
+  std::shared_ptr<const Costmap> costmap = map_costmap;
+  const OccupancyGrid& grid = map_costmap->grid();
 
   auto check_inside = [&](const Point2& p, const std::string& field) {
     if (!grid.ContainsPoint(p)) {
@@ -219,7 +222,7 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
   }
 
   if (!scene.moving.empty() && !planner.plans_among_moving_bodies()) {
-    costmap = SceneCostmap(costmap, scene, grid.CellCenter(start_cell), goal);
+    costmap = SceneCostmap(map_costmap, scene, grid.CellCenter(start_cell), goal);
   }
   const CellPath cells = planner.PlanInScene(*costmap, start_cell, goal_cell, options, scene, stop);
   if (cells.cells.empty()) {
