@@ -49,27 +49,10 @@ int RunFollow(Client& client, const FollowOptions& o) {
 
   // Ground truth and navd's estimates, matched by stamp, from before the mission starts.
   PoseErrorMeter meter;
-  std::unique_ptr<Telemetry> telemetry;
-  std::optional<navsim_msgs::msg::dds_::SimStatus_> before;
-  if (o.measure) {
-    TelemetryOptions topts;
-    topts.dds.domain = o.domain;
-    topts.dds.name = "navctl-follow";
-    topts.robot_namespace = o.robot_namespace;
-    telemetry = std::make_unique<Telemetry>(
-        topts, nullptr,
-        [&meter](const nav_msgs::msg::dds_::Odometry_& m) {
-          meter.AddTruth(dds::FromTime(m.header().stamp()), dds::FromPose(m.pose().pose()));
-        },
-        [&meter](const geometry_msgs::msg::dds_::PoseWithCovarianceStamped_& m) {
-          meter.AddEstimate(dds::FromTime(m.header().stamp()), dds::FromPose(m.pose().pose()));
-        });
-    before = telemetry->WaitForSimStatus(10.0);
-    if (!before) {
-      throw std::runtime_error("--measure: no simulator status on DDS domain " + std::to_string(o.domain) +
-                               " within 10 s (is navsim running there?)");
-    }
-  }
+  MeasuredRun measured;
+  if (o.measure) measured = StartMeasuring(meter, o.domain, o.robot_namespace, "navctl-follow");
+  const std::unique_ptr<Telemetry>& telemetry = measured.telemetry;
+  const auto& before = measured.before;
 
   double start_stamp = -1.0, last_print = -1e9;
   const v1::NavigationResult result = client.FollowWaypoints(
@@ -107,8 +90,8 @@ int RunFollow(Client& client, const FollowOptions& o) {
     const PoseErrorFigures e = meter.Figures();
     // Seed 000 reports its runs by their first 100 m of true travel.
     const double first_100m = meter.TimeToTravel(100.0, from);
-    const double distance = after->distance_travelled() - before->distance_travelled();
-    const unsigned collisions = after->collisions() - before->collisions();
+    const double distance = after->distance_travelled() - before.distance_travelled();
+    const unsigned collisions = after->collisions() - before.collisions();
     j["truth"] = {{"distance_travelled", distance},     {"sim_time", result.elapsed()},
                   {"collisions", collisions},           {"mean_position_error", e.mean_position},
                   {"rms_position_error", e.rms_position}, {"max_position_error", e.max_position},

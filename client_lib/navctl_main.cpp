@@ -8,6 +8,7 @@
 
 #include "client_lib/door_command.h"
 #include "client_lib/replay_command.h"
+#include "client_lib/explore_command.h"
 #include "client_lib/follow_command.h"
 #include "client_lib/navctl_text.h"
 #include "client_lib/navd_client.h"
@@ -226,6 +227,27 @@ int main(int argc, char** argv) {
   mapping_cmd->add_flag("--serve", mapping_serve, "stop: make the built map the one navd plans and localises on");
   mapping_cmd->add_flag("--json", json_out, "Print one JSON object");
 
+  auto* explore = app.add_subcommand("explore", "Explore from where the robot stands, building the map: start, stop, status");
+  navd::navctl::ExploreOptions explore_options;
+  explore->add_option("action", explore_options.action, "start, stop or status")->required()->check(
+      CLI::IsMember({"start", "stop", "status"}));
+  explore->add_option("--method", explore_options.method,
+                      "start: frontier (Yamauchi), greedy (seed 002) or vfm (book ch. 4 Voronoi Fast Marching)")
+      ->check(CLI::IsMember({"frontier", "greedy", "vfm"}));
+  explore->add_option("--resolution", explore_options.resolution, "start: metres per cell (default 0.05)")
+      ->check(CLI::NonNegativeNumber);
+  explore->add_option("--size", explore_options.size, "start: metres, side of the square mapped around the robot (default 60)")
+      ->check(CLI::NonNegativeNumber);
+  explore->add_option("--max-time", explore_options.max_time, "start: give up after this many seconds (0: never)")->check(seconds);
+  explore->add_option("--planner", explore_options.planner, "start: planner of each leg");
+  explore->add_flag("--wait", explore_options.wait, "start: follow the exploration to its end; exit 0 only when complete");
+  explore->add_flag("--measure", explore_options.measure,
+                    "with --wait: judge against navsim (collisions, distance) and the world (share mapped)");
+  explore->add_option("--world", explore_options.world, "with --measure: navsim's world file (default: the embedded one)");
+  explore->add_option("--domain", explore_options.domain, "with --measure: navsim's DDS domain id")->check(CLI::Range(0, 232));
+  explore->add_option("--namespace", explore_options.robot_namespace, "with --measure: robot namespace");
+  explore->add_flag("--json", explore_options.json, "Print one JSON object");
+
   auto* truth = app.add_subcommand("truth", "Print the simulator's ground truth (DDS)");
   int domain = 0;
   std::string ns;
@@ -434,6 +456,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (follow->parsed()) return navd::navctl::RunFollow(client, follow_options);
+    if (explore->parsed()) return navd::navctl::RunExplore(client, explore_options);
     if (pause->parsed()) {
       client.Pause();
       std::printf("paused\n");

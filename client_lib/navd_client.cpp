@@ -159,6 +159,18 @@ v1::MappingStatus Client::GetMappingStatus() {
   return Call(*mapping_, &v1::MappingService::Stub::GetMappingStatus, v1::GetMappingStatusRequest());
 }
 
+v1::ExplorationStatus Client::StartExploration(const v1::StartExplorationRequest& request) {
+  return Call(*mapping_, &v1::MappingService::Stub::StartExploration, request);
+}
+
+v1::ExplorationStatus Client::StopExploration() {
+  return Call(*mapping_, &v1::MappingService::Stub::StopExploration, v1::StopExplorationRequest());
+}
+
+v1::ExplorationStatus Client::GetExplorationStatus() {
+  return Call(*mapping_, &v1::MappingService::Stub::GetExplorationStatus, v1::GetExplorationStatusRequest());
+}
+
 void Client::StreamMapUpdates(double min_period, const std::function<bool(const v1::MapUpdate&)>& on_update,
                               double timeout) {
   grpc::ClientContext ctx;
@@ -233,6 +245,19 @@ void Client::Resume() { Call(*navigation_, &v1::NavigationService::Stub::Resume,
 
 v1::GetStatusResponse Client::GetStatus() {
   return Call(*navigation_, &v1::NavigationService::Stub::GetStatus, v1::GetStatusRequest());
+}
+
+OccupancyGrid ToOccupancyGrid(const v1::GetMapResponse& map) {
+  const v1::MapInfo& info = map.info();
+  OccupancyGrid grid(static_cast<int>(info.width()), static_cast<int>(info.height()), info.resolution(),
+                     Point2(info.origin().x(), info.origin().y()), OccupancyGrid::kUnknown);
+  const std::string& cells = map.cells();
+  for (int y = 0; y < grid.height(); ++y)
+    for (int x = 0; x < grid.width(); ++x) {
+      const size_t i = grid.Flat({x, y});
+      if (i < cells.size()) grid.set({x, y}, static_cast<int8_t>(cells[i]));
+    }
+  return grid;
 }
 
 }  // namespace navd

@@ -16,6 +16,7 @@
 #include "navd/v1/mapping.grpc.pb.h"
 #include "navd/v1/navigation.grpc.pb.h"
 #include "navd/v1/planning.grpc.pb.h"
+#include "services/common/occupancy_grid.h"
 
 namespace navd {
 
@@ -69,6 +70,9 @@ class Client {
                                  double size = 0.0);
   v1::MappingStatus StopMapping(bool serve = false);
   v1::MappingStatus GetMappingStatus();
+  v1::ExplorationStatus StartExploration(const v1::StartExplorationRequest& request);
+  v1::ExplorationStatus StopExploration();
+  v1::ExplorationStatus GetExplorationStatus();
   // Calls `on_update` with each changed region until it returns false, the run ends or `timeout`.
   void StreamMapUpdates(double min_period, const std::function<bool(const v1::MapUpdate&)>& on_update, double timeout);
   v1::MapInfo LoadMap(const std::string& path);
@@ -134,5 +138,8 @@ class Client {
   std::unique_ptr<v1::MappingService::Stub> mapping_;
   std::unique_ptr<v1::NavigationService::Stub> navigation_;
 };
+
+// The grid of a GetMap answer (its chunks joined), as navd's OccupancyGrid.
+OccupancyGrid ToOccupancyGrid(const v1::GetMapResponse& map);
 
 }  // namespace navd

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+
+#include "dds/conversions.h"
 
 namespace navd {
 
@@ -85,6 +88,30 @@ PoseErrorFigures PoseErrorMeter::Figures() const {
     f.mean_heading = heading / f.samples;
   }
   return f;
+}
+
+MeasuredRun StartMeasuring(PoseErrorMeter& meter, int domain, const std::string& robot_namespace,
+                           const std::string& participant_name) {
+  TelemetryOptions topts;
+  topts.dds.domain = domain;
+  topts.dds.name = participant_name;
+  topts.robot_namespace = robot_namespace;
+  MeasuredRun run;
+  run.telemetry = std::make_unique<Telemetry>(
+      topts, nullptr,
+      [&meter](const nav_msgs::msg::dds_::Odometry_& m) {
+        meter.AddTruth(dds::FromTime(m.header().stamp()), dds::FromPose(m.pose().pose()));
+      },
+      [&meter](const geometry_msgs::msg::dds_::PoseWithCovarianceStamped_& m) {
+        meter.AddEstimate(dds::FromTime(m.header().stamp()), dds::FromPose(m.pose().pose()));
+      });
+  const auto before = run.telemetry->WaitForSimStatus(10.0);
+  if (!before) {
+    throw std::runtime_error("--measure: no simulator status on DDS domain " + std::to_string(domain) +
+                             " within 10 s (is navsim running there?)");
+  }
+  run.before = *before;
+  return run;
 }
 
 }  // namespace navd

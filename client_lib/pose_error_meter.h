@@ -5,9 +5,12 @@
 // merit: the time average of the position and heading error (section 6, footnote 8). Samples may
 // arrive in any order from two DDS threads; thread-safe. Metres, radians, seconds.
 #include <deque>
+#include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
+#include "client_lib/telemetry.h"
 #include "services/common/pose2.h"
 
 namespace navd {
@@ -44,5 +47,15 @@ class PoseErrorMeter {
   std::vector<std::pair<double, double>> odometer_;  // (stamp, true path length so far)
   double from_ = -1e300, to_ = 1e300;
 };
+
+// A DDS subscriber feeding `meter` with navsim's truth and navd's estimates on `domain`, and the
+// simulator's status when it started: how navctl's --measure judges a run. Throws
+// std::runtime_error when navsim does not report within 10 s.
+struct MeasuredRun {
+  std::unique_ptr<Telemetry> telemetry;
+  navsim_msgs::msg::dds_::SimStatus_ before;
+};
+MeasuredRun StartMeasuring(PoseErrorMeter& meter, int domain, const std::string& robot_namespace,
+                           const std::string& participant_name);
 
 }  // namespace navd

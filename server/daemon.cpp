@@ -22,6 +22,7 @@
 #include "services/localization/odometry_localizer.h"
 #include "services/localization/particle_filter.h"
 #include "services/mapping/mapping_service.h"
+#include "services/mapping/slam_localizer.h"
 #include "services/navigation/navigation_executive.h"
 #include "services/navigation/navigation_service.h"
 #include "services/planning/planner_catalog.h"
@@ -67,6 +68,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
                                                  " lies outside the map");
   }
   // Every localiser runs; --localizer (or SelectMethod) picks the one that answers.
+  mapping::MapBuilder map_builder;
   localization::LocalizerSelector localizer;
   localization::ParticleFilterOptions filter_options;
   if (robot.drive == DriveType::kOmni) filter_options.motion_model = localization::MotionModel::kOmni;
@@ -84,6 +86,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
     if (o.localizer == "histogram") throw;
     spdlog::info("histogram localisation not offered: {}", e.what());
   }
+  localizer.Add(std::make_unique<mapping::SlamLocalizer>(map_builder));  // while exploring
   localizer.Select(o.localizer);
   localizer.SetPose(initial_pose, Eigen::Matrix3d::Zero());  // checks it, too
 
@@ -110,14 +113,18 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr,
                    o.rear_range_frame);
-  mapping::MapBuilder map_builder;
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
                    map_builder);
   MapPublisher map_publisher(bridge, maps, map_builder, *clock);
 
   planning::PlanningService planning_service(planning);
   localization::LocalizationService localization_service(localizer, maps);
-  mapping::MappingService mapping_service(maps, map_builder, [&localizer]() -> std::optional<Pose2> {
+  navigation::Explorer explorer(maps, map_builder, executive, planning, localizer, *clock);
+  navigation::ExplorerOptions exploring;
+  // Exploration goals a little deeper in free space than the planners' inflation: SLAM poses err
+  // by a few centimetres.
+  exploring.exploration.clearance = robot.radius + o.inflation_margin + 0.05;
+  mapping::MappingService mapping_service(maps, map_builder, explorer, exploring, [&localizer]() -> std::optional<Pose2> {
     const localization::PoseEstimate e = localizer.Estimate();
     if (!e.valid) return std::nullopt;
     return e.pose;
@@ -152,6 +159,11 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
 
   // --- Shutdown: robot first ----------------------------------------------------------------
   spdlog::info("navd: shutting down");
+  try {
+    explorer.Stop();
+  } catch (const Error&) {
+    // Not exploring.
+  }
   executive.Cancel();
   loop.Stop();  // also publishes a zero command
   map_publisher.Stop();

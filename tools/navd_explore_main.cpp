@@ -10,13 +10,13 @@
 
 #include <cmath>
 #include <cstdio>
-#include <queue>
 
 #include "services/common/diff_drive.h"
 #include "services/common/error.h"
 #include "services/common/png_format.h"
 #include "services/common/world.h"
 #include "services/localization/odometry_history.h"
+#include "services/mapping/map_coverage.h"
 #include "services/mapping/mapping_session.h"
 #include "services/navigation/frontier_exploration.h"
 #include "services/navigation/path_follower.h"
@@ -25,30 +25,6 @@
 namespace {
 
 using namespace navd;
-
-// Free cells of the true map that the robot's body can reach from its start (8-connected,
-// no corner cutting, the centre at least the robot's radius from walls), plus every free cell
-// in view of those: the space a complete map shows.
-std::vector<uint8_t> ReachableFreeSpace(const OccupancyGrid& truth, const Pose2& start) {
-  const int w = truth.width(), h = truth.height();
-  std::vector<uint8_t> seen(truth.cells().size(), 0);
-  std::queue<CellIndex> q;
-  const CellIndex s = truth.CellOf(start.translation());
-  if (!truth.Contains(s) || truth.at(s) != OccupancyGrid::kFree) return seen;
-  q.push(s);
-  seen[truth.Flat(s)] = 1;
-  while (!q.empty()) {
-    const CellIndex c = q.front();
-    q.pop();
-    for (const CellIndex d : {CellIndex{1, 0}, CellIndex{-1, 0}, CellIndex{0, 1}, CellIndex{0, -1}}) {
-      const CellIndex n{c.x + d.x, c.y + d.y};
-      if (n.x < 0 || n.y < 0 || n.x >= w || n.y >= h || seen[truth.Flat(n)] || truth.at(n) != OccupancyGrid::kFree) continue;
-      seen[truth.Flat(n)] = 1;
-      q.push(n);
-    }
-  }
-  return seen;
-}
 
 int Explore(const World& world, navigation::ExplorationMethod method, const std::string& method_name, double max_time,
             const std::string& png, uint64_t seed) {
@@ -146,26 +122,13 @@ int Explore(const World& world, navigation::ExplorationMethod method, const std:
   std::fprintf(stderr, "\n");
   session.Finish();
 
-  // Coverage: the reachable free cells of the truth that the built map shows free.
+  // Coverage: the reachable free cells of the truth that the built map shows.
   const auto built = session.Map();
-  const std::vector<uint8_t> reachable = ReachableFreeSpace(world.map, world.start);
-  size_t total = 0, mapped = 0, known = 0;
-  for (int y = 0; y < world.map.height(); ++y) {
-    for (int x = 0; x < world.map.width(); ++x) {
-      if (!reachable[world.map.Flat({x, y})]) continue;
-      ++total;
-      const CellIndex b = built->CellOf(world.map.CellCenter({x, y}));
-      if (!built->Contains(b) || built->at(b) < 0) continue;
-      ++known;                      // mapped at all
-      mapped += built->at(b) < 25;  // and mapped free, as it is
-    }
-  }
-  const double coverage = total ? static_cast<double>(known) / total : 0.0;
-  const double free_right = total ? static_cast<double>(mapped) / total : 0.0;
+  const mapping::MapCoverage coverage = mapping::CoverageOf(*built, world.map, world.start.translation());
   const mapping::MappingStatus st = session.status();
   std::printf("explore (%s): %s, %.1f%% of the reachable free space mapped (%.1f%% mapped free), %.1f s simulated, "
               "%.1f m driven, %d goals, %d collisions, %d SLAM nodes, %d loop closures\n",
-              method_name.c_str(), complete ? "complete" : "stopped at --max-time", 100.0 * coverage, 100.0 * free_right,
+              method_name.c_str(), complete ? "complete" : "stopped at --max-time", 100.0 * coverage.known, 100.0 * coverage.known_free,
               sim.now(),
               travelled, goals, collisions, st.nodes, st.loop_closures);
   if (!png.empty()) SaveMapPng(*built, png);

@@ -76,6 +76,12 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
   const int n_xy = static_cast<int>(std::ceil(o.window_xy / res));
   const int n_theta = static_cast<int>(std::ceil(o.window_theta / o.angle_step));
   const double inv_n = 1.0 / static_cast<double>(points.size());
+  const double kxy = o.prior_sigma_xy > 0.0 ? 0.5 / (o.prior_sigma_xy * o.prior_sigma_xy) : 0.0;
+  const double kt = o.prior_sigma_theta > 0.0 ? 0.5 / (o.prior_sigma_theta * o.prior_sigma_theta) : 0.0;
+  auto prior_weight = [&](double dx, double dy, double dtheta) {
+    return kxy == 0.0 && kt == 0.0 ? 1.0 : std::exp(-kxy * (dx * dx + dy * dy) - kt * dtheta * dtheta);
+  };
+  double best_ranked = 0.0;
 
   // Coarse: every angle, whole-cell offsets (integer lookups of the rotated points' cells).
   struct Candidate {
@@ -103,8 +109,9 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
         const double score = sum * inv_n;
         if (!coarse.empty())
           coarse[(static_cast<size_t>(a + n_theta) * side + (dy + n_xy)) * side + (dx + n_xy)] = static_cast<float>(score);
-        if (static_cast<int>(top.size()) < o.refine_candidates || score > top.back().score) {
-          top.push_back({score, dx, dy, theta});
+        const double ranked = score * prior_weight(dx * res, dy * res, a * o.angle_step);
+        if (static_cast<int>(top.size()) < o.refine_candidates || ranked > top.back().score) {
+          top.push_back({ranked, dx, dy, theta});
           std::sort(top.begin(), top.end(), [](const Candidate& l, const Candidate& r) { return l.score > r.score; });
           if (static_cast<int>(top.size()) > o.refine_candidates) top.pop_back();
         }
@@ -114,7 +121,8 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
 
   double coarse_best = 0.0, coarse_elsewhere = 0.0, coarse_spread = 0.0;
   if (!coarse.empty() && !top.empty()) {
-    coarse_best = top.front().score;
+    coarse_best = coarse[(static_cast<size_t>(std::lround((top.front().theta - prior.theta) / o.angle_step) + n_theta) * side +
+                          (top.front().dy + n_xy)) * side + (top.front().dx + n_xy)];
     const double min_cells = o.distinct_xy / res;
     for (int a = 0; a < 2 * n_theta + 1; ++a) {
       for (int dy = -n_xy; dy <= n_xy; ++dy) {
@@ -141,7 +149,11 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
           double sum = 0.0;
           for (const Point2& p : points) sum += grid.At({x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()});
           const double score = sum * inv_n;
-          if (score > best.score) best = {{x, y, NormalizeAngle(theta)}, score};
+          const double ranked = score * prior_weight(x - prior.x, y - prior.y, NormalizeAngle(theta - prior.theta));
+          if (ranked > best_ranked) {
+            best_ranked = ranked;
+            best = {{x, y, NormalizeAngle(theta)}, score};
+          }
         }
       }
     }

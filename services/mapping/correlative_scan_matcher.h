@@ -18,6 +18,12 @@ struct ScanMatchOptions {
   double window_theta = 0.15;   // rad, half-size of the angular window
   double angle_step = 0.01;     // rad, coarse angular step
   int refine_candidates = 3;    // coarse poses refined
+  // A prior on the offset from `prior` (Cartographer's real-time matcher weighs its candidates
+  // the same way): scores are ranked after multiplying by exp(-d²/2σ_xy² - Δθ²/2σ_θ²), so along a
+  // corridor, where the scan fits equally well anywhere, the odometry's guess wins instead of
+  // whichever end of the window the search reached first. 0: no prior.
+  double prior_sigma_xy = 0.0;     // m
+  double prior_sigma_theta = 0.0;  // rad
   // Poses at least this far (m) from the best count as another place: the best coarse score among
   // them is reported, so callers can refuse ambiguous matches (corridors). 0: not computed.
   double distinct_xy = 0.0;
@@ -25,7 +31,7 @@ struct ScanMatchOptions {
 
 struct ScanMatch {
   Pose2 pose;
-  double score = 0.0;  // mean lookup value of the scan's points, 0..1
+  double score = 0.0;  // mean lookup value of the scan's points, 0..1 (before any prior)
   // The best coarse score at least distinct_xy from the best coarse pose, and that best coarse
   // score (comparable with each other, not with `score`).
   double coarse_best = 0.0, coarse_elsewhere = 0.0;

@@ -109,10 +109,12 @@ void GraphSlam::TryLoopClosure(int node) {
   coarse.window_xy = std::min(o_.loop_window_xy, allowance + coarse.resolution);
   coarse.window_theta = o_.loop_window_theta;
   coarse.angle_step = 2.0 * o_.sequential.angle_step;
+  coarse.prior_sigma_xy = coarse.prior_sigma_theta = 0.0;  // a closure corrects drift: no pull back to it
   coarse.refine_candidates = 3;
   coarse.distinct_xy = o_.loop_distinct_xy;
   const ScanMatch rough = MatchScan(CorrelationGrid(reference, coarse.resolution, coarse.sigma), scan, here, coarse);
   ScanMatchOptions fine = o_.sequential;
+  fine.prior_sigma_xy = fine.prior_sigma_theta = 0.0;
   fine.window_xy = 2.0 * coarse.resolution;
   fine.window_theta = 2.0 * coarse.angle_step;
   const ScanMatch match = MatchScan(CorrelationGrid(reference, fine.resolution, fine.sigma), scan, rough.pose, fine);

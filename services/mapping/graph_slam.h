@@ -36,7 +36,14 @@ struct GraphSlamOptions {
   int local_map_nodes = 8;           // recent nodes forming the local map
   double node_travel = 0.2;          // m, or
   double node_turn = 0.2;            // rad, of odometry since the last node make a new node
-  ScanMatchOptions sequential;       // the front end's window (defaults: ±0.25 m, ±0.15 rad)
+  // The front end's window (defaults: ±0.25 m, ±0.15 rad), with a mild prior on the odometry's
+  // prediction so a scan in a corridor does not slide along it.
+  ScanMatchOptions sequential = [] {
+    ScanMatchOptions s;
+    s.prior_sigma_xy = 0.15;
+    s.prior_sigma_theta = 0.15;
+    return s;
+  }();
   double sequential_sigma_xy = 0.03, sequential_sigma_theta = 0.01;  // edge uncertainty
   // Loop closing.
   double loop_search_radius = 4.0;   // m between the new node and a candidate

@@ -58,6 +58,36 @@ void FillStatus(const MapBuilder& builder, v1::MappingStatus* out) {
   FillInfo(*session->Map(), "mapping", s.version, out->mutable_info());
 }
 
+v1::ExplorationMethod MethodToProto(navigation::ExplorationMethod m) {
+  switch (m) {
+    case navigation::ExplorationMethod::kGreedy: return v1::EXPLORATION_METHOD_GREEDY;
+    case navigation::ExplorationMethod::kVoronoiFastMarching: return v1::EXPLORATION_METHOD_VFM;
+    case navigation::ExplorationMethod::kFrontier: break;
+  }
+  return v1::EXPLORATION_METHOD_FRONTIER;
+}
+
+void FillExploration(const navigation::ExplorationProgress& p, const MapBuilder& builder, v1::ExplorationStatus* out) {
+  using navigation::ExplorationState;
+  switch (p.state) {
+    case ExplorationState::kIdle: out->set_state(v1::EXPLORATION_STATE_IDLE); break;
+    case ExplorationState::kExploring: out->set_state(v1::EXPLORATION_STATE_EXPLORING); break;
+    case ExplorationState::kComplete: out->set_state(v1::EXPLORATION_STATE_COMPLETE); break;
+    case ExplorationState::kStopped: out->set_state(v1::EXPLORATION_STATE_STOPPED); break;
+    case ExplorationState::kFailed: out->set_state(v1::EXPLORATION_STATE_FAILED); break;
+  }
+  out->set_method(MethodToProto(p.method));
+  out->set_message(p.message);
+  out->set_explored_area(p.explored_area);
+  out->set_frontier_cells(p.frontier_cells);
+  out->set_goals(p.goals);
+  out->set_goals_given_up(p.goals_given_up);
+  out->set_elapsed(p.elapsed);
+  out->set_distance_travelled(p.distance_travelled);
+  ToProto(p.goal, out->mutable_goal());
+  FillStatus(builder, out->mutable_mapping());
+}
+
 }  // namespace
 
 grpc::Status MappingService::GetMap(grpc::ServerContext* context, const v1::GetMapRequest* request,
@@ -173,6 +203,35 @@ grpc::Status MappingService::StreamMapUpdates(grpc::ServerContext* context, cons
       std::this_thread::sleep_for(std::chrono::duration<double>(period));
     }
   });
+}
+
+grpc::Status MappingService::StartExploration(grpc::ServerContext*, const v1::StartExplorationRequest* request,
+                                              v1::ExplorationStatus* response) {
+  return GuardedCall([&] {
+    navigation::ExplorerOptions o = exploring_;
+    switch (request->method()) {
+      case v1::EXPLORATION_METHOD_FRONTIER: o.method = navigation::ExplorationMethod::kFrontier; break;
+      case v1::EXPLORATION_METHOD_GREEDY: o.method = navigation::ExplorationMethod::kGreedy; break;
+      case v1::EXPLORATION_METHOD_VFM: o.method = navigation::ExplorationMethod::kVoronoiFastMarching; break;
+      default:
+        throw Error(ErrorCode::kInvalidArgument, "method: unknown exploration method " + std::to_string(request->method()));
+    }
+    if (request->resolution() != 0.0) o.mapping.resolution = request->resolution();
+    if (request->size() != 0.0) o.mapping.size = request->size();
+    o.max_time = request->max_time();
+    o.planner = request->planner();
+    FillExploration(explorer_.Start(o), builder_, response);
+  });
+}
+
+grpc::Status MappingService::StopExploration(grpc::ServerContext*, const v1::StopExplorationRequest*,
+                                             v1::ExplorationStatus* response) {
+  return GuardedCall([&] { FillExploration(explorer_.Stop(), builder_, response); });
+}
+
+grpc::Status MappingService::GetExplorationStatus(grpc::ServerContext*, const v1::GetExplorationStatusRequest*,
+                                                  v1::ExplorationStatus* response) {
+  return GuardedCall([&] { FillExploration(explorer_.Progress(), builder_, response); });
 }
 
 }  // namespace navd::mapping

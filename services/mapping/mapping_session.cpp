@@ -149,6 +149,7 @@ void MappingSession::Integrate(const Item& item) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++status_.scans;
   status_.pose = pose;
+  status_.stamp = item.scan.stamp;
   status_.nodes = nodes;
   status_.loop_closures = closures;
   if (changed) MarkChanged(*changed);

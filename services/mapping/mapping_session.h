@@ -44,6 +44,7 @@ struct MappingStatus {
   uint64_t dropped = 0;
   int nodes = 0, loop_closures = 0;
   Pose2 pose;                  // the robot's latest mapped pose, map frame
+  double stamp = 0.0;          // s, the stamp of the scan `pose` belongs to
   uint64_t version = 0;        // increments with every change of the map
 };
 

@@ -62,36 +62,45 @@ std::optional<ExplorationStep> NextExplorationStep(const OccupancyGrid& map, con
   for (size_t i = 0; i < n; ++i)
     traversable[i] = cells[i] >= 0 && cells[i] < o.free_below && obstacles.values()[i] > o.clearance;
 
-  // Start from the robot's cell, or the nearest traversable cell within a metre when the robot
-  // stands in the clearance zone.
-  CellIndex start = map.CellOf(robot.translation());
-  if (!map.Contains(start)) return std::nullopt;
-  if (!traversable[map.Flat(start)]) {
-    const int r = static_cast<int>(std::ceil(1.0 / map.resolution()));
-    double best = kInf;
-    CellIndex found{-1, -1};
-    for (int dy = -r; dy <= r; ++dy)
-      for (int dx = -r; dx <= r; ++dx) {
-        const CellIndex c{start.x + dx, start.y + dy};
-        if (!map.Contains(c) || !traversable[map.Flat(c)]) continue;
-        const double d = std::hypot(dx, dy);
-        if (d < best) {
-          best = d;
-          found = c;
-        }
+  // Start from the robot's cell, or, when the robot stands in the clearance zone, from the nearest
+  // traversable cell it reaches within a metre through known free space (never one beyond a wall).
+  const CellIndex robot_cell = map.CellOf(robot.translation());
+  if (!map.Contains(robot_cell)) return std::nullopt;
+  int32_t s = static_cast<int32_t>(map.Flat(robot_cell));
+  if (!traversable[s]) {
+    std::vector<double> reach(n, kInf);
+    std::queue<int32_t> q;
+    reach[s] = 0.0;
+    q.push(s);
+    s = -1;
+    while (!q.empty() && s < 0) {
+      const int32_t u = q.front();
+      q.pop();
+      if (traversable[u]) {
+        s = u;
+        break;
       }
-    if (found.x < 0) return std::nullopt;
-    start = found;
+      const int x = u % w, y = u / w;
+      for (int k = 0; k < 4; ++k) {
+        const int nx = x + kDx[k], ny = y + kDy[k];
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+        const int32_t v = ny * w + nx;
+        const double d = reach[u] + map.resolution();
+        if (d > 1.0 || reach[v] <= d || cells[v] < 0 || cells[v] >= o.free_below) continue;
+        reach[v] = d;
+        q.push(v);
+      }
+    }
+    if (s < 0) return std::nullopt;
   }
-
-  // Dijkstra over traversable cells (8-connected, no corner cutting).
   std::vector<double> dist(n, kInf);
   std::vector<int32_t> parent(n, -1);
   using Item = std::pair<double, int32_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  const int32_t s = static_cast<int32_t>(map.Flat(start));
   dist[s] = 0.0;
   open.push({0.0, s});
+
+  // Dijkstra over traversable cells (8-connected, no corner cutting).
   while (!open.empty()) {
     const auto [d, u] = open.top();
     open.pop();

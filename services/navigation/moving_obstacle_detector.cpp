@@ -54,7 +54,11 @@ std::vector<DetectedObstacle> MovingObstacleDetector::Segment(const localization
     if (std::isfinite(r) && r >= scan.range_min && r < max_range && r <= options_.max_distance) {
       const double angle = pose.theta + scan.angle_min + scan.angle_increment * static_cast<double>(i);
       const double expected = map_->Cast(origin, angle, max_range);
-      flagged = expected - r > options_.threshold;
+      // Something stands where the map knows free space. A map still being built (exploration)
+      // has not seen every wall, and its walls shift a little with each loop closure.
+      const CellIndex hit = map_->grid().CellOf(origin + r * Point2(std::cos(angle), std::sin(angle)));
+      flagged = expected - r > options_.threshold && map_->grid().Contains(hit) && map_->grid().at(hit) >= 0 &&
+                !map_->grid().IsOccupied(hit);
     }
     // Two bodies side by side at different depths are two runs.
     if (open && (!flagged || std::abs(r - previous_range) > options_.associate_distance)) close_run();

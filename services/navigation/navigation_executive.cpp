@@ -9,7 +9,8 @@
 namespace navd::navigation {
 
 namespace {
-const char* const kMeasured[] = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger"};
+const char* const kMeasured[] = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger",
+                                 "map_building"};
 const char* const kProcesses[] = {"navigation",  "emergency_stop", "wake_up", "localization", "moving_obstacle_detection",
                                   "moving_obstacle_avoidance"};
 
@@ -53,7 +54,7 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
     if (!known) {
       throw Error(ErrorCode::kInvalidArgument,
                   "brain: state variable '" + v + "' is not one navd measures (contact, sensors_stale, "
-                  "localization_lost, moving_obstacle_danger)");
+                  "localization_lost, moving_obstacle_danger, map_building)");
     }
   }
   const long nav = brain_.FindProcess("navigation");
@@ -93,6 +94,7 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
   z_stale_ = StateIndexOr(brain_, "sensors_stale");
   z_lost_ = StateIndexOr(brain_, "localization_lost");
   z_danger_ = StateIndexOr(brain_, "moving_obstacle_danger");
+  z_map_building_ = StateIndexOr(brain_, "map_building");
 }
 
 uint64_t NavigationExecutive::Navigate(const NavigateRequest& r, const planning::StopRequested& stop) {
@@ -210,13 +212,27 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
     local.reserve(scan_points_.size());
     for (const Point2& p : scan_points_) local.push_back(pose.inverse() * p);
     // Behind the robot the laser is blind: the map says how far the wall is, the rear sensor the rest.
-    // The robot's whole disc is swept back, not one ray: a wall beside the robot's rim counts.
+    // The robot's whole disc is swept back, not one ray: a wall beside the robot's rim counts. Only
+    // walls behind its centre do: one the front touches now does not close the way back.
     if (detector_map_) {
+      const OccupancyGrid& grid = detector_map_->grid();
       const Point2 back(-std::cos(pose.theta), -std::sin(pose.theta));
       constexpr double kStep = 0.02, kHorizon = 1.0;
+      const double r = radius + 0.02;
+      auto hits = [&](const Point2& centre) {
+        const CellIndex lo = grid.CellOf(centre - Point2(r, r)), hi = grid.CellOf(centre + Point2(r, r));
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x) {
+            const CellIndex c{x, y};
+            const Point2 at = grid.CellCenter(c);
+            if ((at - centre).norm() > r || (at - pose.translation()).dot(back) <= 0.0) continue;
+            if (!grid.Contains(c) || grid.IsOccupied(c)) return true;
+          }
+        return false;
+      };
       double wall = kHorizon;
       for (double d = kStep; d <= kHorizon; d += kStep) {
-        if (detector_map_->DiscHitsWall(pose.translation() + d * back, radius + 0.02)) {
+        if (hits(pose.translation() + d * back)) {
           wall = d - kStep;
           break;
         }
@@ -317,6 +333,7 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   if (z_stale_ >= 0) z[z_stale_] = in.sensors_fresh && estimate.valid ? 0.0 : 1.0;
   if (z_lost_ >= 0) z[z_lost_] = lost_ ? 1.0 : 0.0;
   if (z_danger_ >= 0) z[z_danger_] = danger_level;
+  if (z_map_building_ >= 0) z[z_map_building_] = map_building_ ? 1.0 : 0.0;
   const double dt = last_step_ < 0.0 || now <= last_step_ ? 0.0 : std::min(now - last_step_, 1.0);
   last_step_ = now;
   brain_.Update(dt, z);
@@ -339,6 +356,31 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
     } else if (contact_since_ < 0.0) {
       contact_since_ = now;
     }
+    const size_t stop = static_cast<size_t>(emergency_stop_);
+    if (in.contact) {
+      // Holds the behaviour past the release, for the recoil.
+      brain_.SetGamma(stop, 1.0);
+      pressed_ = true;
+      pressed_rear_ = in.rear_contact_only;
+      recoil_from_.reset();
+    } else if (pressed_) {
+      pressed_ = false;
+      recoil_from_ = estimate.pose;
+      recoil_until_ = now + 2.0 * stop_options_.recoil_distance / stop_options_.recoil_speed + 1.0;
+    }
+    if (recoil_from_) {
+      const AvoidanceSensing sensing = Sensing(estimate.pose, in.rear_free);
+      const double way = pressed_rear_ ? sensing.free_along(0.0) : sensing.rear_free;
+      if (Distance(estimate.pose.translation(), recoil_from_->translation()) < stop_options_.recoil_distance &&
+          now < recoil_until_ && way > moving_.avoidance.min_clearance) {
+        brain_.SetGamma(stop, 1.0);
+        navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop, "bumper released: backing away", fresh);
+        const double v = pressed_rear_ ? stop_options_.recoil_speed : -stop_options_.recoil_speed;
+        return {v, v};
+      }
+      recoil_from_.reset();
+      brain_.SetGamma(stop, 0.0);
+    }
     const bool ease_off = in.contact && now - contact_since_ >= stop_options_.ease_off_after;
     navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop,
                     !in.contact ? "emergency stop" : ease_off ? "bumper pressed: easing off" : "bumper pressed", fresh);
@@ -351,6 +393,8 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
     }
     return {};
   }
+  pressed_ = false;  // another behaviour has the robot: no recoil pending
+  recoil_from_.reset();
   if (static_cast<long>(motor) == wake_up_) {
     navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop, "localization lost: searching the map", fresh);
     // Turning in place shows the filter the whole room; it cannot tell places apart standing still.

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,9 +80,15 @@ struct MovingObstacleOptions {
 // forever. After ease_off_after seconds of contact it creeps away from the pressed bumper, when
 // that way is free, until the contact ends. Longer than an obstacle that gives up waits (the
 // simulator's carts turn back after 4 s): creeping away from one invites it to follow.
+// When a bumper lets go, the robot first backs away from what it touched (Nav2's back-up
+// recovery, a few centimetres) before navigation gets it back: the leg replanned from against a
+// wall starts by turning or driving along it, and pressed it again and again (measured: 150
+// bumps in one corner while exploring).
 struct EmergencyStopOptions {
   double ease_off_after = 6.0;  // s
   double ease_off_speed = 0.05; // m/s
+  double recoil_distance = 0.10; // m
+  double recoil_speed = 0.10;    // m/s
 };
 
 // What the control loop measured this step.
@@ -129,6 +136,11 @@ class NavigationExecutive {
   bool localization_active() const { return localization_ >= 0 && brain_.active(static_cast<size_t>(localization_)); }
   // The detection process's danger level (its confirmed obstacles go out in the feedback).
   double danger() const;
+  // The served map is being built as the robot drives (exploration): state variable
+  // map_building, which switches the moving-obstacle detection off in the default brain, since a
+  // scan compared with a map that has not seen every wall, and redraws after each loop closure,
+  // finds "moving" obstacles everywhere (measured: evasive manoeuvres in an empty warehouse).
+  void SetMapBuilding(bool building) { map_building_ = building; }
 
  private:
   uint64_t StartMission(const Mission& mission, const std::string& planner, bool preempt,
@@ -154,7 +166,8 @@ class NavigationExecutive {
   LocalizationWatchOptions watch_;
   size_t navigation_ = 0;
   long emergency_stop_ = -1, wake_up_ = -1, localization_ = -1, detection_ = -1, avoidance_ = -1;
-  long z_contact_ = -1, z_stale_ = -1, z_lost_ = -1, z_danger_ = -1;
+  long z_contact_ = -1, z_stale_ = -1, z_lost_ = -1, z_danger_ = -1, z_map_building_ = -1;
+  std::atomic<bool> map_building_{false};
   MovingObstacleOptions moving_;
   mutable std::mutex detector_mutex_;  // the detector is read by gRPC and telemetry threads
   MovingObstacleDetector detector_;
@@ -165,6 +178,10 @@ class NavigationExecutive {
   double avoidance_done_at_ = -1.0;
   EmergencyStopOptions stop_options_;
   double contact_since_ = -1.0;
+  bool pressed_ = false;            // a bumper was pressed at the last emergency-stop step
+  bool pressed_rear_ = false;       // ... the rear one only
+  std::optional<Pose2> recoil_from_;  // backing away from a contact that ended, from here
+  double recoil_until_ = 0.0;
   double last_blocked_check_ = -1e9;
   std::string planner_;            // the active mission's planner
   double last_step_ = -1.0;

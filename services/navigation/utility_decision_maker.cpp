@@ -121,7 +121,7 @@ std::vector<ProcessUtility> UtilityDecisionMaker::Snapshot() const {
 
 UtilityBrainOptions DefaultBrainOptions() {
   UtilityBrainOptions o;
-  o.state_variables = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger"};
+  o.state_variables = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger", "map_building"};
   UtilityProcessOptions navigation{"navigation", ProcessKind::kMotor, 0.1, 1.0, 0.25};
   UtilityProcessOptions stop{"emergency_stop", ProcessKind::kMotor, 0.05, 5.0, 0.0,
                              {{"contact", 1.0}, {"sensors_stale", 1.0}}};
@@ -130,7 +130,8 @@ UtilityBrainOptions DefaultBrainOptions() {
   UtilityProcessOptions avoidance{"moving_obstacle_avoidance", ProcessKind::kMotor, 0.1, 1.0, -0.45,
                                   {{"moving_obstacle_danger", 1.0}}, 1.0, 3.0};
   UtilityProcessOptions localization{"localization", ProcessKind::kCognitive, 0.1, 1.0, 0.5};
-  UtilityProcessOptions detection{"moving_obstacle_detection", ProcessKind::kCognitive, 0.1, 1.0, 0.5};
+  UtilityProcessOptions detection{"moving_obstacle_detection", ProcessKind::kCognitive, 0.1, 1.0, 0.5,
+                                  {{"map_building", -1.0}}};
   o.processes = {navigation, stop, wake_up, avoidance, localization, detection};
   return o;
 }

@@ -194,8 +194,8 @@ TEST_F(BadInput, NavigateWhileNavigatingIsRejectedOrPreempts) {
 
 TEST_F(BadInput, LocalisationMethodsCanBeListedSelectedAndStreamed) {
   const auto methods = client().ListMethods();
-  ASSERT_EQ(methods.methods_size(), 6);
-  EXPECT_EQ(methods.methods(5), "auto");
+  ASSERT_EQ(methods.methods_size(), 7);
+  EXPECT_EQ(methods.methods(6), "auto");
   EXPECT_EQ(methods.selected(), "amcl");
   ExpectError([&] { client().SelectMethod("gps"); }, grpc::StatusCode::INVALID_ARGUMENT, {"method", "gps", "amcl", "auto"});
   client().SelectMethod("odometry");

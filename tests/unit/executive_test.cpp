@@ -1,12 +1,16 @@
 // The executive's parts without transport: utility-function decision making (seed 000 section 3),
-// the brain file, and waypoint missions in the navigator.
+// the brain file, waypoint missions in the navigator, and the executive's emergency stop.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "services/common/diff_drive.h"
 #include "services/common/error.h"
+#include "services/common/map_store.h"
+#include "services/localization/odometry_localizer.h"
+#include "services/navigation/navigation_executive.h"
 #include "services/navigation/navigator.h"
+#include "services/planning/planner_catalog.h"
 #include "services/navigation/utility_decision_maker.h"
 
 namespace navd::navigation {
@@ -242,6 +246,51 @@ TEST(NavigatorMission, PauseStopsTheRobotAndResumeReplans) {
 TEST(NavigatorMission, RejectsAnEmptyMission) {
   Navigator nav;
   EXPECT_THROW(nav.Start(Mission{}, {}, 0.0, 0.0, false), Error);
+}
+
+// A bumper pressed while driving: the emergency stop holds the robot, and when the bumper lets go
+// it backs straight away 10 cm before navigation has the robot again (driving on from against the
+// obstacle pressed it again and again).
+TEST(NavigationExecutive, BacksAwayFromWhatTheBumperTouchedBeforeNavigatingOn) {
+  MapStore maps;
+  maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
+  planning::PlanningEngine planning(maps, {});
+  planning::RegisterDefaultPlanners(planning);
+  localization::OdometryLocalizer localizer(Pose2(1.0, 2.5, 0.0));
+  SimClock clock;
+  NavigatorOptions options;
+  const double wheel_base = options.follower.wheel_base;
+  NavigationExecutive executive(planning, localizer, clock, options);
+  Pose2 pose(0.0, 0.0, 0.0);  // odometry
+  double t = 0.0;
+  auto step = [&](bool contact) {
+    t += 0.05;
+    clock.Set(t);
+    localizer.AddOdometry({pose, Eigen::Matrix3d::Zero(), t});
+    ExecutiveInputs in;
+    in.contact = contact;
+    const WheelSpeeds w = executive.Step(in, t);
+    pose = IntegrateDiffDrive(pose, w.left * 0.05, w.right * 0.05, wheel_base);
+    return w;
+  };
+  step(false);
+  executive.Navigate({Pose2(5.0, 2.5, 0.0), false, "", false});
+  for (int i = 0; i < 40; ++i) step(false);
+  EXPECT_GT(pose.x, 0.3);  // driving on
+  for (int i = 0; i < 10; ++i) {
+    const WheelSpeeds w = step(true);
+    if (i > 1) EXPECT_EQ(w.left, 0.0);
+  }
+  EXPECT_EQ(executive.navigator().Status().feedback.state, NavigationState::kEmergencyStop);
+  const double pressed_at = pose.x;
+  int backing = 0;
+  for (int i = 0; i < 60 && step(false).left < 0.0; ++i) ++backing;
+  EXPECT_NEAR(pressed_at - pose.x, 0.10, 0.02);
+  EXPECT_GE(backing, 15);  // 10 cm at 0.1 m/s
+  // Then navigation drives on to the goal.
+  for (int i = 0; i < 40; ++i) step(false);
+  EXPECT_GT(pose.x, pressed_at + 0.1);
+  EXPECT_TRUE(executive.navigator().Status().active);
 }
 
 }  // namespace
