@@ -119,7 +119,7 @@ std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
 void DdsBridge::Remember(const localization::OdometryReading& reading) {
   if (!reading.pose.finite() || !std::isfinite(reading.stamp)) return;  // never interpolated from
   std::lock_guard<std::mutex> lock(history_mutex_);
-  history_.Add(reading);
+  history_.Add(history_filter_.Filter(reading));
 }
 
 std::optional<Pose2> DdsBridge::OdometryAt(double stamp) const {

@@ -18,6 +18,7 @@
 #include "services/common/diff_drive.h"
 #include "services/localization/localizer.h"
 #include "services/localization/odometry_history.h"
+#include "services/localization/odometry_jump_filter.h"
 #include "services/localization/wheel_odometry.h"
 #include "services/navigation/navigator.h"
 
@@ -39,8 +40,8 @@ class DdsBridge {
   double last_odometry_arrival() const { return last_odom_arrival_.load(); }
   uint64_t odometry_count() const { return wheel_odometry_ ? wheel_count_.load() : odom_reader_->count(); }
   // The odometry pose at `stamp`, interpolated from every reading that arrived (not only those
-  // the control loop saw: under load its ticks fall far apart in simulated time); nullopt before
-  // the first reading.
+  // the control loop saw: under load its ticks fall far apart in simulated time), jumps taken out
+  // (a reset odom frame is no motion for a mapping run either); nullopt before the first reading.
   std::optional<Pose2> OdometryAt(double stamp) const;
 
   // The newest scan and how many have arrived (to tell a new one from the last).
@@ -81,6 +82,7 @@ class DdsBridge {
   void Remember(const localization::OdometryReading& reading);
   mutable std::mutex history_mutex_;
   localization::OdometryHistory history_{256};
+  localization::OdometryJumpFilter history_filter_;
   std::atomic<uint64_t> wheel_count_{0};
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_reader_;
   std::string scan_topic_;

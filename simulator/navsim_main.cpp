@@ -369,8 +369,12 @@ int Run(int argc, char** argv) {
     }
     if (out.truth) world_writer.Write(MakeWorldState(t, simulation));
     for (const auto& e : out.events) {
-      spdlog::warn("navsim: collision of '{}' with {} at ({:.2f}, {:.2f}) t={:.2f}s", e.robot, e.other, e.where.x(),
-                   e.where.y(), e.time);
+      // Where the robot stood, too: what it was doing when it touched.
+      Pose2 at;
+      for (const auto& r : robots)
+        if (r->name() == e.robot || (r->name().empty() && e.robot == "robot")) at = r->base().true_pose();
+      spdlog::warn("navsim: collision of '{}' at ({:.2f}, {:.2f}, {:.2f}) with {} at ({:.2f}, {:.2f}) t={:.2f}s", e.robot,
+                   at.x, at.y, at.theta, e.other, e.where.x(), e.where.y(), e.time);
       msgs_sim::CollisionEvent_ m;
       m.header(MakeHeader(e.time, "map"));
       m.robot(e.robot);

@@ -22,6 +22,8 @@ ExplorationProgress Explorer::Start(const ExplorerOptions& options) {
     throw Error(ErrorCode::kFailedPrecondition, "exploring already: stop it first");
   if (!(options.max_time >= 0.0) || !std::isfinite(options.max_time))
     throw Error(ErrorCode::kInvalidArgument, "max_time must be a non-negative number of seconds");
+  if (!(options.extra_inflation >= 0.0) || !std::isfinite(options.extra_inflation))
+    throw Error(ErrorCode::kInvalidArgument, "extra_inflation must be a non-negative number of metres");
   if (executive_.navigator().Status().active)
     throw Error(ErrorCode::kFailedPrecondition, "a navigation mission is active: cancel it before exploring");
   if (!options.planner.empty()) {
@@ -44,6 +46,8 @@ ExplorationProgress Explorer::Start(const ExplorerOptions& options) {
   }
   localizer_.Select("slam");
   executive_.SetMapBuilding(true);
+  inflation_before_ = planning_.inflation_radius();
+  planning_.SetInflationRadius(inflation_before_ + options.extra_inflation);
 
   options_ = options;
   started_ = clock_.Now();
@@ -113,6 +117,7 @@ bool Explorer::Decide(double now) {
     // Served as it grows: the executive plans each leg on the newest map.
     maps_.Set(*map, "exploring");
     served_version_ = mapping.version;
+    planning_.CurrentCostmap();  // built here rather than in the control loop's blocked-path check
   }
 
   const localization::PoseEstimate estimate = localizer_.Estimate();
@@ -245,6 +250,7 @@ void Explorer::End(ExplorationState state, const std::string& message) {
   }
   if (const auto session = builder_.session()) maps_.Set(*session->Map(), "explored");
   executive_.SetMapBuilding(false);
+  planning_.SetInflationRadius(inflation_before_);
   std::lock_guard<std::mutex> lock(mutex_);
   progress_.state = state;
   progress_.message = message;

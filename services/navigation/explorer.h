@@ -34,6 +34,10 @@ struct ExplorerOptions {
   // executive cannot plan to or whose mission fails.
   double stuck_after = 20.0;  // s
   double max_time = 0.0;      // s; 0: no limit
+  // Added to the planners' inflation while exploring: walls seen once or twice sit a few
+  // centimetres off, and a gap only a hair wider than the robot's inflated disc (a shelf beside a
+  // wall) was entered and grazed (measured).
+  double extra_inflation = 0.05;  // m
   int complete_after = 3;     // decisions in a row without a reachable frontier
 };
 
@@ -98,6 +102,7 @@ class Explorer {
   // The thread's own state.
   ExplorerOptions options_;
   double started_ = 0.0;
+  double inflation_before_ = 0.0;  // the planners' inflation radius before exploring
   uint64_t served_version_ = ~0ULL;
   std::vector<Point2> visited_;
   Point2 last_position_ = Point2::Zero();

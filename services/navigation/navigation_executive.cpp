@@ -136,6 +136,7 @@ uint64_t NavigationExecutive::StartMission(const Mission& mission, const std::st
   if (!estimate.valid) {
     throw Error(ErrorCode::kFailedPrecondition, "no pose estimate yet: navd has not received odometry");
   }
+  const auto map = planning_.maps().Get();  // before planning: the plan is at least this new
   planning::PathPlan first;
   if (mission.waypoints.size() == 1) {
     // Validates the goal (finite, inside the map, free) and fails early when no path exists.
@@ -151,6 +152,7 @@ uint64_t NavigationExecutive::StartMission(const Mission& mission, const std::st
     first = planning_.ComputePath(estimate.pose.translation(), points.front(), planner, {}, stop);
   }
   const uint64_t id = navigator_.Start(mission, first.points, first.length, clock_.Now(), preempt);
+  leg_map_version_ = map ? map->version : 0;
   planner_ = planner;
   return id;
 }
@@ -160,6 +162,8 @@ void NavigationExecutive::PlanLeg(double now) {
   if (!leg) return;
   const localization::PoseEstimate estimate = localizer_.Estimate();
   const planning::PlanningScene scene = Scene(estimate.pose);
+  const auto map = planning_.maps().Get();
+  const uint64_t plan_map_version = map ? map->version : 0;
   try {
     planning::PathPlan plan;
     try {
@@ -171,6 +175,7 @@ void NavigationExecutive::PlanLeg(double now) {
       plan = planning_.ComputePath(estimate.pose.translation(), leg->pose.translation(), planner_, {});
     }
     navigator_.SetLegPath(plan.points, plan.length, now);
+    leg_map_version_ = plan_map_version;
   } catch (const Error& e) {
     navigator_.Abort("no path to waypoint " + FormatPoint(leg->pose.translation()) + ": " + e.what(), now);
   }
@@ -431,8 +436,9 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   }
   avoider_.Stop();
   if (now - last_blocked_check_ >= moving_.replan_period) {
-    // Nav2 replans at 1 Hz; we replan when something the map lacks has come to lie across the
-    // path ahead (an unknown box, a cart that stopped), so the plan goes round it in time.
+    // Nav2 replans at 1 Hz; we replan when something has come to lie across the path ahead: a
+    // tracked obstacle the map lacks (an unknown box, a cart that stopped), or, after the map
+    // changed (a map being built), cells its costmap now calls lethal.
     last_blocked_check_ = now;
     std::vector<std::pair<Point2, double>> discs;
     {
@@ -441,7 +447,20 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
         discs.push_back({o.position, o.radius + moving_.detection.robot_radius});
       }
     }
-    navigator_.ReplanIfBlocked(discs, moving_.planning_range);
+    std::shared_ptr<const planning::Costmap> costmap;
+    if (const auto map = planning_.maps().Get(); map && map->version != leg_map_version_) costmap = planning_.CurrentCostmap();
+    const Point2 here = estimate.pose.translation();
+    const double near = moving_.detection.robot_radius + 0.1;
+    navigator_.ReplanIfBlocked(
+        [&](const Point2& p) {
+          for (const auto& [centre, radius] : discs)
+            if (Distance(p, centre) < radius) return true;
+          // Not next to the robot: a leg starting inside the inflation leaves it from there.
+          if (!costmap || Distance(p, here) < near) return false;
+          const CellIndex c = costmap->grid().CellOf(p);
+          return costmap->grid().Contains(c) && costmap->IsLethal(c);
+        },
+        moving_.planning_range);
   }
   PlanLeg(now);
   WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);

@@ -183,6 +183,8 @@ class NavigationExecutive {
   std::optional<Pose2> recoil_from_;  // backing away from a contact that ended, from here
   double recoil_until_ = 0.0;
   double last_blocked_check_ = -1e9;
+  // The served map's version the current leg was planned on (set by gRPC and control threads).
+  std::atomic<uint64_t> leg_map_version_{0};
   std::string planner_;            // the active mission's planner
   double last_step_ = -1.0;
   double poor_fit_since_ = -1.0;

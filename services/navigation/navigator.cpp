@@ -356,9 +356,9 @@ void Navigator::SetBehaviour(const std::string& behaviour, std::vector<ProcessUt
   status_.feedback.utilities = std::move(utilities);
 }
 
-bool Navigator::ReplanIfBlocked(const std::vector<std::pair<Point2, double>>& discs, double ahead) {
+bool Navigator::ReplanIfBlocked(const std::function<bool(const Point2&)>& blocked, double ahead) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!status_.active || status_.paused || leg_needs_path_ || discs.empty()) return false;
+  if (!status_.active || status_.paused || leg_needs_path_) return false;
   const std::vector<Point2>& path = follower_.waypoints();
   const size_t from = follower_.waypoint_index();
   if (from >= path.size()) return false;
@@ -368,12 +368,10 @@ bool Navigator::ReplanIfBlocked(const std::vector<std::pair<Point2, double>>& di
     // The waypoints are at most d_wp apart: checking them is checking the path.
     along += Distance(previous, path[i]);
     previous = path[i];
-    for (const auto& [centre, radius] : discs) {
-      if (Distance(path[i], centre) < radius) {
-        leg_needs_path_ = true;
-        BumpLocked();
-        return true;
-      }
+    if (blocked(path[i])) {
+      leg_needs_path_ = true;
+      BumpLocked();
+      return true;
     }
   }
   return false;

@@ -8,6 +8,7 @@
 // leg functions, gRPC handlers the rest. Map frame, metres, radians, seconds of the daemon clock.
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -139,9 +140,9 @@ class Navigator {
   void Hold(const Pose2& pose, double now, NavigationState state, const std::string& reason, bool sensors_fresh);
   // The decision maker's standing, carried in the feedback.
   void SetBehaviour(const std::string& behaviour, std::vector<ProcessUtility> utilities);
-  // Replans the current leg when a disc (map frame, metres) lies across the rest of its path
-  // within `ahead` metres of the robot; returns whether it asked for a new path.
-  bool ReplanIfBlocked(const std::vector<std::pair<Point2, double>>& discs, double ahead);
+  // Replans the current leg when a point of the rest of its path within `ahead` metres of the
+  // robot is `blocked` (map frame, metres); returns whether it asked for a new path.
+  bool ReplanIfBlocked(const std::function<bool(const Point2&)>& blocked, double ahead);
   // What the moving-obstacle detection sees, carried in the feedback.
   void SetMovingObstacles(double danger, std::vector<planning::MovingBody> obstacles);
 

@@ -66,7 +66,7 @@ std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point
 }
 
 PlanningEngine::PlanningEngine(const MapStore& maps, PlanningEngineOptions options)
-    : maps_(maps), options_(std::move(options)) {}
+    : maps_(maps), options_(std::move(options)), costmap_options_(options_.costmap) {}
 
 void PlanningEngine::Register(std::unique_ptr<GlobalPlanner> planner) { planners_.push_back(std::move(planner)); }
 
@@ -111,13 +111,27 @@ PlannerOptions PlanningEngine::ResolveOptions(const GlobalPlanner& planner,
   return resolved;
 }
 
+void PlanningEngine::SetInflationRadius(double radius) {
+  if (!(radius >= 0.0) || !std::isfinite(radius))
+    throw Error(ErrorCode::kInvalidArgument, "inflation radius must be a non-negative number of metres");
+  std::lock_guard<std::mutex> lock(costmap_mutex_);
+  if (costmap_options_.inflation_radius == radius) return;
+  costmap_options_.inflation_radius = radius;
+  costmap_.reset();  // the next request builds it with the new radius
+}
+
+double PlanningEngine::inflation_radius() const {
+  std::lock_guard<std::mutex> lock(costmap_mutex_);
+  return costmap_options_.inflation_radius;
+}
+
 std::shared_ptr<const Costmap> PlanningEngine::CurrentCostmap() {
   auto snapshot = maps_.Get();
   if (!snapshot) throw Error(ErrorCode::kFailedPrecondition, "no map is loaded");
   std::lock_guard<std::mutex> lock(costmap_mutex_);
   if (!costmap_ || costmap_version_ != snapshot->version) {
     costmap_ = std::make_shared<Costmap>(std::shared_ptr<const OccupancyGrid>(snapshot, &snapshot->grid),
-                                         options_.costmap);
+                                         costmap_options_);
     costmap_version_ = snapshot->version;
   }
   return costmap_;
@@ -129,7 +143,7 @@ std::shared_ptr<const Costmap> PlanningEngine::SceneCostmap(const std::shared_pt
   // Nav2's obstacle layer, for one request: each body becomes an obstacle disc the inflation then
   // grows. A body over the start or the goal cannot be planned around now and is left out.
   OccupancyGrid grid = map_costmap->grid();
-  const double keep_clear = options_.costmap.inflation_radius + grid.resolution();
+  const double keep_clear = map_costmap->options().inflation_radius + grid.resolution();
   bool drawn = false;
   for (const MovingBody& body : scene.moving) {
     if ((body.position - start).norm() < body.radius + keep_clear ||
@@ -140,7 +154,7 @@ std::shared_ptr<const Costmap> PlanningEngine::SceneCostmap(const std::shared_pt
     drawn = true;
   }
   if (!drawn) return map_costmap;
-  return std::make_shared<const Costmap>(std::make_shared<const OccupancyGrid>(std::move(grid)), options_.costmap);
+  return std::make_shared<const Costmap>(std::make_shared<const OccupancyGrid>(std::move(grid)), map_costmap->options());
 }
 
 PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, const std::string& planner_name,
@@ -180,7 +194,7 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
   }
   if (costmap->IsLethal(goal_cell)) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", options_.costmap.inflation_radius);
+    std::snprintf(buf, sizeof buf, "%.2f", costmap->options().inflation_radius);
     throw Error(ErrorCode::kInvalidArgument, "goal " + FormatPoint(goal) + " is within " + buf +
                                                  " m of an obstacle or unknown space: the robot cannot stand there");
   }

@@ -76,6 +76,10 @@ class PlanningEngine {
 
   // The costmap of the current map (built on first use after a map change).
   std::shared_ptr<const Costmap> CurrentCostmap();
+  // Changes the costmap's inflation radius (metres) for the requests that follow, e.g. a wider
+  // margin while the map is still being built. Throws navd::Error(kInvalidArgument) when negative.
+  void SetInflationRadius(double radius);
+  double inflation_radius() const;
 
  private:
   const GlobalPlanner& Find(const std::string& name) const;
@@ -89,7 +93,8 @@ class PlanningEngine {
   const MapStore& maps_;
   PlanningEngineOptions options_;
   std::vector<std::unique_ptr<GlobalPlanner>> planners_;
-  std::mutex costmap_mutex_;
+  mutable std::mutex costmap_mutex_;
+  CostmapOptions costmap_options_;  // options_.costmap, until SetInflationRadius
   std::shared_ptr<const Costmap> costmap_;
   uint64_t costmap_version_ = 0;
 };
