@@ -219,8 +219,9 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
     // Behind the robot the laser is blind: the map says how far the wall is, the rear sensor the rest.
     // The robot's whole disc is swept back, not one ray: a wall beside the robot's rim counts. Only
     // walls behind its centre do: one the front touches now does not close the way back.
-    if (detector_map_) {
-      const OccupancyGrid& grid = detector_map_->grid();
+    // The served map as it is now (a map being built changes; the detector's copy may be older).
+    if (const auto map = planning_.maps().Get()) {
+      const OccupancyGrid& grid = map->grid;
       const Point2 back(-std::cos(pose.theta), -std::sin(pose.theta));
       constexpr double kStep = 0.02, kHorizon = 1.0;
       const double r = radius + 0.02;
