@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "services/common/error.h"
 #include "services/common/grid_traversal.h"
@@ -49,13 +50,42 @@ void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& r
     // A reading measures the distance to a surface; a hair further along the beam is the cell
     // behind it (a reading ending exactly on a cell border would otherwise mark the free cell).
     const CellIndex end = geometry_.CellOf(to + 0.01 * geometry_.resolution() * dir);
-    TraverseSegment(geometry_, from, to, [&](const CellIndex& c, double) {
-      if (!geometry_.Contains(c)) return true;
-      if (hit && c == end) return true;  // the end cell is updated below
-      Update(geometry_.Flat(c), o_.l_free, -1);
-      return true;
-    });
-    if (hit && geometry_.Contains(end)) Update(geometry_.Flat(end), o_.l_occupied, +3);
+    const bool end_inside = geometry_.Contains(end);
+    ClearBeam(from, to, hit && end_inside ? static_cast<long>(geometry_.Flat(end)) : -1);  // the end cell is updated below
+    if (hit && end_inside) Update(geometry_.Flat(end), o_.l_occupied, +3);
+  }
+}
+
+void OccupancyGridMapper::ClearBeam(const Point2& from, const Point2& to, long skip) {
+  // Amanatides & Woo in cell units, counting the cells to the end one. At an exact corner it
+  // steps through one side cell where TraverseSegment visits both: one free observation more or
+  // less on a hair-thin diagonal, for a walk a scan makes ~10^5 times.
+  const double res = geometry_.resolution();
+  const int w = geometry_.width(), h = geometry_.height();
+  const Point2 a = (from - geometry_.origin()) / res, b = (to - geometry_.origin()) / res;
+  int x = static_cast<int>(std::floor(a.x())), y = static_cast<int>(std::floor(a.y()));
+  const int x1 = static_cast<int>(std::floor(b.x())), y1 = static_cast<int>(std::floor(b.y()));
+  const Point2 d = b - a;
+  const int sx = d.x() > 0 ? 1 : -1, sy = d.y() > 0 ? 1 : -1;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // Fractions of the segment to the next vertical / horizontal cell border, and per cell.
+  double tx = d.x() != 0.0 ? ((sx > 0 ? x + 1 : x) - a.x()) / d.x() : kInf;
+  double ty = d.y() != 0.0 ? ((sy > 0 ? y + 1 : y) - a.y()) / d.y() : kInf;
+  const double dtx = d.x() != 0.0 ? 1.0 / std::abs(d.x()) : kInf;
+  const double dty = d.y() != 0.0 ? 1.0 / std::abs(d.y()) : kInf;
+  for (int n = std::abs(x1 - x) + std::abs(y1 - y);; --n) {
+    if (x >= 0 && y >= 0 && x < w && y < h) {
+      const long k = static_cast<long>(y) * w + x;
+      if (k != skip) Update(static_cast<size_t>(k), o_.l_free, -1);
+    }
+    if (n <= 0) break;
+    if (tx < ty) {
+      x += sx;
+      tx += dtx;
+    } else {
+      y += sy;
+      ty += dty;
+    }
   }
 }
 

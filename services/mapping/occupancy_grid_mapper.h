@@ -57,6 +57,9 @@ class OccupancyGridMapper {
   OccupancyGrid geometry_;       // size, origin and resolution only
   MapperOptions o_;
   void Update(size_t cell, double log_odds, int himm);  // one observation of a cell
+  // One free observation of every cell a beam crosses from `from` to `to` (map frame) except
+  // the cell at flat index `skip` (-1: none).
+  void ClearBeam(const Point2& from, const Point2& to, long skip);
   std::vector<float> log_odds_;      // log-odds, or the HIMM certainty 0..15
   std::vector<uint8_t> seen_;
 };
