@@ -1,5 +1,7 @@
 #include "services/mapping/slam_localizer.h"
 
+#include <optional>
+
 namespace navd::mapping {
 
 void SlamLocalizer::AddOdometry(const localization::OdometryReading& reading) {
@@ -32,7 +34,8 @@ localization::PoseEstimate SlamLocalizer::Estimate() const {
 
 localization::MethodContext SlamLocalizer::Suitability(bool laser_fresh) const {
   const auto session = builder_.session();
-  const bool slam = session && session->status().active && session->status().mode == MappingMode::kSlam;
+  const std::optional<MappingStatus> s = session ? std::optional<MappingStatus>(session->status()) : std::nullopt;
+  const bool slam = s && s->active && s->mode == MappingMode::kSlam;  // one status: one consistent read
   return {name(), slam && laser_fresh ? 1.0 : 0.0, {4.0, 3.0, 4.0}};
 }
 
