@@ -24,6 +24,7 @@ inline constexpr const char* kCollisions = "rt/sim/collisions";   // navsim_msgs
 inline constexpr const char* kDoorCommand = "rt/sim/door_command";  // navsim_msgs/DoorCommand, global
 inline constexpr const char* kNavStatus = "navd/status";     // navd_msgs/NavStatus
 inline constexpr const char* kMap = "map";                   // nav_msgs/OccupancyGrid, map frame
+inline constexpr const char* kNextTick = "navd/next_tick";   // rosgraph_msgs/Clock: navd's next control tick (lockstep)
 inline constexpr const char* kPose = "pose";                 // geometry_msgs/PoseWithCovarianceStamped, map frame
 
 }  // namespace navd::dds

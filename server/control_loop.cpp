@@ -37,7 +37,9 @@ void ControlLoop::Run() {
   auto last_advance = std::chrono::steady_clock::now();
   while (!stop_) {
     // Bounded waits keep the loop responsive to Stop() when simulated time stalls.
-    const bool reached = clock_.SleepUntil(next, 0.05);
+    // A microsecond early counts: clock stamps travel rounded to nanoseconds and `next` is a sum,
+    // and navsim --lockstep, holding at a tick it takes as reached, must see it run.
+    const bool reached = clock_.SleepUntil(next - 1e-6, 0.05);
     const double now = clock_.Now();
     const auto wall = std::chrono::steady_clock::now();
     if (now != last_seen) {
@@ -55,6 +57,7 @@ void ControlLoop::Run() {
     next += period;
     if (now - next > period) next = now + period;  // fell behind: do not burst
     Tick(tick++, now);
+    bridge_.PublishNextTick(next);
   }
 }
 

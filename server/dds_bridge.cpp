@@ -38,6 +38,10 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
         participant_, dds::kClock, Reliability::kBestEffort,
         [sim_clock](const rosgraph_msgs::msg::dds_::Clock_& m) { sim_clock->Set(dds::FromTime(m.clock())); }, 1);
   }
+  if (sim_clock) {
+    next_tick_writer_ = std::make_unique<dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
+        participant_, dds::TopicName(ns, dds::kNextTick), Reliability::kReliable, 1);
+  }
   if (!encoders) {
     odom_reader_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>>(
         participant_, dds::TopicName(ns, dds::kOdom), Reliability::kBestEffort,
@@ -168,6 +172,13 @@ void DdsBridge::PublishMap(const OccupancyGrid& grid, double now) {
   m.data().assign(reinterpret_cast<const char*>(grid.cells().data()),
                   reinterpret_cast<const char*>(grid.cells().data()) + grid.cells().size());
   map_writer_->Write(m);
+}
+
+void DdsBridge::PublishNextTick(double next_tick) {
+  if (!next_tick_writer_) return;
+  rosgraph_msgs::msg::dds_::Clock_ m;
+  m.clock(dds::ToTime(next_tick));
+  next_tick_writer_->Write(m);
 }
 
 void DdsBridge::StopRobot() {

@@ -66,6 +66,9 @@ class DdsBridge {
                      const std::string& localizer, double now);
   // The pose estimate on rt/<ns>/pose, as AMCL publishes amcl_pose (x, y, yaw covariance in ROS order).
   void PublishPose(const localization::PoseEstimate& pose, double now);
+  // Under simulated time: the control loop finished its tick and needs nothing until `next_tick`
+  // (s), on rt/<ns>/navd/next_tick, which navsim --lockstep waits for. Nothing under system time.
+  void PublishNextTick(double next_tick);
   // A map on rt/<ns>/map in nav_msgs/OccupancyGrid layout (ROS 2 viewers show it), map frame.
   void PublishMap(const OccupancyGrid& grid, double now);
 
@@ -99,6 +102,7 @@ class DdsBridge {
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_writer_;
   std::unique_ptr<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>> map_writer_;
+  std::unique_ptr<dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>> next_tick_writer_;
 };
 
 }  // namespace navd::server

@@ -1,7 +1,8 @@
 // navsim: the simulator process. Loads a scenario (or a world file: one robot), steps it at --rate
 // times real time, and talks ROS 2-layout DDS: rt/clock and the world's truth globally; per robot
 // (rt/<robot>/...) scan, sonar, ir, odom, joint_states, bumper, ground_truth and sim/status out,
-// cmd_vel and cmd_accel in. Optionally records one robot as a CARMEN log.
+// cmd_vel and cmd_accel in. Optionally records one robot as a CARMEN log. With --lockstep it steps
+// no further than each robot's navd has been given (rt/<robot>/navd/next_tick).
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -23,11 +24,14 @@
 #include "services/common/error.h"
 #include "services/common/pose_text.h"
 #include "simulator/carmen_recorder.h"
+#include "simulator/lockstep_gate.h"
 #include "simulator/simulation.h"
 
 namespace {
 
 std::atomic<bool> g_stop{false};
+// Wall seconds a lockstep run may fall behind its rate before its schedule starts again from now.
+constexpr double kLockstepSlack = 0.05;
 void OnSignal(int) { g_stop = true; }
 
 using namespace navd;
@@ -48,7 +52,8 @@ nav_msgs::msg::dds_::Odometry_ MakeOdometry(double t, const Pose2& pose, const s
 // simulation thread applies them between steps.
 class RobotTopics {
  public:
-  RobotTopics(navd::dds::Participant& p, const sim::SimulatedRobot& robot)
+  // gate: when given (--lockstep), the robot's navd/next_tick reports go to it as robot `index`.
+  RobotTopics(navd::dds::Participant& p, const sim::SimulatedRobot& robot, sim::LockstepGate* gate, size_t index)
       : ns_(robot.name()),
         scan_(p, TopicName(ns_, navd::dds::kScan), Reliability::kBestEffort, 5),
         sonar_(p, TopicName(ns_, navd::dds::kSonar), Reliability::kBestEffort, 32),
@@ -87,6 +92,12 @@ class RobotTopics {
       scan_msg_.time_increment(static_cast<float>(1.0 / l->description().rate / l->description().beams));
       scan_msg_.range_min(static_cast<float>(l->description().range_min));
       scan_msg_.range_max(static_cast<float>(l->description().range_max));
+    }
+    if (gate) {
+      next_tick_ = std::make_unique<navd::dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
+          p, TopicName(ns_, navd::dds::kNextTick), Reliability::kReliable,
+          [gate, index](const rosgraph_msgs::msg::dds_::Clock_& m) { gate->Report(index, navd::dds::FromTime(m.clock())); },
+          1);
     }
   }
 
@@ -174,6 +185,7 @@ class RobotTopics {
   std::optional<std::pair<double, double>> accel_;
   navd::dds::Reader<msgs_geo::Twist_PubSubType> cmd_vel_;
   navd::dds::Reader<msgs_geo::Accel_PubSubType> cmd_accel_;
+  std::unique_ptr<navd::dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>> next_tick_;
   msgs_sensor::LaserScan_ scan_msg_;
   uint32_t reported_collisions_ = 0;
 };
@@ -265,6 +277,14 @@ int Run(int argc, char** argv) {
       ->excludes(scenario_opt);
   app.add_option("--rate", rate, "Simulated seconds per wall second")->check(CLI::PositiveNumber);
   app.add_flag("--fast", fast, "Run as fast as possible (no pacing)");
+  bool lockstep = false;
+  double lockstep_timeout = 2.0;
+  app.add_flag("--lockstep", lockstep,
+               "Step no further than each robot's navd has been given (rt/<robot>/navd/next_tick, navd --use-sim-time): "
+               "runs then do not depend on machine load");
+  app.add_option("--lockstep-timeout", lockstep_timeout,
+                 "Wall seconds to wait for a navd before stepping on without it (until it reports again)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "Random seed (overrides the scenario's); the same seed repeats the same run");
   app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
@@ -331,16 +351,20 @@ int Run(int argc, char** argv) {
                                                                   Reliability::kBestEffort, 2);
   navd::dds::Writer<msgs_sim::CollisionEvent_PubSubType> collision_writer(participant, navd::dds::kCollisions,
                                                                           Reliability::kReliable, 100);
+  std::unique_ptr<sim::LockstepGate> gate;
+  if (lockstep) gate = std::make_unique<sim::LockstepGate>(robots.size(), lockstep_timeout);
   std::vector<std::unique_ptr<RobotTopics>> topics;
-  for (const auto& r : robots) topics.push_back(std::make_unique<RobotTopics>(participant, *r));
+  for (size_t i = 0; i < robots.size(); ++i)
+    topics.push_back(std::make_unique<RobotTopics>(participant, *robots[i], gate.get(), i));
   DoorCommands doors(participant);
 
   const auto& w = simulation.world();
   spdlog::info("navsim: scenario '{}' on world '{}' ({}x{} cells at {} m), {} robot(s), {} moving obstacle(s), {} "
-               "people, {} hidden obstacle(s), rate {}, seed {}, DDS domain {} ({})",
+               "people, {} hidden obstacle(s), rate {}{}, seed {}, DDS domain {} ({})",
                simulation.scenario().name, w.name, w.map.width(), w.map.height(), w.map.resolution(), robots.size(),
                simulation.moving_obstacles().size(), simulation.people().size(), simulation.scenario().hidden_obstacles,
-               fast ? std::string("max") : std::to_string(rate), simulation.seed(), domain, network);
+               fast ? std::string("max") : std::to_string(rate), gate ? " in lockstep with navd" : "", simulation.seed(), domain,
+               network);
   for (const auto& r : robots) {
     const Pose2& p = r->base().true_pose();
     spdlog::info("navsim: robot '{}' ({}) at ({:.2f}, {:.2f}, {:.2f}) on rt/{}", simulation.BodyName(r->id()),
@@ -351,22 +375,40 @@ int Run(int argc, char** argv) {
   // rt/clock at up to 20 x 100 Hz per wall second: enough for sim-time consumers, cheap at 1000x.
   const uint64_t clock_every = fast ? 100 : std::max<uint64_t>(1, static_cast<uint64_t>(std::ceil(rate / 20.0)));
   const auto wall_start = std::chrono::steady_clock::now();
-  uint64_t steps = 0;
+  // Pacing counts from here; under lockstep a slow navd moves it on, so that the simulation does
+  // not then race to catch up with the wall clock.
+  auto schedule_start = wall_start;
+  uint64_t steps = 0, scheduled_steps = 0;
+  bool clock_sent = false;  // rt/clock has carried simulation.now()
+  const auto send_clock = [&] {
+    rosgraph_msgs::msg::dds_::Clock_ clock;
+    clock.clock(navd::dds::ToTime(simulation.now()));
+    clock_writer.Write(clock);
+    clock_sent = true;
+  };
   while (!g_stop && (duration <= 0 || simulation.now() < duration - 1e-9)) {
+    if (gate) {
+      // A navd waits for rt/clock to reach its tick: it must have heard the time it is held at.
+      if (!clock_sent) send_clock();
+      for (const size_t i : gate->WaitUntilAllowed(simulation.now())) {
+        spdlog::warn("navsim: robot '{}''s navd sent no next tick for {} s at t={:.2f}s: stepping on without it until "
+                     "it reports again",
+                     simulation.BodyName(robots[i]->id()), lockstep_timeout, simulation.now());
+      }
+    }
     for (size_t i = 0; i < topics.size(); ++i) topics[i]->ApplyCommands(simulation, i);
     doors.Apply(simulation);
     const sim::StepOutputs out = simulation.Step();
     ++steps;
     const double t = simulation.now();
+    ++scheduled_steps;
+    clock_sent = false;
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    if (steps % clock_every == 0) {
-      rosgraph_msgs::msg::dds_::Clock_ clock;
-      clock.clock(navd::dds::ToTime(t));
-      clock_writer.Write(clock);
-    }
     for (size_t i = 0; i < robots.size(); ++i) {
       topics[i]->Publish(t, *robots[i], out.robots[i], out.truth, out.status, wall > 0 ? t / wall : 0.0);
     }
+    // After the sensors, so that a sim-time consumer woken by the clock finds this step's readings.
+    if (steps % clock_every == 0) send_clock();
     if (out.truth) world_writer.Write(MakeWorldState(t, simulation));
     for (const auto& e : out.events) {
       // Where the robot stood, too: what it was doing when it touched.
@@ -396,8 +438,14 @@ int Run(int argc, char** argv) {
     }
     // Pace to `rate` times real time; sleeping only when ahead keeps long runs on schedule.
     if (!fast) {
-      const double ahead = steps * dt / rate - wall;
-      if (ahead > 0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
+      const auto now = std::chrono::steady_clock::now();
+      const double ahead = scheduled_steps * dt / rate - std::chrono::duration<double>(now - schedule_start).count();
+      if (ahead > 0) {
+        std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
+      } else if (gate && ahead < -kLockstepSlack) {
+        schedule_start = now;
+        scheduled_steps = 0;
+      }
     }
   }
   if (recorder) recorder->Close();

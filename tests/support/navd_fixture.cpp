@@ -31,6 +31,7 @@ NavdStack::NavdStack(const StackOptions& o) : domain_(ReserveDomain()), dir_(Mak
   const std::string domain = std::to_string(domain_);
   if (o.start_sim) {
     std::vector<std::string> args{NavsimBinary(), "--domain", domain, "--rate", std::to_string(o.rate)};
+    if (o.lockstep) args.push_back("--lockstep");
     args.insert(args.end(), o.sim_args.begin(), o.sim_args.end());
     sim_ = std::make_unique<Process>(args, dir_ + "/navsim.log");
   }

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
 #include <cmath>
 #include <filesystem>
 #include <cstring>
@@ -18,6 +21,7 @@
 #include "services/common/world.h"
 #include "simulator/carmen_recorder.h"
 #include "simulator/laser_scanner.h"
+#include "simulator/lockstep_gate.h"
 #include "simulator/simulation.h"
 #include "tests/support/process.h"
 
@@ -684,6 +688,38 @@ TEST(CarmenRecorder, RoundTripsThroughTheLogReader) {
     EXPECT_NEAR(log.truth[i].pose.x, truths[i].x, 1e-6);
     EXPECT_NEAR(log.truth[i].pose.theta, truths[i].theta, 1e-6);
   }
+}
+
+TEST(LockstepGate, HoldsTheSimulationAtAControllersNextTickUntilItReportsTheNext) {
+  LockstepGate gate(2, 5.0);
+  // Nobody has reported: nothing holds.
+  EXPECT_TRUE(gate.WaitUntilAllowed(100.0).empty());
+  gate.Report(1, 1.05);
+  EXPECT_TRUE(gate.WaitUntilAllowed(1.04).empty());
+  // At 1.05 the controller has not finished that tick: the step waits until it reports the next.
+  std::atomic<bool> released{false};
+  std::thread step([&] {
+    EXPECT_TRUE(gate.WaitUntilAllowed(1.05).empty());
+    released = true;
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_FALSE(released);
+  gate.Report(1, 1.10);
+  step.join();
+  EXPECT_TRUE(released);
+}
+
+TEST(LockstepGate, ASilentControllerIsReleasedAfterTheTimeoutAndHeldAgainWhenItReports) {
+  LockstepGate gate(1, 0.1);
+  gate.Report(0, 2.0);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(gate.WaitUntilAllowed(2.0), std::vector<size_t>{0});
+  EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.09);
+  EXPECT_FALSE(gate.holding());
+  EXPECT_TRUE(gate.WaitUntilAllowed(50.0).empty());  // stepping on without it
+  gate.Report(0, 60.0);                              // a restarted navd
+  EXPECT_TRUE(gate.holding());
+  EXPECT_EQ(gate.WaitUntilAllowed(60.0), std::vector<size_t>{0});
 }
 
 }  // namespace

@@ -1,0 +1,48 @@
+#include "simulator/lockstep_gate.h"
+
+namespace navd::sim {
+
+namespace {
+// Clock stamps and tick times are sums of doubles: a tick "at" t counts as reached.
+constexpr double kEpsilon = 1e-9;
+}  // namespace
+
+LockstepGate::LockstepGate(size_t robots, double timeout) : timeout_(timeout), controllers_(robots) {}
+
+void LockstepGate::Report(size_t robot, double next_tick) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (robot >= controllers_.size()) return;
+    controllers_[robot].held = true;
+    controllers_[robot].next_tick = next_tick;
+  }
+  cv_.notify_all();
+}
+
+bool LockstepGate::AllowedLocked(double t) const {
+  for (const Controller& c : controllers_)
+    if (c.held && t >= c.next_tick - kEpsilon) return false;
+  return true;
+}
+
+std::vector<size_t> LockstepGate::WaitUntilAllowed(double t) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  std::vector<size_t> released;
+  if (cv_.wait_for(lock, std::chrono::duration<double>(timeout_), [&] { return AllowedLocked(t); })) return released;
+  for (size_t i = 0; i < controllers_.size(); ++i) {
+    if (controllers_[i].held && t >= controllers_[i].next_tick - kEpsilon) {
+      controllers_[i].held = false;
+      released.push_back(i);
+    }
+  }
+  return released;
+}
+
+bool LockstepGate::holding() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const Controller& c : controllers_)
+    if (c.held) return true;
+  return false;
+}
+
+}  // namespace navd::sim

@@ -1,0 +1,48 @@
+#pragma once
+// Lockstep between the simulator and the robots' controllers. Each controller reports the
+// simulated time of its next control tick once it has finished the current one; the simulator
+// does not step past a time some controller has not yet been given. Then what happens in
+// simulated time does not depend on how loaded the machine is (a controller that falls behind
+// the wall clock would otherwise act late and see sensors late), as Gazebo's lockstep.
+//
+// A controller that has never reported does not hold the simulation (a robot without navd, or
+// navd still starting); one that stops answering is released after a wall-clock timeout and held
+// again from its next report (a navd that died and was restarted).
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <mutex>
+#include <vector>
+
+namespace navd::sim {
+
+class LockstepGate {
+ public:
+  // robots: how many controllers may report; timeout: wall seconds a step waits for a controller.
+  LockstepGate(size_t robots, double timeout);
+
+  // Controller `robot` finished its tick and needs nothing until simulated time `next_tick` (s).
+  // Called from DDS threads.
+  void Report(size_t robot, double next_tick);
+
+  // Blocks until every held controller has been given simulated time `t` (its next tick lies
+  // ahead of t), or until the timeout. Returns the robots released by the timeout (normally none).
+  std::vector<size_t> WaitUntilAllowed(double t);
+
+  // Whether some controller holds the simulation (has reported and not timed out).
+  bool holding() const;
+
+ private:
+  bool AllowedLocked(double t) const;
+
+  const double timeout_;
+  mutable std::mutex mutex_;
+  std::condition_variable cv_;
+  struct Controller {
+    bool held = false;
+    double next_tick = 0.0;
+  };
+  std::vector<Controller> controllers_;
+};
+
+}  // namespace navd::sim
