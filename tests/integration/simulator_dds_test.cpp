@@ -9,11 +9,13 @@
 #include <mutex>
 #include <thread>
 
+#include "dds/conversions.h"
 #include "dds/participant.h"
 #include "dds/topics.h"
 #include "geometry_msgsPubSubTypes.h"
 #include "nav_msgsPubSubTypes.h"
 #include "navsim_msgsPubSubTypes.h"
+#include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
 #include "services/common/carmen_log.h"
 #include "tests/support/navd_fixture.h"
@@ -218,6 +220,43 @@ TEST(NavsimScenario, NavctlClosesAndOpensADoorTheLaserSeesIt) {
   EXPECT_NE(unknown.exit_code, 0);
   EXPECT_NE(unknown.output.find("no door 'back' (doors: s1, s2, s3, s4, n1, n2, n3, n4)"), std::string::npos)
       << unknown.output;
+}
+
+// navsim --lockstep with a real navd: simulated time waits for a navd that is frozen (SIGSTOP),
+// moves on without it after the timeout, and waits again once it answers.
+TEST(NavsimLockstep, SimulatedTimeWaitsForNavdThenMovesOnWithoutAFrozenOne) {
+  StackOptions options;
+  options.rate = 20.0;
+  options.sim_args = {"--lockstep-timeout", "1.5"};
+  NavdStack stack(options);
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  dds::Participant p({stack.domain(), dds::Network::kLoopback, "clock-watcher", {}});
+  dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock(p, dds::kClock, dds::Reliability::kBestEffort);
+  auto sim_time_after = [&](double wall) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(wall));
+    const auto c = clock.Latest();
+    return c ? dds::FromTime(c->clock()) : -1.0;
+  };
+  const double running = sim_time_after(0.5);
+  ASSERT_GT(running, 0.0) << stack.Logs();
+  EXPECT_GT(sim_time_after(0.5) - running, 1.0) << "navsim is not running";
+
+  // Frozen for less than the timeout: simulated time stands at navd's next tick.
+  ASSERT_EQ(kill(stack.navd().pid(), SIGSTOP), 0);
+  const double frozen = sim_time_after(0.2);
+  const double held = sim_time_after(1.0);
+  EXPECT_LT(held - frozen, 0.1) << "simulated time ran on while navd was frozen";
+  // Past the timeout navsim steps on without it.
+  const double released = sim_time_after(2.0);
+  EXPECT_GT(released - held, 2.0) << "navsim kept waiting for a frozen navd";
+  ASSERT_EQ(kill(stack.navd().pid(), SIGCONT), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_NE(stack.Logs().find("sent no next tick for 1.5 s"), std::string::npos) << stack.Logs();
+  // Answering again, navd holds it again: frozen once more, time stands.
+  ASSERT_EQ(kill(stack.navd().pid(), SIGSTOP), 0);
+  const double again = sim_time_after(0.2);
+  EXPECT_LT(sim_time_after(1.0) - again, 0.1);
+  ASSERT_EQ(kill(stack.navd().pid(), SIGCONT), 0);
 }
 
 TEST(NavsimScenario, BadScenarioExitsNonZeroWithOneLine) {
