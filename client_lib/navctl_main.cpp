@@ -202,6 +202,13 @@ int main(int argc, char** argv) {
   auto* status = app.add_subcommand("status", "Print navigation status");
   status->add_flag("--json", json_out, "Print one JSON object");
 
+  auto* zones_cmd = app.add_subcommand("speed-zones", "Print navd's speed zones, or replace them (--set, --clear)");
+  std::vector<std::string> zone_specs;
+  bool clear_zones = false;
+  zones_cmd->add_option("--set", zone_specs, "A zone NAME:X_MIN,Y_MIN,X_MAX,Y_MAX:MAX_SPEED (metres, m/s); repeatable");
+  zones_cmd->add_flag("--clear", clear_zones, "Remove every zone")->excludes("--set");
+  zones_cmd->add_flag("--json", json_out, "Print one JSON object");
+
   auto* map = app.add_subcommand("map", "Print the map's metadata");
   map->add_flag("--json", json_out, "Print one JSON object");
   auto* load_map = app.add_subcommand("load-map", "Load a map file the server can read");
@@ -484,6 +491,49 @@ int main(int argc, char** argv) {
         std::printf("%s%s, pose (%.2f, %.2f, %.2f)%s\n", StateText(s.state()), s.active() ? " (goal active)" : "",
                     s.feedback().pose().x(), s.feedback().pose().y(), s.feedback().pose().theta(),
                     s.sensors_stale() ? ", sensors stale" : "");
+      }
+      return 0;
+    }
+    if (zones_cmd->parsed()) {
+      navd::v1::SpeedZones zones;
+      if (!zone_specs.empty() || clear_zones) {
+        navd::v1::SetSpeedZonesRequest request;
+        for (const std::string& spec : zone_specs) {
+          const size_t a = spec.find(':'), b = spec.rfind(':');
+          if (a == std::string::npos || a == b || a == 0) {
+            throw std::runtime_error("--set '" + spec + "': expected NAME:X_MIN,Y_MIN,X_MAX,Y_MAX:MAX_SPEED");
+          }
+          const auto box = ParseTuple(spec.substr(a + 1, b - a - 1), "--set " + spec.substr(0, a), 4, 4);
+          const auto speed = ParseTuple(spec.substr(b + 1), "--set " + spec.substr(0, a) + " max speed", 1, 1);
+          navd::v1::SpeedZone* z = request.add_zones();
+          z->set_name(spec.substr(0, a));
+          for (const auto& [x, y] : {std::pair{box[0], box[1]}, {box[2], box[1]}, {box[2], box[3]}, {box[0], box[3]}}) {
+            navd::v1::Point2D* p = z->add_area();
+            p->set_x(x);
+            p->set_y(y);
+          }
+          z->set_max_speed(speed[0]);
+        }
+        zones = client.SetSpeedZones(request);
+      } else {
+        zones = client.GetSpeedZones();
+      }
+      if (json_out) {
+        json list = json::array();
+        for (const auto& z : zones.zones()) {
+          json area = json::array();
+          for (const auto& p : z.area()) area.push_back({p.x(), p.y()});
+          list.push_back({{"name", z.name()}, {"area", area}, {"max_speed", z.max_speed()}});
+        }
+        std::printf("%s\n", json{{"zones", list}}.dump().c_str());
+      } else if (zones.zones().empty()) {
+        std::printf("no speed zones\n");
+      } else {
+        for (const auto& z : zones.zones()) {
+          std::printf("%s: at most %.2f m/s within", z.name().c_str(), z.max_speed());
+          for (const auto& p : z.area()) std::printf(" (%.2f, %.2f)", p.x(), p.y());
+          std::printf("\n");
+        }
       }
       return 0;
     }

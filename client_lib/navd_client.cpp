@@ -247,6 +247,14 @@ v1::GetStatusResponse Client::GetStatus() {
   return Call(*navigation_, &v1::NavigationService::Stub::GetStatus, v1::GetStatusRequest());
 }
 
+v1::SpeedZones Client::SetSpeedZones(const v1::SetSpeedZonesRequest& request) {
+  return Call(*navigation_, &v1::NavigationService::Stub::SetSpeedZones, request);
+}
+
+v1::SpeedZones Client::GetSpeedZones() {
+  return Call(*navigation_, &v1::NavigationService::Stub::GetSpeedZones, v1::GetSpeedZonesRequest());
+}
+
 OccupancyGrid ToOccupancyGrid(const v1::GetMapResponse& map) {
   const v1::MapInfo& info = map.info();
   OccupancyGrid grid(static_cast<int>(info.width()), static_cast<int>(info.height()), info.resolution(),

@@ -93,6 +93,9 @@ class Client {
   void Pause();
   void Resume();
   v1::GetStatusResponse GetStatus();
+  // Replaces navd's speed zones (an empty request clears them); returns them as navd holds them.
+  v1::SpeedZones SetSpeedZones(const v1::SetSpeedZonesRequest& request);
+  v1::SpeedZones GetSpeedZones();
 
   const std::string& server() const { return options_.server; }
 

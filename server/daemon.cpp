@@ -36,6 +36,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   MapStore maps;
   RobotDescription robot;
   Pose2 initial_pose;
+  std::vector<SpeedZone> speed_zones;
   if (!o.map_path.empty()) {
     std::string name;
     OccupancyGrid grid = LoadAnyMapFile(o.map_path, &name);
@@ -44,6 +45,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
     World world = o.world_path.empty() ? DefaultWorld() : LoadWorldFile(o.world_path);
     robot = world.robot;
     initial_pose = world.start;
+    speed_zones = std::move(world.speed_zones);
     maps.Set(std::move(world.map), world.name);
   }
   if (o.initial_pose_set) initial_pose = {o.initial_pose[0], o.initial_pose[1], o.initial_pose[2]};
@@ -109,6 +111,8 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   moving.detection.robot_radius = robot.radius;
   moving.avoidance.wheel_base = robot.wheel_base;
   navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain, {}, moving);
+  for (const SpeedZone& z : speed_zones) spdlog::info("navd: speed zone '{}': at most {} m/s", z.name, z.max_speed);
+  executive.SetSpeedZones(navigation::SpeedZones(std::move(speed_zones)));
 
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr,

@@ -1,6 +1,8 @@
 #include "services/common/polygon.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "services/common/grid_traversal.h"
 
@@ -107,6 +109,20 @@ void FillOutsidePolygon(OccupancyGrid& grid, const Polygon& polygon, int8_t valu
     }
   }
   FillEdges(grid, polygon, value);
+}
+
+double DistanceToSegment(const Point2& p, const Point2& a, const Point2& b) {
+  const Point2 d = b - a;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * d)).norm();
+}
+
+double DistanceToBoundary(const Polygon& polygon, const Point2& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < polygon.size(); ++i)
+    best = std::min(best, DistanceToSegment(p, polygon[i], polygon[(i + 1) % polygon.size()]));
+  return best;
 }
 
 }  // namespace navd

@@ -18,6 +18,12 @@ std::optional<std::string> PolygonDefect(const Polygon& polygon);
 // True when p lies inside the polygon (even-odd rule).
 bool PolygonContains(const Polygon& polygon, const Point2& p);
 
+// Euclidean distance from p to the segment a-b, metres.
+double DistanceToSegment(const Point2& p, const Point2& a, const Point2& b);
+
+// Distance from p to the polygon's boundary (its nearest edge), metres, inside or out.
+double DistanceToBoundary(const Polygon& polygon, const Point2& p);
+
 // Sets every cell whose centre lies inside the polygon, and every cell its edges pass through (so
 // thin walls survive rasterisation), to `value`.
 void FillPolygon(OccupancyGrid& grid, const Polygon& polygon, int8_t value = OccupancyGrid::kOccupied);

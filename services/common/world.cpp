@@ -69,7 +69,7 @@ OccupancyGrid InlineMap(const YamlFields& f, const YAML::Node& m, const std::str
 
 World Parse(const YamlFields& f, const std::string& text, const std::string& base_dir) {
   const YAML::Node doc = ParseYamlMapping(text, f.source());
-  f.CheckKeys(doc, "", {"name", "map", "robot", "laser", "goals", "regions"});
+  f.CheckKeys(doc, "", {"name", "map", "robot", "laser", "goals", "regions", "speed_zones"});
   World w;
   w.source = f.source();
   w.name = doc["name"] ? f.String(doc["name"], "name") : std::filesystem::path(f.source()).stem().string();
@@ -99,6 +99,33 @@ World Parse(const YamlFields& f, const std::string& text, const std::string& bas
     for (const auto& kv : regions) {
       const std::string name = f.String(kv.first, "regions");
       w.regions[name] = ReadBox(f, kv.second, "regions." + name);
+    }
+  }
+  if (const YAML::Node zones = doc["speed_zones"]) {
+    f.ExpectSequence(zones, "speed_zones", "{name, box: [x_min, y_min, x_max, y_max] or polygon: [[x, y], ...], max_speed}");
+    for (size_t i = 0; i < zones.size(); ++i) {
+      const std::string field = "speed_zones[" + std::to_string(i) + "]";
+      const YAML::Node z = zones[i];
+      f.ExpectMap(z, field);
+      f.CheckKeys(z, field, {"name", "box", "polygon", "max_speed"});
+      SpeedZone zone;
+      zone.name = z["name"] ? f.String(z["name"], field + ".name") : "zone " + std::to_string(i);
+      if (z["box"].IsDefined() == z["polygon"].IsDefined()) f.Fail(field, "needs exactly one of box and polygon", z);
+      const std::string shape = z["box"] ? "box" : "polygon";
+      if (z["box"]) {
+        const Box b = ReadBox(f, z["box"], field + ".box");
+        zone.area = {b.min, {b.max.x(), b.min.y()}, b.max, {b.min.x(), b.max.y()}};
+      } else {
+        zone.area = f.Points(z["polygon"], field + ".polygon", 3);
+      }
+      if (auto defect = PolygonDefect(zone.area)) {
+        f.Fail(field + "." + shape, "is not a simple closed curve: it " + *defect, z[shape]);
+      }
+      if (!z["max_speed"]) f.Fail(field + ".max_speed", "is missing (m/s)", z);
+      zone.max_speed = f.Positive(z["max_speed"], field + ".max_speed");
+      for (const SpeedZone& other : w.speed_zones)
+        if (other.name == zone.name) f.Fail(field + ".name", "'" + zone.name + "' names two zones", z["name"]);
+      w.speed_zones.push_back(std::move(zone));
     }
   }
   if (!w.map.ContainsPoint(w.start.translation())) f.Fail("robot.start", "lies outside the map", doc["robot"]);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
+#include "services/common/polygon.h"
 #include "services/common/pose2.h"
 
 namespace navd {
@@ -60,6 +61,14 @@ struct Box {
   }
 };
 
+// An area the robot drives through no faster than max_speed (Nav2's speed filter zones: loading
+// bays, doorways, where people walk). Map frame, metres, m/s at the robot's rim.
+struct SpeedZone {
+  std::string name;
+  Polygon area;      // a simple closed curve
+  double max_speed = 0.0;
+};
+
 struct World {
   std::string name;
   std::string source;              // file path, or "<embedded>"
@@ -69,6 +78,7 @@ struct World {
   LaserDescription laser;
   std::vector<Pose2> goals;        // named demo goals, in order
   std::map<std::string, Box> regions;  // named areas (rooms, streets, spawn areas)
+  std::vector<SpeedZone> speed_zones;
 };
 
 // Parses a world YAML. `base_dir` resolves a map file path given in it. Throws navd::Error naming

@@ -306,6 +306,29 @@ void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e,
 }
 
 WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
+  const WheelSpeeds wheels = Decide(in, now);
+  // Zones cap whichever behaviour drives: an evasive turn in a loading bay is no faster either.
+  const localization::PoseEstimate estimate = localizer_.Estimate();
+  double limit = std::numeric_limits<double>::infinity();
+  {
+    std::lock_guard<std::mutex> lock(zones_mutex_);
+    if (estimate.valid) limit = zones_.LimitAt(estimate.pose, moving_.detection.robot_radius, zone_options_);
+  }
+  navigator_.SetSpeedLimit(std::isfinite(limit) ? limit : 0.0);
+  return SpeedZones::Cap(wheels, limit);
+}
+
+void NavigationExecutive::SetSpeedZones(SpeedZones zones) {
+  std::lock_guard<std::mutex> lock(zones_mutex_);
+  zones_ = std::move(zones);
+}
+
+SpeedZones NavigationExecutive::speed_zones() const {
+  std::lock_guard<std::mutex> lock(zones_mutex_);
+  return zones_;
+}
+
+WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   const localization::PoseEstimate estimate = localizer_.Estimate();
   if (estimate.valid && in.sensors_fresh) WatchLocalization(estimate, in.scans, now);
 

@@ -17,6 +17,7 @@
 #include "services/navigation/moving_obstacle_avoidance.h"
 #include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
+#include "services/navigation/speed_zones.h"
 #include "services/navigation/utility_decision_maker.h"
 #include "services/planning/planning_engine.h"
 
@@ -141,10 +142,16 @@ class NavigationExecutive {
   // scan compared with a map that has not seen every wall, and redraws after each loop closure,
   // finds "moving" obstacles everywhere (measured: evasive manoeuvres in an empty warehouse).
   void SetMapBuilding(bool building) { map_building_ = building; }
+  // Speed limits by zone (the world's speed_zones, or a client's): every motor behaviour's command
+  // is capped by them, and the feedback carries the limit. Thread-safe.
+  void SetSpeedZones(SpeedZones zones);
+  SpeedZones speed_zones() const;
 
  private:
   uint64_t StartMission(const Mission& mission, const std::string& planner, bool preempt,
                         const planning::StopRequested& stop);
+  // The motor behaviour's command before the speed zones cap it.
+  WheelSpeeds Decide(const ExecutiveInputs& in, double now);
   void PlanLeg(double now);
   // Runs the detection process on a new scan (building its map view when the map changed).
   void DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now);
@@ -191,6 +198,9 @@ class NavigationExecutive {
   uint64_t last_scans_ = 0;
   int poor_scans_ = 0;          // scans in a row that fitted poorly
   std::atomic<bool> lost_{false};  // read by gRPC threads
+  mutable std::mutex zones_mutex_;  // set by gRPC threads
+  SpeedZones zones_;
+  SpeedZoneOptions zone_options_;
 };
 
 }  // namespace navd::navigation

@@ -33,12 +33,22 @@ void ToProto(const NavigationFeedback& f, v1::NavigationFeedback* out) {
     p->set_active(u.active);
   }
   out->set_danger(f.danger);
+  out->set_speed_limit(f.speed_limit);
   for (const planning::MovingBody& b : f.moving_obstacles) {
     v1::MovingBody* m = out->add_moving_obstacles();
     navd::ToProto(b.position, m->mutable_position());
     navd::ToProto(b.velocity, m->mutable_velocity());
     m->set_radius(b.radius);
     m->set_person(b.person);
+  }
+}
+
+void ToProto(const SpeedZones& zones, v1::SpeedZones* out) {
+  for (const SpeedZone& z : zones.zones()) {
+    v1::SpeedZone* m = out->add_zones();
+    m->set_name(z.name);
+    for (const Point2& p : z.area) navd::ToProto(p, m->add_area());
+    m->set_max_speed(z.max_speed);
   }
 }
 
@@ -150,6 +160,28 @@ grpc::Status NavigationService::GetStatus(grpc::ServerContext*, const v1::GetSta
     response->set_localization_lost(executive_.localization_lost());
     if (s.last_result) ToProto(*s.last_result, response->mutable_last_result());
   });
+}
+
+grpc::Status NavigationService::SetSpeedZones(grpc::ServerContext*, const v1::SetSpeedZonesRequest* request,
+                                              v1::SpeedZones* response) {
+  return GuardedCall([&] {
+    std::vector<SpeedZone> zones;
+    for (const v1::SpeedZone& m : request->zones()) {
+      SpeedZone z;
+      z.name = m.name();
+      for (const v1::Point2D& p : m.area()) z.area.push_back(FromProto(p));
+      z.max_speed = m.max_speed();
+      zones.push_back(std::move(z));
+    }
+    SpeedZones checked(std::move(zones));  // throws, naming the field, before anything changes
+    ToProto(checked, response);
+    executive_.SetSpeedZones(std::move(checked));
+  });
+}
+
+grpc::Status NavigationService::GetSpeedZones(grpc::ServerContext*, const v1::GetSpeedZonesRequest*,
+                                              v1::SpeedZones* response) {
+  return GuardedCall([&] { ToProto(executive_.speed_zones(), response); });
 }
 
 }  // namespace navd::navigation

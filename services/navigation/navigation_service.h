@@ -20,6 +20,10 @@ class NavigationService final : public v1::NavigationService::Service {
                       v1::ResumeResponse* response) override;
   grpc::Status GetStatus(grpc::ServerContext* context, const v1::GetStatusRequest* request,
                          v1::GetStatusResponse* response) override;
+  grpc::Status SetSpeedZones(grpc::ServerContext* context, const v1::SetSpeedZonesRequest* request,
+                             v1::SpeedZones* response) override;
+  grpc::Status GetSpeedZones(grpc::ServerContext* context, const v1::GetSpeedZonesRequest* request,
+                             v1::SpeedZones* response) override;
 
  private:
   // Streams feedback of mission `goal_id` until it ends; cancels it when the caller goes away.

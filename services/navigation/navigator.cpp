@@ -383,6 +383,11 @@ void Navigator::SetMovingObstacles(double danger, std::vector<planning::MovingBo
   status_.feedback.moving_obstacles = std::move(obstacles);
 }
 
+void Navigator::SetSpeedLimit(double limit) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  status_.feedback.speed_limit = limit;
+}
+
 NavigationStatus Navigator::Status() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return status_;

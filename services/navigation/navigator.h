@@ -80,6 +80,7 @@ struct NavigationFeedback {
   std::vector<ProcessUtility> utilities;
   double danger = 0.0;               // moving-obstacle danger level mu
   std::vector<planning::MovingBody> moving_obstacles;  // confirmed by the detection process
+  double speed_limit = 0.0;          // m/s: a speed zone's limit where the robot is; 0: none
 };
 
 struct NavigationStatus {
@@ -145,6 +146,8 @@ class Navigator {
   bool ReplanIfBlocked(const std::function<bool(const Point2&)>& blocked, double ahead);
   // What the moving-obstacle detection sees, carried in the feedback.
   void SetMovingObstacles(double danger, std::vector<planning::MovingBody> obstacles);
+  // The speed zones' limit at the robot (m/s; 0: none), carried in the feedback.
+  void SetSpeedLimit(double limit);
 
   NavigationStatus Status() const;
   // The result of mission `goal_id` once it has ended.

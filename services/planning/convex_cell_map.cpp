@@ -92,13 +92,6 @@ std::vector<uint8_t> SquareErode(const Costmap& costmap, int k) {
 
 }  // namespace
 
-double DistanceToSegment(const Point2& p, const Point2& a, const Point2& b) {
-  const Point2 d = b - a;
-  const double len2 = d.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * d)).norm();
-}
-
 ConvexCellMap::ConvexCellMap(const Costmap& costmap, double margin)
     : margin_(margin), width_(costmap.width()), height_(costmap.height()),
       resolution_(costmap.grid().resolution()), origin_(costmap.grid().origin()),

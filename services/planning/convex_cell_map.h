@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "services/common/polygon.h"
 #include "services/planning/costmap.h"
 
 namespace navd::planning {
@@ -90,8 +91,5 @@ class ConvexCellMapCache {
   CostmapOptions costmap_options_;
   std::shared_ptr<const ConvexCellMap> map_;
 };
-
-// Euclidean distance from p to the segment a-b, metres.
-double DistanceToSegment(const Point2& p, const Point2& a, const Point2& b);
 
 }  // namespace navd::planning

@@ -6,9 +6,13 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <fstream>
+#include <mutex>
 #include <thread>
 
 #include "client_lib/telemetry.h"
+#include "dds/conversions.h"
+#include "services/common/text_file.h"
 #include "services/common/world.h"
 #include "tests/support/navd_fixture.h"
 
@@ -157,6 +161,111 @@ TEST(NavigationE2E, StreamReportsProgressAndCancelStopsTheRobot) {
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   EXPECT_TRUE(RobotStandsStill(telemetry, 0.5));
   EXPECT_FALSE(stack.client().GetStatus().active());
+}
+
+// Speed limits by zone: the warehouse with a 0.15 m/s zone across its corridor, in the world file
+// navd starts from. The robot, sent up the corridor, drives through the zone no faster than that
+// by the simulator's ground truth, and faster elsewhere; clients read and replace the zones over
+// gRPC and navctl, and bad zones are refused, keeping the old ones.
+TEST(NavigationE2E, SpeedZonesSlowTheRobotWhereTheWorldSaysAndClientsChangeThem) {
+  const std::string path = MakeTempDir() + "/zoned.yaml";
+  std::ofstream(path) << ReadTextFile(SourceDir() + "/worlds/warehouse.yaml", "world")
+                      << "speed_zones:\n  - {name: corridor, box: [0.1, 4.0, 1.5, 6.0], max_speed: 0.15}\n";
+  StackOptions options;
+  options.navd_args = {"--world", path};
+  NavdStack stack(options);
+  const auto telemetry = stack.MakeTelemetry();
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  Client& client = stack.client();
+  const v1::SpeedZones zones = client.GetSpeedZones();
+  ASSERT_EQ(zones.zones_size(), 1);
+  EXPECT_EQ(zones.zones(0).name(), "corridor");
+  EXPECT_DOUBLE_EQ(zones.zones(0).max_speed(), 0.15);
+
+  // True speeds over 0.2 s of simulated time, by where the robot was.
+  std::mutex mutex;
+  std::vector<std::pair<double, double>> speeds;  // (y, m/s)
+  std::atomic<bool> done{false};
+  std::thread sampler([&] {
+    std::optional<std::tuple<double, double, double>> last;  // t, x, y
+    while (!done) {
+      if (const auto m = telemetry->LatestGroundTruth()) {
+        const double t = dds::FromTime(m->header().stamp());
+        const double x = m->pose().pose().position().x(), y = m->pose().pose().position().y();
+        if (!last || t < std::get<0>(*last)) {
+          last = {t, x, y};
+        } else if (t - std::get<0>(*last) >= 0.2) {
+          const double v = std::hypot(x - std::get<1>(*last), y - std::get<2>(*last)) / (t - std::get<0>(*last));
+          std::lock_guard<std::mutex> lock(mutex);
+          speeds.push_back({0.5 * (y + std::get<2>(*last)), v});
+          last = {t, x, y};
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  });
+  double limit_seen = 0.0;
+  const auto result = client.NavigateTo(
+      0.8, 8.5, std::nullopt, [&](const v1::NavigationFeedback& f) {
+        if (std::abs(f.speed_limit() - 0.15) < 1e-9) limit_seen = f.speed_limit();
+      },
+      120.0);
+  done = true;
+  sampler.join();
+  ASSERT_EQ(result.outcome(), v1::SUCCEEDED) << result.message() << stack.Logs();
+  EXPECT_DOUBLE_EQ(limit_seen, 0.15) << "the feedback never carried the zone's limit";
+  double inside = 0.0, outside = 0.0;
+  int inside_samples = 0;
+  for (const auto& [y, v] : speeds) {
+    if (y >= 4.0 && y <= 6.0) {
+      inside = std::max(inside, v);
+      ++inside_samples;
+    } else if (y < 3.4 || y > 6.6) {
+      outside = std::max(outside, v);
+    }
+  }
+  std::printf("speed zone: fastest %.3f m/s inside (%d samples), %.3f m/s outside\n", inside, inside_samples, outside);
+  EXPECT_GT(inside_samples, 20);
+  EXPECT_LE(inside, 0.15 * 1.05 + 0.005);
+  EXPECT_GT(outside, 0.3);
+
+  // A bad zone is refused naming the field, and the zones stay as they were.
+  v1::SetSpeedZonesRequest bad;
+  v1::SpeedZone* z = bad.add_zones();
+  z->set_name("bay");
+  for (const auto& [x, y] : {std::pair{2.0, 2.0}, {3.0, 2.0}, {3.0, 3.0}}) {
+    v1::Point2D* p = z->add_area();
+    p->set_x(x);
+    p->set_y(y);
+  }
+  z->set_max_speed(-1.0);
+  try {
+    client.SetSpeedZones(bad);
+    ADD_FAILURE() << "a negative max_speed was accepted";
+  } catch (const ClientError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_NE(std::string(e.what()).find("zones[0].max_speed"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(client.GetSpeedZones().zones_size(), 1);
+
+  // navctl replaces and clears them.
+  auto navctl = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), {NavctlBinary(), "--server", stack.address(), "speed-zones"});
+    return RunCommand(args);
+  };
+  const auto set = navctl({"--set", "door:0,0,1,1:0.1", "--set", "bay:2,2,3,3:0.2"});
+  EXPECT_EQ(set.exit_code, 0) << set.output;
+  EXPECT_NE(set.output.find("door: at most 0.10 m/s within (0.00, 0.00) (1.00, 0.00) (1.00, 1.00) (0.00, 1.00)"),
+            std::string::npos)
+      << set.output;
+  EXPECT_EQ(client.GetSpeedZones().zones_size(), 2);
+  const auto malformed = navctl({"--set", "door:0,0,1:0.1"});
+  EXPECT_NE(malformed.exit_code, 0);
+  EXPECT_NE(malformed.output.find("--set door"), std::string::npos) << malformed.output;
+  const auto cleared = navctl({"--clear"});
+  EXPECT_EQ(cleared.exit_code, 0) << cleared.output;
+  EXPECT_NE(cleared.output.find("no speed zones"), std::string::npos) << cleared.output;
+  EXPECT_EQ(client.GetSpeedZones().zones_size(), 0);
 }
 
 }  // namespace

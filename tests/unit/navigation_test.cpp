@@ -9,6 +9,8 @@
 #include "services/localization/odometry_localizer.h"
 #include "services/navigation/navigator.h"
 #include "services/navigation/path_follower.h"
+#include "services/navigation/speed_zones.h"
+#include "services/common/world.h"
 
 namespace navd::navigation {
 namespace {
@@ -211,6 +213,93 @@ TEST(SimClock, FollowsTimeIgnoresReorderingAndResetsOnRestart) {
   EXPECT_EQ(clock.Now(), 0.2);
   EXPECT_FALSE(clock.SleepUntil(1.0, 0.01));
   EXPECT_TRUE(clock.SleepUntil(0.1, 0.01));
+}
+
+// A speed zone over the corridor y in [4, 6] of a 10 m map, 0.15 m/s.
+SpeedZone Corridor() { return {"corridor", {{0.0, 4.0}, {2.0, 4.0}, {2.0, 6.0}, {0.0, 6.0}}, 0.15}; }
+
+TEST(SpeedZones, LimitInsideAndBrakingBeforeAZoneAheadNoneBehindOrFar) {
+  const SpeedZones zones({Corridor()});
+  const SpeedZoneOptions o;  // 0.5 m/s^2 over 0.6 m
+  const double r = 0.2;
+  EXPECT_DOUBLE_EQ(zones.LimitAt({1.0, 5.0, M_PI / 2}, r, o), 0.15);
+  EXPECT_DOUBLE_EQ(zones.LimitAt({1.0, 3.85, M_PI / 2}, r, o), 0.15);  // the disc reaches in
+  // Facing the zone 0.4 m from its edge: the first sample whose disc touches it is 0.2 m ahead.
+  EXPECT_NEAR(zones.LimitAt({1.0, 3.6, M_PI / 2}, r, o), std::sqrt(0.15 * 0.15 + 2 * 0.5 * 0.2), 1e-9);
+  EXPECT_TRUE(std::isinf(zones.LimitAt({1.0, 3.6, -M_PI / 2}, r, o)));  // driving away
+  EXPECT_TRUE(std::isinf(zones.LimitAt({1.0, 1.0, M_PI / 2}, r, o)));   // beyond the look-ahead
+  EXPECT_TRUE(std::isinf(SpeedZones().LimitAt({1.0, 5.0, 0.0}, r, o)));
+  // The tighter of two overlapping zones wins.
+  SpeedZone slow = Corridor();
+  slow.name = "door";
+  slow.max_speed = 0.05;
+  EXPECT_DOUBLE_EQ(SpeedZones({Corridor(), slow}).LimitAt({1.0, 5.0, 0.0}, r, o), 0.05);
+}
+
+TEST(SpeedZones, CapScalesBothWheelsKeepingTheTurn) {
+  const WheelSpeeds w = SpeedZones::Cap({0.4, 0.2}, 0.1);
+  EXPECT_DOUBLE_EQ(w.left, 0.1);
+  EXPECT_DOUBLE_EQ(w.right, 0.05);
+  const WheelSpeeds spin = SpeedZones::Cap({-0.3, 0.3}, 0.15);
+  EXPECT_DOUBLE_EQ(spin.left, -0.15);
+  EXPECT_DOUBLE_EQ(spin.right, 0.15);
+  const WheelSpeeds slow = SpeedZones::Cap({0.05, 0.04}, 0.1);
+  EXPECT_DOUBLE_EQ(slow.left, 0.05);
+  EXPECT_DOUBLE_EQ(SpeedZones::Cap({0.5, 0.5}, std::numeric_limits<double>::infinity()).left, 0.5);
+}
+
+TEST(SpeedZones, BadZonesAreRefusedNamingTheField) {
+  auto refused = [](std::vector<SpeedZone> zones, const std::string& expected) {
+    try {
+      SpeedZones z(std::move(zones));
+      ADD_FAILURE() << "accepted; expected " << expected;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  SpeedZone z = Corridor();
+  z.max_speed = 0.0;
+  refused({z}, "zones[0].max_speed must be a positive number");
+  z.max_speed = std::nan("");
+  refused({z}, "zones[0].max_speed");
+  z = Corridor();
+  z.name = "bow";
+  z.area = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
+  refused({Corridor(), z}, "zones[1].area is not a simple closed curve");
+  z = Corridor();
+  z.name = "";
+  refused({z}, "zones[0].name is empty");
+  refused({Corridor(), Corridor()}, "zones[1].name 'corridor' names two zones");
+}
+
+TEST(SpeedZones, WorldFilesDeclareThemAndBadOnesAreNamed) {
+  const std::string map = "map: {size: [10, 10]}\nrobot: {start: [1, 1]}\n";
+  const World w = ParseWorld(map + "speed_zones:\n  - {name: bay, box: [2, 2, 4, 3], max_speed: 0.2}\n"
+                                   "  - {polygon: [[5, 5], [7, 5], [6, 7]], max_speed: 0.1}\n",
+                             "zones.yaml", ".");
+  ASSERT_EQ(w.speed_zones.size(), 2u);
+  EXPECT_EQ(w.speed_zones[0].name, "bay");
+  EXPECT_TRUE(PolygonContains(w.speed_zones[0].area, {3.0, 2.5}));
+  EXPECT_FALSE(PolygonContains(w.speed_zones[0].area, {3.0, 3.5}));
+  EXPECT_EQ(w.speed_zones[1].name, "zone 1");
+  EXPECT_DOUBLE_EQ(w.speed_zones[1].max_speed, 0.1);
+  for (const auto& [zones, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"  - {box: [2, 2, 4, 3], max_speed: -1}\n", "field 'speed_zones[0].max_speed'"},
+           {"  - {box: [2, 2, 4, 3]}\n", "field 'speed_zones[0].max_speed' is missing"},
+           {"  - {box: [2, 2, 4, 3], polygon: [[0, 0], [1, 0], [1, 1]], max_speed: 1}\n",
+            "field 'speed_zones[0]' needs exactly one of box and polygon"},
+           {"  - {box: [2, 2, 2, 3], max_speed: 1}\n", "field 'speed_zones[0].box' is not a simple closed curve"},
+           {"  - {name: a, box: [2, 2, 4, 3], max_speed: 1}\n  - {name: a, box: [5, 5, 6, 6], max_speed: 1}\n",
+            "field 'speed_zones[1].name'"},
+       }) {
+    try {
+      ParseWorld(map + "speed_zones:\n" + zones, "zones.yaml", ".");
+      ADD_FAILURE() << "accepted " << zones;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
