@@ -25,6 +25,7 @@ const char* StateText(v1::NavigationState s) {
     case v1::EMERGENCY_STOP: return "emergency_stop";
     case v1::PLANNING: return "planning";
     case v1::AVOIDING: return "avoiding";
+    case v1::RECOVERING: return "recovering";
     default: return "unknown";
   }
 }

@@ -47,7 +47,8 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       watch_(watch),
       moving_(moving),
       detector_(moving.detection),
-      avoider_(moving.avoidance) {
+      avoider_(moving.avoidance),
+      recovery_(options.recovery, options.follower.wheel_base) {
   for (const std::string& v : brain_.options().state_variables) {
     bool known = false;
     for (const char* m : kMeasured) known = known || v == m;
@@ -204,8 +205,6 @@ void NavigationExecutive::DetectMovingObstacles(const localization::ScanReading&
     detector_.Reset();
   }
   detector_.Update(scan, pose, now);
-  scan_points_ = localization::ScanEndPoints(scan, 0);
-  for (Point2& p : scan_points_) p = pose * p;
 }
 
 AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_free) const {
@@ -333,6 +332,14 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   if (estimate.valid && in.sensors_fresh) WatchLocalization(estimate, in.scans, now);
 
   const bool detecting = detection_ >= 0 && brain_.active(static_cast<size_t>(detection_));
+  if (in.scan && estimate.valid && !lost_) {
+    // The avoidance's and the recoil's free ways and the scan guard read these whether or not
+    // detection runs (it is off while a map is being built).
+    std::vector<Point2> points = localization::ScanEndPoints(*in.scan, 0);
+    for (Point2& p : points) p = estimate.pose * p;
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    scan_points_ = std::move(points);
+  }
   if (in.scan && estimate.valid && detecting && !lost_) DetectMovingObstacles(*in.scan, estimate.pose, now);
   if (lost_ || !detecting) {
     // Detections made from a wrong pose are in the wrong place.
@@ -378,6 +385,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   if (wake_up_ >= 0 && brain_.activated(static_cast<size_t>(wake_up_))) localizer_.GlobalRelocalize();
 
   const bool fresh = in.sensors_fresh && estimate.valid;
+  // Another behaviour taking the robot ends a recovery; the leg is replanned when navigation has it back.
+  if (motor != navigation_) recovery_.Stop();
   if (static_cast<long>(motor) == emergency_stop_) {
     if (!fresh) return navigator_.Step(estimate.pose, now, false);
     if (!in.contact) {
@@ -459,6 +468,25 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     return wheels;
   }
   avoider_.Stop();
+  if (navigator_.TakeStuck()) {
+    const RecoveryKind kind = NthRecovery(navigator_.Status().feedback.recoveries);
+    if (kind == RecoveryKind::kClear) {
+      std::lock_guard<std::mutex> lock(detector_mutex_);
+      detector_.Reset();
+    }
+    recovery_.Start(kind, estimate.pose, now);
+  }
+  if (recovery_.active()) {
+    const std::optional<WheelSpeeds> w =
+        fresh ? recovery_.Step(estimate.pose, Sensing(estimate.pose, in.rear_free).rear_free, now) : WheelSpeeds{};
+    if (w) {
+      navigator_.Hold(estimate.pose, now, NavigationState::kRecovering,
+                      std::string("stuck: recovery '") + RecoveryKindName(recovery_.kind()) + "' (" +
+                          std::to_string(navigator_.Status().feedback.recoveries) + " so far)",
+                      fresh);
+      return *w;
+    }
+  }
   if (now - last_blocked_check_ >= moving_.replan_period) {
     // Nav2 replans at 1 Hz; we replan when something has come to lie across the path ahead: a
     // tracked obstacle the map lacks (an unknown box, a cart that stopped), or, after the map
@@ -490,14 +518,40 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);
   PlanLeg(now);  // a leg that ended this step gets its path now, not a control period later
   if (detecting) wheels = GuardSpeed(wheels, estimate.pose);
-  return wheels;
+  return ScanGuard(wheels, estimate.pose);
+}
+
+WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose2& pose) const {
+  // Nav2's collision monitor (its approach model) on the laser: whatever the map says (one still
+  // being built, a wall a few centimetres off, a box it lacks), never faster forward than the robot
+  // can stop in before what the last scan saw ahead. The plans keep the rim 0.1 m from walls, so
+  // on a planned path it binds only head-on.
+  if (0.5 * (wheels.left + wheels.right) <= 0.0) return wheels;
+  std::vector<Point2> local;
+  {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    local.reserve(scan_points_.size());
+    for (const Point2& p : scan_points_) local.push_back(pose.inverse() * p);
+  }
+  if (local.empty()) return wheels;
+  return CapApproach(wheels, std::move(local), moving_.scan_guard_margin);
+}
+
+WheelSpeeds NavigationExecutive::CapApproach(const WheelSpeeds& wheels, std::vector<Point2> local, double margin) const {
+  const double v = 0.5 * (wheels.left + wheels.right);
+  if (v <= 0.0 || local.empty()) return wheels;
+  const double room = std::max(0.0, FreeAlong(std::move(local), moving_.detection.robot_radius)(0.0) - margin);
+  const double allowed = std::sqrt(2.0 * moving_.guard_deceleration * room);
+  if (v <= allowed) return wheels;
+  const double k = allowed / v;
+  return {wheels.left * k, wheels.right * k};
 }
 
 WheelSpeeds NavigationExecutive::GuardSpeed(const WheelSpeeds& wheels, const Pose2& pose) const {
   // Nav2's collision monitor, for what the map does not hold: never faster forward than the robot
   // can stop in before a moving tracked obstacle (any candidate, now or in the next second). The danger
-  // level reacts to what closes in; this catches what appears close, round a corner. Walls are
-  // left out: the plans keep clear of them, and a waypoint near one must stay reachable.
+  // level reacts to what closes in; this catches what appears close, round a corner, and where it
+  // will be in a second (the scan guard stops short of where things are now).
   const double v = 0.5 * (wheels.left + wheels.right);
   if (v <= 0.0) return wheels;
   std::vector<Point2> local;
@@ -508,13 +562,7 @@ WheelSpeeds NavigationExecutive::GuardSpeed(const WheelSpeeds& wheels, const Pos
       if (o.velocity.norm() >= moving_.guard_min_speed) AddPredictedRim(o, pose, {0.0, 0.5, 1.0}, local);
     }
   }
-  if (local.empty()) return wheels;
-  const double room =
-      std::max(0.0, FreeAlong(std::move(local), moving_.detection.robot_radius)(0.0) - moving_.guard_margin);
-  const double allowed = std::sqrt(2.0 * moving_.guard_deceleration * room);
-  if (v <= allowed) return wheels;
-  const double k = allowed / v;
-  return {wheels.left * k, wheels.right * k};
+  return CapApproach(wheels, std::move(local), moving_.guard_margin);
 }
 
 }  // namespace navd::navigation

@@ -17,6 +17,7 @@
 #include "services/navigation/moving_obstacle_avoidance.h"
 #include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
+#include "services/navigation/recovery_behaviour.h"
 #include "services/navigation/speed_zones.h"
 #include "services/navigation/utility_decision_maker.h"
 #include "services/planning/planning_engine.h"
@@ -74,6 +75,8 @@ struct MovingObstacleOptions {
   double guard_margin = 0.10;        // m
   double guard_deceleration = 0.7;   // m/s^2
   double guard_min_speed = 0.1;      // m/s: slower tracked obstacles are left to the plans
+  // ... and never faster than it could stop scan_guard_margin short of what the laser sees ahead.
+  double scan_guard_margin = 0.05;   // m
 };
 
 // What the emergency stop does when a bumper stays pressed: something pushed into the robot (an
@@ -159,6 +162,10 @@ class NavigationExecutive {
   AvoidanceSensing Sensing(const Pose2& pose, double rear_free) const;
   planning::PlanningScene Scene(const Pose2& pose) const;
   WheelSpeeds GuardSpeed(const WheelSpeeds& wheels, const Pose2& pose) const;
+  WheelSpeeds ScanGuard(const WheelSpeeds& wheels, const Pose2& pose) const;
+  // The forward speed capped to stop `margin` short of the nearest of `local` (robot frame) ahead,
+  // braking at guard_deceleration.
+  WheelSpeeds CapApproach(const WheelSpeeds& wheels, std::vector<Point2> local, double margin) const;
   // Free distance (m) from the rim of a robot of `radius` along a bearing, for a corridor as wide
   // as the robot, among `local` points (robot frame).
   static std::function<double(double)> FreeAlong(std::vector<Point2> local, double radius);
@@ -182,6 +189,7 @@ class NavigationExecutive {
   std::shared_ptr<const RayCaster> detector_map_;
   std::vector<Point2> scan_points_;    // the last scan's returns, map frame
   MovingObstacleAvoidance avoider_;
+  RecoveryBehaviour recovery_;
   double avoidance_done_at_ = -1.0;
   EmergencyStopOptions stop_options_;
   double contact_since_ = -1.0;

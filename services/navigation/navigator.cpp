@@ -31,6 +31,7 @@ const char* NavigationStateName(NavigationState s) {
     case NavigationState::kEmergencyStop: return "emergency_stop";
     case NavigationState::kPlanning: return "planning";
     case NavigationState::kAvoiding: return "avoiding";
+    case NavigationState::kRecovering: return "recovering";
   }
   return "unknown";
 }
@@ -92,6 +93,9 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
   last_step_ = now;
   path_length_ = path_length;
   leg_needs_path_ = false;
+  stuck_ = false;
+  f.recoveries = 0;
+  leg_recoveries_ = 0;
   best_remaining_ = follower_.DistanceRemaining(last_pose_);
   best_remaining_at_ = now;
   stale_since_ = held_since_ = -1.0;
@@ -200,6 +204,7 @@ void Navigator::StopProgressClockLocked(double now) {
 bool Navigator::AdvanceLocked(const Pose2& pose, double now) {
   NavigationFeedback& f = status_.feedback;
   ++f.waypoints_reached;
+  leg_recoveries_ = 0;
   size_t next = f.mission_index + 1;
   if (next >= mission_.waypoints.size()) {
     const bool another_lap = mission_.cyclic && (mission_.laps == 0 || f.laps_completed + 1 < mission_.laps);
@@ -324,9 +329,18 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
     best_remaining_ = status_.feedback.distance_remaining;
     best_remaining_at_ = now;
   } else if (now - best_remaining_at_ > options_.progress_timeout) {
-    char msg[96];
-    std::snprintf(msg, sizeof msg, "no progress for %.0f s (%.2f m still to go): the robot seems stuck",
-                  options_.progress_timeout, status_.feedback.distance_remaining);
+    if (leg_recoveries_ < options_.max_recoveries) {
+      // Stuck: the executive runs a recovery, and the progress clock starts again after it.
+      ++leg_recoveries_;
+      ++status_.feedback.recoveries;
+      stuck_ = true;
+      best_remaining_at_ = now;
+      BumpLocked();
+      return {};
+    }
+    char msg[128];
+    std::snprintf(msg, sizeof msg, "no progress for %.0f s (%.2f m still to go) after %d recoveries on this leg: the robot seems stuck",
+                  options_.progress_timeout, status_.feedback.distance_remaining, options_.max_recoveries);
     FinishLocked(Outcome::kFailed, msg, pose, now);
     return {};
   }
@@ -381,6 +395,13 @@ void Navigator::SetMovingObstacles(double danger, std::vector<planning::MovingBo
   std::lock_guard<std::mutex> lock(mutex_);
   status_.feedback.danger = danger;
   status_.feedback.moving_obstacles = std::move(obstacles);
+}
+
+bool Navigator::TakeStuck() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const bool stuck = stuck_ && status_.active;
+  stuck_ = false;
+  return stuck;
 }
 
 void Navigator::SetSpeedLimit(double limit) {

@@ -33,6 +33,7 @@ enum class NavigationState {
   kEmergencyStop = 7,   // held by the emergency-stop behaviour (contact, lost pose)
   kPlanning = 8,        // between legs, or replanning after a hold or resume
   kAvoiding = 9,        // the moving-obstacle avoidance behaviour has the robot
+  kRecovering = 10,     // stuck: a recovery runs before the leg is replanned
 };
 // Mirrors navd.v1.Outcome.
 enum class Outcome { kNone = 0, kSucceeded = 1, kFailed = 2, kCanceled = 3, kPreempted = 4 };
@@ -81,6 +82,7 @@ struct NavigationFeedback {
   double danger = 0.0;               // moving-obstacle danger level mu
   std::vector<planning::MovingBody> moving_obstacles;  // confirmed by the detection process
   double speed_limit = 0.0;          // m/s: a speed zone's limit where the robot is; 0: none
+  uint32_t recoveries = 0;           // recoveries run in this mission so far
 };
 
 struct NavigationStatus {
@@ -95,13 +97,28 @@ struct NavigationStatus {
   uint64_t sequence = 0;         // increments on every change
 };
 
+// What the executive does when the robot is stuck, as Nav2's recovery behaviours, in turn: forget
+// the tracked obstacles and replan (Nav2's clear costmap), back up, spin in place (the laser sees
+// the whole surroundings, the localiser too), wait (what blocks may move on); then the leg is
+// replanned from where the robot stands.
+struct RecoveryOptions {
+  double back_up_distance = 0.15;  // m, when the rear is free that far
+  double back_up_speed = 0.10;     // m/s
+  double spin_angle = 1.57;        // rad
+  double spin_rate = 0.5;          // rad/s
+  double wait_time = 5.0;          // s
+};
+
 struct NavigatorOptions {
   PathFollowerParams follower;
-  // A mission fails when the distance left on a leg has not shrunk by progress_distance for
-  // progress_timeout seconds of driving (the robot is stuck, e.g. pushing against an unmapped
-  // obstacle)...
-  double progress_timeout = 30.0;   // s
+  // The robot is stuck when the distance left on a leg has not shrunk by progress_distance for
+  // progress_timeout seconds of driving (e.g. pushing against an unmapped obstacle): a recovery
+  // runs, up to max_recoveries on one leg (to the next waypoint); stuck once more, the mission
+  // fails...
+  double progress_timeout = 15.0;   // s
   double progress_distance = 0.05;  // m
+  int max_recoveries = 3;
+  RecoveryOptions recovery;
   // ...or when sensors stayed stale this long.
   double stale_timeout = 10.0;      // s
 };
@@ -146,6 +163,8 @@ class Navigator {
   bool ReplanIfBlocked(const std::function<bool(const Point2&)>& blocked, double ahead);
   // What the moving-obstacle detection sees, carried in the feedback.
   void SetMovingObstacles(double danger, std::vector<planning::MovingBody> obstacles);
+  // Whether the robot got stuck since the last call (a recovery is due; the feedback counts them).
+  bool TakeStuck();
   // The speed zones' limit at the robot (m/s; 0: none), carried in the feedback.
   void SetSpeedLimit(double limit);
 
@@ -172,6 +191,8 @@ class Navigator {
   PathFollower follower_;
   Mission mission_;
   bool leg_needs_path_ = false;
+  bool stuck_ = false;              // a recovery is due
+  int leg_recoveries_ = 0;          // recoveries since the last waypoint was reached
   double best_remaining_ = 0.0;     // smallest distance left on this leg so far (progress check)
   double best_remaining_at_ = 0.0;  // when it was reached
   double held_since_ = -1.0;        // when a stop (stale, pause, hold) began; < 0 while driving

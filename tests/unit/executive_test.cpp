@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
+#include <set>
 
 #include "services/common/diff_drive.h"
 #include "services/common/error.h"
@@ -291,6 +293,114 @@ TEST(NavigationExecutive, BacksAwayFromWhatTheBumperTouchedBeforeNavigatingOn) {
   for (int i = 0; i < 40; ++i) step(false);
   EXPECT_GT(pose.x, pressed_at + 0.1);
   EXPECT_TRUE(executive.navigator().Status().active);
+}
+
+// A robot pushing against something nothing senses (an invisible wall 1 m ahead): stuck, it runs
+// Nav2's recoveries in turn (clear, back up, spin, wait), replanning after each, and gives the
+// mission up only when they are spent; once the way is free again it goes on to the goal.
+struct StuckRun {
+  std::set<std::string> recoveries;  // the hold reasons seen
+  double backed = 0.0, turned = 0.0;
+  std::optional<NavigationResult> result;
+  uint32_t recoveries_reported = 0;
+};
+StuckRun DriveAgainstAWall(int max_recoveries, int free_after_recoveries) {
+  MapStore maps;
+  maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
+  planning::PlanningEngine planning(maps, {});
+  planning::RegisterDefaultPlanners(planning);
+  localization::OdometryLocalizer localizer(Pose2(1.0, 2.5, 0.0));
+  SimClock clock;
+  NavigatorOptions options;
+  options.progress_timeout = 3.0;
+  options.max_recoveries = max_recoveries;
+  NavigationExecutive executive(planning, localizer, clock, options);
+  Pose2 pose(0.0, 0.0, 0.0);  // odometry
+  double t = 0.0;
+  StuckRun run;
+  clock.Set(t);
+  localizer.AddOdometry({pose, Eigen::Matrix3d::Zero(), t});
+  executive.Step(ExecutiveInputs{}, t);
+  const uint64_t id = executive.Navigate({Pose2(5.0, 2.5, 0.0), false, "", false});
+  for (int i = 0; i < 20000 && executive.navigator().Status().active; ++i) {
+    t += 0.05;
+    clock.Set(t);
+    localizer.AddOdometry({pose, Eigen::Matrix3d::Zero(), t});
+    const WheelSpeeds w = executive.Step(ExecutiveInputs{}, t);
+    const NavigationStatus s = executive.navigator().Status();
+    if (s.feedback.state == NavigationState::kRecovering) {
+      run.recoveries.insert(s.hold_reason);
+      run.backed += std::max(0.0, -(w.left + w.right) / 2.0) * 0.05;
+      run.turned += std::abs(w.right - w.left) / options.follower.wheel_base * 0.05;
+    }
+    pose = IntegrateDiffDrive(pose, w.left * 0.05, w.right * 0.05, options.follower.wheel_base);
+    if (static_cast<int>(s.feedback.recoveries) < free_after_recoveries || free_after_recoveries < 0)
+      pose.x = std::min(pose.x, 1.0);  // the wall at map x = 2
+    run.recoveries_reported = s.feedback.recoveries;
+  }
+  run.result = executive.navigator().ResultOf(id);
+  return run;
+}
+
+TEST(NavigationExecutive, AStuckRobotRunsTheRecoveriesInTurnThenGivesUp) {
+  const StuckRun run = DriveAgainstAWall(4, -1);
+  ASSERT_TRUE(run.result);
+  EXPECT_EQ(run.result->outcome, Outcome::kFailed);
+  EXPECT_NE(run.result->message.find("after 4 recoveries on this leg"), std::string::npos) << run.result->message;
+  EXPECT_EQ(run.recoveries_reported, 4u);
+  const std::vector<std::string> expected = {"stuck: recovery 'clear' (1 so far)", "stuck: recovery 'back up' (2 so far)",
+                                             "stuck: recovery 'spin' (3 so far)", "stuck: recovery 'wait' (4 so far)"};
+  for (const std::string& e : expected) EXPECT_TRUE(run.recoveries.count(e)) << e;
+  EXPECT_NEAR(run.backed, 0.15, 0.03);
+  EXPECT_NEAR(run.turned, 1.57, 0.1);
+}
+
+TEST(NavigationExecutive, AStuckRobotGoesOnOnceARecoveryFreedIt) {
+  const StuckRun run = DriveAgainstAWall(3, 2);  // the wall is gone after the second recovery
+  ASSERT_TRUE(run.result);
+  EXPECT_EQ(run.result->outcome, Outcome::kSucceeded) << run.result->message;
+  EXPECT_EQ(run.recoveries_reported, 2u);
+}
+
+// The scan guard: a wall the map lacks (at x = 3 m across the whole map) stops the robot short of
+// it, whatever the plans say, since the laser sees it.
+TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
+  MapStore maps;
+  maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
+  planning::PlanningEngine planning(maps, {});
+  planning::RegisterDefaultPlanners(planning);
+  localization::OdometryLocalizer localizer(Pose2(1.0, 2.5, 0.0));
+  SimClock clock;
+  NavigatorOptions options;
+  NavigationExecutive executive(planning, localizer, clock, options);
+  Pose2 odom(0.0, 0.0, 0.0);
+  double t = 0.0, farthest = 0.0;
+  constexpr double kWall = 3.0;
+  auto step = [&] {
+    clock.Set(t);
+    localizer.AddOdometry({odom, Eigen::Matrix3d::Zero(), t});
+    const Pose2 pose = localizer.Estimate().pose;
+    localization::ScanReading scan;
+    scan.angle_min = -M_PI / 2;
+    scan.angle_increment = M_PI / 180;
+    scan.range_max = 4.0;
+    scan.stamp = t;
+    for (int i = 0; i <= 180; ++i) {
+      const double c = std::cos(pose.theta + scan.angle_min + i * scan.angle_increment);
+      scan.ranges.push_back(c > 1e-6 ? static_cast<float>(std::min(4.0, (kWall - pose.x) / c)) : 4.0f);
+    }
+    ExecutiveInputs in;
+    in.scan = &scan;
+    const WheelSpeeds w = executive.Step(in, t);
+    odom = IntegrateDiffDrive(odom, w.left * 0.05, w.right * 0.05, options.follower.wheel_base);
+    farthest = std::max(farthest, localizer.Estimate().pose.x);
+    t += 0.05;
+  };
+  step();
+  executive.Navigate({Pose2(5.0, 2.5, 0.0), false, "", false});
+  for (int i = 0; i < 400; ++i) step();
+  EXPECT_GT(farthest, kWall - 0.2 - 0.15);  // it drove up to the wall...
+  EXPECT_LT(farthest, kWall - 0.2 - 0.02);  // ...and stopped short of touching it
 }
 
 }  // namespace
