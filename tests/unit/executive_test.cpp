@@ -250,19 +250,28 @@ TEST(NavigatorMission, RejectsAnEmptyMission) {
   EXPECT_THROW(nav.Start(Mission{}, {}, 0.0, 0.0, false), Error);
 }
 
+// An executive on a 6 x 5 m open floor (nothing mapped), the robot at (1, 2.5) facing +x, driven
+// by odometry alone.
+struct OpenFloor {
+  explicit OpenFloor(const NavigatorOptions& o = {}) : options(o) {
+    maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
+    planning::RegisterDefaultPlanners(planning);
+  }
+  NavigatorOptions options;
+  MapStore maps;
+  planning::PlanningEngine planning{maps, {}};
+  localization::OdometryLocalizer localizer{Pose2(1.0, 2.5, 0.0)};
+  SimClock clock;
+  NavigationExecutive executive{planning, localizer, clock, options};
+};
+
 // A bumper pressed while driving: the emergency stop holds the robot, and when the bumper lets go
 // it backs straight away 10 cm before navigation has the robot again (driving on from against the
 // obstacle pressed it again and again).
 TEST(NavigationExecutive, BacksAwayFromWhatTheBumperTouchedBeforeNavigatingOn) {
-  MapStore maps;
-  maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
-  planning::PlanningEngine planning(maps, {});
-  planning::RegisterDefaultPlanners(planning);
-  localization::OdometryLocalizer localizer(Pose2(1.0, 2.5, 0.0));
-  SimClock clock;
-  NavigatorOptions options;
+  OpenFloor floor;
+  auto& [options, maps, planning, localizer, clock, executive] = floor;
   const double wheel_base = options.follower.wheel_base;
-  NavigationExecutive executive(planning, localizer, clock, options);
   Pose2 pose(0.0, 0.0, 0.0);  // odometry
   double t = 0.0;
   auto step = [&](bool contact) {
@@ -305,16 +314,11 @@ struct StuckRun {
   uint32_t recoveries_reported = 0;
 };
 StuckRun DriveAgainstAWall(int max_recoveries, int free_after_recoveries) {
-  MapStore maps;
-  maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
-  planning::PlanningEngine planning(maps, {});
-  planning::RegisterDefaultPlanners(planning);
-  localization::OdometryLocalizer localizer(Pose2(1.0, 2.5, 0.0));
-  SimClock clock;
-  NavigatorOptions options;
-  options.progress_timeout = 3.0;
-  options.max_recoveries = max_recoveries;
-  NavigationExecutive executive(planning, localizer, clock, options);
+  NavigatorOptions o;
+  o.progress_timeout = 3.0;
+  o.max_recoveries = max_recoveries;
+  OpenFloor floor(o);
+  auto& [options, maps, planning, localizer, clock, executive] = floor;
   Pose2 pose(0.0, 0.0, 0.0);  // odometry
   double t = 0.0;
   StuckRun run;
@@ -365,14 +369,8 @@ TEST(NavigationExecutive, AStuckRobotGoesOnOnceARecoveryFreedIt) {
 // The scan guard: a wall the map lacks (at x = 3 m across the whole map) stops the robot short of
 // it, whatever the plans say, since the laser sees it.
 TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
-  MapStore maps;
-  maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
-  planning::PlanningEngine planning(maps, {});
-  planning::RegisterDefaultPlanners(planning);
-  localization::OdometryLocalizer localizer(Pose2(1.0, 2.5, 0.0));
-  SimClock clock;
-  NavigatorOptions options;
-  NavigationExecutive executive(planning, localizer, clock, options);
+  OpenFloor floor;
+  auto& [options, maps, planning, localizer, clock, executive] = floor;
   Pose2 odom(0.0, 0.0, 0.0);
   double t = 0.0, farthest = 0.0;
   constexpr double kWall = 3.0;
