@@ -1,5 +1,6 @@
 #include "client_lib/follow_command.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -55,11 +56,14 @@ int RunFollow(Client& client, const FollowOptions& o) {
   const auto& before = measured.before;
 
   double start_stamp = -1.0, last_print = -1e9;
+  uint32_t recoveries = 0, reflexes = 0;  // the mission's counts, from its feedback
   const v1::NavigationResult result = client.FollowWaypoints(
       req,
       [&](const v1::NavigationFeedback& f) {
         const double t = StampOf(f.stamp());
         if (start_stamp < 0.0) start_stamp = t;
+        recoveries = std::max(recoveries, f.recoveries());
+        reflexes = std::max(reflexes, f.reflexes());
         if (o.json || t - last_print < 10.0) return;
         last_print = t;
         std::printf("  t=%7.1fs  %-9s %-14s waypoint %u/%u  lap %u  travelled %7.2f m  eta %5.0f s\n", t - start_stamp,
@@ -74,11 +78,13 @@ int RunFollow(Client& client, const FollowOptions& o) {
                    {"final_pose", PoseJson(result.final_pose())},
                    {"elapsed", result.elapsed()},
                    {"distance_travelled", result.distance_travelled()},
-                   {"waypoints_reached", result.waypoints_reached()}};
+                   {"waypoints_reached", result.waypoints_reached()},
+                   {"recoveries", recoveries},
+                   {"sonar_reflexes", reflexes}};
   if (!o.json) {
-    std::printf("%s: %s; %u waypoints reached, %.2f m travelled (estimated) in %.1f s\n",
+    std::printf("%s: %s; %u waypoints reached, %.2f m travelled (estimated) in %.1f s; %u recoveries, %u sonar reflexes\n",
                 OutcomeText(result.outcome()), result.message().c_str(), result.waypoints_reached(),
-                result.distance_travelled(), result.elapsed());
+                result.distance_travelled(), result.elapsed(), recoveries, reflexes);
   }
   if (telemetry) {
     const auto after = telemetry->WaitForSimStatus(5.0);

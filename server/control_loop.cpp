@@ -108,6 +108,8 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   inputs.scans = scans_seen_;
   inputs.scan = scan ? &*scan : nullptr;
   inputs.rear_free = bridge_.RearFree(options_.sensor_timeout);
+  const std::vector<navigation::SonarEcho> sonar = bridge_.SonarEchoes(options_.sensor_timeout);
+  inputs.sonar = &sonar;
   const WheelSpeeds wheels = executive_.Step(inputs, now);
   const navigation::NavigationStatus status = executive_.navigator().Status();
   if (status.feedback.behaviour != behaviour_ || status.hold_reason != hold_reason_) {

@@ -12,6 +12,7 @@
 #include "server/map_publisher.h"
 #include "services/common/error.h"
 #include "services/common/map_store.h"
+#include "services/common/sonar_ring.h"
 #include "services/common/text_file.h"
 #include "services/common/world.h"
 #include "services/localization/localization_service.h"
@@ -105,6 +106,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   navigation::NavigatorOptions navigator;
   navigator.follower.wheel_base = robot.wheel_base;
   navigator.follower.max_wheel_speed = robot.max_wheel_speed;
+  navigator.reflex.enabled = o.sonar_reflexes;
   const navigation::UtilityBrainOptions brain =
       o.brain_path.empty() ? navigation::DefaultBrainOptions() : navigation::LoadBrainFile(o.brain_path);
   navigation::MovingObstacleOptions moving;
@@ -116,7 +118,7 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
 
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr,
-                   o.rear_range_frame);
+                   o.rear_range_frame, o.sonar_reflexes ? PioneerSonarAngles() : std::vector<double>{});
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
                    map_builder);
   MapPublisher map_publisher(bridge, maps, map_builder, *clock);

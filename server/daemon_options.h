@@ -18,7 +18,8 @@ struct DaemonOptions {
   std::string odometry = "odom";    // odom: the robot's rt/odom; encoders: navd integrates joint_states
   std::string laser_model = "likelihood_field";  // the particle filter's: likelihood_field | beam
   std::string brain_path;           // utility-function brain YAML; empty: the built-in default
-  std::string rear_range_frame = "ir_2";  // frame_id of the rear range sensor on rt/<ns>/ir; empty: none
+  std::string rear_range_frame = "ir_2";
+  bool sonar_reflexes = true;       // seed 004's reflexes on a Pioneer sonar ring (rt/<ns>/sonar)  // frame_id of the rear range sensor on rt/<ns>/ir; empty: none
   double control_rate = 20.0;       // Hz, in the daemon's clock
   double sensor_timeout = 0.3;      // s without odometry or laser before the robot is stopped (3 scans)
   double inflation_margin = 0.10;   // m added to the robot radius for planning

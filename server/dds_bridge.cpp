@@ -16,7 +16,7 @@ using dds::Reliability;
 
 DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& ns, SimClock* sim_clock,
                      const Clock& arrival_clock, const RobotDescription* encoders,
-                     const std::string& rear_range_frame)
+                     const std::string& rear_range_frame, const std::vector<double>& sonar_angles)
     : participant_(options), arrival_clock_(arrival_clock) {
   if (encoders) {
     wheel_odometry_ = std::make_unique<localization::WheelOdometry>(*encoders);
@@ -70,6 +70,31 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
           last_rear_arrival_ = arrival_clock_.Now();
         },
         8);
+  }
+  if (!sonar_angles.empty()) {
+    for (double a : sonar_angles) sonar_.push_back({a});
+    // A ring sends one message per sensor in a burst: the history holds a whole one.
+    sonar_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>>(
+        participant_, dds::TopicName(ns, dds::kSonar), Reliability::kBestEffort,
+        [this](const sensor_msgs::msg::dds_::Range_& m) {
+          const std::string& frame = m.header().frame_id();
+          constexpr const char* kPrefix = "sonar_";
+          if (frame.rfind(kPrefix, 0) != 0) return;
+          size_t index = 0;
+          try {
+            index = std::stoul(frame.substr(6));
+          } catch (const std::exception&) {
+            return;
+          }
+          if (index >= sonar_.size() || !(m.range() >= 0.0f)) return;
+          std::lock_guard<std::mutex> lock(sonar_mutex_);
+          SonarSlot& s = sonar_[index];
+          // ROS: +inf, or anything at or past max_range, is "nothing in range".
+          s.echo = std::isfinite(m.range()) && m.range() < m.max_range();
+          s.range = m.range();
+          s.arrival = arrival_clock_.Now();
+        },
+        static_cast<int>(2 * sonar_angles.size()));
   }
   scan_topic_ = dds::TopicName(ns, dds::kScan);
   scan_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
@@ -141,6 +166,16 @@ bool DdsBridge::RearContactOnly(double within) const {
 double DdsBridge::RearFree(double within) const {
   if (arrival_clock_.Now() - last_rear_arrival_.load() > within) return std::numeric_limits<double>::infinity();
   return rear_range_.load();
+}
+
+std::vector<navigation::SonarEcho> DdsBridge::SonarEchoes(double within) const {
+  std::vector<navigation::SonarEcho> out;
+  const double now = arrival_clock_.Now();
+  std::lock_guard<std::mutex> lock(sonar_mutex_);
+  for (const SonarSlot& s : sonar_) {
+    if (s.echo && now - s.arrival <= within) out.push_back({s.angle, s.range});
+  }
+  return out;
 }
 
 void DdsBridge::PublishCommand(const Twist2& twist) {

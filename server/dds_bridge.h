@@ -6,6 +6,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dds/participant.h"
 #include "geometry_msgsPubSubTypes.h"
@@ -21,6 +22,7 @@
 #include "services/localization/odometry_jump_filter.h"
 #include "services/localization/wheel_odometry.h"
 #include "services/navigation/navigator.h"
+#include "services/navigation/sonar_reflex.h"
 
 namespace navd::server {
 
@@ -30,10 +32,11 @@ class DdsBridge {
   // the staleness check. encoders: when given, odometry is computed from the robot's wheel
   // encoders (rt/<ns>/joint_states, with this robot's kinematics) instead of read from rt/<ns>/odom.
   // rear_range_frame: the frame_id of the rear-facing range sensor on rt/<ns>/ir (seed 000's rear
-  // Sharp IR, ir_2 on navsim's robots); empty: none.
+  // Sharp IR, ir_2 on navsim's robots); empty: none. sonar_angles: the mounting angle (rad, robot
+  // frame) of sensor sonar_<i> on rt/<ns>/sonar; empty: the sonar is not read.
   DdsBridge(const dds::ParticipantOptions& options, const std::string& robot_namespace, SimClock* sim_clock,
             const Clock& arrival_clock, const RobotDescription* encoders = nullptr,
-            const std::string& rear_range_frame = "");
+            const std::string& rear_range_frame = "", const std::vector<double>& sonar_angles = {});
 
   // The newest odometry reading, if any, and when (arrival clock) it arrived.
   std::optional<localization::OdometryReading> LatestOdometry() const;
@@ -58,6 +61,9 @@ class DdsBridge {
   // Metres free behind the robot's rim by the rear range sensor (its maximum range when it sees
   // nothing); infinity without a reading in the last `within` seconds.
   double RearFree(double within = 0.5) const;
+  // The sonar ring's echoes that arrived within the last `within` seconds, sensors that heard
+  // nothing (max_range or beyond) left out; empty without a sonar.
+  std::vector<navigation::SonarEcho> SonarEchoes(double within = 0.5) const;
 
   void PublishCommand(const Twist2& twist);
   // Sends a zero command and waits (bounded) until the robot side acknowledged it; for shutdown.
@@ -98,6 +104,15 @@ class DdsBridge {
   std::atomic<double> rear_range_{0.0};
   std::atomic<double> last_rear_arrival_{-1e9};
   std::atomic<double> last_scan_arrival_{-1e9};
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>> sonar_reader_;
+  struct SonarSlot {
+    double angle = 0.0;
+    double range = 0.0;
+    bool echo = false;
+    double arrival = -1e9;
+  };
+  mutable std::mutex sonar_mutex_;
+  std::vector<SonarSlot> sonar_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_writer_;

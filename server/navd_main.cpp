@@ -42,6 +42,10 @@ int main(int argc, char** argv) {
   app.add_option("--rear-range-frame", o.rear_range_frame,
                  "frame_id of the rear-facing range sensor on rt/<ns>/ir, checked before backing up ('' for none)")
       ->capture_default_str();
+  app.add_option("--sonar-reflexes", o.sonar_reflexes,
+                 "Seed 004's reflexes on the Pioneer sonar ring of rt/<ns>/sonar: steer off what only the sonar "
+                 "finds (true or false)")
+      ->capture_default_str();
   app.add_option("--control-rate", o.control_rate, "Control loop rate, Hz")->check(CLI::Range(1.0, 200.0));
   app.add_option("--inflation-margin", o.inflation_margin, "Metres added to the robot radius for lethal inflation")
       ->check(CLI::Range(0.0, 5.0));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "services/common/sonar_ring.h"
 #include "services/common/ziggurat_normal.h"
 
 #include "simulator/laser_scanner.h"
@@ -15,12 +16,12 @@ constexpr double kDeg = M_PI / 180.0;
 RangeArrayDescription PioneerSonarRing(double robot_radius) {
   RangeArrayDescription d;
   d.kind = "sonar";
-  for (double a : {90, 50, 30, 10, -10, -30, -50, -90, -90, -130, -150, -170, 170, 150, 130, 90}) d.angles.push_back(a * kDeg);
+  d.angles = PioneerSonarAngles();
   d.mount_radius = robot_radius;
-  d.cone = 15.0 * kDeg;
+  d.cone = kPioneerSonarCone;
   d.rays_per_cone = 5;
-  d.range_min = 0.10;
-  d.range_max = 5.0;
+  d.range_min = kPioneerSonarRangeMin;
+  d.range_max = kPioneerSonarRangeMax;
   d.noise = 0.02;
   d.rate = 10.0;
   return d;

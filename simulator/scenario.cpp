@@ -131,11 +131,28 @@ CrowdDescription ReadCrowd(const YamlFields& f, const YAML::Node& n, const World
   return c;
 }
 
-// Seed 004's "randomly distributed small obstacles" unknown to the robot: squares and discs of
-// random size, each at least `clearance` from walls, other obstacles, robots and targets, so no
-// passage the robot needs is closed.
+// Fills the box into the truth; a glass one's newly walled cells are remembered as glass.
+void FillHidden(Scenario& s, const Point2& min, const Point2& max, bool glass) {
+  if (!glass) {
+    s.truth.FillBox(min, max);
+    return;
+  }
+  const CellIndex lo = s.truth.CellOf(min), hi = s.truth.CellOf(max);
+  std::vector<CellIndex> fresh;
+  for (int y = lo.y; y <= hi.y; ++y)
+    for (int x = lo.x; x <= hi.x; ++x)
+      if (s.truth.Contains({x, y}) && !s.truth.IsOccupied({x, y})) fresh.push_back({x, y});
+  s.truth.FillBox(min, max);
+  for (const CellIndex& c : fresh)
+    if (s.truth.IsOccupied(c)) s.glass.push_back(c);
+}
+
+// Seed 004's "randomly distributed small obstacles" unknown to the robot: squares of random size,
+// each at least `clearance` from walls, other obstacles, robots and targets, so no passage the
+// robot needs is closed; with `glass: true` they are panes the laser sees through.
 int PlaceRandomObstacles(const YamlFields& f, const YAML::Node& n, Scenario& s, std::mt19937_64& rng) {
-  f.CheckKeys(n, "hidden_obstacles.random", {"count", "size", "area", "clearance"});
+  f.CheckKeys(n, "hidden_obstacles.random", {"count", "size", "area", "clearance", "glass"});
+  const bool glass = n["glass"] && f.Bool(n["glass"], "hidden_obstacles.random.glass");
   if (!n["count"]) f.Fail("hidden_obstacles.random.count", "is missing", n);
   const int count = f.Integer(n["count"], "hidden_obstacles.random.count", 0, 10000);
   double size_min = 0.10, size_max = 0.30, clearance = 0.8;
@@ -161,7 +178,7 @@ int PlaceRandomObstacles(const YamlFields& f, const YAML::Node& n, Scenario& s, 
     for (const auto& r : s.robots) near |= Distance(r.start.translation(), c) < half * M_SQRT2 + clearance + r.body.radius;
     for (const auto& t : s.targets) near |= Distance(t, c) < half * M_SQRT2 + clearance;
     if (near) continue;
-    s.truth.FillBox(c - Point2(half, half), c + Point2(half, half));
+    FillHidden(s, c - Point2(half, half), c + Point2(half, half), glass);
     field = std::make_unique<DistanceField>(s.truth);  // keeps the next ones clear of this one
     ++placed;
   }
@@ -251,12 +268,20 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
   std::mt19937_64 rng(s.seed * 7919 + 17);
   if (const YAML::Node h = doc["hidden_obstacles"]) {
     f.ExpectMap(h, "hidden_obstacles");
-    f.CheckKeys(h, "hidden_obstacles", {"boxes", "discs", "random"});
+    f.CheckKeys(h, "hidden_obstacles", {"boxes", "discs", "glass", "random"});
     if (h["boxes"]) {
       f.ExpectSequence(h["boxes"], "hidden_obstacles.boxes", "[x_min, y_min, x_max, y_max]");
       for (size_t i = 0; i < h["boxes"].size(); ++i) {
         const Box b = ReadBox(f, h["boxes"][i], Index("hidden_obstacles.boxes", i));
         s.truth.FillBox(b.min, b.max);
+        ++s.hidden_obstacles;
+      }
+    }
+    if (h["glass"]) {
+      f.ExpectSequence(h["glass"], "hidden_obstacles.glass", "[x_min, y_min, x_max, y_max]");
+      for (size_t i = 0; i < h["glass"].size(); ++i) {
+        const Box b = ReadBox(f, h["glass"][i], Index("hidden_obstacles.glass", i));
+        FillHidden(s, b.min, b.max, true);
         ++s.hidden_obstacles;
       }
     }
@@ -333,6 +358,12 @@ OccupancyGrid TruthWithDoors(const OccupancyGrid& fixed, const std::vector<Door>
     if (d.closed) truth.FillBox(d.box.min, d.box.max);
   }
   return truth;
+}
+
+OccupancyGrid LaserView(const OccupancyGrid& truth, const std::vector<CellIndex>& glass) {
+  OccupancyGrid view = truth;
+  for (const CellIndex& c : glass) view.set(c, OccupancyGrid::kFree);
+  return view;
 }
 
 Scenario ScenarioFromWorld(World world) {

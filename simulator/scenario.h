@@ -45,11 +45,17 @@ struct Scenario {
   std::vector<Door> doors;
   std::vector<Point2> targets;       // named target points, in visiting order (seed 000's 11)
   int hidden_obstacles = 0;          // how many obstacles are in `truth` but not in the map
+  // Cells of glass panes among the hidden obstacles: in `truth` (bumpers, sonar and IR find them)
+  // but seen through by lasers, as real glass doors and partitions are.
+  std::vector<CellIndex> glass;
   uint64_t seed = 1;
 };
 
 // `fixed` with the closed doors filled in.
 OccupancyGrid TruthWithDoors(const OccupancyGrid& fixed, const std::vector<Door>& doors);
+
+// `truth` as a laser sees it: the glass cells free.
+OccupancyGrid LaserView(const OccupancyGrid& truth, const std::vector<CellIndex>& glass);
 
 // One robot (no namespace) with the world's robot and laser, encoders and bumpers.
 Scenario ScenarioFromWorld(World world);

@@ -37,6 +37,7 @@ Simulation::Simulation(Scenario scenario, const SimulationOptions& options)
       options_(options),
       seed_(options.seed.value_or(scenario_.seed)),
       truth_(scenario_.truth) {
+  if (!scenario_.glass.empty()) laser_truth_.emplace(LaserView(scenario_.truth, scenario_.glass));
   for (size_t i = 0; i < scenario_.robots.size(); ++i) {
     robots_.push_back(std::make_unique<SimulatedRobot>(scenario_.robots[i], static_cast<int>(i), seed_));
   }
@@ -70,6 +71,7 @@ void Simulation::SetDoor(const std::string& name, bool closed) {
   }
   scenario_.truth = std::move(truth);
   truth_ = RayCaster(scenario_.truth);
+  if (!scenario_.glass.empty()) laser_truth_.emplace(LaserView(scenario_.truth, scenario_.glass));
 }
 
 const std::vector<Person>& Simulation::people() const { return crowd_ ? crowd_->people() : kNobody; }
@@ -229,7 +231,7 @@ StepOutputs Simulation::Step() {
     auto& o = out.robots[i];
     const Pose2& pose = r.base_.true_pose();
     if (r.laser_ && Due(r.laser_->description().rate, r.last_scan_)) {
-      o.scan = r.laser_->Scan(pose, truth_, discs, r.id_, r.sensor_rng_);
+      o.scan = r.laser_->Scan(pose, laser_truth(), discs, r.id_, r.sensor_rng_);
     }
     if (r.sonar_ && Due(r.sonar_->description().rate, r.last_sonar_)) {
       o.sonar = r.sonar_->Read(pose, truth_, discs, r.id_, r.sensor_rng_);

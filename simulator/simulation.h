@@ -122,6 +122,8 @@ class Simulation {
   const Scenario& scenario() const { return scenario_; }
   const World& world() const { return scenario_.world; }
   const RayCaster& truth() const { return truth_; }
+  // What lasers see: the truth without its glass.
+  const RayCaster& laser_truth() const { return laser_truth_ ? *laser_truth_ : truth_; }
   const SimulationOptions& options() const { return options_; }
   uint64_t seed() const { return seed_; }
   // Every body as a disc: robots, moving obstacles, people (current positions).
@@ -140,6 +142,7 @@ class Simulation {
   SimulationOptions options_;
   uint64_t seed_;
   RayCaster truth_;
+  std::optional<RayCaster> laser_truth_;  // only when there is glass
   std::vector<std::unique_ptr<SimulatedRobot>> robots_;
   std::vector<MovingObstacle> obstacles_;
   std::unique_ptr<Crowd> crowd_;

@@ -47,6 +47,7 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       watch_(watch),
       moving_(moving),
       detector_(moving.detection),
+      reflex_(options.reflex),
       avoider_(moving.avoidance),
       recovery_(options.recovery, options.follower.wheel_base) {
   for (const std::string& v : brain_.options().state_variables) {
@@ -191,20 +192,105 @@ planning::PlanningScene NavigationExecutive::Scene(const Pose2& pose) const {
     if ((o.position - pose.translation()).norm() > moving_.planning_range) continue;
     scene.moving.push_back({o.position, o.velocity, o.radius, false});
   }
+  for (const SonarObstacle& s : sonar_obstacles_) {
+    if ((s.position - pose.translation()).norm() <= moving_.planning_range) scene.moving.push_back({s.position, {0, 0}, s.radius, false});
+  }
   return scene;
 }
 
-void NavigationExecutive::DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now) {
+std::shared_ptr<const RayCaster> NavigationExecutive::MapCaster() const {
   const auto map = planning_.maps().Get();
+  if (!map) return nullptr;
+  std::lock_guard<std::mutex> lock(caster_mutex_);
+  if (!caster_ || map->version != caster_version_) {
+    caster_ = std::make_shared<const RayCaster>(map->grid);
+    caster_version_ = map->version;
+  }
+  return caster_;
+}
+
+void NavigationExecutive::DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now) {
+  const std::shared_ptr<const RayCaster> map = MapCaster();
   std::lock_guard<std::mutex> lock(detector_mutex_);
   if (!map) return;
-  if (map->version != detector_map_version_) {
-    detector_map_ = std::make_shared<const RayCaster>(map->grid);
-    detector_map_version_ = map->version;
+  if (map != detector_map_) {
+    detector_map_ = map;
     detector_.SetMap(detector_map_);
     detector_.Reset();
   }
   detector_.Update(scan, pose, now);
+}
+
+WheelSpeeds NavigationExecutive::Reflex(const WheelSpeeds& wheels, const ExecutiveInputs& in, const Pose2& pose) {
+  const std::optional<double> bearing = navigator_.SubgoalBearing(pose);
+  if (!in.sonar || !bearing || !reflex_.options().enabled) return wheels;
+  const ReflexResponse response = reflex_.Respond(stimuli_, *bearing);
+  if (response.level == 0) return wheels;
+  reflex_acted_ = true;
+  navigator_.SetReflex(std::string(SonarGroupName(response.group)) + " level " + std::to_string(response.level));
+  const PathFollowerParams& f = navigator_.options().follower;
+  return SonarReflex::Blend(wheels, *bearing, response, f.k_p, f.max_wheel_speed);
+}
+
+std::vector<SonarEcho> NavigationExecutive::Stimuli(const std::vector<SonarEcho>& echoes, const Pose2& pose) const {
+  const SonarReflexOptions& o = reflex_.options();
+  if (!o.only_unexplained) return echoes;
+  std::vector<Point2> local;
+  {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    local.reserve(scan_points_.size());
+    for (const Point2& p : scan_points_) local.push_back(pose.inverse() * p);
+  }
+  // A map being built changes every few scans and lacks what it has not seen: the laser alone says.
+  const std::shared_ptr<const RayCaster> map = map_building_ ? nullptr : MapCaster();
+  const double rim = moving_.detection.robot_radius;
+  const double horizon = o.remember_within + o.explained_tolerance;
+  std::vector<SonarEcho> out;
+  for (const SonarEcho& e : echoes) {
+    if (reflex_.GroupOf(e.angle) == SonarGroup::kNone || !(e.range < o.remember_within)) continue;
+    const Point2 origin = rim * Point2(std::cos(e.angle), std::sin(e.angle));  // robot frame
+    double known = std::numeric_limits<double>::infinity();
+    if (map) {
+      // The sensor's cone as the map would echo it (five rays across it).
+      for (int k = -2; k <= 2; ++k) {
+        known = std::min(known, map->Cast(pose * origin, pose.theta + e.angle + k * o.sensor_cone / 4.0, horizon));
+      }
+    }
+    for (const Point2& p : local) {
+      const Point2 d = p - origin;
+      if (d.norm() < known && std::abs(NormalizeAngle(std::atan2(d.y(), d.x()) - e.angle)) <= o.sensor_cone / 2.0 + 0.05) {
+        known = d.norm();
+      }
+    }
+    if (e.range < known - o.explained_tolerance) out.push_back(e);
+  }
+  return out;
+}
+
+void NavigationExecutive::RememberSonar(const std::vector<SonarEcho>& stimuli, const Pose2& pose, double now) {
+  const SonarReflexOptions& o = reflex_.options();
+  const double rim = moving_.detection.robot_radius;
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  std::erase_if(sonar_obstacles_, [&](const SonarObstacle& s) { return now - s.seen_at > o.memory; });
+  for (const SonarEcho& e : stimuli) {
+    const Point2 dir(std::cos(e.angle), std::sin(e.angle));
+    const Point2 at = pose * Point2((rim + e.range) * dir);
+    const double radius = std::max(0.05, e.range * std::tan(o.sensor_cone / 2.0));
+    // One disc per place: a nearer look (a narrower cone) replaces a farther one.
+    bool merged = false;
+    for (SonarObstacle& s : sonar_obstacles_) {
+      if (Distance(s.position, at) < std::max(s.radius, radius)) {
+        if (radius < s.radius) {
+          s.position = at;
+          s.radius = radius;
+        }
+        s.seen_at = now;
+        merged = true;
+        break;
+      }
+    }
+    if (!merged) sonar_obstacles_.push_back({at, radius, now});
+  }
 }
 
 AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_free) const {
@@ -305,7 +391,9 @@ void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e,
 }
 
 WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
+  reflex_acted_ = false;
   const WheelSpeeds wheels = Decide(in, now);
+  if (!reflex_acted_) navigator_.SetReflex("");
   // Zones cap whichever behaviour drives: an evasive turn in a loading bay is no faster either.
   const localization::PoseEstimate estimate = localizer_.Estimate();
   double limit = std::numeric_limits<double>::infinity();
@@ -341,6 +429,11 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     scan_points_ = std::move(points);
   }
   if (in.scan && estimate.valid && detecting && !lost_) DetectMovingObstacles(*in.scan, estimate.pose, now);
+  stimuli_.clear();
+  if (in.sonar && estimate.valid && !lost_ && reflex_.options().enabled) {
+    stimuli_ = Stimuli(*in.sonar, estimate.pose);
+    RememberSonar(stimuli_, estimate.pose, now);
+  }
   if (lost_ || !detecting) {
     // Detections made from a wrong pose are in the wrong place.
     std::lock_guard<std::mutex> lock(detector_mutex_);
@@ -473,6 +566,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     if (kind == RecoveryKind::kClear) {
       std::lock_guard<std::mutex> lock(detector_mutex_);
       detector_.Reset();
+      sonar_obstacles_.clear();
     }
     recovery_.Start(kind, estimate.pose, now);
   }
@@ -498,6 +592,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       for (const DetectedObstacle& o : detector_.confirmed()) {
         discs.push_back({o.position, o.radius + moving_.detection.robot_radius});
       }
+      for (const SonarObstacle& s : sonar_obstacles_) discs.push_back({s.position, s.radius + moving_.detection.robot_radius});
     }
     std::shared_ptr<const planning::Costmap> costmap;
     if (const auto map = planning_.maps().Get(); map && map->version != leg_map_version_) costmap = planning_.CurrentCostmap();
@@ -517,6 +612,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   PlanLeg(now);
   WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);
   PlanLeg(now);  // a leg that ended this step gets its path now, not a control period later
+  if (fresh) wheels = Reflex(wheels, in, estimate.pose);
   if (detecting) wheels = GuardSpeed(wheels, estimate.pose);
   return ScanGuard(wheels, estimate.pose);
 }

@@ -18,6 +18,7 @@
 #include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
 #include "services/navigation/recovery_behaviour.h"
+#include "services/navigation/sonar_reflex.h"
 #include "services/navigation/speed_zones.h"
 #include "services/navigation/utility_decision_maker.h"
 #include "services/planning/planning_engine.h"
@@ -105,6 +106,8 @@ struct ExecutiveInputs {
   const localization::ScanReading* scan = nullptr;
   // m free behind the robot's rim by its rear range sensor; infinity without one.
   double rear_free = std::numeric_limits<double>::infinity();
+  // The sonar ring's recent echoes (sensors that heard nothing left out); null: no sonar.
+  const std::vector<SonarEcho>* sonar = nullptr;
 };
 
 class NavigationExecutive {
@@ -158,6 +161,15 @@ class NavigationExecutive {
   void PlanLeg(double now);
   // Runs the detection process on a new scan (building its map view when the map changed).
   void DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now);
+  // The served map for ray casts, rebuilt when the map changes; null before there is one.
+  std::shared_ptr<const RayCaster> MapCaster() const;
+  // Seed 004's sonar reflex summed with the navigation behaviour's command.
+  WheelSpeeds Reflex(const WheelSpeeds& wheels, const ExecutiveInputs& in, const Pose2& pose);
+  // The echoes the reflex answers, within remember_within: with only_unexplained, those nearer than
+  // both the map and the laser's last scan say anything is along the sensor's cone.
+  std::vector<SonarEcho> Stimuli(const std::vector<SonarEcho>& echoes, const Pose2& pose) const;
+  // Keeps `stimuli` as obstacle discs for the plans (map frame), forgetting old ones.
+  void RememberSonar(const std::vector<SonarEcho>& stimuli, const Pose2& pose, double now);
   // What the avoidance behaviour sees: the last scan's points and the rear clearance.
   AvoidanceSensing Sensing(const Pose2& pose, double rear_free) const;
   planning::PlanningScene Scene(const Pose2& pose) const;
@@ -185,8 +197,19 @@ class NavigationExecutive {
   MovingObstacleOptions moving_;
   mutable std::mutex detector_mutex_;  // the detector is read by gRPC and telemetry threads
   MovingObstacleDetector detector_;
-  uint64_t detector_map_version_ = 0;
   std::shared_ptr<const RayCaster> detector_map_;
+  mutable std::mutex caster_mutex_;
+  mutable uint64_t caster_version_ = 0;
+  mutable std::shared_ptr<const RayCaster> caster_;
+  SonarReflex reflex_;
+  bool reflex_acted_ = false;       // the reflex answered a stimulus this step
+  std::vector<SonarEcho> stimuli_;  // this step's unexplained echoes
+  struct SonarObstacle {
+    Point2 position;                // map frame
+    double radius = 0.0;            // m
+    double seen_at = 0.0;           // s
+  };
+  std::vector<SonarObstacle> sonar_obstacles_;  // guarded by detector_mutex_
   std::vector<Point2> scan_points_;    // the last scan's returns, map frame
   MovingObstacleAvoidance avoider_;
   RecoveryBehaviour recovery_;

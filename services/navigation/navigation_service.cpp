@@ -35,6 +35,8 @@ void ToProto(const NavigationFeedback& f, v1::NavigationFeedback* out) {
   out->set_danger(f.danger);
   out->set_speed_limit(f.speed_limit);
   out->set_recoveries(f.recoveries);
+  out->set_reflex(f.reflex);
+  out->set_reflexes(f.reflexes);
   for (const planning::MovingBody& b : f.moving_obstacles) {
     v1::MovingBody* m = out->add_moving_obstacles();
     navd::ToProto(b.position, m->mutable_position());

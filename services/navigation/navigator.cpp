@@ -95,6 +95,7 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
   leg_needs_path_ = false;
   stuck_ = false;
   f.recoveries = 0;
+  f.reflexes = 0;
   leg_recoveries_ = 0;
   best_remaining_ = follower_.DistanceRemaining(last_pose_);
   best_remaining_at_ = now;
@@ -407,6 +408,19 @@ bool Navigator::TakeStuck() {
 void Navigator::SetSpeedLimit(double limit) {
   std::lock_guard<std::mutex> lock(mutex_);
   status_.feedback.speed_limit = limit;
+}
+
+void Navigator::SetReflex(const std::string& reflex) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (reflex == status_.feedback.reflex) return;
+  if (status_.feedback.reflex.empty() && status_.active) ++status_.feedback.reflexes;
+  status_.feedback.reflex = reflex;
+  BumpLocked();
+}
+
+std::optional<double> Navigator::SubgoalBearing(const Pose2& pose) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return follower_.SubgoalBearing(pose);
 }
 
 NavigationStatus Navigator::Status() const {

@@ -17,6 +17,7 @@
 #include "services/common/diff_drive.h"
 #include "services/common/pose2.h"
 #include "services/navigation/path_follower.h"
+#include "services/navigation/sonar_reflex.h"
 #include "services/navigation/utility_decision_maker.h"
 #include "services/planning/global_planner.h"
 
@@ -83,6 +84,8 @@ struct NavigationFeedback {
   std::vector<planning::MovingBody> moving_obstacles;  // confirmed by the detection process
   double speed_limit = 0.0;          // m/s: a speed zone's limit where the robot is; 0: none
   uint32_t recoveries = 0;           // recoveries run in this mission so far
+  std::string reflex;                // the sonar reflex acting now ("FRONT level 2 at 0.41 m"); empty: none
+  uint32_t reflexes = 0;             // times the sonar reflex took a hand in this mission
 };
 
 struct NavigationStatus {
@@ -119,6 +122,8 @@ struct NavigatorOptions {
   double progress_distance = 0.05;  // m
   int max_recoveries = 3;
   RecoveryOptions recovery;
+  // Seed 004's reflexes on the sonar ring, summed with the path follower's command.
+  SonarReflexOptions reflex;
   // ...or when sensors stayed stale this long.
   double stale_timeout = 10.0;      // s
 };
@@ -167,6 +172,11 @@ class Navigator {
   bool TakeStuck();
   // The speed zones' limit at the robot (m/s; 0: none), carried in the feedback.
   void SetSpeedLimit(double limit);
+  // What the sonar reflex does now (empty: nothing), carried in the feedback; counts its onsets.
+  void SetReflex(const std::string& reflex);
+  // Bearing (rad, robot frame) of the path point the follower steers to, while it drives forward:
+  // seed 004's navigator vector. nullopt otherwise.
+  std::optional<double> SubgoalBearing(const Pose2& pose) const;
 
   NavigationStatus Status() const;
   // The result of mission `goal_id` once it has ended.

@@ -84,6 +84,12 @@ FollowerCommand PathFollower::Step(const Pose2& pose) {
   return {ClampWheels({v_nav - dv, v_nav + dv}, p_.max_wheel_speed), state_};
 }
 
+std::optional<double> PathFollower::SubgoalBearing(const Pose2& pose) const {
+  if (state_ != FollowerState::kDriving || index_ >= waypoints_.size()) return std::nullopt;
+  const Point2 target = waypoints_[index_];
+  return NormalizeAngle(std::atan2(target.y() - pose.y, target.x() - pose.x) - pose.theta);
+}
+
 double PathFollower::DistanceRemaining(const Pose2& pose) const {
   if (waypoints_.empty() || state_ == FollowerState::kIdle) return 0.0;
   double d = Distance(pose.translation(), waypoints_[index_]);

@@ -52,6 +52,8 @@ class PathFollower {
   FollowerState state() const { return state_; }
   // Distance left along the path from `pose` through the remaining waypoints, metres.
   double DistanceRemaining(const Pose2& pose) const;
+  // Bearing (rad, robot frame) of the waypoint steered to while driving forward; nullopt otherwise.
+  std::optional<double> SubgoalBearing(const Pose2& pose) const;
   size_t waypoint_index() const { return index_; }
   size_t waypoint_count() const { return waypoints_.size(); }
   const std::vector<Point2>& waypoints() const { return waypoints_; }

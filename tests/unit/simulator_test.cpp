@@ -235,6 +235,29 @@ TEST(RangeSensors, SonarConeSeesWhatItsAxisMisses) {
   EXPECT_EQ(PioneerSonarRing(0.2).angles.size(), 16u);
 }
 
+// A glass pane: the bumpers and the sonar find it, the laser sees through it; a plain box is seen by both.
+TEST(Scenarios, GlassIsSeenBySonarButNotByTheLaser) {
+  const Scenario s = ScenarioText(
+      "hidden_obstacles: {glass: [[3.0, 1.5, 3.1, 2.5]], boxes: [[1.0, 0.9, 1.2, 1.1]]}\n"
+      "robots: [{start: [2, 2, 0], sensors: [{type: laser}, {type: sonar}]}]\n");
+  EXPECT_EQ(s.hidden_obstacles, 2);
+  EXPECT_FALSE(s.glass.empty());
+  SimulationOptions options;
+  Simulation sim(s, options);
+  std::optional<std::vector<float>> scan, sonar;
+  while (!scan || !sonar) {
+    auto out = sim.Step();
+    if (out.robots[0].scan) scan = out.robots[0].scan;
+    if (out.robots[0].sonar) sonar = out.robots[0].sonar;
+  }
+  const size_t ahead = static_cast<size_t>(s.robots[0].laser->beams - 1) / 2;
+  EXPECT_GT((*scan)[ahead], 1.5f);           // through the pane to the wall at 3.9
+  EXPECT_NEAR((*sonar)[3], 0.8, 0.1);        // sonar_3 (10 degrees left) echoes off the pane at x = 3.0
+  EXPECT_TRUE(sim.truth().DiscHitsWall({3.05, 2.0}, 0.01));
+  EXPECT_FALSE(sim.laser_truth().DiscHitsWall({3.05, 2.0}, 0.01));
+  EXPECT_TRUE(sim.laser_truth().DiscHitsWall({1.1, 1.0}, 0.01));  // the box is no glass
+}
+
 TEST(RangeSensors, IrTripleOfSeed000) {
   const RayCaster walls(BoxWorld().map);
   std::mt19937_64 rng(1);
