@@ -9,6 +9,7 @@
 #include "client_lib/door_command.h"
 #include "client_lib/replay_command.h"
 #include "client_lib/explore_command.h"
+#include "client_lib/deliver_command.h"
 #include "client_lib/follow_command.h"
 #include "client_lib/navctl_text.h"
 #include "client_lib/navd_client.h"
@@ -183,6 +184,20 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 232));
   follow->add_option("--namespace", follow_options.robot_namespace, "With --measure: the robot's namespace");
   follow->add_flag("--json", follow_options.json, "Print the result as one JSON object");
+  auto* deliver = app.add_subcommand("deliver",
+                                     "Run a delivery mission: navd orders the pickups and dropoffs; exit 0 only when it succeeds");
+  navd::navctl::DeliverOptions deliver_options;
+  deliver->add_option("--task", deliver_options.tasks,
+                      "A task NAME:PICKUP_X,PICKUP_Y:DROPOFF_X,DROPOFF_Y[:PRIORITY] (map frame; higher priority is "
+                      "delivered first); repeatable")
+      ->required();
+  deliver->add_option("--capacity", deliver_options.capacity, "Loads the robot carries at once (default: no limit)");
+  deliver->add_flag("--return", deliver_options.return_to_start, "End the round where the robot started");
+  deliver->add_flag("--plan-only", deliver_options.plan_only, "Print the schedule; the robot does not move");
+  deliver->add_option("--timeout", deliver_options.timeout, "Give up (and cancel) after S seconds")->check(seconds);
+  deliver->add_option("--planner", deliver_options.planner, "Planner name");
+  deliver->add_flag("--preempt", deliver_options.preempt, "Replace an active mission instead of being rejected");
+  deliver->add_flag("--json", deliver_options.json, "Print the schedule and result as one JSON object");
   auto* pause = app.add_subcommand("pause", "Pause the active mission (the robot stops, the mission stays)");
   auto* resume = app.add_subcommand("resume", "Resume the paused mission");
 
@@ -463,6 +478,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (follow->parsed()) return navd::navctl::RunFollow(client, follow_options);
+    if (deliver->parsed()) return navd::navctl::RunDeliver(client, deliver_options);
     if (explore->parsed()) return navd::navctl::RunExplore(client, explore_options);
     if (pause->parsed()) {
       client.Pause();

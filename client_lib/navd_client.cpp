@@ -188,10 +188,12 @@ v1::MapInfo Client::LoadMap(const std::string& path) {
 }
 
 v1::NavigationResult Client::ReadMission(grpc::ClientContext&, grpc::ClientReaderInterface<v1::NavigateToResponse>& reader,
-                                         const FeedbackCallback& on_feedback, double timeout) const {
+                                         const FeedbackCallback& on_feedback, double timeout,
+                                         const ScheduleCallback& on_schedule) const {
   v1::NavigateToResponse msg;
   std::optional<v1::NavigationResult> result;
   while (reader.Read(&msg)) {
+    if (msg.has_schedule() && on_schedule) on_schedule(msg.schedule());
     if (msg.has_feedback() && on_feedback) on_feedback(msg.feedback());
     if (msg.has_result()) result = msg.result();
   }
@@ -221,6 +223,18 @@ v1::NavigationResult Client::FollowWaypoints(const v1::FollowWaypointsRequest& r
   Prepare(ctx, timeout);
   auto reader = navigation_->FollowWaypoints(&ctx, request);
   return ReadMission(ctx, *reader, on_feedback, timeout);
+}
+
+v1::NavigationResult Client::Deliver(const v1::DeliverRequest& request, const ScheduleCallback& on_schedule,
+                                     const FeedbackCallback& on_feedback, double timeout) {
+  grpc::ClientContext ctx;
+  Prepare(ctx, timeout);
+  auto reader = navigation_->Deliver(&ctx, request);
+  return ReadMission(ctx, *reader, on_feedback, timeout, on_schedule);
+}
+
+v1::DeliverySchedule Client::PlanDeliveries(const v1::DeliverRequest& request) {
+  return Call(*navigation_, &v1::NavigationService::Stub::PlanDeliveries, request);
 }
 
 v1::NavigationResult Client::NavigateTo(double x, double y, std::optional<double> theta,

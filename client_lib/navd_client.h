@@ -89,6 +89,12 @@ class Client {
   // A waypoint mission (FollowWaypoints); blocks like NavigateTo until the mission ends.
   v1::NavigationResult FollowWaypoints(const v1::FollowWaypointsRequest& request,
                                        const FeedbackCallback& on_feedback = {}, double timeout = 0.0);
+  // A delivery mission (Deliver): `on_schedule` gets navd's schedule first; then as FollowWaypoints.
+  using ScheduleCallback = std::function<void(const v1::DeliverySchedule&)>;
+  v1::NavigationResult Deliver(const v1::DeliverRequest& request, const ScheduleCallback& on_schedule,
+                               const FeedbackCallback& on_feedback = {}, double timeout = 0.0);
+  // The schedule Deliver would drive, without moving the robot.
+  v1::DeliverySchedule PlanDeliveries(const v1::DeliverRequest& request);
   bool Cancel();
   void Pause();
   void Resume();
@@ -131,7 +137,8 @@ class Client {
   // Reads a mission's feedback stream to its result.
   v1::NavigationResult ReadMission(grpc::ClientContext& context,
                                    grpc::ClientReaderInterface<v1::NavigateToResponse>& reader,
-                                   const FeedbackCallback& on_feedback, double timeout) const;
+                                   const FeedbackCallback& on_feedback, double timeout,
+                                   const ScheduleCallback& on_schedule = {}) const;
 
   ClientOptions options_;
   std::shared_ptr<grpc::Channel> channel_;

@@ -132,6 +132,52 @@ uint64_t NavigationExecutive::FollowWaypoints(const MissionRequest& r, const pla
   return StartMission(mission, r.planner, r.preempt, stop);
 }
 
+DeliverySchedule NavigationExecutive::PlanDeliveries(const DeliveryRequest& r, const planning::StopRequested& stop) {
+  if (r.tasks.empty()) throw Error(ErrorCode::kInvalidArgument, "tasks: at least one is required");
+  if (r.tasks.size() > kMaxDeliveryTasks) {
+    throw Error(ErrorCode::kInvalidArgument, "tasks: at most " + std::to_string(kMaxDeliveryTasks) + " in one mission");
+  }
+  const localization::PoseEstimate estimate = localizer_.Estimate();
+  if (!estimate.valid) {
+    throw Error(ErrorCode::kFailedPrecondition, "no pose estimate yet: navd has not received odometry");
+  }
+  const Point2 start = estimate.pose.translation();
+  // Each stop checked from where the robot is (inside the map, free, reachable): the errors name it.
+  for (size_t i = 0; i < r.tasks.size(); ++i) {
+    for (const bool pickup : {true, false}) {
+      const std::string field = "tasks[" + std::to_string(i) + "]." + (pickup ? "pickup" : "dropoff");
+      const Point2& p = pickup ? r.tasks[i].pickup : r.tasks[i].dropoff;
+      if (!p.allFinite()) throw Error(ErrorCode::kInvalidArgument, field + " is not a finite point");
+      try {
+        planning_.ComputePath(start, p, r.planner, {}, stop);
+      } catch (const Error& e) {
+        throw Error(e.code(), field + ": " + e.what());
+      }
+    }
+  }
+  return ScheduleDeliveries(start, r.tasks, r.options, [&](const Point2& a, const Point2& b) {
+    try {
+      return planning_.ComputePath(a, b, r.planner, {}, stop).length;
+    } catch (const Error&) {
+      return std::numeric_limits<double>::infinity();
+    }
+  });
+}
+
+uint64_t NavigationExecutive::Deliver(const DeliveryRequest& r, DeliverySchedule& schedule,
+                                      const planning::StopRequested& stop) {
+  schedule = PlanDeliveries(r, stop);
+  MissionRequest mission;
+  for (const DeliveryStop& s : schedule.stops) mission.waypoints.push_back(Pose2(s.at.x(), s.at.y(), 0.0));
+  if (r.options.return_to_start) {
+    const Point2 start = localizer_.Estimate().pose.translation();
+    mission.waypoints.push_back(Pose2(start.x(), start.y(), 0.0));
+  }
+  mission.planner = r.planner;
+  mission.preempt = r.preempt;
+  return FollowWaypoints(mission, stop);
+}
+
 uint64_t NavigationExecutive::StartMission(const Mission& mission, const std::string& planner, bool preempt,
                                            const planning::StopRequested& stop) {
   const localization::PoseEstimate estimate = localizer_.Estimate();

@@ -14,6 +14,7 @@
 
 #include "services/common/clock.h"
 #include "services/localization/localizer.h"
+#include "services/navigation/delivery_scheduler.h"
 #include "services/navigation/moving_obstacle_avoidance.h"
 #include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
@@ -41,6 +42,16 @@ struct MissionRequest {
   std::string planner;
   bool preempt = false;
 };
+
+// A delivery mission: navd orders the tasks' stops (ScheduleDeliveries) and drives them as a
+// waypoint mission.
+struct DeliveryRequest {
+  std::vector<DeliveryTask> tasks;
+  DeliveryScheduleOptions options;
+  std::string planner;
+  bool preempt = false;
+};
+inline constexpr size_t kMaxDeliveryTasks = 25;
 
 // When the pose estimate counts as lost: the scan fits the map worse than lost_quality (the
 // localiser's 0..1 agreement, the mean per-beam likelihood ratio) for lost_after seconds and for
@@ -125,6 +136,11 @@ class NavigationExecutive {
   // Checks every waypoint (and every leg between them) before starting; errors name
   // `waypoints[i]`.
   uint64_t FollowWaypoints(const MissionRequest& request, const planning::StopRequested& stop = {});
+  // The schedule a delivery mission would drive, from the current pose; errors name tasks[i].
+  DeliverySchedule PlanDeliveries(const DeliveryRequest& request, const planning::StopRequested& stop = {});
+  // Plans the schedule and starts it (the stops as waypoints; the start again last with
+  // return_to_start). Returns the mission id.
+  uint64_t Deliver(const DeliveryRequest& request, DeliverySchedule& schedule, const planning::StopRequested& stop = {});
   bool Cancel(uint64_t goal_id = 0) { return navigator_.Cancel(goal_id); }
   void Pause() { navigator_.Pause(clock_.Now()); }
   void Resume() { navigator_.Resume(clock_.Now()); }

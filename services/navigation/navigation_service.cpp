@@ -71,7 +71,67 @@ void ToProto(const NavigationResult& r, v1::NavigationResult* out) {
   out->set_waypoints_reached(r.waypoints_reached);
 }
 
+DeliveryRequest DeliveryFromProto(const v1::DeliverRequest& m) {
+  DeliveryRequest r;
+  for (int i = 0; i < m.tasks_size(); ++i) {
+    const v1::DeliveryTask& t = m.tasks(i);
+    const std::string field = "tasks[" + std::to_string(i) + "]";
+    if (!t.has_pickup()) throw Error(ErrorCode::kInvalidArgument, field + ".pickup is missing");
+    if (!t.has_dropoff()) throw Error(ErrorCode::kInvalidArgument, field + ".dropoff is missing");
+    r.tasks.push_back({t.name().empty() ? "task " + std::to_string(i + 1) : t.name(), navd::FromProto(t.pickup()),
+                       navd::FromProto(t.dropoff()), t.priority()});
+  }
+  r.options.capacity = m.capacity();
+  r.options.return_to_start = m.return_to_start();
+  r.planner = m.planner();
+  r.preempt = m.preempt();
+  return r;
+}
+
+void ToProto(const DeliverySchedule& s, const DeliveryRequest& r, double planning_time, v1::DeliverySchedule* out) {
+  for (const DeliveryStop& stop : s.stops) {
+    v1::DeliveryStop* m = out->add_stops();
+    m->set_task(static_cast<uint32_t>(stop.task));
+    m->set_name(r.tasks[stop.task].name);
+    m->set_pickup(stop.pickup);
+    navd::ToProto(stop.at, m->mutable_position());
+    m->set_leg_length(stop.leg_length);
+  }
+  out->set_length(s.length);
+  out->set_given_order_length(s.given_order_length);
+  out->set_planning_time(planning_time);
+}
+
+double SecondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 }  // namespace
+
+grpc::Status NavigationService::Deliver(grpc::ServerContext* context, const v1::DeliverRequest* request,
+                                        grpc::ServerWriter<v1::NavigateToResponse>* writer) {
+  uint64_t goal_id = 0;
+  v1::NavigateToResponse first;
+  grpc::Status started = GuardedCall([&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    const DeliveryRequest r = DeliveryFromProto(*request);
+    DeliverySchedule schedule;
+    goal_id = executive_.Deliver(r, schedule, StopWhenDone(context));
+    ToProto(schedule, r, SecondsSince(t0), first.mutable_schedule());
+  });
+  if (!started.ok()) return started;
+  writer->Write(first);
+  return StreamMission(context, writer, goal_id);
+}
+
+grpc::Status NavigationService::PlanDeliveries(grpc::ServerContext* context, const v1::DeliverRequest* request,
+                                               v1::DeliverySchedule* response) {
+  return GuardedCall([&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    const DeliveryRequest r = DeliveryFromProto(*request);
+    ToProto(executive_.PlanDeliveries(r, StopWhenDone(context)), r, SecondsSince(t0), response);
+  });
+}
 
 grpc::Status NavigationService::NavigateTo(grpc::ServerContext* context, const v1::NavigateToRequest* request,
                                            grpc::ServerWriter<v1::NavigateToResponse>* writer) {

@@ -12,6 +12,10 @@ class NavigationService final : public v1::NavigationService::Service {
                           grpc::ServerWriter<v1::NavigateToResponse>* writer) override;
   grpc::Status FollowWaypoints(grpc::ServerContext* context, const v1::FollowWaypointsRequest* request,
                                grpc::ServerWriter<v1::NavigateToResponse>* writer) override;
+  grpc::Status Deliver(grpc::ServerContext* context, const v1::DeliverRequest* request,
+                       grpc::ServerWriter<v1::NavigateToResponse>* writer) override;
+  grpc::Status PlanDeliveries(grpc::ServerContext* context, const v1::DeliverRequest* request,
+                              v1::DeliverySchedule* response) override;
   grpc::Status Cancel(grpc::ServerContext* context, const v1::CancelRequest* request,
                       v1::CancelResponse* response) override;
   grpc::Status Pause(grpc::ServerContext* context, const v1::PauseRequest* request,

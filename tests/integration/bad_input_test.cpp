@@ -124,6 +124,32 @@ TEST_F(BadInput, WaypointInsideAnObstacleIsNamed) {
   EXPECT_NEAR(ok.times(ok.times_size() - 1), ok.duration(), 0.05);
 }
 
+TEST_F(BadInput, DeliveryTasksAreCheckedAndNamed) {
+  v1::DeliverRequest r;
+  ExpectError([&] { client().PlanDeliveries(r); }, grpc::StatusCode::INVALID_ARGUMENT, {"tasks", "at least one"});
+  v1::DeliveryTask* ok = r.add_tasks();
+  ok->mutable_pickup()->set_x(3.0);
+  ok->mutable_pickup()->set_y(2.6);
+  ok->mutable_dropoff()->set_x(8.8);
+  ok->mutable_dropoff()->set_y(8.8);
+  v1::DeliveryTask* bad = r.add_tasks();
+  bad->mutable_pickup()->set_x(3.0);
+  bad->mutable_pickup()->set_y(2.6);
+  ExpectError([&] { client().PlanDeliveries(r); }, grpc::StatusCode::INVALID_ARGUMENT, {"tasks[1].dropoff", "missing"});
+  bad->mutable_dropoff()->set_x(8.5);
+  bad->mutable_dropoff()->set_y(1.5);
+  ExpectError([&] { client().PlanDeliveries(r); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"tasks[1].dropoff", "inside an obstacle"});
+  bad->mutable_dropoff()->set_x(NAN);
+  ExpectError([&] { client().PlanDeliveries(r); }, grpc::StatusCode::INVALID_ARGUMENT, {"tasks[1].dropoff", "finite"});
+  r.mutable_tasks()->RemoveLast();
+  const v1::DeliverySchedule schedule = client().PlanDeliveries(r);
+  ASSERT_EQ(schedule.stops_size(), 2);
+  EXPECT_TRUE(schedule.stops(0).pickup());
+  EXPECT_EQ(schedule.stops(0).name(), "task 1");
+  EXPECT_GT(schedule.length(), 10.0);
+}
+
 // Moving bodies reach the planners that use them: the kinodynamic planner's trajectory misses a
 // person standing on the straight line, with speeds per point; bad bodies are named.
 TEST_F(BadInput, MovingBodiesReachTheKinodynamicPlannerAndBadOnesAreNamed) {
