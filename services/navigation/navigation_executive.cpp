@@ -27,6 +27,8 @@ void AddPredictedRim(const DetectedObstacle& o, const Pose2& pose, std::initiali
   }
 }
 
+constexpr double kContactDisc = 0.15;  // m: radius of what a bumper hit, as the plans see it
+
 long StateIndexOr(const UtilityDecisionMaker& brain, const char* name) {
   const auto& vars = brain.options().state_variables;
   for (size_t k = 0; k < vars.size(); ++k)
@@ -238,7 +240,7 @@ planning::PlanningScene NavigationExecutive::Scene(const Pose2& pose) const {
     if ((o.position - pose.translation()).norm() > moving_.planning_range) continue;
     scene.moving.push_back({o.position, o.velocity, o.radius, false});
   }
-  for (const SonarObstacle& s : sonar_obstacles_) {
+  for (const SensedObstacle& s : sensed_obstacles_) {
     if ((s.position - pose.translation()).norm() <= moving_.planning_range) scene.moving.push_back({s.position, {0, 0}, s.radius, false});
   }
   return scene;
@@ -317,26 +319,24 @@ void NavigationExecutive::RememberSonar(const std::vector<SonarEcho>& stimuli, c
   const SonarReflexOptions& o = reflex_.options();
   const double rim = moving_.detection.robot_radius;
   std::lock_guard<std::mutex> lock(detector_mutex_);
-  std::erase_if(sonar_obstacles_, [&](const SonarObstacle& s) { return now - s.seen_at > o.memory; });
   for (const SonarEcho& e : stimuli) {
     const Point2 dir(std::cos(e.angle), std::sin(e.angle));
-    const Point2 at = pose * Point2((rim + e.range) * dir);
-    const double radius = std::max(0.05, e.range * std::tan(o.sensor_cone / 2.0));
-    // One disc per place: a nearer look (a narrower cone) replaces a farther one.
-    bool merged = false;
-    for (SonarObstacle& s : sonar_obstacles_) {
-      if (Distance(s.position, at) < std::max(s.radius, radius)) {
-        if (radius < s.radius) {
-          s.position = at;
-          s.radius = radius;
-        }
-        s.seen_at = now;
-        merged = true;
-        break;
-      }
-    }
-    if (!merged) sonar_obstacles_.push_back({at, radius, now});
+    RememberSensed(pose * Point2((rim + e.range) * dir), std::max(0.05, e.range * std::tan(o.sensor_cone / 2.0)), now);
   }
+}
+
+void NavigationExecutive::RememberSensed(const Point2& at, double radius, double now) {
+  for (SensedObstacle& s : sensed_obstacles_) {
+    if (Distance(s.position, at) < std::max(s.radius, radius)) {
+      if (radius < s.radius) {
+        s.position = at;
+        s.radius = radius;
+      }
+      s.seen_at = now;
+      return;
+    }
+  }
+  sensed_obstacles_.push_back({at, radius, now});
 }
 
 AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_free) const {
@@ -475,6 +475,11 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     scan_points_ = std::move(points);
   }
   if (in.scan && estimate.valid && detecting && !lost_) DetectMovingObstacles(*in.scan, estimate.pose, now);
+  {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    std::erase_if(sensed_obstacles_,
+                  [&](const SensedObstacle& s) { return now - s.seen_at > reflex_.options().memory; });
+  }
   stimuli_.clear();
   if (in.sonar && estimate.valid && !lost_ && reflex_.options().enabled) {
     stimuli_ = Stimuli(*in.sonar, estimate.pose);
@@ -534,6 +539,19 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       contact_since_ = now;
     }
     const size_t stop = static_cast<size_t>(emergency_stop_);
+    if (in.contact && !pressed_ && !in.rear_contact_only) {
+      // Nav2's bumper layer: what the robot drove into goes into the plans (the laser and the map
+      // show nothing there, or the leg would not lead into it), just beyond the front rim. A
+      // pressed rear bumper is something that drove into the robot.
+      // Its size is unknown: a disc as wide as the front of the robot.
+      const double rim = moving_.detection.robot_radius;
+      const Point2 at = estimate.pose * Point2(rim + kContactDisc, 0.0);
+      {
+        std::lock_guard<std::mutex> lock(detector_mutex_);
+        RememberSensed(at, kContactDisc, now);
+      }
+      navigator_.NoteContact(at, now);
+    }
     if (in.contact) {
       // Holds the behaviour past the release, for the recoil.
       brain_.SetGamma(stop, 1.0);
@@ -612,7 +630,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     if (kind == RecoveryKind::kClear) {
       std::lock_guard<std::mutex> lock(detector_mutex_);
       detector_.Reset();
-      sonar_obstacles_.clear();
+      sensed_obstacles_.clear();
     }
     recovery_.Start(kind, estimate.pose, now);
   }
@@ -638,7 +656,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       for (const DetectedObstacle& o : detector_.confirmed()) {
         discs.push_back({o.position, o.radius + moving_.detection.robot_radius});
       }
-      for (const SonarObstacle& s : sonar_obstacles_) discs.push_back({s.position, s.radius + moving_.detection.robot_radius});
+      for (const SensedObstacle& s : sensed_obstacles_) discs.push_back({s.position, s.radius + moving_.detection.robot_radius});
     }
     std::shared_ptr<const planning::Costmap> costmap;
     if (const auto map = planning_.maps().Get(); map && map->version != leg_map_version_) costmap = planning_.CurrentCostmap();

@@ -186,6 +186,9 @@ class NavigationExecutive {
   std::vector<SonarEcho> Stimuli(const std::vector<SonarEcho>& echoes, const Pose2& pose) const;
   // Keeps `stimuli` as obstacle discs for the plans (map frame), forgetting old ones.
   void RememberSonar(const std::vector<SonarEcho>& stimuli, const Pose2& pose, double now);
+  // Keeps a disc of `radius` at `at` (map frame) for the plans; a nearer look at a place replaces
+  // a wider one. Caller holds detector_mutex_.
+  void RememberSensed(const Point2& at, double radius, double now);
   // What the avoidance behaviour sees: the last scan's points and the rear clearance.
   AvoidanceSensing Sensing(const Pose2& pose, double rear_free) const;
   planning::PlanningScene Scene(const Pose2& pose) const;
@@ -220,12 +223,14 @@ class NavigationExecutive {
   SonarReflex reflex_;
   bool reflex_acted_ = false;       // the reflex answered a stimulus this step
   std::vector<SonarEcho> stimuli_;  // this step's unexplained echoes
-  struct SonarObstacle {
+  // What only the sonar or a bumper found (the map and the laser show nothing there): obstacle
+  // discs for the leg plans, forgotten after the reflex's `memory`.
+  struct SensedObstacle {
     Point2 position;                // map frame
     double radius = 0.0;            // m
     double seen_at = 0.0;           // s
   };
-  std::vector<SonarObstacle> sonar_obstacles_;  // guarded by detector_mutex_
+  std::vector<SensedObstacle> sensed_obstacles_;  // guarded by detector_mutex_
   std::vector<Point2> scan_points_;    // the last scan's returns, map frame
   MovingObstacleAvoidance avoider_;
   RecoveryBehaviour recovery_;

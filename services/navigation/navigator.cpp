@@ -97,6 +97,7 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
   f.recoveries = 0;
   f.reflexes = 0;
   leg_recoveries_ = 0;
+  leg_contacts_.clear();
   best_remaining_ = follower_.DistanceRemaining(last_pose_);
   best_remaining_at_ = now;
   stale_since_ = held_since_ = -1.0;
@@ -206,6 +207,7 @@ bool Navigator::AdvanceLocked(const Pose2& pose, double now) {
   NavigationFeedback& f = status_.feedback;
   ++f.waypoints_reached;
   leg_recoveries_ = 0;
+  leg_contacts_.clear();
   size_t next = f.mission_index + 1;
   if (next >= mission_.waypoints.size()) {
     const bool another_lap = mission_.cyclic && (mission_.laps == 0 || f.laps_completed + 1 < mission_.laps);
@@ -347,6 +349,28 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
   }
   BumpLocked();
   return cmd.wheels;
+}
+
+void Navigator::NoteContact(const Point2& where, double now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!status_.active) return;
+  leg_contacts_.push_back(where);
+  int here = 0;
+  for (const Point2& p : leg_contacts_) here += Distance(p, where) <= options_.contact_radius;
+  if (here < options_.max_contacts) return;
+  if (leg_recoveries_ < options_.max_recoveries) {
+    ++leg_recoveries_;
+    ++status_.feedback.recoveries;
+    stuck_ = true;
+    leg_contacts_.clear();
+    BumpLocked();
+    return;
+  }
+  char msg[160];
+  std::snprintf(msg, sizeof msg,
+                "bumped into something at (%.2f, %.2f) %d times after %d recoveries on this leg: the way seems blocked",
+                where.x(), where.y(), here, options_.max_recoveries);
+  FinishLocked(Outcome::kFailed, msg, last_pose_, now);
 }
 
 void Navigator::Hold(const Pose2& pose, double now, NavigationState state, const std::string& reason,

@@ -121,6 +121,10 @@ struct NavigatorOptions {
   double progress_timeout = 15.0;   // s
   double progress_distance = 0.05;  // m
   int max_recoveries = 3;
+  // ...or when a bumper is pressed this many times within contact_radius of one place on a leg
+  // (drive, bump, back away, replan, drive into it again: each replan restarts the progress clock).
+  int max_contacts = 3;
+  double contact_radius = 0.3;      // m
   RecoveryOptions recovery;
   // Seed 004's reflexes on the sonar ring, summed with the path follower's command.
   SonarReflexOptions reflex;
@@ -170,6 +174,8 @@ class Navigator {
   void SetMovingObstacles(double danger, std::vector<planning::MovingBody> obstacles);
   // Whether the robot got stuck since the last call (a recovery is due; the feedback counts them).
   bool TakeStuck();
+  // A bumper was pressed at `where` (map frame): repeated contacts at one place make the robot stuck.
+  void NoteContact(const Point2& where, double now);
   // The speed zones' limit at the robot (m/s; 0: none), carried in the feedback.
   void SetSpeedLimit(double limit);
   // What the sonar reflex does now (empty: nothing), carried in the feedback; counts its onsets.
@@ -203,6 +209,7 @@ class Navigator {
   bool leg_needs_path_ = false;
   bool stuck_ = false;              // a recovery is due
   int leg_recoveries_ = 0;          // recoveries since the last waypoint was reached
+  std::vector<Point2> leg_contacts_;  // where bumpers were pressed since then
   double best_remaining_ = 0.0;     // smallest distance left on this leg so far (progress check)
   double best_remaining_at_ = 0.0;  // when it was reached
   double held_since_ = -1.0;        // when a stop (stale, pause, hold) began; < 0 while driving

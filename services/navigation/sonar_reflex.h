@@ -50,7 +50,8 @@ struct SonarReflexOptions {
   double sensor_cone = 15.0 * M_PI / 180.0;  // rad: a sensor's opening, for that comparison
   // The deliberative half (Nav2's range sensor layer): unexplained echoes within remember_within
   // become obstacle discs in the leg plans for `memory` seconds, so the path goes round what the
-  // reflex met rather than back through it. A disc covers the cone's width at its range.
+  // reflex met rather than back through it. A disc covers the cone's width at its range. (What
+  // the front bumper hits is kept as long.)
   double remember_within = 1.5;  // m
   double memory = 30.0;          // s
 };

@@ -2,6 +2,7 @@
 // the brain file, waypoint missions in the navigator, and the executive's emergency stop.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -399,6 +400,61 @@ TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
   for (int i = 0; i < 400; ++i) step();
   EXPECT_GT(farthest, kWall - 0.2 - 0.15);  // it drove up to the wall...
   EXPECT_LT(farthest, kWall - 0.2 - 0.02);  // ...and stopped short of touching it
+}
+
+// Nav2's bumper layer: a post nothing but the bumper senses, straight across the path. The robot
+// bumps it, backs away, and the replanned leg leads into it again until the post is in the plans
+// (after the recovery's back-up clears the start of it); then it goes round and arrives. Bounded:
+// a wall it cannot get round ends the mission after the recoveries, naming where it bumped.
+struct BumpRun {
+  int contacts = 0;
+  std::optional<NavigationResult> result;
+};
+BumpRun DriveIntoSomethingOnlyTheBumperFeels(double half_x, double half_y) {
+  OpenFloor floor;
+  auto& [options, maps, planning, localizer, clock, executive] = floor;
+  const Point2 post(3.0, 2.5);
+  Pose2 odom(0.0, 0.0, 0.0);
+  const Pose2 offset(1.0, 2.5, 0.0);  // map pose = offset * odom
+  double t = 0.0;
+  bool pressed = false;
+  BumpRun run;
+  clock.Set(t);
+  localizer.AddOdometry({odom, Eigen::Matrix3d::Zero(), t});
+  executive.Step(ExecutiveInputs{}, t);
+  const uint64_t id = executive.Navigate({Pose2(5.0, 2.5, 0.0), false, "", false});
+  for (int i = 0; i < 12000 && executive.navigator().Status().active; ++i) {
+    t += 0.05;
+    clock.Set(t);
+    localizer.AddOdometry({odom, Eigen::Matrix3d::Zero(), t});
+    ExecutiveInputs in;
+    in.contact = pressed;
+    const WheelSpeeds w = executive.Step(in, t);
+    const Pose2 next = IntegrateDiffDrive(odom, w.left * 0.05, w.right * 0.05, options.follower.wheel_base);
+    const Point2 at = (offset * next).translation();
+    // A box centred on (3, 2.5): a post, or a wall across the floor.
+    const Point2 nearest(std::clamp(at.x(), post.x() - half_x, post.x() + half_x),
+                         std::clamp(at.y(), post.y() - half_y, post.y() + half_y));
+    const bool touches = Distance(at, nearest) < 0.2;
+    if (touches && !pressed) ++run.contacts;
+    pressed = touches && (w.left + w.right) > 0.0;  // pushing into it keeps the bumper pressed
+    if (!touches) odom = next;
+  }
+  run.result = executive.navigator().ResultOf(id);
+  return run;
+}
+
+TEST(NavigationExecutive, WhatTheBumperHitGoesIntoThePlansAndRepeatedBumpsAreBounded) {
+  const BumpRun post = DriveIntoSomethingOnlyTheBumperFeels(0.1, 0.1);
+  ASSERT_TRUE(post.result);
+  EXPECT_EQ(post.result->outcome, Outcome::kSucceeded) << post.result->message;
+  EXPECT_LE(post.contacts, 6);
+  std::printf("post: %d contacts, %s\n", post.contacts, post.result->message.c_str());
+  const BumpRun wall = DriveIntoSomethingOnlyTheBumperFeels(0.1, 10.0);
+  ASSERT_TRUE(wall.result);
+  EXPECT_EQ(wall.result->outcome, Outcome::kFailed);
+  EXPECT_NE(wall.result->message.find("bumped into something at"), std::string::npos) << wall.result->message;
+  std::printf("wall: %d contacts, %s\n", wall.contacts, wall.result->message.c_str());
 }
 
 }  // namespace
