@@ -542,7 +542,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     if (in.contact && !pressed_ && !in.rear_contact_only) {
       // Nav2's bumper layer: what the robot drove into goes into the plans (the laser and the map
       // show nothing there, or the leg would not lead into it), just beyond the front rim. A
-      // pressed rear bumper is something that drove into the robot.
+      // pressed rear bumper is something that drove into the robot. The planner leaves out bodies
+      // this near the start, so it counts once a back-up has taken the robot further away.
       // Its size is unknown: a disc as wide as the front of the robot.
       const double rim = moving_.detection.robot_radius;
       const Point2 at = estimate.pose * Point2(rim + kContactDisc, 0.0);

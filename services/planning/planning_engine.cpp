@@ -141,21 +141,16 @@ std::shared_ptr<const Costmap> PlanningEngine::SceneCostmap(const std::shared_pt
                                                             const PlanningScene& scene, const Point2& start,
                                                             const Point2& goal) const {
   // Nav2's obstacle layer, for one request: each body becomes an obstacle disc the inflation then
-  // grows. A body over the goal cannot be planned around now and is left out, as is a moving one
-  // over the start; a standing one next to the start (what a bumper just hit) is cut down to leave
-  // the start clear, and still closes the way beyond.
+  // grows. A body over the start or the goal cannot be planned around now and is left out.
   OccupancyGrid grid = map_costmap->grid();
   const double keep_clear = map_costmap->options().inflation_radius + grid.resolution();
   bool drawn = false;
   for (const MovingBody& body : scene.moving) {
-    if ((body.position - goal).norm() < body.radius + keep_clear) continue;
-    double radius = body.radius;
-    const double from_start = (body.position - start).norm();
-    if (from_start < radius + keep_clear) {
-      if (body.velocity.norm() > 0.0 || from_start - keep_clear < grid.resolution()) continue;
-      radius = from_start - keep_clear;
+    if ((body.position - start).norm() < body.radius + keep_clear ||
+        (body.position - goal).norm() < body.radius + keep_clear) {
+      continue;
     }
-    grid.FillDisc(body.position, radius);
+    grid.FillDisc(body.position, body.radius);
     drawn = true;
   }
   if (!drawn) return map_costmap;
