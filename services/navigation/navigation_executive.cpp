@@ -597,17 +597,22 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     const double v = watch_.search_turn_rate * navigator_.options().follower.wheel_base / 2.0;
     return {-v, v};
   }
-  if (avoidance_ >= 0 && static_cast<long>(motor) == avoidance_) {
+  const std::optional<DetectedObstacle> nearest = [&] {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    return detector_.nearest_frontal();
+  }();
+  // The danger can stay high with nothing ahead to avoid (an obstacle beside or behind that is
+  // not going away): with no manoeuvre running (none started, or one done and waited out),
+  // navigation drives on, its guards capping the speed near tracked obstacles. Holding the robot
+  // then stood it still for 600 s of a 1 km run.
+  const bool waited_out = avoider_.done() && now - avoidance_done_at_ > moving_.avoidance.wait_before_retry;
+  const bool nothing_to_avoid = !nearest && (avoider_.phase() == AvoidancePhase::kIdle || waited_out);
+  if (avoidance_ >= 0 && static_cast<long>(motor) == avoidance_ && !nothing_to_avoid) {
     // A pressed rear bumper closes the way back, whatever the rear sensor says.
     const AvoidanceSensing sensing = Sensing(estimate.pose, in.contact && in.rear_contact_only ? 0.0 : in.rear_free);
-    const std::optional<DetectedObstacle> nearest = [&] {
-      std::lock_guard<std::mutex> lock(detector_mutex_);
-      return detector_.nearest_frontal();
-    }();
     // A manoeuvre starts when the behaviour takes over, and again when the robot has stood still
     // a while after one and the obstacle is still in the way (it waits for the robot, say).
-    const bool restart = avoider_.done() && now - avoidance_done_at_ > moving_.avoidance.wait_before_retry;
-    if ((brain_.activated(static_cast<size_t>(avoidance_)) || restart || avoider_.phase() == AvoidancePhase::kIdle) &&
+    if ((brain_.activated(static_cast<size_t>(avoidance_)) || waited_out || avoider_.phase() == AvoidancePhase::kIdle) &&
         nearest) {
       avoider_.Start(estimate.pose, nearest->position, sensing, now, in.contact);
     }
