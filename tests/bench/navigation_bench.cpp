@@ -22,7 +22,7 @@ void BM_ScheduleDeliveries(benchmark::State& state) {
   }
   state.SetLabel(tasks.size() <= o.exact_up_to ? "exact" : "heuristic");
 }
-BENCHMARK(BM_ScheduleDeliveries)->Arg(3)->Arg(5)->Arg(7)->Arg(10)->Arg(25)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ScheduleDeliveries)->Arg(3)->Arg(5)->Arg(7)->Arg(8)->Arg(10)->Arg(25)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace navd::navigation
