@@ -118,7 +118,9 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
 
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr,
-                   o.rear_range_frame, o.sonar_reflexes ? PioneerSonarAngles() : std::vector<double>{});
+                   o.rear_range_frame, !o.sonar_reflexes             ? std::vector<double>{}
+                   : o.sonar_angles.empty() ? PioneerSonarAngles()
+                                            : o.sonar_angles);
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
                    map_builder);
   MapPublisher map_publisher(bridge, maps, map_builder, *clock);

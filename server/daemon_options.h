@@ -1,6 +1,7 @@
 #pragma once
 // navd's settings, filled from the command line (navd_main.cpp).
 #include <string>
+#include <vector>
 
 #include "dds/participant.h"
 
@@ -19,7 +20,8 @@ struct DaemonOptions {
   std::string laser_model = "likelihood_field";  // the particle filter's: likelihood_field | beam
   std::string brain_path;           // utility-function brain YAML; empty: the built-in default
   std::string rear_range_frame = "ir_2";
-  bool sonar_reflexes = true;       // seed 004's reflexes on a Pioneer sonar ring (rt/<ns>/sonar)  // frame_id of the rear range sensor on rt/<ns>/ir; empty: none
+  bool sonar_reflexes = true;       // seed 004's reflexes on the sonar ring of rt/<ns>/sonar
+  std::vector<double> sonar_angles; // rad, mounting angle of sonar_<i>; empty: a Pioneer ring  // frame_id of the rear range sensor on rt/<ns>/ir; empty: none
   double control_rate = 20.0;       // Hz, in the daemon's clock
   double sensor_timeout = 0.3;      // s without odometry or laser before the robot is stopped (3 scans)
   double inflation_margin = 0.10;   // m added to the robot radius for planning

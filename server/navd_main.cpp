@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 
@@ -43,9 +44,15 @@ int main(int argc, char** argv) {
                  "frame_id of the rear-facing range sensor on rt/<ns>/ir, checked before backing up ('' for none)")
       ->capture_default_str();
   app.add_option("--sonar-reflexes", o.sonar_reflexes,
-                 "Seed 004's reflexes on the Pioneer sonar ring of rt/<ns>/sonar: steer off what only the sonar "
-                 "finds (true or false)")
+                 "Seed 004's reflexes on the sonar ring of rt/<ns>/sonar: steer off what only the sonar finds "
+                 "(true or false)")
       ->capture_default_str();
+  std::vector<double> sonar_degrees;
+  app.add_option("--sonar-angles", sonar_degrees,
+                 "Mounting angle of each sonar_<i> in degrees, robot frame, counter-clockwise from ahead "
+                 "(default: a Pioneer ring of 16)")
+      ->delimiter(',')
+      ->check(CLI::Range(-360.0, 360.0));
   app.add_option("--control-rate", o.control_rate, "Control loop rate, Hz")->check(CLI::Range(1.0, 200.0));
   app.add_option("--inflation-margin", o.inflation_margin, "Metres added to the robot radius for lethal inflation")
       ->check(CLI::Range(0.0, 5.0));
@@ -63,6 +70,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "navd: %s\n", e.what());
     return 2;
   }
+  for (double d : sonar_degrees) o.sonar_angles.push_back(d * M_PI / 180.0);
   if (initial.size() == 3) {
     o.initial_pose_set = true;
     std::copy(initial.begin(), initial.end(), o.initial_pose);
