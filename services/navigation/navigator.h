@@ -84,7 +84,7 @@ struct NavigationFeedback {
   std::vector<planning::MovingBody> moving_obstacles;  // confirmed by the detection process
   double speed_limit = 0.0;          // m/s: a speed zone's limit where the robot is; 0: none
   uint32_t recoveries = 0;           // recoveries run in this mission so far
-  std::string reflex;                // the sonar reflex acting now ("FRONT level 2 at 0.41 m"); empty: none
+  std::string reflex;                // the sonar reflex acting now ("FRONT level 2"); empty: none
   uint32_t reflexes = 0;             // times the sonar reflex took a hand in this mission
 };
 
