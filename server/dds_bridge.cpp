@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string_view>
 
 #include "dds/conversions.h"
 #include "dds/topics.h"
@@ -78,11 +79,11 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
         participant_, dds::TopicName(ns, dds::kSonar), Reliability::kBestEffort,
         [this](const sensor_msgs::msg::dds_::Range_& m) {
           const std::string& frame = m.header().frame_id();
-          constexpr const char* kPrefix = "sonar_";
+          constexpr std::string_view kPrefix = "sonar_";
           if (frame.rfind(kPrefix, 0) != 0) return;
           size_t index = 0;
           try {
-            index = std::stoul(frame.substr(6));
+            index = std::stoul(frame.substr(kPrefix.size()));
           } catch (const std::exception&) {
             return;
           }

@@ -144,20 +144,26 @@ DeliverySchedule NavigationExecutive::PlanDeliveries(const DeliveryRequest& r, c
     throw Error(ErrorCode::kFailedPrecondition, "no pose estimate yet: navd has not received odometry");
   }
   const Point2 start = estimate.pose.translation();
-  // Each stop checked from where the robot is (inside the map, free, reachable): the errors name it.
+  // Each stop checked from where the robot is (inside the map, free, reachable): the errors name
+  // it. The scheduler asks for these lengths again: they are kept.
+  std::vector<std::pair<Point2, double>> from_start;
   for (size_t i = 0; i < r.tasks.size(); ++i) {
     for (const bool pickup : {true, false}) {
       const std::string field = "tasks[" + std::to_string(i) + "]." + (pickup ? "pickup" : "dropoff");
       const Point2& p = pickup ? r.tasks[i].pickup : r.tasks[i].dropoff;
       if (!p.allFinite()) throw Error(ErrorCode::kInvalidArgument, field + " is not a finite point");
       try {
-        planning_.ComputePath(start, p, r.planner, {}, stop);
+        from_start.emplace_back(p, planning_.ComputePath(start, p, r.planner, {}, stop).length);
       } catch (const Error& e) {
         throw Error(e.code(), field + ": " + e.what());
       }
     }
   }
   return ScheduleDeliveries(start, r.tasks, r.options, [&](const Point2& a, const Point2& b) {
+    if (a == start) {
+      for (const auto& [p, length] : from_start)
+        if (p == b) return length;
+    }
     try {
       return planning_.ComputePath(a, b, r.planner, {}, stop).length;
     } catch (const Error&) {
@@ -286,8 +292,7 @@ std::vector<SonarEcho> NavigationExecutive::Stimuli(const std::vector<SonarEcho>
   std::vector<Point2> local;
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);
-    local.reserve(scan_points_.size());
-    for (const Point2& p : scan_points_) local.push_back(pose.inverse() * p);
+    local = LocalScanPointsLocked(pose);
   }
   // A map being built changes every few scans and lacks what it has not seen: the laser alone says.
   const std::shared_ptr<const RayCaster> map = map_building_ ? nullptr : MapCaster();
@@ -345,8 +350,7 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
   std::vector<Point2> local;
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);
-    local.reserve(scan_points_.size());
-    for (const Point2& p : scan_points_) local.push_back(pose.inverse() * p);
+    local = LocalScanPointsLocked(pose);
     // Behind the robot the laser is blind: the map says how far the wall is, the rear sensor the rest.
     // The robot's whole disc is swept back, not one ray: a wall beside the robot's rim counts. Only
     // walls behind its centre do: one the front touches now does not close the way back.
@@ -696,11 +700,18 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
   std::vector<Point2> local;
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);
-    local.reserve(scan_points_.size());
-    for (const Point2& p : scan_points_) local.push_back(pose.inverse() * p);
+    local = LocalScanPointsLocked(pose);
   }
   if (local.empty()) return wheels;
   return CapApproach(wheels, std::move(local), moving_.scan_guard_margin);
+}
+
+std::vector<Point2> NavigationExecutive::LocalScanPointsLocked(const Pose2& pose) const {
+  const Pose2 to_robot = pose.inverse();
+  std::vector<Point2> local;
+  local.reserve(scan_points_.size());
+  for (const Point2& p : scan_points_) local.push_back(to_robot * p);
+  return local;
 }
 
 WheelSpeeds NavigationExecutive::CapApproach(const WheelSpeeds& wheels, std::vector<Point2> local, double margin) const {

@@ -194,6 +194,8 @@ class NavigationExecutive {
   planning::PlanningScene Scene(const Pose2& pose) const;
   WheelSpeeds GuardSpeed(const WheelSpeeds& wheels, const Pose2& pose) const;
   WheelSpeeds ScanGuard(const WheelSpeeds& wheels, const Pose2& pose) const;
+  // The last scan's returns in the frame of a robot at `pose`. Caller holds detector_mutex_.
+  std::vector<Point2> LocalScanPointsLocked(const Pose2& pose) const;
   // The forward speed capped to stop `margin` short of the nearest of `local` (robot frame) ahead,
   // braking at guard_deceleration.
   WheelSpeeds CapApproach(const WheelSpeeds& wheels, std::vector<Point2> local, double margin) const;

@@ -332,19 +332,11 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
     best_remaining_ = status_.feedback.distance_remaining;
     best_remaining_at_ = now;
   } else if (now - best_remaining_at_ > options_.progress_timeout) {
-    if (leg_recoveries_ < options_.max_recoveries) {
-      // Stuck: the executive runs a recovery, and the progress clock starts again after it.
-      ++leg_recoveries_;
-      ++status_.feedback.recoveries;
-      stuck_ = true;
-      best_remaining_at_ = now;
-      BumpLocked();
-      return {};
-    }
-    char msg[128];
-    std::snprintf(msg, sizeof msg, "no progress for %.0f s (%.2f m still to go) after %d recoveries on this leg: the robot seems stuck",
-                  options_.progress_timeout, status_.feedback.distance_remaining, options_.max_recoveries);
-    FinishLocked(Outcome::kFailed, msg, pose, now);
+    char why[96];
+    std::snprintf(why, sizeof why, "no progress for %.0f s (%.2f m still to go)", options_.progress_timeout,
+                  status_.feedback.distance_remaining);
+    // The progress clock starts again after the recovery.
+    if (RecoverOrFailLocked(why, "the robot seems stuck", pose, now)) best_remaining_at_ = now;
     return {};
   }
   BumpLocked();
@@ -358,19 +350,24 @@ void Navigator::NoteContact(const Point2& where, double now) {
   int here = 0;
   for (const Point2& p : leg_contacts_) here += Distance(p, where) <= options_.contact_radius;
   if (here < options_.max_contacts) return;
+  char why[96];
+  std::snprintf(why, sizeof why, "bumped into something at (%.2f, %.2f) %d times", where.x(), where.y(), here);
+  if (RecoverOrFailLocked(why, "the way seems blocked", last_pose_, now)) leg_contacts_.clear();
+}
+
+bool Navigator::RecoverOrFailLocked(const std::string& why, const std::string& verdict, const Pose2& pose,
+                                    double now) {
   if (leg_recoveries_ < options_.max_recoveries) {
     ++leg_recoveries_;
     ++status_.feedback.recoveries;
-    stuck_ = true;
-    leg_contacts_.clear();
+    stuck_ = true;  // the executive runs the recovery
     BumpLocked();
-    return;
+    return true;
   }
-  char msg[160];
-  std::snprintf(msg, sizeof msg,
-                "bumped into something at (%.2f, %.2f) %d times after %d recoveries on this leg: the way seems blocked",
-                where.x(), where.y(), here, options_.max_recoveries);
-  FinishLocked(Outcome::kFailed, msg, last_pose_, now);
+  FinishLocked(Outcome::kFailed,
+               why + " after " + std::to_string(options_.max_recoveries) + " recoveries on this leg: " + verdict, pose,
+               now);
+  return false;
 }
 
 void Navigator::Hold(const Pose2& pose, double now, NavigationState state, const std::string& reason,

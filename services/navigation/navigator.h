@@ -200,6 +200,9 @@ class Navigator {
   bool AdvanceLocked(const Pose2& pose, double now);
   void UpdateFeedbackLocked(NavigationState state, const Pose2& pose, double now);
   void StopProgressClockLocked(double now);
+  // The robot is stuck on this leg: a recovery is due (true), or, when they are spent, the
+  // mission fails: "<why> after N recoveries on this leg: <verdict>".
+  bool RecoverOrFailLocked(const std::string& why, const std::string& verdict, const Pose2& pose, double now);
 
   NavigatorOptions options_;
   mutable std::mutex mutex_;

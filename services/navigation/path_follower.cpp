@@ -5,6 +5,13 @@
 
 namespace navd::navigation {
 
+namespace {
+// Bearing of `target` from a robot at `pose` (rad, robot frame): seed 000's heading error dphi.
+double BearingOf(const Point2& target, const Pose2& pose) {
+  return NormalizeAngle(std::atan2(target.y() - pose.y, target.x() - pose.x) - pose.theta);
+}
+}  // namespace
+
 std::vector<Point2> DensifyPath(const std::vector<Point2>& path, double spacing) {
   if (path.empty()) return {};
   std::vector<Point2> out{path.front()};
@@ -70,8 +77,7 @@ FollowerCommand PathFollower::Step(const Pose2& pose) {
     return Step(pose);
   }
 
-  const double desired = std::atan2(target.y() - pose.y, target.x() - pose.x);
-  const double dphi = NormalizeAngle(desired - pose.theta);
+  const double dphi = BearingOf(target, pose);
   // States 7/8 with hysteresis.
   if (state_ == FollowerState::kDriving && std::abs(dphi) > p_.heading_threshold) state_ = FollowerState::kRotating;
   if (state_ == FollowerState::kRotating) {
@@ -86,8 +92,7 @@ FollowerCommand PathFollower::Step(const Pose2& pose) {
 
 std::optional<double> PathFollower::SubgoalBearing(const Pose2& pose) const {
   if (state_ != FollowerState::kDriving || index_ >= waypoints_.size()) return std::nullopt;
-  const Point2 target = waypoints_[index_];
-  return NormalizeAngle(std::atan2(target.y() - pose.y, target.x() - pose.x) - pose.theta);
+  return BearingOf(waypoints_[index_], pose);
 }
 
 double PathFollower::DistanceRemaining(const Pose2& pose) const {
