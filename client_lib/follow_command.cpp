@@ -50,8 +50,9 @@ int RunFollow(Client& client, const FollowOptions& o) {
 
   // Ground truth and navd's estimates, matched by stamp, from before the mission starts.
   PoseErrorMeter meter;
+  PeopleProximityMeter proximity(o.robot_namespace.empty() ? "robot" : o.robot_namespace);
   MeasuredRun measured;
-  if (o.measure) measured = StartMeasuring(meter, o.domain, o.robot_namespace, "navctl-follow");
+  if (o.measure) measured = StartMeasuring(meter, o.domain, o.robot_namespace, "navctl-follow", &proximity);
   const std::unique_ptr<Telemetry>& telemetry = measured.telemetry;
   const auto& before = measured.before;
 
@@ -103,6 +104,14 @@ int RunFollow(Client& client, const FollowOptions& o) {
                   {"rms_position_error", e.rms_position}, {"max_position_error", e.max_position},
                   {"mean_heading_error", e.mean_heading}, {"samples", e.samples}};
     if (first_100m >= 0.0) j["truth"]["time_to_first_100m"] = first_100m;
+    proximity.SetWindow(from, from + result.elapsed());
+    const ProximityFigures people = proximity.Figures();
+    if (people.samples > 0) {
+      j["truth"]["people"] = {{"time", people.time},
+                              {"outside_personal_zone", people.outside_personal},
+                              {"outside_intimate_zone", people.outside_intimate},
+                              {"nearest", people.nearest}};
+    }
     if (!o.json) {
       std::printf(
           "ground truth: %.2f m in %.1f s of simulated time; mean position error %.4f m (rms %.4f, max %.4f, %zu "
@@ -110,6 +119,11 @@ int RunFollow(Client& client, const FollowOptions& o) {
           distance, result.elapsed(), e.mean_position, e.rms_position, e.max_position, e.samples,
           e.mean_heading * kRadToDeg, collisions);
       if (first_100m >= 0.0) std::printf("ground truth: the first 100 m took %.1f s\n", first_100m);
+      if (people.samples > 0) {
+        std::printf("ground truth: the nearest person was outside the personal zone (1.2 m) %.2f%% of %.1f s, outside "
+                    "the intimate zone (0.45 m) %.2f%%; closest approach %.2f m\n",
+                    100.0 * people.outside_personal, people.time, 100.0 * people.outside_intimate, people.nearest);
+      }
     }
   }
   if (o.json) std::printf("%s\n", j.dump().c_str());

@@ -91,7 +91,7 @@ PoseErrorFigures PoseErrorMeter::Figures() const {
 }
 
 MeasuredRun StartMeasuring(PoseErrorMeter& meter, int domain, const std::string& robot_namespace,
-                           const std::string& participant_name) {
+                           const std::string& participant_name, PeopleProximityMeter* proximity) {
   TelemetryOptions topts;
   topts.dds.domain = domain;
   topts.dds.name = participant_name;
@@ -104,7 +104,9 @@ MeasuredRun StartMeasuring(PoseErrorMeter& meter, int domain, const std::string&
       },
       [&meter](const geometry_msgs::msg::dds_::PoseWithCovarianceStamped_& m) {
         meter.AddEstimate(dds::FromTime(m.header().stamp()), dds::FromPose(m.pose().pose()));
-      });
+      },
+      proximity ? Telemetry::WorldCallback([proximity](const navsim_msgs::msg::dds_::WorldState_& w) { proximity->AddWorld(w); })
+                : Telemetry::WorldCallback{});
   const auto before = run.telemetry->WaitForSimStatus(10.0);
   if (!before) {
     throw std::runtime_error("--measure: no simulator status on DDS domain " + std::to_string(domain) +

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "client_lib/people_proximity_meter.h"
 #include "client_lib/telemetry.h"
 #include "services/common/pose2.h"
 
@@ -55,7 +56,8 @@ struct MeasuredRun {
   std::unique_ptr<Telemetry> telemetry;
   navsim_msgs::msg::dds_::SimStatus_ before;
 };
+// With `proximity`, the simulator's bodies feed it too (how near people the robot came).
 MeasuredRun StartMeasuring(PoseErrorMeter& meter, int domain, const std::string& robot_namespace,
-                           const std::string& participant_name);
+                           const std::string& participant_name, PeopleProximityMeter* proximity = nullptr);
 
 }  // namespace navd

@@ -7,7 +7,8 @@
 
 namespace navd {
 
-Telemetry::Telemetry(const TelemetryOptions& o, StatusCallback on_status, TruthCallback on_truth, PoseCallback on_pose)
+Telemetry::Telemetry(const TelemetryOptions& o, StatusCallback on_status, TruthCallback on_truth, PoseCallback on_pose,
+                     WorldCallback on_world)
     : participant_(o.dds) {
   using dds::Reliability;
   status_ = std::make_unique<dds::Reader<navd_msgs::msg::dds_::NavStatus_PubSubType>>(
@@ -21,6 +22,10 @@ Telemetry::Telemetry(const TelemetryOptions& o, StatusCallback on_status, TruthC
       participant_, dds::TopicName(o.robot_namespace, dds::kPose), Reliability::kReliable, std::move(on_pose));
   map_ = std::make_unique<dds::Reader<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>>(
       participant_, dds::TopicName(o.robot_namespace, dds::kMap), Reliability::kReliable);
+  if (on_world) {
+    world_ = std::make_unique<dds::Reader<navsim_msgs::msg::dds_::WorldState_PubSubType>>(
+        participant_, dds::kWorldState, Reliability::kBestEffort, std::move(on_world), 50);
+  }
 }
 
 std::optional<navsim_msgs::msg::dds_::SimStatus_> Telemetry::WaitForSimStatus(double timeout) const {

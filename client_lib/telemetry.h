@@ -22,9 +22,11 @@ class Telemetry {
   using StatusCallback = std::function<void(const navd_msgs::msg::dds_::NavStatus_&)>;
   using TruthCallback = std::function<void(const nav_msgs::msg::dds_::Odometry_&)>;
   using PoseCallback = std::function<void(const geometry_msgs::msg::dds_::PoseWithCovarianceStamped_&)>;
-  // The callbacks run on DDS threads, once per sample.
+  using WorldCallback = std::function<void(const navsim_msgs::msg::dds_::WorldState_&)>;
+  // The callbacks run on DDS threads, once per sample. on_world: the simulator's bodies
+  // (rt/sim/world_state), subscribed only when given.
   explicit Telemetry(const TelemetryOptions& options, StatusCallback on_status = {}, TruthCallback on_truth = {},
-                     PoseCallback on_pose = {});
+                     PoseCallback on_pose = {}, WorldCallback on_world = {});
 
   std::optional<navd_msgs::msg::dds_::NavStatus_> LatestStatus() const { return status_->Latest(); }
   std::optional<navsim_msgs::msg::dds_::SimStatus_> LatestSimStatus() const { return sim_status_->Latest(); }
@@ -47,6 +49,7 @@ class Telemetry {
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> truth_;
   std::unique_ptr<dds::Reader<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_;
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>> map_;
+  std::unique_ptr<dds::Reader<navsim_msgs::msg::dds_::WorldState_PubSubType>> world_;
 };
 
 }  // namespace navd

@@ -112,7 +112,23 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   navigation::MovingObstacleOptions moving;
   moving.detection.robot_radius = robot.radius;
   moving.avoidance.wheel_base = robot.wheel_base;
-  navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain, {}, moving);
+  navigation::PeopleAwareOptions people;
+  people.enabled = o.people_aware;
+  planning::UnicycleLimits& limits = people.control.limits;
+  if (robot.drive == DriveType::kUnicycle) {
+    limits = {robot.max_speed, robot.max_angular_speed, robot.max_accel, robot.max_angular_accel};
+  } else {
+    // Opposite rims at full speed (acceleration) turn the body at 2 v / wheel base.
+    limits = {robot.max_wheel_speed, 2.0 * robot.max_wheel_speed / robot.wheel_base, robot.max_wheel_accel,
+              2.0 * robot.max_wheel_accel / robot.wheel_base};
+  }
+  people.control.planner.desired_speed = std::min(o.crowd_speed, limits.max_speed);
+  people.control.planner.robot_radius = robot.radius;
+  navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain, {}, moving, people);
+  if (o.people_aware) {
+    spdlog::info("navd: people-aware: crowd RRT at {} m/s, {} vertices per plan every {} s", people.control.planner.desired_speed,
+                 people.control.planner.max_nodes, people.control.replan_period);
+  }
   for (const SpeedZone& z : speed_zones) spdlog::info("navd: speed zone '{}': at most {} m/s", z.name, z.max_speed);
   executive.SetSpeedZones(navigation::SpeedZones(std::move(speed_zones)));
 

@@ -21,7 +21,9 @@ struct DaemonOptions {
   std::string brain_path;           // utility-function brain YAML; empty: the built-in default
   std::string rear_range_frame = "ir_2";
   bool sonar_reflexes = true;       // seed 004's reflexes on the sonar ring of rt/<ns>/sonar
-  std::vector<double> sonar_angles; // rad, mounting angle of sonar_<i>; empty: a Pioneer ring  // frame_id of the rear range sensor on rt/<ns>/ir; empty: none
+  std::vector<double> sonar_angles; // rad, mounting angle of sonar_<i>; empty: a Pioneer ring
+  bool people_aware = false;        // book chapter 7: track people, steer legs with the crowd RRT
+  double crowd_speed = 1.5;         // m/s, the crowd RRT's desired speed (capped by the robot's)
   double control_rate = 20.0;       // Hz, in the daemon's clock
   double sensor_timeout = 0.3;      // s without odometry or laser before the robot is stopped (3 scans)
   double inflation_margin = 0.10;   // m added to the robot radius for planning

@@ -47,6 +47,12 @@ int main(int argc, char** argv) {
                  "Seed 004's reflexes on the sonar ring of rt/<ns>/sonar: steer off what only the sonar finds "
                  "(true or false)")
       ->capture_default_str();
+  app.add_flag("--people-aware", o.people_aware,
+               "Book chapter 7 among people: track the people the laser sees and drive each leg with the crowd RRT "
+               "in a model-predictive loop, keeping out of their personal space");
+  app.add_option("--crowd-speed", o.crowd_speed, "With --people-aware: the desired speed among people, m/s")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   std::vector<double> sonar_degrees;
   app.add_option("--sonar-angles", sonar_degrees,
                  "Mounting angle of each sonar_<i> in degrees, robot frame, counter-clockwise from ahead "

@@ -40,7 +40,7 @@ long StateIndexOr(const UtilityDecisionMaker& brain, const char* name) {
 NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, localization::Localizer& localizer,
                                          const Clock& clock, const NavigatorOptions& options,
                                          const UtilityBrainOptions& brain, const LocalizationWatchOptions& watch,
-                                         const MovingObstacleOptions& moving)
+                                         const MovingObstacleOptions& moving, const PeopleAwareOptions& people)
     : planning_(planning),
       localizer_(localizer),
       clock_(clock),
@@ -49,6 +49,10 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       watch_(watch),
       moving_(moving),
       detector_(moving.detection),
+      people_(people),
+      people_segmenter_(people.detection),
+      tracker_(people.tracking),
+      crowd_(people.control),
       reflex_(options.reflex),
       avoider_(moving.avoidance),
       recovery_(options.recovery, options.follower.wheel_base) {
@@ -275,6 +279,51 @@ void NavigationExecutive::DetectMovingObstacles(const localization::ScanReading&
   detector_.Update(scan, pose, now);
 }
 
+void NavigationExecutive::TrackPeople(const localization::ScanReading& scan, const Pose2& pose, double now) {
+  const std::shared_ptr<const RayCaster> map = MapCaster();
+  if (!map) return;
+  people_segmenter_.SetMap(map);
+  std::vector<Point2> seen;
+  for (const DetectedObstacle& blob : people_segmenter_.Segment(scan, pose))
+    if (blob.radius <= people_.max_person_radius) seen.push_back(blob.position);
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  tracker_.Update(seen, now);
+}
+
+std::vector<TrackedPerson> NavigationExecutive::people() const {
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  return tracker_.People(tracker_.tracks().empty() ? 0.0 : clock_.Now());
+}
+
+std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& pose, double now) {
+  const CrowdControllerOptions& c = people_.control;
+  const NavigationStatus status = navigator_.Status();
+  const bool steer = status.active && !status.paused && status.feedback.state == NavigationState::kDriving &&
+                     status.feedback.distance_remaining > c.handover_distance;
+  const double b = navigator_.options().follower.wheel_base;
+  if (!steer) {
+    if (crowd_steering_) {
+      crowd_steering_ = false;
+      navigator_.SetExternalSteering(false);
+    }
+    return std::nullopt;
+  }
+  const std::optional<Point2> goal = navigator_.PathPointAhead(c.lookahead);
+  const std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
+  if (!goal || !costmap) return std::nullopt;
+  if (!crowd_steering_) {
+    // From what the robot was doing: the path follower's last command.
+    crowd_.Reset(std::max(0.0, 0.5 * (last_wheels_.left + last_wheels_.right)),
+                 (last_wheels_.right - last_wheels_.left) / b);
+    crowd_steering_ = true;
+    navigator_.SetExternalSteering(true);
+  }
+  std::vector<planning::MovingBody> bodies;
+  for (const TrackedPerson& p : people()) bodies.push_back({p.position, p.velocity, people_.person_radius, true});
+  const UnicycleCommand u = crowd_.Step(*costmap, pose, *goal, bodies, now);
+  return WheelSpeeds{u.v - 0.5 * u.w * b, u.v + 0.5 * u.w * b};
+}
+
 WheelSpeeds NavigationExecutive::Reflex(const WheelSpeeds& wheels, const ExecutiveInputs& in, const Pose2& pose) {
   const std::optional<double> bearing = navigator_.SubgoalBearing(pose);
   if (!in.sonar || !bearing || !reflex_.options().enabled) return wheels;
@@ -479,6 +528,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     scan_points_ = std::move(points);
   }
   if (in.scan && estimate.valid && detecting && !lost_) DetectMovingObstacles(*in.scan, estimate.pose, now);
+  if (people_.enabled && in.scan && estimate.valid && !lost_) TrackPeople(*in.scan, estimate.pose, now);
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     std::erase_if(sensed_obstacles_,
@@ -493,6 +543,10 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     // Detections made from a wrong pose are in the wrong place.
     std::lock_guard<std::mutex> lock(detector_mutex_);
     detector_.Reset();
+  }
+  if (lost_) {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    tracker_.Reset();
   }
 
   // Seed 000 section 7: the emergency stop is for stationary things; a bumper pressed by a moving
@@ -516,7 +570,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   if (z_contact_ >= 0) z[z_contact_] = contact ? 1.0 : 0.0;
   if (z_stale_ >= 0) z[z_stale_] = in.sensors_fresh && estimate.valid ? 0.0 : 1.0;
   if (z_lost_ >= 0) z[z_lost_] = lost_ ? 1.0 : 0.0;
-  if (z_danger_ >= 0) z[z_danger_] = danger_level;
+  // Among people the crowd controller does the avoiding (a bumper pressed still counts).
+  if (z_danger_ >= 0) z[z_danger_] = people_.enabled && danger_level < 1.0 ? 0.0 : danger_level;
   if (z_map_building_ >= 0) z[z_map_building_] = map_building_ ? 1.0 : 0.0;
   const double dt = last_step_ < 0.0 || now <= last_step_ ? 0.0 : std::min(now - last_step_, 1.0);
   last_step_ = now;
@@ -527,6 +582,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     std::vector<planning::MovingBody> seen;
     std::lock_guard<std::mutex> lock(detector_mutex_);
     for (const DetectedObstacle& o : detector_.confirmed()) seen.push_back({o.position, o.velocity, o.radius, false});
+    if (people_.enabled)
+      for (const TrackedPerson& p : tracker_.People(now)) seen.push_back({p.position, p.velocity, people_.person_radius, true});
     navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
   }
 
@@ -663,8 +720,11 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     std::vector<std::pair<Point2, double>> discs;
     {
       std::lock_guard<std::mutex> lock(detector_mutex_);
-      for (const DetectedObstacle& o : detector_.confirmed()) {
-        discs.push_back({o.position, o.radius + moving_.detection.robot_radius});
+      // People come and go across the path all the time: the crowd controller steers round them.
+      if (!people_.enabled) {
+        for (const DetectedObstacle& o : detector_.confirmed()) {
+          discs.push_back({o.position, o.radius + moving_.detection.robot_radius});
+        }
       }
       for (const SensedObstacle& s : sensed_obstacles_) discs.push_back({s.position, s.radius + moving_.detection.robot_radius});
     }
@@ -684,11 +744,18 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
         moving_.planning_range);
   }
   PlanLeg(now);
+  const std::optional<WheelSpeeds> among_people =
+      people_.enabled && fresh ? SteerAmongPeople(estimate.pose, now) : std::nullopt;
   WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);
   PlanLeg(now);  // a leg that ended this step gets its path now, not a control period later
-  if (fresh) wheels = Reflex(wheels, in, estimate.pose);
-  if (detecting) wheels = GuardSpeed(wheels, estimate.pose);
-  return ScanGuard(wheels, estimate.pose);
+  if (among_people && navigator_.Status().feedback.state == NavigationState::kDriving) {
+    wheels = *among_people;
+  } else if (fresh) {
+    wheels = Reflex(wheels, in, estimate.pose);
+  }
+  if (detecting && !people_.enabled) wheels = GuardSpeed(wheels, estimate.pose);
+  last_wheels_ = ScanGuard(wheels, estimate.pose);
+  return last_wheels_;
 }
 
 WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose2& pose) const {

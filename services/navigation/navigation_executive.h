@@ -14,10 +14,12 @@
 
 #include "services/common/clock.h"
 #include "services/localization/localizer.h"
+#include "services/navigation/crowd_controller.h"
 #include "services/navigation/delivery_scheduler.h"
 #include "services/navigation/moving_obstacle_avoidance.h"
 #include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
+#include "services/navigation/person_tracker.h"
 #include "services/navigation/recovery_behaviour.h"
 #include "services/navigation/sonar_reflex.h"
 #include "services/navigation/speed_zones.h"
@@ -107,6 +109,28 @@ struct EmergencyStopOptions {
   double recoil_speed = 0.10;    // m/s
 };
 
+// Book chapter 7 among people: the laser's blobs that the map does not explain are tracked as
+// people (PersonTracker), and while a leg is driven the crowd controller (its RRT in a
+// model-predictive loop) steers along the leg's path round them, minimising the time spent in
+// their personal space. The seed-000 avoidance behaviour and the moving-obstacle speed guard then
+// leave people to it (the laser's stopping guard stays). Off by default: navd --people-aware.
+struct PeopleAwareOptions {
+  bool enabled = false;
+  // Which blobs are people: Segment() of the moving-obstacle detector, out to max_distance, with
+  // no margin; wider ones are something else.
+  MovingObstacleDetectorOptions detection = [] {
+    MovingObstacleDetectorOptions d;
+    d.max_distance = 12.0;
+    d.margin = 0.0;
+    d.max_radius = 1.0;
+    return d;
+  }();
+  double max_person_radius = 0.45;  // m
+  double person_radius = 0.25;      // m: each tracked person's disc in the plans
+  PersonTrackerOptions tracking;
+  CrowdControllerOptions control;
+};
+
 // What the control loop measured this step.
 struct ExecutiveInputs {
   bool sensors_fresh = true;   // odometry (and the laser) arrived recently
@@ -127,7 +151,8 @@ class NavigationExecutive {
   // names a state variable navd does not measure (contact, sensors_stale, localization_lost).
   NavigationExecutive(planning::PlanningEngine& planning, localization::Localizer& localizer, const Clock& clock,
                       const NavigatorOptions& options, const UtilityBrainOptions& brain = DefaultBrainOptions(),
-                      const LocalizationWatchOptions& watch = {}, const MovingObstacleOptions& moving = {});
+                      const LocalizationWatchOptions& watch = {}, const MovingObstacleOptions& moving = {},
+                      const PeopleAwareOptions& people = {});
 
   // Throws navd::Error: kInvalidArgument (non-finite goal, goal outside the map or blocked,
   // unknown planner; field named), kFailedPrecondition (no pose yet, or a mission active without
@@ -168,6 +193,8 @@ class NavigationExecutive {
   // is capped by them, and the feedback carries the limit. Thread-safe.
   void SetSpeedZones(SpeedZones zones);
   SpeedZones speed_zones() const;
+  // The people tracked now (map frame), with people-aware navigation on. Thread-safe.
+  std::vector<TrackedPerson> people() const;
 
  private:
   uint64_t StartMission(const Mission& mission, const std::string& planner, bool preempt,
@@ -202,6 +229,10 @@ class NavigationExecutive {
   // Free distance (m) from the rim of a robot of `radius` along a bearing, for a corridor as wide
   // as the robot, among `local` points (robot frame).
   static std::function<double(double)> FreeAlong(std::vector<Point2> local, double radius);
+  // Tracks the people a new scan shows.
+  void TrackPeople(const localization::ScanReading& scan, const Pose2& pose, double now);
+  // The crowd controller's command while it steers the current leg; nullopt when it does not.
+  std::optional<WheelSpeeds> SteerAmongPeople(const Pose2& pose, double now);
   // Updates lost_ from the estimate; `moving`: whether the robot is meant to be moving.
   void WatchLocalization(const localization::PoseEstimate& estimate, uint64_t scans, double now);
 
@@ -222,6 +253,12 @@ class NavigationExecutive {
   mutable std::mutex caster_mutex_;
   mutable uint64_t caster_version_ = 0;
   mutable std::shared_ptr<const RayCaster> caster_;
+  PeopleAwareOptions people_;
+  MovingObstacleDetector people_segmenter_;
+  PersonTracker tracker_;           // guarded by detector_mutex_
+  CrowdController crowd_;
+  bool crowd_steering_ = false;     // the crowd controller drove the last step
+  WheelSpeeds last_wheels_;         // the last command (the crowd controller starts from it)
   SonarReflex reflex_;
   bool reflex_acted_ = false;       // the reflex answered a stimulus this step
   std::vector<SonarEcho> stimuli_;  // this step's unexplained echoes

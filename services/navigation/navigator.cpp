@@ -444,6 +444,17 @@ std::optional<double> Navigator::SubgoalBearing(const Pose2& pose) const {
   return follower_.SubgoalBearing(pose);
 }
 
+void Navigator::SetExternalSteering(bool on) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  follower_.SetExternalSteering(on);
+}
+
+std::optional<Point2> Navigator::PathPointAhead(double distance) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!status_.active || follower_.waypoints().empty()) return std::nullopt;
+  return follower_.PointAhead(distance);
+}
+
 NavigationStatus Navigator::Status() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return status_;

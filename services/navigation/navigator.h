@@ -183,6 +183,10 @@ class Navigator {
   // Bearing (rad, robot frame) of the path point the follower steers to, while it drives forward:
   // seed 004's navigator vector. nullopt otherwise.
   std::optional<double> SubgoalBearing(const Pose2& pose) const;
+  // Another controller steers the robot along the leg (PathFollower::SetExternalSteering).
+  void SetExternalSteering(bool on);
+  // The point `distance` metres along the leg's path ahead of the robot, while a leg is driven.
+  std::optional<Point2> PathPointAhead(double distance) const;
 
   NavigationStatus Status() const;
   // The result of mission `goal_id` once it has ended.

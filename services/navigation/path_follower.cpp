@@ -28,7 +28,7 @@ void PathFollower::SetPath(const std::vector<Point2>& path, std::optional<double
   goal_heading_ = goal_heading;
   // waypoints_[0] is where the robot stands; aim at the next one (seed 000, state 6).
   index_ = waypoints_.size() > 1 ? 1 : 0;
-  state_ = waypoints_.empty() ? FollowerState::kIdle : FollowerState::kRotating;
+  state_ = waypoints_.empty() ? FollowerState::kIdle : external_ ? FollowerState::kDriving : FollowerState::kRotating;
 }
 
 void PathFollower::Clear() {
@@ -53,6 +53,22 @@ FollowerCommand PathFollower::Step(const Pose2& pose) {
       index_ = j;
       break;
     }
+  }
+  if (external_ && state_ != FollowerState::kFinalRotation) {
+    // Steered off the path (round people), the robot is level with the waypoint nearest to it;
+    // the one after is ahead. The window keeps a path that doubles back from being cut short.
+    constexpr size_t kWindow = 60;
+    size_t nearest = index_;
+    double best = Distance(pose.translation(), waypoints_[index_]);
+    for (size_t j = index_ + 1; j < std::min(waypoints_.size(), index_ + kWindow); ++j) {
+      const double d = Distance(pose.translation(), waypoints_[j]);
+      if (d < best) {
+        best = d;
+        nearest = j;
+      }
+    }
+    index_ = std::max(index_, std::min(nearest + 1, waypoints_.size() - 1));
+    state_ = FollowerState::kDriving;
   }
   const bool last = index_ + 1 >= waypoints_.size();
   const Point2 target = waypoints_[index_];
@@ -79,7 +95,7 @@ FollowerCommand PathFollower::Step(const Pose2& pose) {
 
   const double dphi = BearingOf(target, pose);
   // States 7/8 with hysteresis.
-  if (state_ == FollowerState::kDriving && std::abs(dphi) > p_.heading_threshold) state_ = FollowerState::kRotating;
+  if (state_ == FollowerState::kDriving && std::abs(dphi) > p_.heading_threshold && !external_) state_ = FollowerState::kRotating;
   if (state_ == FollowerState::kRotating) {
     if (std::abs(dphi) > p_.heading_resume) return {Rotate(dphi), state_};
     state_ = FollowerState::kDriving;
@@ -93,6 +109,19 @@ FollowerCommand PathFollower::Step(const Pose2& pose) {
 std::optional<double> PathFollower::SubgoalBearing(const Pose2& pose) const {
   if (state_ != FollowerState::kDriving || index_ >= waypoints_.size()) return std::nullopt;
   return BearingOf(waypoints_[index_], pose);
+}
+
+Point2 PathFollower::PointAhead(double distance) const {
+  if (waypoints_.empty()) return Point2::Zero();
+  size_t i = std::min(index_, waypoints_.size() - 1);
+  Point2 at = waypoints_[i];
+  for (; i + 1 < waypoints_.size(); ++i) {
+    const double step = Distance(waypoints_[i], waypoints_[i + 1]);
+    if (step >= distance) return waypoints_[i] + (waypoints_[i + 1] - waypoints_[i]) * (distance / std::max(step, 1e-9));
+    distance -= step;
+    at = waypoints_[i + 1];
+  }
+  return at;
 }
 
 double PathFollower::DistanceRemaining(const Pose2& pose) const {

@@ -58,6 +58,14 @@ class PathFollower {
   size_t waypoint_count() const { return waypoints_.size(); }
   const std::vector<Point2>& waypoints() const { return waypoints_; }
   const PathFollowerParams& params() const { return p_; }
+  // While another controller steers along the path (the crowd controller among people), the
+  // follower only keeps its place on the path, by the waypoint nearest the robot, and neither
+  // stops to rotate nor starts a new path by rotating; its commands are then not driven.
+  void SetExternalSteering(bool on) { external_ = on; }
+  bool external_steering() const { return external_; }
+  // The point `distance` metres along the path beyond the waypoint steered to (the goal when the
+  // path ends sooner), map frame.
+  Point2 PointAhead(double distance) const;
 
  private:
   WheelSpeeds Rotate(double dphi) const;
@@ -67,6 +75,7 @@ class PathFollower {
   std::optional<double> goal_heading_;
   size_t index_ = 0;
   FollowerState state_ = FollowerState::kIdle;
+  bool external_ = false;
 };
 
 // Inserts points so consecutive ones are at most `spacing` apart (seed 000's d_wp).

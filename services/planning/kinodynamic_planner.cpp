@@ -102,13 +102,13 @@ class FeedbackSteering : public oc::DirectedControlSampler {
       : oc::DirectedControlSampler(si), l_(limits) {}
   unsigned int sampleTo(oc::Control* control, const ob::State* source, ob::State* dest) override {
     const Unicycle s = Read(source), d = Read(dest);
-    const double phi = std::atan2(d.y - s.y, d.x - s.x);
-    const double heading_error = std::remainder(phi - s.yaw, 2.0 * M_PI);
+    UnicycleInput in = SteerTowards({s.x, s.y, s.yaw, s.v, s.w, s.t}, {d.x, d.y}, l_.max_speed, SteeringGains{});
+    in.accel += rng_.gaussian(0.0, 0.3 * l_.max_accel);
+    in.yaw_accel += rng_.gaussian(0.0, 0.3 * l_.max_yaw_accel);
+    in = ClampInput(in, l_);
     double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
-    u[0] = std::clamp(kSpeedGain * (l_.max_speed - s.v) + rng_.gaussian(0.0, 0.3 * l_.max_accel), -l_.max_accel,
-                      l_.max_accel);
-    u[1] = std::clamp(kHeadingGain * heading_error - kYawRateGain * s.w + rng_.gaussian(0.0, 0.3 * l_.max_yaw_accel),
-                      -l_.max_yaw_accel, l_.max_yaw_accel);
+    u[0] = in.accel;
+    u[1] = in.yaw_accel;
     const int steps = rng_.uniformInt(static_cast<int>(si_->getMinControlDuration()),
                                       static_cast<int>(si_->getMaxControlDuration()));
     return si_->propagateWhileValid(source, control, steps, dest);
@@ -118,9 +118,6 @@ class FeedbackSteering : public oc::DirectedControlSampler {
   }
 
  private:
-  static constexpr double kSpeedGain = 1.0;     // 1/s (k_v)
-  static constexpr double kHeadingGain = 4.0;   // 1/s² (k_theta1)
-  static constexpr double kYawRateGain = 3.0;   // 1/s (k_theta2): s² + 3s + 4, well damped
   UnicycleLimits l_;
   ompl::RNG rng_;
 };
@@ -152,33 +149,6 @@ class GoalDisc : public ob::GoalSampleableRegion {
 };
 
 }  // namespace
-
-double PersonCostModel::Cost(const Point2& p, const Point2& mu, const Point2& v) const {
-  const Point2 d = p - mu;
-  // The person's frame: "ahead" along the walking direction; a standing person is treated as
-  // facing the robot (both front terms apply all round).
-  const double speed = v.norm();
-  double ahead, side;
-  bool front;
-  if (speed > 0.1) {
-    const Point2 f = v / speed;
-    ahead = d.dot(f);
-    side = f.x() * d.y() - f.y() * d.x();
-    front = ahead >= 0.0;
-  } else {
-    ahead = d.norm();
-    side = 0.0;
-    front = true;
-  }
-  auto gauss = [](double a, double sa, double s, double ss) {
-    return std::exp(-0.5 * (a * a / (sa * sa) + s * s / (ss * ss)));
-  };
-  double g = perpendicular_weight * gauss(ahead, perpendicular_sigma_ahead, side, perpendicular_sigma_side);
-  if (front) g += parallel_weight * gauss(ahead, parallel_sigma_ahead, side, parallel_sigma_side);
-  else g += rear_weight * gauss(ahead, rear_sigma, side, rear_sigma);
-  g += interest * attractor_weight * gauss(ahead, attractor_sigma, side, attractor_sigma);
-  return g;
-}
 
 double TrajectoryCost(const Costmap& costmap, const KinodynamicRequest& request, const std::vector<MovingBody>& moving,
                       const std::vector<Point2>& points, const std::vector<double>& times) {
@@ -240,17 +210,12 @@ KinodynamicTrajectory PlanKinodynamic(const Costmap& costmap, const KinodynamicR
   // Eq. 10 by Euler steps; speeds saturate at the robot's limits.
   setup.setStatePropagator([&](const ob::State* from, const oc::Control* control, double duration, ob::State* result) {
     const double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
-    Unicycle s = Read(from);
+    const Unicycle s0 = Read(from);
+    UnicycleState s{s0.x, s0.y, s0.yaw, s0.v, s0.w, s0.t};
     for (double done = 0.0; done < duration - 1e-9; done += kStep) {
-      const double dt = std::min(kStep, duration - done);
-      s.x += s.v * std::cos(s.yaw) * dt;
-      s.y += s.v * std::sin(s.yaw) * dt;
-      s.yaw += s.w * dt;
-      s.v = std::clamp(s.v + u[0] * dt, 0.0, l.max_speed);
-      s.w = std::clamp(s.w + u[1] * dt, -l.max_yaw_rate, l.max_yaw_rate);
-      s.t += dt;
+      s = Propagate(s, {u[0], u[1]}, std::min(kStep, duration - done), l);
     }
-    Write(s, result);
+    Write({s.x, s.y, s.yaw, s.v, s.w, s.t}, result);
   });
   const double robot_radius = costmap.options().inflation_radius;
   setup.setStateValidityChecker([&](const ob::State* state) {

@@ -19,29 +19,10 @@
 #include <vector>
 
 #include "services/planning/global_planner.h"
+#include "services/planning/personal_space.h"
+#include "services/planning/unicycle_model.h"
 
 namespace navd::planning {
-
-// Book ch. 7 §6 comfort zones as Gaussians; sigmas in metres (Hall: intimate 0.45, personal 1.2,
-// social 3.6 m).
-struct PersonCostModel {
-  // Weights are cost per second (as the time price c_t = 1): a second at a person's side costs
-  // as much as ten seconds of driving.
-  double parallel_weight = 20.0, parallel_sigma_ahead = 1.2, parallel_sigma_side = 0.6;
-  double perpendicular_weight = 10.0, perpendicular_sigma_ahead = 0.45, perpendicular_sigma_side = 0.9;
-  double rear_weight = 15.0, rear_sigma = 0.6;
-  double attractor_weight = -5.0, attractor_sigma = 1.8;  // scaled by interest (0..1)
-  double interest = 0.0;
-  // g2 at `p` for one person at `mu` walking with velocity `v` (m/s).
-  double Cost(const Point2& p, const Point2& mu, const Point2& v) const;
-};
-
-struct UnicycleLimits {
-  double max_speed = 0.5;        // m/s, forward only (the chapter prunes heading back)
-  double max_yaw_rate = 1.5;     // rad/s
-  double max_accel = 0.5;        // m/s²
-  double max_yaw_accel = 2.0;    // rad/s²
-};
 
 enum class KinodynamicAlgorithm {
   kRrtRestarts = 0,  // control RRT again and again for the time limit; the lowest Eq. 15 cost wins

@@ -1,0 +1,61 @@
+#pragma once
+// Book chapter 7's model-predictive loop around its crowd RRT (Sec. 8): the robot drives the best
+// trajectory of the last plan while the next is planned from where it is; each plan starts from
+// what is left of the last one. The chapter executes 2 s of each plan; we replan every
+// replan_period (the plans are cheap enough: a few milliseconds for 2000 vertices), from the
+// robot's pose and the speeds last commanded, which the robot tracks under its acceleration limits.
+// The plan's goal is a point `lookahead` metres along the leg's path, so the global plan says where
+// to go and the crowd RRT how to get there among people. Map frame, metres, radians, seconds.
+#include <cstdint>
+#include <vector>
+
+#include "services/common/pose2.h"
+#include "services/planning/crowd_rrt.h"
+
+namespace navd::navigation {
+
+struct CrowdControllerOptions {
+  planning::CrowdRrtOptions planner;
+  planning::UnicycleLimits limits;
+  double replan_period = 0.5;       // s
+  double lookahead = 12.0;          // m along the leg's path
+  // m left on the leg: below this the path follower takes the robot the rest of the way (the RRT
+  // has no notion of stopping on a point).
+  double handover_distance = 1.5;
+  double command_lead = 0.1;        // s: the command is the plan's speeds this far ahead
+};
+
+// Forward speed and yaw rate.
+struct UnicycleCommand {
+  double v = 0.0;  // m/s
+  double w = 0.0;  // rad/s
+};
+
+class CrowdController {
+ public:
+  explicit CrowdController(const CrowdControllerOptions& options = {}) : o_(options) {}
+
+  // One control step: replans when due (or when the robot strayed from the plan), then returns
+  // the plan's command for `now`.
+  UnicycleCommand Step(const planning::Costmap& costmap, const Pose2& pose, const Point2& goal,
+                       const std::vector<planning::MovingBody>& people, double now);
+  // The robot was driven by something else: the next step plans afresh from standstill speeds
+  // `v`, `w` (what the robot does now).
+  void Reset(double v = 0.0, double w = 0.0);
+
+  const planning::CrowdTrajectory& plan() const { return plan_; }
+  uint64_t plans() const { return plans_; }
+  const CrowdControllerOptions& options() const { return o_; }
+
+ private:
+  // The plan's state at `t` seconds after it started (linear between its vertices).
+  planning::UnicycleState StateAt(double t) const;
+
+  CrowdControllerOptions o_;
+  planning::CrowdTrajectory plan_;
+  double plan_start_ = -1.0;
+  UnicycleCommand last_;
+  uint64_t plans_ = 0;
+};
+
+}  // namespace navd::navigation

@@ -1,0 +1,182 @@
+#include "services/planning/crowd_rrt.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "services/common/error.h"
+
+namespace navd::planning {
+
+namespace {
+
+constexpr double kSubStep = 0.05;  // s: Eq. 10 is integrated this finely within a vertex step
+
+struct Vertex {
+  UnicycleState state;
+  UnicycleInput input;     // what took the parent here
+  int parent = -1;
+  double cost = 0.0;       // ∫(g1 + g2) dt from the start
+  double potential = 0.0;  // g1 + g2 here
+  bool braking = false;
+};
+
+class CrowdField {
+ public:
+  CrowdField(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o) : costmap_(costmap), o_(o) {
+    for (const MovingBody& b : r.people)
+      if (Distance(b.position, r.start.position()) <= o.people_range) people_.push_back(b);
+  }
+  // g1 + g2 at `p` and time `t`; infinity where the robot may not be (walls, a person's body).
+  double operator()(const Point2& p, double t) const {
+    const CellIndex c = costmap_.grid().CellOf(p);
+    if (!costmap_.grid().Contains(c) || costmap_.IsLethal(c)) return kBlocked;
+    double g = o_.env_weight * costmap_.cost(c) / Costmap::kMaxCost;
+    for (const MovingBody& b : people_) {
+      const Point2 at = b.position + t * b.velocity;
+      const double d = Distance(p, at);
+      if (d < b.radius + o_.robot_radius + o_.clearance) return kBlocked;
+      // Beyond five of the widest sigmas the Gaussians are nothing.
+      if (d < 6.0) g += o_.people.Cost(p, at, b.velocity);
+    }
+    return g;
+  }
+  static constexpr double kBlocked = std::numeric_limits<double>::infinity();
+
+ private:
+  const Costmap& costmap_;
+  const CrowdRrtOptions& o_;
+  std::vector<MovingBody> people_;
+};
+
+void Check(bool ok, const std::string& what) {
+  if (!ok) throw Error(ErrorCode::kInvalidArgument, what);
+}
+
+}  // namespace
+
+CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o) {
+  const UnicycleState& s0 = r.start;
+  Check(std::isfinite(s0.x) && std::isfinite(s0.y) && std::isfinite(s0.yaw) && std::isfinite(s0.v) && std::isfinite(s0.w),
+        "start: every component must be finite");
+  Check(r.goal.allFinite(), "goal: must be finite");
+  Check(o.max_nodes >= 2 && o.horizon > 0.0 && o.step > 0.0 && o.desired_speed > 0.0 && o.goal_bias >= 0.0 &&
+            o.goal_bias <= 1.0,
+        "crowd RRT options: max_nodes >= 2, positive horizon, step and desired_speed, goal_bias in [0, 1]");
+  Check(r.limits.max_speed > 0.0 && r.limits.max_accel > 0.0 && r.limits.max_yaw_rate > 0.0 &&
+            r.limits.max_yaw_accel > 0.0,
+        "limits: every limit must be positive");
+  for (const MovingBody& b : r.people) Check(b.position.allFinite() && b.velocity.allFinite(), "people: positions and velocities must be finite");
+
+  const CrowdField field(costmap, r, o);
+  const Point2 start = s0.position();
+  const double start_distance = Distance(start, r.goal);
+  const double direction =
+      start_distance > 1e-6 ? std::atan2(r.goal.y() - start.y(), r.goal.x() - start.x()) : s0.yaw;
+  const Point2 axis(std::cos(direction), std::sin(direction));
+  const Point2 normal(-axis.y(), axis.x());
+  const double reach = std::max(o.desired_speed * o.horizon, 1.0);
+
+  std::vector<Vertex> tree;
+  tree.reserve(static_cast<size_t>(o.max_nodes) + r.previous.size() + 64);
+  UnicycleState root = s0;
+  root.t = 0.0;
+  tree.push_back({root, {}, -1, 0.0, std::isfinite(field(start, 0.0)) ? field(start, 0.0) : 0.0, false});
+  int pruned = 0;
+
+  // One vertex step from tree[from] under `u`; returns the new vertex's index, or -1 when pruned.
+  auto extend = [&](int from, const UnicycleInput& u, bool braking) -> int {
+    const Vertex& parent = tree[static_cast<size_t>(from)];
+    UnicycleState s = parent.state;
+    for (double done = 0.0; done < o.step - 1e-9; done += kSubStep) s = Propagate(s, u, std::min(kSubStep, o.step - done), r.limits);
+    const double g = field(s.position(), s.t);
+    const bool heading_back = std::abs(NormalizeAngle(s.yaw - direction)) > M_PI / 2.0 && s.v > 0.0;
+    if (!std::isfinite(g) || g > o.max_potential || heading_back || s.t > o.horizon + 1e-9) {
+      ++pruned;
+      return -1;
+    }
+    tree.push_back({s, ClampInput(u, r.limits), from, parent.cost + 0.5 * o.step * (parent.potential + g), g, braking});
+    return static_cast<int>(tree.size()) - 1;
+  };
+
+  // Line 1: what is left of the last plan, replayed from where the robot is now.
+  int tip = 0;
+  for (const UnicycleInput& u : r.previous) {
+    if ((tip = extend(tip, u, false)) < 0) break;
+  }
+  // Ours: a braking chain, then standing (speed and yaw rate damped to nought).
+  tip = 0;
+  while (tip >= 0 && tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
+    const UnicycleState& s = tree[static_cast<size_t>(tip)].state;
+    tip = extend(tip, {-r.limits.max_accel, -s.w / o.step}, true);
+  }
+
+  std::mt19937_64 rng(r.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> noise_v(0.0, o.speed_noise), noise_w(0.0, o.yaw_noise);
+  const double lateral = std::max(0.5 * reach, 2.0);
+  // Lines 2-9. A pruned extension still counts as an attempt, so a boxed-in robot's plan ends.
+  const int attempts = 10 * o.max_nodes;
+  for (int k = 0; static_cast<int>(tree.size()) < o.max_nodes && k < attempts; ++k) {
+    Point2 target = r.goal;
+    if (unit(rng) >= o.goal_bias) {
+      target = start + axis * (reach * (1.1 * unit(rng) - 0.1)) + normal * (lateral * (2.0 * unit(rng) - 1.0));
+    }
+    size_t nearest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < tree.size(); ++i) {
+      if (tree[i].state.t > o.horizon - o.step + 1e-9) continue;  // its children would be too late
+      const double d = (tree[i].state.position() - target).squaredNorm();
+      if (d < best) {
+        best = d;
+        nearest = i;
+      }
+    }
+    if (!std::isfinite(best)) break;
+    UnicycleInput u = SteerTowards(tree[nearest].state, target, o.desired_speed, o.gains);
+    u.accel += noise_v(rng);
+    u.yaw_accel += noise_w(rng);
+    extend(static_cast<int>(nearest), u, false);
+  }
+
+  // Line 10: the cheapest vertex by Eq. 15, not the newest; early vertices only when nothing else.
+  auto total = [&](const Vertex& v) {
+    const double progress = start_distance - Distance(v.state.position(), r.goal);
+    const double heading = NormalizeAngle(v.state.yaw - direction);
+    return v.cost + o.end_weight * std::exp(o.end_rate * progress) + o.heading_weight * std::pow(heading, 4);
+  };
+  int chosen = -1;
+  double chosen_cost = std::numeric_limits<double>::infinity();
+  for (const bool late_only : {true, false}) {
+    for (size_t i = 1; i < tree.size(); ++i) {
+      if (late_only && tree[i].state.t < o.min_select_time - 1e-9) continue;
+      const double c = total(tree[i]);
+      if (c < chosen_cost) {
+        chosen_cost = c;
+        chosen = static_cast<int>(i);
+      }
+    }
+    if (chosen >= 0) break;
+  }
+
+  CrowdTrajectory out;
+  out.tree_size = static_cast<int>(tree.size());
+  out.pruned = pruned;
+  if (chosen < 0) {
+    out.states.push_back(root);
+    out.cost = total(tree[0]);
+    return out;
+  }
+  out.cost = chosen_cost;
+  out.braking = tree[static_cast<size_t>(chosen)].braking;
+  for (int i = chosen; i >= 0; i = tree[static_cast<size_t>(i)].parent) {
+    out.states.push_back(tree[static_cast<size_t>(i)].state);
+    if (i > 0) out.inputs.push_back(tree[static_cast<size_t>(i)].input);
+  }
+  std::reverse(out.states.begin(), out.states.end());
+  std::reverse(out.inputs.begin(), out.inputs.end());
+  return out;
+}
+
+}  // namespace navd::planning

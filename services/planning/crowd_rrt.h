@@ -1,0 +1,73 @@
+#pragma once
+// Book chapter 7's planner for a robot among people (Sec. 8, Algorithm 2): an RRT in
+// configuration-time space, meant to run inside a model-predictive loop. Each call
+//   1. seeds the tree with what is left of the previous best trajectory (its inputs replayed from
+//      the robot's state now) and, our addition, a braking chain, so stopping is always a choice;
+//   2. grows it to max_nodes vertices: a target is the goal with probability goal_bias, else a
+//      random point in the region ahead; the nearest vertex (in the plane) is extended by one
+//      step of the unicycle (Eq. 10) under Eq. 16's steering towards the target plus Gaussian noise;
+//   3. prunes a new vertex when (a) the potential g1 + g2 there exceeds max_potential, (b) it heads
+//      more than 90° away from the goal's direction, (c) it leaves the map or touches a lethal
+//      cell, (d) it is later than the horizon, and (ours) when its disc touches a person's predicted
+//      disc;
+//   4. returns the trajectory to the vertex of least Eq. 15 cost, I = ∫(g1 + g2) dt + g3, among the
+//      vertices at least min_select_time ahead (the chapter's "discard nodes with a small time").
+// g1 is the environment's valley: the costmap's decaying cost near walls (the chapter's c_y·y² for
+// a street); g2 is PersonCostModel per person, each predicted at constant velocity; g3, at the
+// end, is c_e1·exp(c_e2·progress) + c_θ·(heading error)^4, where progress is how much nearer the goal
+// the vertex is than the start (the chapter's x1(T) − x1(0) for a goal straight down the street)
+// and the heading error is from the start-to-goal direction. The chapter gives no values; ours are
+// below. Map frame, metres, radians, seconds.
+#include <cstdint>
+#include <vector>
+
+#include "services/planning/costmap.h"
+#include "services/planning/global_planner.h"
+#include "services/planning/personal_space.h"
+#include "services/planning/unicycle_model.h"
+
+namespace navd::planning {
+
+struct CrowdRrtOptions {
+  int max_nodes = 2000;          // vertices per plan (the chapter's fixed 2000)
+  double horizon = 8.0;          // s (the chapter: 20 s at 1.5 m/s on a 90 m street)
+  double step = 0.25;            // s, one vertex
+  double goal_bias = 0.1;        // GoalSamplingProb
+  double desired_speed = 1.0;    // μ_v, m/s
+  SteeringGains gains;
+  double speed_noise = 0.4;      // σ_v, m/s²
+  double yaw_noise = 1.5;        // σ_θ, rad/s²
+  double env_weight = 2.0;       // g1 at the costmap's highest decaying cost
+  PersonCostModel people;
+  double end_weight = 100.0;     // c_e1
+  double end_rate = -0.25;       // c_e2, 1/m: 4 m of progress divide g3 by e
+  double heading_weight = 5.0;   // c_θ, 1/rad⁴
+  double max_potential = 18.0;   // (a): g1 + g2 above this prunes
+  double min_select_time = 2.0;  // s
+  double robot_radius = 0.3;     // m
+  double clearance = 0.1;        // m kept between the robot's and a person's discs (ours)
+  double people_range = 8.0;     // m: people farther than this from the robot are left out of g2
+};
+
+struct CrowdRrtRequest {
+  UnicycleState start;                     // t = 0
+  Point2 goal = Point2::Zero();            // where the mission leads (a point ahead on the path)
+  std::vector<MovingBody> people;          // now, with velocities (m/s) for the prediction
+  std::vector<UnicycleInput> previous;     // the last best trajectory's inputs still to come
+  UnicycleLimits limits;
+  uint64_t seed = 1;
+};
+
+struct CrowdTrajectory {
+  std::vector<UnicycleState> states;       // start first, one per step
+  std::vector<UnicycleInput> inputs;       // inputs[i] takes states[i] to states[i + 1]
+  double cost = 0.0;                       // Eq. 15 at the chosen vertex
+  int tree_size = 0;
+  int pruned = 0;                          // extensions rejected
+  bool braking = false;                    // the chosen vertex is on the braking chain
+};
+
+// Throws navd::Error(kInvalidArgument) for non-finite inputs or options out of range.
+CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& request, const CrowdRrtOptions& options);
+
+}  // namespace navd::planning
