@@ -122,7 +122,9 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
     limits = {robot.max_wheel_speed, 2.0 * robot.max_wheel_speed / robot.wheel_base, robot.max_wheel_accel,
               2.0 * robot.max_wheel_accel / robot.wheel_base};
   }
-  people.control.planner.desired_speed = std::min(o.crowd_speed, limits.max_speed);
+  // The plans' noise would carry the robot past the desired speed; among people it is a limit.
+  limits.max_speed = std::min(o.crowd_speed, limits.max_speed);
+  people.control.planner.desired_speed = limits.max_speed;
   people.control.planner.robot_radius = robot.radius;
   navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain, {}, moving, people);
   if (o.people_aware) {

@@ -39,7 +39,7 @@ planning::UnicycleState CrowdController::StateAt(double t) const {
   return end;
 }
 
-UnicycleCommand CrowdController::Step(const planning::Costmap& costmap, const Pose2& pose, const Point2& goal,
+UnicycleCommand CrowdController::Step(const planning::Costmap& costmap, const Pose2& pose, const std::vector<Point2>& path,
                                       const std::vector<planning::MovingBody>& people, double now) {
   const double since = plan_start_ < 0.0 ? 0.0 : now - plan_start_;
   const bool strayed =
@@ -48,7 +48,8 @@ UnicycleCommand CrowdController::Step(const planning::Costmap& costmap, const Po
     planning::CrowdRrtRequest request;
     request.start = {pose.x, pose.y, pose.theta, std::clamp(last_.v, 0.0, o_.limits.max_speed),
                      std::clamp(last_.w, -o_.limits.max_yaw_rate, o_.limits.max_yaw_rate), 0.0};
-    request.goal = goal;
+    request.goal = path.back();
+    request.path = path;
     request.people = people;
     request.limits = o_.limits;
     request.seed = ++plans_;

@@ -4,8 +4,9 @@
 // what is left of the last one. The chapter executes 2 s of each plan; we replan every
 // replan_period (the plans are cheap enough: a few milliseconds for 2000 vertices), from the
 // robot's pose and the speeds last commanded, which the robot tracks under its acceleration limits.
-// The plan's goal is a point `lookahead` metres along the leg's path, so the global plan says where
-// to go and the crowd RRT how to get there among people. Map frame, metres, radians, seconds.
+// The plan's goal is the point `lookahead` metres along the leg's path, and the path itself is the
+// valley of its cost (g1), so the global plan says where to go and the crowd RRT how to get there
+// among people. Map frame, metres, radians, seconds.
 #include <cstdint>
 #include <vector>
 
@@ -23,6 +24,7 @@ struct CrowdControllerOptions {
   // has no notion of stopping on a point).
   double handover_distance = 1.5;
   double command_lead = 0.1;        // s: the command is the plan's speeds this far ahead
+  double max_heading_error = 1.3;   // rad off the way to the plan's goal: the path follower turns the robot
 };
 
 // Forward speed and yaw rate.
@@ -37,7 +39,8 @@ class CrowdController {
 
   // One control step: replans when due (or when the robot strayed from the plan), then returns
   // the plan's command for `now`.
-  UnicycleCommand Step(const planning::Costmap& costmap, const Pose2& pose, const Point2& goal,
+  // path: the leg's path ahead (map frame); its end is the plan's goal.
+  UnicycleCommand Step(const planning::Costmap& costmap, const Pose2& pose, const std::vector<Point2>& path,
                        const std::vector<planning::MovingBody>& people, double now);
   // The robot was driven by something else: the next step plans afresh from standstill speeds
   // `v`, `w` (what the robot does now).

@@ -308,9 +308,20 @@ std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& po
     }
     return std::nullopt;
   }
-  const std::optional<Point2> goal = navigator_.PathPointAhead(c.lookahead);
+  std::vector<Point2> path = navigator_.PathAhead(c.lookahead);
   const std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
-  if (!goal || !costmap) return std::nullopt;
+  // Facing away from where the path leads (turned by an escape or a bump), the crowd RRT, which
+  // prunes heading back, has nothing to offer: the path follower turns the robot round first.
+  const bool facing = !path.empty() && std::abs(NormalizeAngle(std::atan2(path.back().y() - pose.y, path.back().x() - pose.x) -
+                                                               pose.theta)) < c.max_heading_error;
+  if (!facing || !costmap) path.clear();
+  if (path.empty()) {
+    if (crowd_steering_) {
+      crowd_steering_ = false;
+      navigator_.SetExternalSteering(false);
+    }
+    return std::nullopt;
+  }
   if (!crowd_steering_) {
     // From what the robot was doing: the path follower's last command.
     crowd_.Reset(std::max(0.0, 0.5 * (last_wheels_.left + last_wheels_.right)),
@@ -320,7 +331,7 @@ std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& po
   }
   std::vector<planning::MovingBody> bodies;
   for (const TrackedPerson& p : people()) bodies.push_back({p.position, p.velocity, people_.person_radius, true});
-  const UnicycleCommand u = crowd_.Step(*costmap, pose, *goal, bodies, now);
+  const UnicycleCommand u = crowd_.Step(*costmap, pose, path, bodies, now);
   return WheelSpeeds{u.v - 0.5 * u.w * b, u.v + 0.5 * u.w * b};
 }
 
@@ -553,6 +564,18 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   // obstacle the robot can see (it would wait for the robot forever) is the avoidance behaviour's.
   bool contact = in.contact;
   double danger_level = danger();
+  if (contact && people_.enabled) {
+    // Among people, what presses a bumper is someone who walked into the robot: a tracked person
+    // at the pressed side, or, at the rear the laser cannot see, anyone. Stopping there invites
+    // the next one; the crowd controller takes the robot away instead.
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    if (in.rear_contact_only) contact = false;
+    for (const TrackedPerson& p : tracker_.People(now)) {
+      const double gap = Distance(p.position, estimate.pose.translation()) - people_.person_radius -
+                         moving_.detection.robot_radius;
+      if (gap < moving_.touch_gap) contact = false;
+    }
+  }
   if (contact && avoidance_ >= 0 && detecting) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     for (const DetectedObstacle& o : detector_.confirmed()) {
@@ -561,7 +584,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       const bool in_front = (estimate.pose.inverse() * o.position).x() > 0.0;
       if (gap < moving_.touch_gap && in_front != in.rear_contact_only) {
         contact = false;
-        danger_level = 1.0;
+        // Among people the crowd controller gets the robot away from whoever walked into it.
+        if (!people_.enabled) danger_level = 1.0;
       }
     }
   }
@@ -570,8 +594,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   if (z_contact_ >= 0) z[z_contact_] = contact ? 1.0 : 0.0;
   if (z_stale_ >= 0) z[z_stale_] = in.sensors_fresh && estimate.valid ? 0.0 : 1.0;
   if (z_lost_ >= 0) z[z_lost_] = lost_ ? 1.0 : 0.0;
-  // Among people the crowd controller does the avoiding (a bumper pressed still counts).
-  if (z_danger_ >= 0) z[z_danger_] = people_.enabled && danger_level < 1.0 ? 0.0 : danger_level;
+  // Among people the crowd controller does the avoiding.
+  if (z_danger_ >= 0) z[z_danger_] = people_.enabled ? 0.0 : danger_level;
   if (z_map_building_ >= 0) z[z_map_building_] = map_building_ ? 1.0 : 0.0;
   const double dt = last_step_ < 0.0 || now <= last_step_ ? 0.0 : std::min(now - last_step_, 1.0);
   last_step_ = now;

@@ -449,10 +449,10 @@ void Navigator::SetExternalSteering(bool on) {
   follower_.SetExternalSteering(on);
 }
 
-std::optional<Point2> Navigator::PathPointAhead(double distance) const {
+std::vector<Point2> Navigator::PathAhead(double distance) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!status_.active || follower_.waypoints().empty()) return std::nullopt;
-  return follower_.PointAhead(distance);
+  if (!status_.active) return {};
+  return follower_.PathAhead(distance);
 }
 
 NavigationStatus Navigator::Status() const {

@@ -185,8 +185,8 @@ class Navigator {
   std::optional<double> SubgoalBearing(const Pose2& pose) const;
   // Another controller steers the robot along the leg (PathFollower::SetExternalSteering).
   void SetExternalSteering(bool on);
-  // The point `distance` metres along the leg's path ahead of the robot, while a leg is driven.
-  std::optional<Point2> PathPointAhead(double distance) const;
+  // The leg's path ahead of the robot for `distance` metres, while a leg is driven; else empty.
+  std::vector<Point2> PathAhead(double distance) const;
 
   NavigationStatus Status() const;
   // The result of mission `goal_id` once it has ended.

@@ -58,16 +58,18 @@ FollowerCommand PathFollower::Step(const Pose2& pose) {
     // Steered off the path (round people), the robot is level with the waypoint nearest to it;
     // the one after is ahead. The window keeps a path that doubles back from being cut short.
     constexpr size_t kWindow = 60;
-    size_t nearest = index_;
-    double best = Distance(pose.translation(), waypoints_[index_]);
-    for (size_t j = index_ + 1; j < std::min(waypoints_.size(), index_ + kWindow); ++j) {
+    // The search starts one behind the target: the target nearest means level with it, the one
+    // before it nearest means not there yet.
+    size_t nearest = index_ > 0 ? index_ - 1 : 0;
+    double best = Distance(pose.translation(), waypoints_[nearest]);
+    for (size_t j = nearest + 1; j < std::min(waypoints_.size(), index_ + kWindow); ++j) {
       const double d = Distance(pose.translation(), waypoints_[j]);
       if (d < best) {
         best = d;
         nearest = j;
       }
     }
-    index_ = std::max(index_, std::min(nearest + 1, waypoints_.size() - 1));
+    if (nearest >= index_) index_ = std::min(nearest + 1, waypoints_.size() - 1);
     state_ = FollowerState::kDriving;
   }
   const bool last = index_ + 1 >= waypoints_.size();
@@ -111,17 +113,20 @@ std::optional<double> PathFollower::SubgoalBearing(const Pose2& pose) const {
   return BearingOf(waypoints_[index_], pose);
 }
 
-Point2 PathFollower::PointAhead(double distance) const {
-  if (waypoints_.empty()) return Point2::Zero();
+std::vector<Point2> PathFollower::PathAhead(double distance) const {
+  if (waypoints_.empty()) return {};
   size_t i = std::min(index_, waypoints_.size() - 1);
-  Point2 at = waypoints_[i];
-  for (; i + 1 < waypoints_.size(); ++i) {
+  std::vector<Point2> out{waypoints_[i]};
+  for (; i + 1 < waypoints_.size() && distance > 0.0; ++i) {
     const double step = Distance(waypoints_[i], waypoints_[i + 1]);
-    if (step >= distance) return waypoints_[i] + (waypoints_[i + 1] - waypoints_[i]) * (distance / std::max(step, 1e-9));
+    if (step >= distance) {
+      out.push_back(waypoints_[i] + (waypoints_[i + 1] - waypoints_[i]) * (distance / std::max(step, 1e-9)));
+      break;
+    }
     distance -= step;
-    at = waypoints_[i + 1];
+    out.push_back(waypoints_[i + 1]);
   }
-  return at;
+  return out;
 }
 
 double PathFollower::DistanceRemaining(const Pose2& pose) const {

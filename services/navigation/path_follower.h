@@ -63,9 +63,9 @@ class PathFollower {
   // stops to rotate nor starts a new path by rotating; its commands are then not driven.
   void SetExternalSteering(bool on) { external_ = on; }
   bool external_steering() const { return external_; }
-  // The point `distance` metres along the path beyond the waypoint steered to (the goal when the
-  // path ends sooner), map frame.
-  Point2 PointAhead(double distance) const;
+  // The path from the waypoint steered to on for `distance` metres (to the goal when it ends
+  // sooner), map frame; empty without a path.
+  std::vector<Point2> PathAhead(double distance) const;
 
  private:
   WheelSpeeds Rotate(double dphi) const;

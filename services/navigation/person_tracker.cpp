@@ -63,7 +63,7 @@ void PersonTracker::Update(const std::vector<Point2>& detections, double now) {
     t.covariance = (Eigen::Matrix4d::Identity() - k * Eigen::Matrix<double, 2, 4>::Identity()) * t.covariance;
     // Eqs. 5-6, on the circle.
     const double beta = OrientationBeta(t.velocity.norm());
-    if (t.velocity.norm() > 1e-6) {
+    if (t.velocity.norm() > o_.min_direction_speed) {
       const double heading = std::atan2(t.velocity.y(), t.velocity.x());
       t.orientation = NormalizeAngle(t.orientation + (1.0 - beta) * NormalizeAngle(heading - t.orientation));
     }

@@ -25,6 +25,10 @@ struct PersonTrackerOptions {
   int confirm_hits = 3;
   double forget_after = 1.0;       // s
   double max_speed = 2.5;          // m/s: a faster track is clamped (a person does not run past this)
+  // m/s: slower, the estimate's direction is the filter's noise (it undershoots when someone
+  // stops), and the orientation is left as it was: Eq. 6's β = 0.9 would still turn a standing
+  // person round in a second or two (ours).
+  double min_direction_speed = 0.08;
 };
 
 struct TrackedPerson {

@@ -20,11 +20,13 @@ struct Vertex {
   double cost = 0.0;       // ∫(g1 + g2) dt from the start
   double potential = 0.0;  // g1 + g2 here
   bool braking = false;
+  bool kept = false;       // on what is left of the last plan
 };
 
 class CrowdField {
  public:
-  CrowdField(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o) : costmap_(costmap), o_(o) {
+  CrowdField(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o)
+      : costmap_(costmap), o_(o), path_(r.path) {
     for (const MovingBody& b : r.people)
       if (Distance(b.position, r.start.position()) <= o.people_range) people_.push_back(b);
   }
@@ -33,6 +35,10 @@ class CrowdField {
     const CellIndex c = costmap_.grid().CellOf(p);
     if (!costmap_.grid().Contains(c) || costmap_.IsLethal(c)) return kBlocked;
     double g = o_.env_weight * costmap_.cost(c) / Costmap::kMaxCost;
+    if (!path_.empty()) {
+      const double d = DistanceToPath(p);
+      g += o_.path_weight * d * d;
+    }
     for (const MovingBody& b : people_) {
       const Point2 at = b.position + t * b.velocity;
       const double d = Distance(p, at);
@@ -44,9 +50,31 @@ class CrowdField {
   }
   static constexpr double kBlocked = std::numeric_limits<double>::infinity();
 
+  // Metres between the robot's disc at `p` and the nearest person's predicted disc at `t`
+  // (negative: overlapping); -infinity on a lethal cell or off the map.
+  double Clearance(const Point2& p, double t) const {
+    const CellIndex c = costmap_.grid().CellOf(p);
+    if (!costmap_.grid().Contains(c) || costmap_.IsLethal(c)) return -std::numeric_limits<double>::infinity();
+    double clearance = std::numeric_limits<double>::infinity();
+    for (const MovingBody& b : people_)
+      clearance = std::min(clearance, Distance(p, b.position + t * b.velocity) - b.radius - o_.robot_radius);
+    return clearance;
+  }
+
  private:
+  double DistanceToPath(const Point2& p) const {
+    double best = Distance(p, path_.front());
+    for (size_t i = 1; i < path_.size(); ++i) {
+      const Point2 a = path_[i - 1], ab = path_[i] - a;
+      const double f = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+      best = std::min(best, Distance(p, a + f * ab));
+    }
+    return best;
+  }
+
   const Costmap& costmap_;
   const CrowdRrtOptions& o_;
+  const std::vector<Point2>& path_;
   std::vector<MovingBody> people_;
 };
 
@@ -61,6 +89,7 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
   Check(std::isfinite(s0.x) && std::isfinite(s0.y) && std::isfinite(s0.yaw) && std::isfinite(s0.v) && std::isfinite(s0.w),
         "start: every component must be finite");
   Check(r.goal.allFinite(), "goal: must be finite");
+  for (const Point2& p : r.path) Check(p.allFinite(), "path: every point must be finite");
   Check(o.max_nodes >= 2 && o.horizon > 0.0 && o.step > 0.0 && o.desired_speed > 0.0 && o.goal_bias >= 0.0 &&
             o.goal_bias <= 1.0,
         "crowd RRT options: max_nodes >= 2, positive horizon, step and desired_speed, goal_bias in [0, 1]");
@@ -82,28 +111,46 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
   tree.reserve(static_cast<size_t>(o.max_nodes) + r.previous.size() + 64);
   UnicycleState root = s0;
   root.t = 0.0;
-  tree.push_back({root, {}, -1, 0.0, std::isfinite(field(start, 0.0)) ? field(start, 0.0) : 0.0, false});
+  const double here = field(start, 0.0);
+  tree.push_back({root, {}, -1, 0.0, std::isfinite(here) ? here : 0.0, false, false});
   int pruned = 0;
+  // (a) A robot already deep in someone's space (they walked up to it) may stay that deep on its
+  // way out; the braking chain answers to bodies and walls only, so stopping stays a choice.
+  const double ceiling = std::max(o.max_potential, std::isfinite(here) ? here : 0.0);
 
   // One vertex step from tree[from] under `u`; returns the new vertex's index, or -1 when pruned.
-  auto extend = [&](int from, const UnicycleInput& u, bool braking) -> int {
+  auto extend = [&](int from, const UnicycleInput& u, bool braking, bool kept = false) -> int {
+    const double limit = braking ? std::numeric_limits<double>::max() : ceiling;
     const Vertex& parent = tree[static_cast<size_t>(from)];
     UnicycleState s = parent.state;
-    for (double done = 0.0; done < o.step - 1e-9; done += kSubStep) s = Propagate(s, u, std::min(kSubStep, o.step - done), r.limits);
-    const double g = field(s.position(), s.t);
+    // The field is checked at every sub-step: robot and person close at up to 3 m/s, and a vertex
+    // step would jump through a person.
+    double cost = parent.cost, previous = parent.potential, highest = 0.0;
+    for (double done = 0.0; done < o.step - 1e-9; done += kSubStep) {
+      const double dt = std::min(kSubStep, o.step - done);
+      s = Propagate(s, u, dt, r.limits);
+      const double g = field(s.position(), s.t);
+      highest = std::max(highest, g);
+      if (!std::isfinite(g) || highest > limit) break;
+      // Ours: the shortfall of the speed along the goal's direction from the desired speed, so a
+      // plan that dawdles pays for every second of it, not just for the progress it lacks at the end.
+      const double shortfall = std::max(0.0, o.desired_speed - s.v * std::cos(NormalizeAngle(s.yaw - direction)));
+      cost += 0.5 * dt * (previous + g) + dt * o.speed_weight * shortfall * shortfall;
+      previous = g;
+    }
     const bool heading_back = std::abs(NormalizeAngle(s.yaw - direction)) > M_PI / 2.0 && s.v > 0.0;
-    if (!std::isfinite(g) || g > o.max_potential || heading_back || s.t > o.horizon + 1e-9) {
+    if (!std::isfinite(highest) || highest > limit || heading_back || s.t > o.horizon + 1e-9) {
       ++pruned;
       return -1;
     }
-    tree.push_back({s, ClampInput(u, r.limits), from, parent.cost + 0.5 * o.step * (parent.potential + g), g, braking});
+    tree.push_back({s, ClampInput(u, r.limits), from, cost, previous, braking, kept});
     return static_cast<int>(tree.size()) - 1;
   };
 
   // Line 1: what is left of the last plan, replayed from where the robot is now.
   int tip = 0;
   for (const UnicycleInput& u : r.previous) {
-    if ((tip = extend(tip, u, false)) < 0) break;
+    if ((tip = extend(tip, u, false, true)) < 0) break;
   }
   // Ours: a braking chain, then standing (speed and yaw rate damped to nought).
   tip = 0;
@@ -115,18 +162,19 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
   std::mt19937_64 rng(r.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> noise_v(0.0, o.speed_noise), noise_w(0.0, o.yaw_noise);
-  const double lateral = std::max(0.5 * reach, 2.0);
   // Lines 2-9. A pruned extension still counts as an attempt, so a boxed-in robot's plan ends.
-  const int attempts = 10 * o.max_nodes;
+  const int attempts = 4 * o.max_nodes;
   for (int k = 0; static_cast<int>(tree.size()) < o.max_nodes && k < attempts; ++k) {
     Point2 target = r.goal;
     if (unit(rng) >= o.goal_bias) {
-      target = start + axis * (reach * (1.1 * unit(rng) - 0.1)) + normal * (lateral * (2.0 * unit(rng) - 1.0));
+      target = start + axis * (reach * (1.1 * unit(rng) - 0.1)) + normal * (o.lateral_range * (2.0 * unit(rng) - 1.0));
     }
     size_t nearest = 0;
     double best = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < tree.size(); ++i) {
-      if (tree[i].state.t > o.horizon - o.step + 1e-9) continue;  // its children would be too late
+      // Too late for children; the braking chain is a way out, not a place to grow from (trees
+      // grown from its end stop first and then set off again).
+      if (tree[i].state.t > o.horizon - o.step + 1e-9 || tree[i].braking) continue;
       const double d = (tree[i].state.position() - target).squaredNorm();
       if (d < best) {
         best = d;
@@ -144,7 +192,8 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
   auto total = [&](const Vertex& v) {
     const double progress = start_distance - Distance(v.state.position(), r.goal);
     const double heading = NormalizeAngle(v.state.yaw - direction);
-    return v.cost + o.end_weight * std::exp(o.end_rate * progress) + o.heading_weight * std::pow(heading, 4);
+    const double cost = v.cost + o.end_weight * std::exp(o.end_rate * progress) + o.heading_weight * std::pow(heading, 4);
+    return v.kept ? cost * o.keep_factor : cost;
   };
   int chosen = -1;
   double chosen_cost = std::numeric_limits<double>::infinity();
@@ -164,7 +213,28 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
   out.tree_size = static_cast<int>(tree.size());
   out.pruned = pruned;
   if (chosen < 0) {
-    out.states.push_back(root);
+    // Nothing is valid, not even stopping: someone is walking into the robot. Ours: of a fan of
+    // constant inputs held for escape_time, the one that keeps the most room.
+    out.escape = true;
+    double best_room = -std::numeric_limits<double>::infinity();
+    for (const double a : {-1.0, 0.0, 1.0}) {
+      for (const double b : {-1.0, -0.5, 0.0, 0.5, 1.0}) {
+        const UnicycleInput u{a * r.limits.max_accel, b * r.limits.max_yaw_accel};
+        std::vector<UnicycleState> states{root};
+        double room = std::numeric_limits<double>::infinity();
+        UnicycleState s = root;
+        for (double t = kSubStep; t <= o.escape_time + 1e-9; t += kSubStep) {
+          s = Propagate(s, u, kSubStep, r.limits);
+          room = std::min(room, field.Clearance(s.position(), s.t));
+          if (std::fmod(s.t + 1e-9, o.step) < kSubStep) states.push_back(s);
+        }
+        if (room > best_room) {
+          best_room = room;
+          out.states = states;
+          out.inputs.assign(states.size() - 1, ClampInput(u, r.limits));
+        }
+      }
+    }
     out.cost = total(tree[0]);
     return out;
   }

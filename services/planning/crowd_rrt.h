@@ -6,14 +6,15 @@
 //   2. grows it to max_nodes vertices: a target is the goal with probability goal_bias, else a
 //      random point in the region ahead; the nearest vertex (in the plane) is extended by one
 //      step of the unicycle (Eq. 10) under Eq. 16's steering towards the target plus Gaussian noise;
-//   3. prunes a new vertex when (a) the potential g1 + g2 there exceeds max_potential, (b) it heads
+//   3. prunes a new vertex when (a) the potential g1 + g2 exceeds max_potential on the way (checked
+//      every 0.05 s: robot and person close at 3 m/s), (b) it heads
 //      more than 90° away from the goal's direction, (c) it leaves the map or touches a lethal
 //      cell, (d) it is later than the horizon, and (ours) when its disc touches a person's predicted
 //      disc;
-//   4. returns the trajectory to the vertex of least Eq. 15 cost, I = ∫(g1 + g2) dt + g3, among the
+//   4. returns the trajectory to the vertex of least Eq. 15 cost (the last plan's at a discount), I = ∫(g1 + g2) dt + g3, among the
 //      vertices at least min_select_time ahead (the chapter's "discard nodes with a small time").
-// g1 is the environment's valley: the costmap's decaying cost near walls (the chapter's c_y·y² for
-// a street); g2 is PersonCostModel per person, each predicted at constant velocity; g3, at the
+// g1 is the environment's valley: c_y·d² with d the distance from the request's path (the
+// chapter's c_y·y² for a street's centre line), plus the costmap's decaying cost near walls; g2 is PersonCostModel per person, each predicted at constant velocity; g3, at the
 // end, is c_e1·exp(c_e2·progress) + c_θ·(heading error)^4, where progress is how much nearer the goal
 // the vertex is than the start (the chapter's x1(T) − x1(0) for a goal straight down the street)
 // and the heading error is from the start-to-goal direction. The chapter gives no values; ours are
@@ -32,26 +33,48 @@ struct CrowdRrtOptions {
   int max_nodes = 2000;          // vertices per plan (the chapter's fixed 2000)
   double horizon = 8.0;          // s (the chapter: 20 s at 1.5 m/s on a 90 m street)
   double step = 0.25;            // s, one vertex
-  double goal_bias = 0.1;        // GoalSamplingProb
+  double goal_bias = 0.2;        // GoalSamplingProb
+  double lateral_range = 3.0;    // m: random targets lie this far either side of the start-goal line
   double desired_speed = 1.0;    // μ_v, m/s
   SteeringGains gains;
   double speed_noise = 0.4;      // σ_v, m/s²
-  double yaw_noise = 1.5;        // σ_θ, rad/s²
+  double yaw_noise = 0.6;        // σ_θ, rad/s²
   double env_weight = 2.0;       // g1 at the costmap's highest decaying cost
-  PersonCostModel people;
+  double speed_weight = 30.0;    // c_v, per (m/s)² of speed short of μ_v along the way (ours)
+  double path_weight = 0.2;      // g1's c_y, per m² of distance from the request's path
+  // Wider than PersonCostModel's defaults: the robot passes people at speed, and the street runs
+  // are judged by the personal zone (1.2 m), where this costs about 14 per second at a
+  // walker's side and 4 behind.
+  PersonCostModel people = [] {
+    PersonCostModel m;
+    m.parallel_weight = 40.0;
+    m.perpendicular_weight = 20.0;
+    m.rear_weight = 30.0;
+    m.parallel_sigma_ahead = 1.6;
+    m.parallel_sigma_side = 0.9;
+    m.perpendicular_sigma_ahead = 0.6;
+    m.perpendicular_sigma_side = 1.2;
+    m.rear_sigma = 0.9;
+    return m;
+  }();
   double end_weight = 100.0;     // c_e1
   double end_rate = -0.25;       // c_e2, 1/m: 4 m of progress divide g3 by e
   double heading_weight = 5.0;   // c_θ, 1/rad⁴
-  double max_potential = 18.0;   // (a): g1 + g2 above this prunes
-  double min_select_time = 2.0;  // s
+  double max_potential = 80.0;   // (a): g1 + g2 above this prunes
+  double min_select_time = 4.0;  // s
+  // The last plan's vertices count at this share of their cost: a new tree must do clearly better
+  // to replace it, or successive random trees would swing the robot from side to side (ours).
+  double keep_factor = 0.85;
   double robot_radius = 0.3;     // m
-  double clearance = 0.1;        // m kept between the robot's and a person's discs (ours)
-  double people_range = 8.0;     // m: people farther than this from the robot are left out of g2
+  double clearance = 0.1;        // m kept between the robot's and a person's predicted discs (ours)
+  double escape_time = 1.0;      // s: when nothing is valid, the fan of escapes is judged this far
+  double people_range = 40.0;    // m: people farther than this from the robot are left out
 };
 
 struct CrowdRrtRequest {
   UnicycleState start;                     // t = 0
   Point2 goal = Point2::Zero();            // where the mission leads (a point ahead on the path)
+  std::vector<Point2> path;                // optional: the global path towards goal, g1's valley
   std::vector<MovingBody> people;          // now, with velocities (m/s) for the prediction
   std::vector<UnicycleInput> previous;     // the last best trajectory's inputs still to come
   UnicycleLimits limits;
@@ -65,6 +88,7 @@ struct CrowdTrajectory {
   int tree_size = 0;
   int pruned = 0;                          // extensions rejected
   bool braking = false;                    // the chosen vertex is on the braking chain
+  bool escape = false;                     // nothing was valid: the escape manoeuvre
 };
 
 // Throws navd::Error(kInvalidArgument) for non-finite inputs or options out of range.

@@ -1,0 +1,230 @@
+// Book chapter 7 among people: the person tracker (Kalman filter + β orientation filter) and the
+// crowd RRT (Algorithm 2) with the model-predictive controller around it.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "services/common/error.h"
+#include "services/navigation/crowd_controller.h"
+#include "services/navigation/person_tracker.h"
+#include "services/planning/crowd_rrt.h"
+
+namespace navd {
+namespace {
+
+using navigation::CrowdController;
+using navigation::OrientationBeta;
+using navigation::PersonTracker;
+using planning::CrowdRrtOptions;
+using planning::CrowdRrtRequest;
+using planning::CrowdTrajectory;
+using planning::MovingBody;
+
+// 30 m of the chapter's street: 8 m wide, walls along both sides, 10 cm cells.
+planning::Costmap Street() {
+  OccupancyGrid g(300, 80, 0.1, Point2::Zero());
+  g.FillBox({0.0, 0.0}, {30.0, 0.1});
+  g.FillBox({0.0, 7.9}, {30.0, 8.0});
+  return planning::Costmap(std::make_shared<const OccupancyGrid>(std::move(g)), planning::CostmapOptions{0.4, true, 0.5, 3.0});
+}
+
+CrowdRrtRequest DownTheStreet(double speed) {
+  CrowdRrtRequest r;
+  r.start = {2.0, 4.0, 0.0, speed, 0.0, 0.0};
+  r.goal = {14.0, 4.0};
+  for (double x = 2.0; x <= 14.0 + 1e-9; x += 0.25) r.path.push_back({x, 4.0});
+  r.limits = {1.5, 2.0, 1.0, 4.0};
+  return r;
+}
+
+CrowdRrtOptions Options() {
+  CrowdRrtOptions o;
+  o.desired_speed = 1.5;
+  return o;
+}
+
+// Nearest approach (centres) between the trajectory and a person walking at constant velocity.
+double ClosestApproach(const CrowdTrajectory& t, const MovingBody& b) {
+  double closest = 1e9;
+  for (const auto& s : t.states) closest = std::min(closest, Distance(s.position(), b.position + s.t * b.velocity));
+  return closest;
+}
+
+void ExpectFeasible(const planning::Costmap& cm, const CrowdRrtRequest& r, const CrowdTrajectory& t) {
+  ASSERT_GE(t.states.size(), 2u);
+  ASSERT_EQ(t.inputs.size() + 1, t.states.size());
+  EXPECT_LT(Distance(t.states.front().position(), r.start.position()), 1e-9);
+  for (size_t i = 0; i < t.states.size(); ++i) {
+    const auto& s = t.states[i];
+    EXPECT_FALSE(cm.IsLethal(cm.grid().CellOf(s.position()))) << i;
+    EXPECT_GE(s.v, -1e-12);
+    EXPECT_LE(s.v, r.limits.max_speed + 1e-12);
+    if (i == 0) continue;
+    const double dt = s.t - t.states[i - 1].t;
+    ASSERT_GT(dt, 0.0);
+    EXPECT_LE(std::abs(s.v - t.states[i - 1].v), r.limits.max_accel * dt + 1e-9);
+    EXPECT_LE(std::abs(t.inputs[i - 1].accel), r.limits.max_accel + 1e-12);
+  }
+}
+
+TEST(CrowdRrt, AnEmptyStreetIsDrivenAlongThePathAtTheDesiredSpeed) {
+  const planning::Costmap cm = Street();
+  const CrowdRrtRequest r = DownTheStreet(1.5);
+  const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+  ExpectFeasible(cm, r, t);
+  EXPECT_EQ(t.tree_size, Options().max_nodes);
+  EXPECT_FALSE(t.braking);
+  EXPECT_GE(t.states.back().t, Options().min_select_time);
+  double lateral = 0.0;
+  for (const auto& s : t.states) lateral = std::max(lateral, std::abs(s.y - 4.0));
+  EXPECT_LT(lateral, 1.0);
+  // Most of the way at speed: at least 70 % of what the desired speed covers in that time.
+  EXPECT_GT(t.states.back().x - 2.0, 0.7 * 1.5 * t.states.back().t);
+}
+
+TEST(CrowdRrt, KeepsOutOfAnOncomingWalkersPersonalZone) {
+  const planning::Costmap cm = Street();
+  int outside = 0, runs = 20;
+  for (int k = 0; k < runs; ++k) {
+    CrowdRrtRequest r = DownTheStreet(1.5);
+    r.seed = 100 + k;
+    // Head-on on the path, 9 m ahead, at walking pace: they meet in about 3 s.
+    const MovingBody walker{{11.0, 4.0}, {-1.3, 0.0}, 0.25, true};
+    r.people = {walker};
+    const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+    ExpectFeasible(cm, r, t);
+    const double closest = ClosestApproach(t, walker);
+    EXPECT_GT(closest, 0.25 + 0.3 + 0.1) << "seed " << r.seed;  // bodies and clearance: a hard limit
+    if (closest >= planning::kPersonalZone) ++outside;
+  }
+  // The personal zone is a cost, traded against progress and the path: most plans stay out.
+  EXPECT_GE(outside, runs / 2 + 2);
+}
+
+TEST(CrowdRrt, GoesRoundAStandingGroupAndBrakesWhenBoxedIn) {
+  const planning::Costmap cm = Street();
+  CrowdRrtRequest r = DownTheStreet(1.0);
+  // Three people standing across the path 5 m ahead (y 3.6 to 5.2), gaps above and below.
+  r.people = {{{7.0, 3.6}, {0, 0}, 0.25, true}, {{7.0, 4.4}, {0, 0}, 0.25, true}, {{7.0, 5.2}, {0, 0}, 0.25, true}};
+  CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+  ExpectFeasible(cm, r, t);
+  for (const MovingBody& p : r.people) EXPECT_GT(ClosestApproach(t, p), 0.65);
+  // On its way through a gap above or below them (the plan may end before it is through: past
+  // the minimum time, another second beside them can cost more than the progress it buys).
+  double lowest = 4.0, highest = 4.0;
+  for (const auto& s : t.states) {
+    lowest = std::min(lowest, s.y);
+    highest = std::max(highest, s.y);
+  }
+  EXPECT_TRUE(lowest < 2.6 || highest > 6.2) << lowest << " " << highest;
+  EXPECT_GT(t.states.back().x, 5.0);
+
+  // A wall of people 1 m ahead across the whole street: nothing gets past; the plan stops.
+  r.people.clear();
+  for (double y = 0.4; y < 7.8; y += 0.5) r.people.push_back({{3.6, y}, {0, 0}, 0.25, true});
+  t = planning::PlanCrowdRrt(cm, r, Options());
+  ASSERT_FALSE(t.states.empty());
+  for (const MovingBody& p : r.people) EXPECT_GT(ClosestApproach(t, p), 0.55);
+  EXPECT_LT(t.states.back().v, 0.05);
+}
+
+TEST(CrowdRrt, BadInputIsRejected) {
+  const planning::Costmap cm = Street();
+  CrowdRrtRequest r = DownTheStreet(1.0);
+  r.goal = {NAN, 4.0};
+  EXPECT_THROW(planning::PlanCrowdRrt(cm, r, Options()), Error);
+  r = DownTheStreet(1.0);
+  r.limits.max_accel = 0.0;
+  EXPECT_THROW(planning::PlanCrowdRrt(cm, r, Options()), Error);
+  r = DownTheStreet(1.0);
+  CrowdRrtOptions o = Options();
+  o.max_nodes = 1;
+  EXPECT_THROW(planning::PlanCrowdRrt(cm, r, o), Error);
+}
+
+TEST(CrowdController, DrivesPastAWalkerReplanningAsItGoes) {
+  // The controller's commands, integrated as a unicycle would, among a walker the controller
+  // knows: past them, bodies apart.
+  const planning::Costmap cm = Street();
+  navigation::CrowdControllerOptions o;
+  o.planner = Options();
+  o.limits = {1.5, 2.0, 1.0, 4.0};
+  CrowdController controller(o);
+  Pose2 pose(2.0, 4.0, 0.0);
+  std::vector<Point2> path;
+  for (double x = 0.0; x <= 29.0; x += 0.25) path.push_back({x, 4.0});
+  MovingBody walker{{16.0, 4.1}, {-1.3, 0.0}, 0.25, true};
+  double closest = 1e9;
+  const double dt = 0.05;
+  for (double now = 0.0; now < 12.0; now += dt) {
+    std::vector<Point2> ahead;
+    for (const Point2& p : path)
+      if (p.x() >= pose.x && p.x() <= pose.x + o.lookahead) ahead.push_back(p);
+    if (ahead.size() < 2) break;
+    const navigation::UnicycleCommand u = controller.Step(cm, pose, ahead, {walker}, now);
+    EXPECT_LE(u.v, o.limits.max_speed + 1e-9);
+    pose = Pose2(pose.x + u.v * std::cos(pose.theta) * dt, pose.y + u.v * std::sin(pose.theta) * dt,
+                 NormalizeAngle(pose.theta + u.w * dt));
+    walker.position += walker.velocity * dt;
+    closest = std::min(closest, Distance(pose.translation(), walker.position));
+  }
+  EXPECT_GT(pose.x, 16.0);
+  EXPECT_GT(closest, 0.25 + 0.3 + 0.1);
+  EXPECT_GT(controller.plans(), 15u);
+}
+
+TEST(PersonTracker, OrientationBetaFollowsEquationSix) {
+  EXPECT_DOUBLE_EQ(OrientationBeta(0.05), 0.9);
+  EXPECT_NEAR(OrientationBeta(0.1), 0.9, 1e-12);
+  EXPECT_NEAR(OrientationBeta(0.35), 1.04 - 1.4 * 0.35, 1e-12);
+  EXPECT_NEAR(OrientationBeta(0.6), 0.2, 1e-12);
+  EXPECT_DOUBLE_EQ(OrientationBeta(1.3), 0.2);
+}
+
+TEST(PersonTracker, EstimatesWalkersFromNoisyPositionsAndKeepsThemApart) {
+  PersonTracker tracker;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  // Two people crossing paths: one walking +x, one walking -y, 10 Hz detections.
+  Point2 a(0.0, 0.0), b(3.0, 3.0);
+  const Point2 va(1.3, 0.0), vb(0.0, -1.0);
+  int id_a = -1, id_b = -1;
+  for (int k = 0; k <= 40; ++k) {
+    const double t = 0.1 * k;
+    tracker.Update({a + t * va + Point2(noise(rng), noise(rng)), b + t * vb + Point2(noise(rng), noise(rng))}, t);
+    const auto people = tracker.People(t);
+    if (k < 2) EXPECT_TRUE(people.empty()) << "confirmed after three detections";
+    if (k == 10) {
+      ASSERT_EQ(people.size(), 2u);
+      for (const auto& p : people) (Distance(p.position, a + t * va) < 0.5 ? id_a : id_b) = p.id;
+      ASSERT_NE(id_a, id_b);
+    }
+  }
+  const auto people = tracker.People(4.0);
+  ASSERT_EQ(people.size(), 2u);
+  for (const auto& p : people) {
+    const bool is_a = p.id == id_a;
+    ASSERT_TRUE(is_a || p.id == id_b) << "a track changed hands";
+    EXPECT_LT((p.velocity - (is_a ? va : vb)).norm(), 0.25);
+    EXPECT_LT(Distance(p.position, (is_a ? a : b) + 4.0 * (is_a ? va : vb)), 0.15);
+    EXPECT_NEAR(NormalizeAngle(p.orientation - (is_a ? 0.0 : -M_PI / 2.0)), 0.0, 0.2);
+  }
+  // Gone from view: forgotten after forget_after.
+  tracker.Update({}, 4.5);
+  EXPECT_EQ(tracker.People(4.5).size(), 2u);
+  tracker.Update({}, 5.2);
+  EXPECT_TRUE(tracker.People(5.2).empty());
+}
+
+TEST(PersonTracker, AStandingPersonKeepsTheOrientationTheyWalkedIn) {
+  PersonTracker tracker;
+  Point2 p(0.0, 0.0);
+  for (int k = 0; k <= 30; ++k) tracker.Update({p + Point2(0.0, 0.12 * std::min(k, 15))}, 0.1 * k);
+  const auto people = tracker.People(3.0);
+  ASSERT_EQ(people.size(), 1u);
+  EXPECT_LT(people[0].velocity.norm(), 0.3);
+  EXPECT_NEAR(people[0].orientation, M_PI / 2.0, 0.35);
+}
+
+}  // namespace
+}  // namespace navd
