@@ -4,21 +4,27 @@
 //   1. seeds the tree with what is left of the previous best trajectory (its inputs replayed from
 //      the robot's state now) and, our addition, a braking chain, so stopping is always a choice;
 //   2. grows it to max_nodes vertices: a target is the goal with probability goal_bias, else a
-//      random point in the region ahead; the nearest vertex (in the plane) is extended by one
-//      step of the unicycle (Eq. 10) under Eq. 16's steering towards the target plus Gaussian noise;
-//   3. prunes a new vertex when (a) the potential g1 + g2 exceeds max_potential on the way (checked
-//      every 0.05 s: robot and person close at 3 m/s), (b) it heads
-//      more than 90° away from the goal's direction, (c) it leaves the map or touches a lethal
-//      cell, (d) it is later than the horizon, and (ours) when its disc touches a person's predicted
-//      disc;
-//   4. returns the trajectory to the vertex of least Eq. 15 cost (the last plan's at a discount), I = ∫(g1 + g2) dt + g3, among the
-//      vertices at least min_select_time ahead (the chapter's "discard nodes with a small time").
+//      random point in the region ahead; the nearest vertex (in the plane; not the braking chain)
+//      is extended by one step of the unicycle (Eq. 10) under Eq. 16's steering towards the
+//      target plus Gaussian noise;
+//   3. prunes a new vertex when (a) the potential g1 + g2 exceeds max_potential on the way
+//      (checked every 0.05 s: robot and person close at 3 m/s), (b) it heads more than 90° away
+//      from the goal's direction, (c) it leaves the map or touches a lethal cell, (d) it is later
+//      than the horizon, and (ours) when its disc comes within `clearance` of a person's
+//      predicted disc;
+//   4. returns the trajectory to the vertex of least Eq. 15 cost (the last plan's at a discount),
+//      I = ∫(g1 + g2 + c_v·shortfall²) dt + g3, among the vertices at least min_select_time ahead
+//      (the chapter's "discard nodes with a small time"); when nothing at all is valid (someone
+//      walks into the robot), the escape among a fan of constant inputs that keeps most room.
 // g1 is the environment's valley: c_y·d² with d the distance from the request's path (the
-// chapter's c_y·y² for a street's centre line), plus the costmap's decaying cost near walls; g2 is PersonCostModel per person, each predicted at constant velocity; g3, at the
-// end, is c_e1·exp(c_e2·progress) + c_θ·(heading error)^4, where progress is how much nearer the goal
-// the vertex is than the start (the chapter's x1(T) − x1(0) for a goal straight down the street)
-// and the heading error is from the start-to-goal direction. The chapter gives no values; ours are
-// below. Map frame, metres, radians, seconds.
+// chapter's c_y·y² for a street's centre line), plus the costmap's decaying cost near walls. g2 is
+// PersonCostModel per person, each predicted at constant velocity. The speed shortfall (ours) is
+// how much slower than μ_v the robot goes along the goal's direction: without it, plans that
+// dawdle and brake in front of walkers, who do not stop, looked as cheap as those that get on.
+// g3, at the end, is c_e1·exp(c_e2·progress) + c_θ·(heading error)^4, where progress is how much
+// nearer the goal the vertex is than the start (the chapter's x1(T) − x1(0) for a goal straight
+// down the street) and the heading error is from the start-to-goal direction. The chapter gives
+// no values; ours are below. Map frame, metres, radians, seconds.
 #include <cstdint>
 #include <vector>
 
