@@ -301,27 +301,21 @@ std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& po
   const bool steer = status.active && !status.paused && status.feedback.state == NavigationState::kDriving &&
                      status.feedback.distance_remaining > c.handover_distance;
   const double b = navigator_.options().follower.wheel_base;
-  if (!steer) {
+  const auto hand_back = [&]() -> std::optional<WheelSpeeds> {
     if (crowd_steering_) {
       crowd_steering_ = false;
       navigator_.SetExternalSteering(false);
     }
     return std::nullopt;
-  }
+  };
+  if (!steer) return hand_back();
   std::vector<Point2> path = navigator_.PathAhead(c.lookahead);
   const std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
   // Facing away from where the path leads (turned by an escape or a bump), the crowd RRT, which
   // prunes heading back, has nothing to offer: the path follower turns the robot round first.
   const bool facing = !path.empty() && std::abs(NormalizeAngle(std::atan2(path.back().y() - pose.y, path.back().x() - pose.x) -
                                                                pose.theta)) < c.max_heading_error;
-  if (!facing || !costmap) path.clear();
-  if (path.empty()) {
-    if (crowd_steering_) {
-      crowd_steering_ = false;
-      navigator_.SetExternalSteering(false);
-    }
-    return std::nullopt;
-  }
+  if (!facing || !costmap) return hand_back();
   if (!crowd_steering_) {
     // From what the robot was doing: the path follower's last command.
     crowd_.Reset(std::max(0.0, 0.5 * (last_wheels_.left + last_wheels_.right)),
@@ -512,7 +506,8 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
     if (estimate.valid) limit = zones_.LimitAt(estimate.pose, moving_.detection.robot_radius, zone_options_);
   }
   navigator_.SetSpeedLimit(std::isfinite(limit) ? limit : 0.0);
-  return SpeedZones::Cap(wheels, limit);
+  last_wheels_ = SpeedZones::Cap(wheels, limit);
+  return last_wheels_;
 }
 
 void NavigationExecutive::SetSpeedZones(SpeedZones zones) {
@@ -778,8 +773,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     wheels = Reflex(wheels, in, estimate.pose);
   }
   if (detecting && !people_.enabled) wheels = GuardSpeed(wheels, estimate.pose);
-  last_wheels_ = ScanGuard(wheels, estimate.pose);
-  return last_wheels_;
+  return ScanGuard(wheels, estimate.pose);
 }
 
 WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose2& pose) const {

@@ -258,7 +258,7 @@ class NavigationExecutive {
   PersonTracker tracker_;           // guarded by detector_mutex_
   CrowdController crowd_;
   bool crowd_steering_ = false;     // the crowd controller drove the last step
-  WheelSpeeds last_wheels_;         // the last command (the crowd controller starts from it)
+  WheelSpeeds last_wheels_;         // the last command of Step (the crowd controller starts from it)
   SonarReflex reflex_;
   bool reflex_acted_ = false;       // the reflex answered a stimulus this step
   std::vector<SonarEcho> stimuli_;  // this step's unexplained echoes
