@@ -82,6 +82,34 @@ void Check(bool ok, const std::string& what) {
   if (!ok) throw Error(ErrorCode::kInvalidArgument, what);
 }
 
+// Nothing is valid, not even stopping: someone is walking into the robot. Ours: of a fan of
+// constant inputs held for escape_time, the one that keeps the most room.
+CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const CrowdRrtRequest& r,
+                       const CrowdRrtOptions& o) {
+  CrowdTrajectory out;
+  out.escape = true;
+  double best_room = -std::numeric_limits<double>::infinity();
+  for (const double a : {-1.0, 0.0, 1.0}) {
+    for (const double b : {-1.0, -0.5, 0.0, 0.5, 1.0}) {
+      const UnicycleInput u{a * r.limits.max_accel, b * r.limits.max_yaw_accel};
+      std::vector<UnicycleState> states{root};
+      double room = std::numeric_limits<double>::infinity();
+      UnicycleState s = root;
+      for (double t = kSubStep; t <= o.escape_time + 1e-9; t += kSubStep) {
+        s = Propagate(s, u, kSubStep, r.limits);
+        room = std::min(room, field.Clearance(s.position(), s.t));
+        if (std::fmod(s.t + 1e-9, o.step) < kSubStep) states.push_back(s);
+      }
+      if (room > best_room) {
+        best_room = room;
+        out.states = states;
+        out.inputs.assign(states.size() - 1, ClampInput(u, r.limits));
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o) {
@@ -209,32 +237,10 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
     if (chosen >= 0) break;
   }
 
-  CrowdTrajectory out;
+  CrowdTrajectory out = chosen < 0 ? Escape(field, root, r, o) : CrowdTrajectory{};
   out.tree_size = static_cast<int>(tree.size());
   out.pruned = pruned;
   if (chosen < 0) {
-    // Nothing is valid, not even stopping: someone is walking into the robot. Ours: of a fan of
-    // constant inputs held for escape_time, the one that keeps the most room.
-    out.escape = true;
-    double best_room = -std::numeric_limits<double>::infinity();
-    for (const double a : {-1.0, 0.0, 1.0}) {
-      for (const double b : {-1.0, -0.5, 0.0, 0.5, 1.0}) {
-        const UnicycleInput u{a * r.limits.max_accel, b * r.limits.max_yaw_accel};
-        std::vector<UnicycleState> states{root};
-        double room = std::numeric_limits<double>::infinity();
-        UnicycleState s = root;
-        for (double t = kSubStep; t <= o.escape_time + 1e-9; t += kSubStep) {
-          s = Propagate(s, u, kSubStep, r.limits);
-          room = std::min(room, field.Clearance(s.position(), s.t));
-          if (std::fmod(s.t + 1e-9, o.step) < kSubStep) states.push_back(s);
-        }
-        if (room > best_room) {
-          best_room = room;
-          out.states = states;
-          out.inputs.assign(states.size() - 1, ClampInput(u, r.limits));
-        }
-      }
-    }
     out.cost = total(tree[0]);
     return out;
   }
