@@ -1,0 +1,187 @@
+// Book chapter 7's robustness test for the crowd RRT alone, in process: the pedestrian street
+// scenario stepped by the simulator, the robot driven by the crowd controller (MPC around the
+// crowd RRT) along the street's centre line for 88 m, N runs with new crowds. It separates the
+// planner from the rest of navd (DDS, localisation), which scripts/street-runs measures whole:
+//   --people truth  the chapter's own set-up: the planner knows every person's position and
+//                   velocity within 45 m in front of the robot, and the robot's pose.
+//   --people laser  navd's perception: the laser's unexplained blobs, tracked by the person
+//                   tracker, from the true pose.
+// Prints one line per run and the totals: collisions, the share of the time the nearest person
+// was outside the personal zone (1.2 m, centre to centre), closest approach.
+//   build/tests/street_bench [--runs N] [--first-seed S] [--people truth|laser] [--collisions]
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+
+#include "services/common/ray_caster.h"
+#include "services/navigation/crowd_controller.h"
+#include "services/navigation/moving_obstacle_detector.h"
+#include "services/navigation/navigation_executive.h"
+#include "services/navigation/person_tracker.h"
+#include "services/planning/costmap.h"
+#include "services/planning/personal_space.h"
+#include "simulator/scenario.h"
+#include "simulator/simulation.h"
+
+namespace {
+
+using namespace navd;
+
+struct RunFigures {
+  double time = 0.0;            // s, simulated
+  double outside_personal = 0;  // s
+  double nearest = std::numeric_limits<double>::infinity();
+  uint32_t collisions = 0;
+  bool reached = false;
+};
+
+RunFigures Run(const sim::Scenario& scenario, uint64_t seed, bool truth_people, double distance, bool print_contacts) {
+  sim::SimulationOptions so;
+  so.seed = seed;
+  sim::Simulation s(scenario, so);
+  const World& world = s.world();
+  planning::CostmapOptions co;
+  co.inflation_radius = world.robot.radius + 0.05;
+  const planning::Costmap costmap(std::make_shared<OccupancyGrid>(world.map), co);
+
+  const navigation::PeopleAwareOptions people;  // navd's defaults
+  navigation::CrowdControllerOptions control = people.control;
+  control.limits = {std::min(1.5, world.robot.max_speed), world.robot.max_angular_speed, world.robot.max_accel,
+                    world.robot.max_angular_accel};
+  control.planner.desired_speed = control.limits.max_speed;
+  control.planner.robot_radius = world.robot.radius;
+  navigation::CrowdController controller(control);
+  navigation::MovingObstacleDetector segmenter(people.detection);
+  segmenter.SetMap(std::make_shared<RayCaster>(world.map));
+  navigation::PersonTracker tracker(people.tracking);
+
+  const Pose2 start = s.robot().base().true_pose();
+  const double goal_x = start.x + distance, y = start.y;
+  const double control_period = 0.05, dt = s.options().physics_step;
+  double next_control = 0.0;
+  RunFigures f;
+  while (s.now() < 4.0 * distance / control.limits.max_speed) {
+    const Pose2 pose = s.robot().base().true_pose();
+    if (pose.x >= goal_x) {
+      f.reached = true;
+      break;
+    }
+    if (s.now() >= next_control - 1e-9) {
+      next_control += control_period;
+      std::vector<Point2> path;
+      for (double x = std::max(pose.x, start.x); x <= std::min(goal_x + 5.0, pose.x + control.lookahead); x += 0.1)
+        path.push_back({x, y});
+      std::vector<planning::MovingBody> bodies;
+      if (truth_people) {
+        for (const sim::Person& p : s.people()) {
+          const Point2 rel = pose.inverse() * p.position;
+          // The walking velocity (towards the person's goal at their speed): the step's velocity
+          // also holds the Brownian motion, ~1 m/s of noise over a 0.01 s step.
+          const Point2 to_goal = p.goal - p.position;
+          const Point2 walking = to_goal.norm() > 1e-9 ? Point2(p.speed * to_goal.normalized()) : Point2::Zero();
+          if (rel.x() > 0.0 && rel.norm() <= 45.0) bodies.push_back({p.position, walking, people.person_radius, true});
+        }
+      } else {
+        for (const navigation::TrackedPerson& p : tracker.People(s.now()))
+          bodies.push_back({p.position, p.velocity, people.person_radius, true});
+      }
+      const navigation::UnicycleCommand u = controller.Step(costmap, pose, path, bodies, s.now());
+      s.Command(0, {u.v, 0.0, u.w});
+    }
+    const sim::StepOutputs out = s.Step();
+    if (print_contacts) {
+      // Each collision as the robot saw it: the person in the robot's frame and the plan it drove.
+      const Pose2 rp = s.robot().base().true_pose();
+      for (const sim::CollisionEvent& e : out.events) {
+        for (const sim::Person& p : s.people()) {
+          if (Distance(p.position, rp.translation()) > 0.6) continue;
+          const Point2 rel = rp.inverse() * p.position;
+          std::printf("  collision at %.2f s with %s at (%.2f, %.2f) in the robot's frame; plan %s, cost %.1f\n", e.time,
+                      e.other.c_str(), rel.x(), rel.y(),
+                      controller.plan().escape ? "escape" : controller.plan().braking ? "braking" : "driving",
+                      controller.plan().cost);
+        }
+      }
+    }
+    if (!truth_people && out.robots[0].scan) {
+      localization::ScanReading scan;
+      scan.ranges = *out.robots[0].scan;
+      scan.angle_min = s.robot().laser()->angle_min();
+      scan.angle_increment = s.robot().laser()->increment();
+      scan.range_min = world.laser.range_min;
+      scan.range_max = world.laser.range_max;
+      scan.stamp = s.now();
+      std::vector<Point2> seen;
+      for (const navigation::DetectedObstacle& blob : segmenter.Segment(scan, s.robot().base().true_pose()))
+        if (blob.radius <= people.max_person_radius) seen.push_back(blob.position);
+      tracker.Update(seen, s.now());
+    }
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const sim::Person& p : s.people())
+      nearest = std::min(nearest, Distance(p.position, s.robot().base().true_pose().translation()));
+    f.time += dt;
+    if (nearest > planning::kPersonalZone) f.outside_personal += dt;
+    f.nearest = std::min(f.nearest, nearest);
+  }
+  f.collisions = s.robot().collisions();
+  return f;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"book chapter 7's street runs for the crowd RRT alone (in process)"};
+  int runs = 50;
+  uint64_t first = 1;
+  std::string people = "truth";
+  std::string scenario_path = "worlds/scenarios/street.yaml";
+  double distance = 88.0;
+  app.add_option("--runs", runs)->check(CLI::Range(1, 10000));
+  app.add_option("--first-seed", first);
+  app.add_option("--people", people, "truth (the chapter's: known within 45 m ahead) or laser (navd's tracker)")
+      ->check(CLI::IsMember({"truth", "laser"}));
+  app.add_option("--scenario", scenario_path);
+  app.add_option("--distance", distance, "metres down the street")->check(CLI::Range(1.0, 1000.0));
+  bool print_contacts = false;
+  app.add_flag("--collisions", print_contacts, "print each collision: where the person was, what the plan did");
+  CLI11_PARSE(app, argc, argv);
+
+  sim::Scenario scenario;
+  try {
+    scenario = sim::LoadScenarioFile(scenario_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "street_bench: %s\n", e.what());
+    return 1;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  double time = 0.0, outside = 0.0, nearest = std::numeric_limits<double>::infinity();
+  uint32_t collisions = 0;
+  int reached = 0, clean = 0;
+  std::vector<double> shares;
+  for (int i = 0; i < runs; ++i) {
+    const uint64_t seed = first + static_cast<uint64_t>(i);
+    const RunFigures f = Run(scenario, seed, people == "truth", distance, print_contacts);
+    std::printf("seed %lu: %s, %.1f s, collisions %u, outside personal %.3f, nearest %.2f m\n",
+                static_cast<unsigned long>(seed), f.reached ? "reached" : "timed out", f.time, f.collisions,
+                f.outside_personal / f.time, f.nearest);
+    std::fflush(stdout);
+    time += f.time;
+    outside += f.outside_personal;
+    collisions += f.collisions;
+    nearest = std::min(nearest, f.nearest);
+    reached += f.reached;
+    clean += f.collisions == 0;
+    shares.push_back(f.outside_personal / f.time);
+  }
+  std::sort(shares.begin(), shares.end());
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("street bench (%s people): %d/%d reached, %u collisions (%d runs without), %.1f s simulated; outside "
+              "the personal zone %.2f%% of the time (per run: min %.1f%%, median %.1f%%); closest %.2f m; %.0f s wall\n",
+              people.c_str(), reached, runs, collisions, clean, time, 100.0 * outside / time, 100.0 * shares.front(),
+              100.0 * shares[shares.size() / 2], nearest, wall);
+  return 0;
+}
