@@ -78,11 +78,12 @@ void ControlLoop::Tick(uint64_t tick, double now) {
     }
   }
   std::optional<localization::ScanReading> scan;  // the scan that arrived since the last tick
+  std::optional<Pose2> odom_at_scan;
   if (bridge_.scan_count() != scans_seen_) {
     scans_seen_ = bridge_.scan_count();
     scan = bridge_.LatestScan();
     if (scan && executive_.localization_active()) localizer_.AddScan(*scan);
-    const auto odom_at_scan = scan ? bridge_.OdometryAt(scan->stamp) : std::nullopt;
+    odom_at_scan = scan ? bridge_.OdometryAt(scan->stamp) : std::nullopt;
     if (scan && map_builder_.active() && odom_at_scan) {
       // A mapping run takes the scan with the odometry of its own stamp (a robot turning at 1 rad/s
       // turns 0.05 rad in one control period, and under load ticks fall further apart), and the
@@ -107,6 +108,8 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   inputs.rear_contact_only = bridge_.RearContactOnly(options_.sensor_timeout);
   inputs.scans = scans_seen_;
   inputs.scan = scan ? &*scan : nullptr;
+  inputs.scan_odometry = odom_at_scan;
+  inputs.odometry = bridge_.OdometryAt(localizer_.Estimate().stamp);
   inputs.rear_free = bridge_.RearFree(options_.sensor_timeout);
   const std::vector<navigation::SonarEcho> sonar = bridge_.SonarEchoes(options_.sensor_timeout);
   inputs.sonar = &sonar;

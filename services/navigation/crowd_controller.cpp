@@ -48,7 +48,7 @@ UnicycleCommand CrowdController::Step(const planning::Costmap& costmap, const Po
     planning::CrowdRrtRequest request;
     request.start = {pose.x, pose.y, pose.theta, std::clamp(last_.v, 0.0, o_.limits.max_speed),
                      std::clamp(last_.w, -o_.limits.max_yaw_rate, o_.limits.max_yaw_rate), 0.0};
-    request.goal = path.back();
+    request.goal = planning::VisibleGoal(costmap, pose.translation(), path);
     request.path = path;
     request.people = people;
     request.limits = o_.limits;

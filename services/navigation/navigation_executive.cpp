@@ -283,16 +283,30 @@ void NavigationExecutive::TrackPeople(const localization::ScanReading& scan, con
   const std::shared_ptr<const RayCaster> map = MapCaster();
   if (!map) return;
   people_segmenter_.SetMap(map);
-  std::vector<Point2> seen;
-  for (const DetectedObstacle& blob : people_segmenter_.Segment(scan, pose))
-    if (blob.radius <= people_.max_person_radius) seen.push_back(blob.position);
+  const std::vector<DetectedObstacle> blobs = people_segmenter_.Segment(scan, pose);
   std::lock_guard<std::mutex> lock(detector_mutex_);
+  const Pose2 odometry_from_map = map_from_odometry_.inverse();
+  std::vector<Point2> seen;
+  for (const DetectedObstacle& blob : blobs)
+    if (blob.radius <= people_.max_person_radius) seen.push_back(odometry_from_map * blob.position);
   tracker_.Update(seen, now);
+}
+
+std::vector<TrackedPerson> NavigationExecutive::PeopleLocked(double now) const {
+  std::vector<TrackedPerson> people = tracker_.People(now);
+  const Pose2& to_map = map_from_odometry_;
+  const double c = std::cos(to_map.theta), s = std::sin(to_map.theta);
+  for (TrackedPerson& p : people) {
+    p.position = to_map * p.position;
+    p.velocity = Point2(c * p.velocity.x() - s * p.velocity.y(), s * p.velocity.x() + c * p.velocity.y());
+    p.orientation = NormalizeAngle(p.orientation + to_map.theta);
+  }
+  return people;
 }
 
 std::vector<TrackedPerson> NavigationExecutive::people() const {
   std::lock_guard<std::mutex> lock(detector_mutex_);
-  return tracker_.People(tracker_.tracks().empty() ? 0.0 : clock_.Now());
+  return PeopleLocked(tracker_.tracks().empty() ? 0.0 : clock_.Now());
 }
 
 std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& pose, double now) {
@@ -525,16 +539,24 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   if (estimate.valid && in.sensors_fresh) WatchLocalization(estimate, in.scans, now);
 
   const bool detecting = detection_ >= 0 && brain_.active(static_cast<size_t>(detection_));
+  // Where the robot was when the scan was taken (map frame).
+  Pose2 scan_pose = estimate.pose;
+  if (estimate.valid && in.odometry && in.scan_odometry) {
+    const Pose2 map_from_odometry = estimate.pose * in.odometry->inverse();
+    scan_pose = map_from_odometry * *in.scan_odometry;
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    map_from_odometry_ = map_from_odometry;
+  }
   if (in.scan && estimate.valid && !lost_) {
     // The avoidance's and the recoil's free ways and the scan guard read these whether or not
     // detection runs (it is off while a map is being built).
     std::vector<Point2> points = localization::ScanEndPoints(*in.scan, 0);
-    for (Point2& p : points) p = estimate.pose * p;
+    for (Point2& p : points) p = scan_pose * p;
     std::lock_guard<std::mutex> lock(detector_mutex_);
     scan_points_ = std::move(points);
   }
-  if (in.scan && estimate.valid && detecting && !lost_) DetectMovingObstacles(*in.scan, estimate.pose, now);
-  if (people_.enabled && in.scan && estimate.valid && !lost_) TrackPeople(*in.scan, estimate.pose, now);
+  if (in.scan && estimate.valid && detecting && !lost_) DetectMovingObstacles(*in.scan, scan_pose, now);
+  if (people_.enabled && in.scan && estimate.valid && !lost_) TrackPeople(*in.scan, scan_pose, now);
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     std::erase_if(sensed_obstacles_,
@@ -565,7 +587,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     // the next one; the crowd controller takes the robot away instead.
     std::lock_guard<std::mutex> lock(detector_mutex_);
     if (in.rear_contact_only) contact = false;
-    for (const TrackedPerson& p : tracker_.People(now)) {
+    for (const TrackedPerson& p : PeopleLocked(now)) {
       const double gap = Distance(p.position, estimate.pose.translation()) - people_.person_radius -
                          moving_.detection.robot_radius;
       if (gap < moving_.touch_gap) contact = false;
@@ -602,7 +624,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     for (const DetectedObstacle& o : detector_.confirmed()) seen.push_back({o.position, o.velocity, o.radius, false});
     if (people_.enabled)
-      for (const TrackedPerson& p : tracker_.People(now)) seen.push_back({p.position, p.velocity, people_.person_radius, true});
+      for (const TrackedPerson& p : PeopleLocked(now)) seen.push_back({p.position, p.velocity, people_.person_radius, true});
     navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
   }
 

@@ -139,6 +139,13 @@ struct ExecutiveInputs {
   uint64_t scans = 0;          // scans that have arrived so far (0: not counted)
   // The scan that arrived since the last step, if one did.
   const localization::ScanReading* scan = nullptr;
+  // The robot's odometry pose (odometry frame) when that scan was taken, and at the localiser's
+  // estimate's stamp. With both, the scan is placed where the robot was when it was taken (a robot
+  // turning at 1.5 rad/s turns 0.1 rad in the 0.07 s a scan may wait: half a metre at 5 m), and
+  // people are tracked in the odometry frame, which does not jump when the localiser corrects
+  // itself. Without them, the estimate's pose and the map frame.
+  std::optional<Pose2> scan_odometry = std::nullopt;
+  std::optional<Pose2> odometry = std::nullopt;
   // m free behind the robot's rim by its rear range sensor; infinity without one.
   double rear_free = std::numeric_limits<double>::infinity();
   // The sonar ring's recent echoes (sensors that heard nothing left out); null: no sonar.
@@ -229,8 +236,10 @@ class NavigationExecutive {
   // Free distance (m) from the rim of a robot of `radius` along a bearing, for a corridor as wide
   // as the robot, among `local` points (robot frame).
   static std::function<double(double)> FreeAlong(std::vector<Point2> local, double radius);
-  // Tracks the people a new scan shows.
+  // Tracks the people a new scan taken at `pose` (map frame) shows.
   void TrackPeople(const localization::ScanReading& scan, const Pose2& pose, double now);
+  // The tracked people at `now` in the map frame. Caller holds detector_mutex_.
+  std::vector<TrackedPerson> PeopleLocked(double now) const;
   // The crowd controller's command while it steers the current leg; nullopt when it does not.
   std::optional<WheelSpeeds> SteerAmongPeople(const Pose2& pose, double now);
   // Updates lost_ from the estimate; `moving`: whether the robot is meant to be moving.
@@ -255,7 +264,8 @@ class NavigationExecutive {
   mutable std::shared_ptr<const RayCaster> caster_;
   PeopleAwareOptions people_;
   MovingObstacleDetector people_segmenter_;
-  PersonTracker tracker_;           // guarded by detector_mutex_
+  PersonTracker tracker_;           // guarded by detector_mutex_; in the odometry frame
+  Pose2 map_from_odometry_;         // guarded by detector_mutex_; identity without odometry
   CrowdController crowd_;
   bool crowd_steering_ = false;     // the crowd controller drove the last step
   WheelSpeeds last_wheels_;         // the last command of Step (the crowd controller starts from it)

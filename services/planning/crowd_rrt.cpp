@@ -97,7 +97,9 @@ CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const
       UnicycleState s = root;
       for (double t = kSubStep; t <= o.escape_time + 1e-9; t += kSubStep) {
         s = Propagate(s, u, kSubStep, r.limits);
-        room = std::min(room, field.Clearance(s.position(), s.t));
+        // A person who walks into the robot may as well stop short of it (people step round what
+        // blocks them): the room is the least of both.
+        room = std::min({room, field.Clearance(s.position(), s.t), field.Clearance(s.position(), 0.0)});
         if (std::fmod(s.t + 1e-9, o.step) < kSubStep) states.push_back(s);
       }
       if (room > best_room) {
@@ -111,6 +113,15 @@ CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const
 }
 
 }  // namespace
+
+Point2 VisibleGoal(const Costmap& costmap, const Point2& from, const std::vector<Point2>& path) {
+  // From inside the inflation (a robot brushing a wall) nothing is "visible": the path's end then.
+  const CellIndex here = costmap.grid().CellOf(from);
+  if (!costmap.grid().Contains(here) || costmap.IsLethal(here)) return path.back();
+  for (size_t i = 0; i < path.size(); ++i)
+    if (!costmap.SegmentFree(from, path[i])) return i == 0 ? path.back() : path[i - 1];
+  return path.back();
+}
 
 CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o) {
   const UnicycleState& s0 = r.start;
@@ -146,6 +157,10 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
   // way out; the braking chain answers to bodies and walls only, so stopping stays a choice.
   const double ceiling = std::max(o.max_potential, std::isfinite(here) ? here : 0.0);
 
+  // (b) A robot that an escape or a bump turned further than 90° from the goal's direction may
+  // turn back towards it: only headings worse than where it starts are pruned (ours; the
+  // chapter's robot always faces down the street).
+  const double max_heading_error = std::max(M_PI / 2.0, std::abs(NormalizeAngle(root.yaw - direction)) + 1e-6);
   // One vertex step from tree[from] under `u`; returns the new vertex's index, or -1 when pruned.
   auto extend = [&](int from, const UnicycleInput& u, bool braking, bool kept = false) -> int {
     const double limit = braking ? std::numeric_limits<double>::max() : ceiling;
@@ -166,7 +181,7 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
       cost += 0.5 * dt * (previous + g) + dt * o.speed_weight * shortfall * shortfall;
       previous = g;
     }
-    const bool heading_back = std::abs(NormalizeAngle(s.yaw - direction)) > M_PI / 2.0 && s.v > 0.0;
+    const bool heading_back = std::abs(NormalizeAngle(s.yaw - direction)) > max_heading_error && s.v > 0.0;
     if (!std::isfinite(highest) || highest > limit || heading_back || s.t > o.horizon + 1e-9) {
       ++pruned;
       return -1;

@@ -97,6 +97,12 @@ struct CrowdTrajectory {
   bool escape = false;                     // nothing was valid: the escape manoeuvre
 };
 
+// The goal for a plan along `path` (map frame) from `from`: the last point of the path before
+// the first one hidden from `from` by a lethal cell (the tree heads for its goal and prunes
+// headings more than 90° off it, so a goal behind a corner would send it into the wall), or the
+// path's end. `path` must not be empty.
+Point2 VisibleGoal(const Costmap& costmap, const Point2& from, const std::vector<Point2>& path);
+
 // Throws navd::Error(kInvalidArgument) for non-finite inputs or options out of range.
 CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& request, const CrowdRrtOptions& options);
 

@@ -15,11 +15,14 @@
 #include <ompl/util/RandomNumbers.h>
 
 #include <chrono>
-#include <limits>
+#include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 
 #include "services/common/error.h"
+#include "services/planning/crowd_route.h"
+#include "services/planning/grid_astar_planner.h"
 
 namespace navd::planning {
 namespace ob = ompl::base;
@@ -300,7 +303,8 @@ KinodynamicTrajectory PlanKinodynamic(const Costmap& costmap, const KinodynamicR
 std::vector<PlannerOptionSpec> KinodynamicPlanner::options() const {
   return {{"time_limit", 0.5, "seconds of planning (SST improves the trajectory for all of it)"},
           {"algorithm", 0, "0: control RRT restarts for time_limit, the lowest Eq. 15 cost kept; 1: SST; 2: control RRT, "
-                           "first trajectory"},
+                           "first trajectory; 3: the crowd RRT (ch. 7 Algorithm 2) in its MPC loop, rolled out along an "
+                           "A* route against the people predicted at constant velocity (time_limit bounds it)"},
           {"start_yaw", 0.0, "radians, the robot's heading at the start"},
           {"start_speed", 0.0, "m/s, the robot's speed at the start"},
           {"goal_tolerance", 0.25, "metres: the goal disc the trajectory must enter"},
@@ -311,6 +315,50 @@ std::vector<PlannerOptionSpec> KinodynamicPlanner::options() const {
           {"time_weight", 1.0, "cost per second (c_t)"},
           {"interest", 0.0, "people's interest in the robot, 0..1 (weights the attractor)"}};
 }
+
+namespace {
+
+// Book ch. 7's crowd RRT in its MPC loop, rolled out to the goal along an A* route.
+CellPath PlanCrowdRouteInScene(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
+                               const KinodynamicRequest& r, const PlanningScene& scene, const StopRequested& stop) {
+  if (!(r.limits.max_speed > 0.0 && r.limits.max_yaw_rate > 0.0 && r.limits.max_accel > 0.0 && r.limits.max_yaw_accel > 0.0))
+    throw Error(ErrorCode::kInvalidArgument, "limits: max_speed, max_yaw_rate, max_accel and max_yaw_accel must be > 0");
+  if (!(r.start_speed >= 0.0 && r.start_speed <= r.limits.max_speed))
+    throw Error(ErrorCode::kInvalidArgument, "start_speed must be in [0, max_speed]");
+  if (!(r.time_limit > 0.0 && r.time_limit <= 60.0)) throw Error(ErrorCode::kInvalidArgument, "time_limit must be in (0, 60] seconds");
+  const CellPath route_cells =
+      GridAStarPlanner().Plan(costmap, start, goal, {{"diagonal", 1.0}, {"cost_weight", 1.0}}, stop);
+  if (route_cells.cells.empty()) throw Error(ErrorCode::kNotFound, "no route from the start to the goal");
+  CrowdRouteRequest c;
+  c.start = {r.start.x(), r.start.y(), r.start_yaw, r.start_speed, 0.0, 0.0};
+  c.goal = r.goal;
+  c.goal_tolerance = r.goal_tolerance;
+  for (const CellIndex& cell : route_cells.cells) c.route.push_back(costmap.grid().CellCenter(cell));
+  c.route.front() = r.start;
+  c.route.back() = r.goal;
+  c.people = scene.moving;
+  c.limits = r.limits;
+  c.max_time = r.horizon;
+  CrowdRrtOptions o;
+  o.desired_speed = r.limits.max_speed;
+  o.robot_radius = costmap.options().inflation_radius;
+  o.people.interest = r.people_model.interest;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(r.time_limit);
+  const CrowdRoute route = PlanCrowdRoute(costmap, c, o, [&] {
+    return (stop && stop()) || std::chrono::steady_clock::now() > deadline;
+  });
+  CellPath result;
+  result.cells = {start, goal};
+  for (const UnicycleState& s : route.states) {
+    result.points.push_back(s.position());
+    result.speed_limits.push_back(s.v / r.limits.max_speed);
+  }
+  result.keep_shape = true;
+  result.expansions = static_cast<uint64_t>(route.vertices);
+  return result;
+}
+
+}  // namespace
 
 CellPath KinodynamicPlanner::Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
                                   const PlannerOptions& options, const StopRequested& stop) const {
@@ -328,15 +376,17 @@ CellPath KinodynamicPlanner::PlanInScene(const Costmap& costmap, const CellIndex
   r.goal_tolerance = options.at("goal_tolerance");
   r.time_limit = options.at("time_limit");
   const double algorithm = options.at("algorithm");
-  if (algorithm != 0.0 && algorithm != 1.0 && algorithm != 2.0)
-    throw Error(ErrorCode::kInvalidArgument, "options: 'algorithm' must be 0 (RRT restarts), 1 (SST) or 2 (RRT)");
-  r.algorithm = static_cast<KinodynamicAlgorithm>(static_cast<int>(algorithm));
+  if (algorithm != 0.0 && algorithm != 1.0 && algorithm != 2.0 && algorithm != 3.0)
+    throw Error(ErrorCode::kInvalidArgument,
+                "options: 'algorithm' must be 0 (RRT restarts), 1 (SST), 2 (RRT) or 3 (crowd RRT rolled out)");
   r.limits = {options.at("max_speed"), options.at("max_yaw_rate"), options.at("max_accel"), options.at("max_yaw_accel")};
   r.time_weight = options.at("time_weight");
   r.people_model.interest = options.at("interest");
   if (!(r.people_model.interest >= 0.0 && r.people_model.interest <= 1.0))
     throw Error(ErrorCode::kInvalidArgument, "options: 'interest' must be in [0, 1]");
   if (!(r.time_weight >= 0.0)) throw Error(ErrorCode::kInvalidArgument, "options: 'time_weight' must be >= 0");
+  if (algorithm == 3.0) return PlanCrowdRouteInScene(costmap, start, goal, r, scene, stop);
+  r.algorithm = static_cast<KinodynamicAlgorithm>(static_cast<int>(algorithm));
   const KinodynamicTrajectory t = PlanKinodynamic(costmap, r, scene.moving, stop);
   CellPath result;
   result.cells = {start, goal};

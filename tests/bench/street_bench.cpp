@@ -8,7 +8,7 @@
 //                   tracker, from the true pose.
 // Prints one line per run and the totals: collisions, the share of the time the nearest person
 // was outside the personal zone (1.2 m, centre to centre), closest approach.
-//   build/tests/street_bench [--runs N] [--first-seed S] [--people truth|laser] [--collisions]
+//   build/tests/street_bench [--runs N] [--first-seed S] [--people truth|laser] [--speed V] [--collisions]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -39,7 +39,7 @@ struct RunFigures {
   bool reached = false;
 };
 
-RunFigures Run(const sim::Scenario& scenario, uint64_t seed, bool truth_people, double distance, bool print_contacts) {
+RunFigures Run(const sim::Scenario& scenario, uint64_t seed, bool truth_people, double distance, bool print_contacts, double speed) {
   sim::SimulationOptions so;
   so.seed = seed;
   sim::Simulation s(scenario, so);
@@ -50,7 +50,7 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, bool truth_people, 
 
   const navigation::PeopleAwareOptions people;  // navd's defaults
   navigation::CrowdControllerOptions control = people.control;
-  control.limits = {std::min(1.5, world.robot.max_speed), world.robot.max_angular_speed, world.robot.max_accel,
+  control.limits = {std::min(speed, world.robot.max_speed), world.robot.max_angular_speed, world.robot.max_accel,
                     world.robot.max_angular_accel};
   control.planner.desired_speed = control.limits.max_speed;
   control.planner.robot_radius = world.robot.radius;
@@ -146,6 +146,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"truth", "laser"}));
   app.add_option("--scenario", scenario_path);
   app.add_option("--distance", distance, "metres down the street")->check(CLI::Range(1.0, 1000.0));
+  double speed = 1.5;
+  app.add_option("--speed", speed, "desired speed among people, m/s (navd --crowd-speed)")->check(CLI::Range(0.1, 5.0));
   bool print_contacts = false;
   app.add_flag("--collisions", print_contacts, "print each collision: where the person was, what the plan did");
   CLI11_PARSE(app, argc, argv);
@@ -164,7 +166,7 @@ int main(int argc, char** argv) {
   std::vector<double> shares;
   for (int i = 0; i < runs; ++i) {
     const uint64_t seed = first + static_cast<uint64_t>(i);
-    const RunFigures f = Run(scenario, seed, people == "truth", distance, print_contacts);
+    const RunFigures f = Run(scenario, seed, people == "truth", distance, print_contacts, speed);
     std::printf("seed %lu: %s, %.1f s, collisions %u, outside personal %.3f, nearest %.2f m\n",
                 static_cast<unsigned long>(seed), f.reached ? "reached" : "timed out", f.time, f.collisions,
                 f.outside_personal / f.time, f.nearest);

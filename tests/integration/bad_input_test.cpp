@@ -164,6 +164,21 @@ TEST_F(BadInput, MovingBodiesReachTheKinodynamicPlannerAndBadOnesAreNamed) {
   ASSERT_GT(plan.path_size(), 10);
   EXPECT_EQ(plan.speed_limits_size(), plan.path_size());
   for (const auto& p : plan.path()) EXPECT_GT(std::hypot(p.x() - 2.5, p.y() - 2.2), 0.25 + 0.3) << p.x() << ", " << p.y();
+  // The chapter's own planner, the crowd RRT in its MPC loop rolled out along an A* route, across
+  // the warehouse past someone standing on the way.
+  v1::MovingBody standing = person;
+  standing.mutable_position()->set_x(4.8);
+  standing.mutable_position()->set_y(4.8);
+  const auto rolled = client().ComputePath(0.8, 1, 8.8, 8.8, "kinodynamic", {{"algorithm", 3}, {"time_limit", 10.0}}, {standing});
+  ASSERT_GT(rolled.path_size(), 20);
+  EXPECT_EQ(rolled.speed_limits_size(), rolled.path_size());
+  const auto& end = rolled.path(rolled.path_size() - 1);
+  EXPECT_LT(std::hypot(end.x() - 8.8, end.y() - 8.8), 0.3);
+  for (const auto& p : rolled.path()) EXPECT_GT(std::hypot(p.x() - 4.8, p.y() - 4.8), 0.25 + 0.3) << p.x() << ", " << p.y();
+  EXPECT_GT(rolled.expansions(), 2000u);
+  // A goal next to someone who stands there for good is not reached, and the reason says why.
+  ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {{"algorithm", 3}, {"time_limit", 10.0}}, {person}); },
+              grpc::StatusCode::NOT_FOUND, {"people's space"});
   person.set_radius(-1);
   ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {}, {person}); },
               grpc::StatusCode::INVALID_ARGUMENT, {"moving[0].radius"});

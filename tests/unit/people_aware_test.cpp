@@ -7,6 +7,7 @@
 #include "services/common/error.h"
 #include "services/navigation/crowd_controller.h"
 #include "services/navigation/person_tracker.h"
+#include "services/planning/crowd_route.h"
 #include "services/planning/crowd_rrt.h"
 
 namespace navd {
@@ -140,6 +141,46 @@ TEST(CrowdRrt, BadInputIsRejected) {
   CrowdRrtOptions o = Options();
   o.max_nodes = 1;
   EXPECT_THROW(planning::PlanCrowdRrt(cm, r, o), Error);
+}
+
+TEST(CrowdRoute, RollsTheLoopOutToTheGoalPastWalkersAndSaysWhenItCannot) {
+  // 26 m down the street among three walkers coming the other way: the rolled-out MPC loop
+  // arrives within the goal tolerance, dynamically feasible, and never meets anyone's predicted
+  // body.
+  const planning::Costmap cm = Street();
+  planning::CrowdRouteRequest r;
+  r.start = {2.0, 4.0, 0.0, 0.0, 0.0, 0.0};
+  r.goal = {28.0, 4.0};
+  for (double x = 2.0; x <= 28.0 + 1e-9; x += 0.1) r.route.push_back({x, 4.0});
+  r.people = {{{12.0, 4.2}, {-1.3, 0.0}, 0.25, true}, {{18.0, 3.0}, {-1.2, 0.1}, 0.25, true},
+              {{24.0, 5.5}, {-1.4, -0.1}, 0.25, true}};
+  r.limits = {1.5, 2.0, 1.0, 4.0};
+  const planning::CrowdRoute route = planning::PlanCrowdRoute(cm, r, Options());
+  ASSERT_GE(route.states.size(), 10u);
+  EXPECT_LE(Distance(route.states.back().position(), r.goal), r.goal_tolerance + 1e-9);
+  EXPECT_GT(route.plans, 5);  // 2 s of each plan: ~26 m at up to 1.5 m/s is many rounds
+  EXPECT_LT(route.states.back().t, 26.0 / 1.5 * 1.6);
+  for (size_t i = 1; i < route.states.size(); ++i) {
+    const auto& a = route.states[i - 1];
+    const auto& b = route.states[i];
+    ASSERT_GT(b.t, a.t);
+    EXPECT_LE(std::abs(b.v - a.v), r.limits.max_accel * (b.t - a.t) + 1e-9) << i;
+    EXPECT_FALSE(cm.IsLethal(cm.grid().CellOf(b.position()))) << i;
+    for (const MovingBody& p : r.people)
+      EXPECT_GT(Distance(b.position(), p.position + b.t * p.velocity), 0.25 + 0.3) << "state " << i << " at t " << b.t;
+  }
+  // Boxed in for good (a line of standing people across the street): not found, and said so.
+  r.people.clear();
+  for (double y = 0.4; y < 7.8; y += 0.5) r.people.push_back({{6.0, y}, {0, 0}, 0.25, true});
+  r.max_time = 20.0;
+  try {
+    planning::PlanCrowdRoute(cm, r, Options());
+    ADD_FAILURE() << "a route through a wall of people";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kNotFound) << e.what();
+  }
+  r.route.resize(1);
+  EXPECT_THROW(planning::PlanCrowdRoute(cm, r, Options()), Error);
 }
 
 TEST(CrowdController, DrivesPastAWalkerReplanningAsItGoes) {
