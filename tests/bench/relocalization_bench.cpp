@@ -15,6 +15,7 @@
 #include "services/localization/particle_filter.h"
 #include "services/common/diff_drive.h"
 #include "simulator/simulation.h"
+#include "tests/support/simulated_drive.h"
 
 int main(int argc, char** argv) {
   using namespace navd;
@@ -58,14 +59,8 @@ int main(int argc, char** argv) {
       const auto out = s.Step();
       if (out.robots[0].odom) pf.AddOdometry({s.robot().base().odom_pose(), s.robot().base().odom_covariance(), s.now()});
       if (out.robots[0].scan) {
-        localization::ScanReading scan;
-        scan.ranges = *out.robots[0].scan;
-        scan.angle_min = s.robot().laser()->angle_min();
-        scan.angle_increment = s.robot().laser()->increment();
-        scan.range_min = world.laser.range_min;
-        scan.range_max = world.laser.range_max;
-        scan.stamp = s.now();  // the filter moves particles to the odometry of the scan's own time
-        pf.AddScan(scan);
+        // Stamped now: the filter moves particles to the odometry of the scan's own time.
+        pf.AddScan(localization::ToScan(s, *out.robots[0].scan));
       }
     }
     const Pose2 e = pf.Estimate().pose, t = s.robot().base().true_pose();

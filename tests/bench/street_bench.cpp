@@ -26,6 +26,7 @@
 #include "services/planning/personal_space.h"
 #include "simulator/scenario.h"
 #include "simulator/simulation.h"
+#include "tests/support/simulated_drive.h"
 
 namespace {
 
@@ -108,13 +109,7 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, bool truth_people, 
       }
     }
     if (!truth_people && out.robots[0].scan) {
-      localization::ScanReading scan;
-      scan.ranges = *out.robots[0].scan;
-      scan.angle_min = s.robot().laser()->angle_min();
-      scan.angle_increment = s.robot().laser()->increment();
-      scan.range_min = world.laser.range_min;
-      scan.range_max = world.laser.range_max;
-      scan.stamp = s.now();
+      const localization::ScanReading scan = localization::ToScan(s, *out.robots[0].scan);
       std::vector<Point2> seen;
       for (const navigation::DetectedObstacle& blob : segmenter.Segment(scan, s.robot().base().true_pose()))
         if (blob.radius <= people.max_person_radius) seen.push_back(blob.position);
