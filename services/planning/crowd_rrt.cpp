@@ -29,11 +29,23 @@ class CrowdField {
       : costmap_(costmap), o_(o), path_(r.path) {
     for (const MovingBody& b : r.people)
       if (Distance(b.position, r.start.position()) <= o.people_range) people_.push_back(b);
+    // A robot that passing people pushed into the inflation (lethal for plans, not yet a wall)
+    // may move anywhere no nearer the wall than it is, so it can get out; elsewhere the
+    // inflation holds.
+    const CellIndex start = costmap.grid().CellOf(r.start.position());
+    if (costmap.grid().Contains(start) && costmap.IsLethal(start))
+      least_wall_distance_ = std::max(0.5 * costmap.grid().resolution(), costmap.distance(costmap.grid().Flat(start)));
+  }
+  // Whether the robot may be at `p` as far as the map goes.
+  bool Allowed(const Point2& p) const {
+    const CellIndex c = costmap_.grid().CellOf(p);
+    if (!costmap_.grid().Contains(c)) return false;
+    return !costmap_.IsLethal(c) || costmap_.distance(costmap_.grid().Flat(c)) >= least_wall_distance_;
   }
   // g1 + g2 at `p` and time `t`; infinity where the robot may not be (walls, a person's body).
   double operator()(const Point2& p, double t) const {
+    if (!Allowed(p)) return kBlocked;
     const CellIndex c = costmap_.grid().CellOf(p);
-    if (!costmap_.grid().Contains(c) || costmap_.IsLethal(c)) return kBlocked;
     double g = o_.env_weight * costmap_.cost(c) / Costmap::kMaxCost;
     if (!path_.empty()) {
       const double d = DistanceToPath(p);
@@ -53,8 +65,7 @@ class CrowdField {
   // Metres between the robot's disc at `p` and the nearest person's predicted disc at `t`
   // (negative: overlapping); -infinity on a lethal cell or off the map.
   double Clearance(const Point2& p, double t) const {
-    const CellIndex c = costmap_.grid().CellOf(p);
-    if (!costmap_.grid().Contains(c) || costmap_.IsLethal(c)) return -std::numeric_limits<double>::infinity();
+    if (!Allowed(p)) return -std::numeric_limits<double>::infinity();
     double clearance = std::numeric_limits<double>::infinity();
     for (const MovingBody& b : people_)
       clearance = std::min(clearance, Distance(p, b.position + t * b.velocity) - b.radius - o_.robot_radius);
@@ -76,6 +87,7 @@ class CrowdField {
   const CrowdRrtOptions& o_;
   const std::vector<Point2>& path_;
   std::vector<MovingBody> people_;
+  double least_wall_distance_ = std::numeric_limits<double>::infinity();  // m; infinity: lethal is lethal
 };
 
 void Check(bool ok, const std::string& what) {
@@ -102,7 +114,7 @@ CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const
         room = std::min({room, field.Clearance(s.position(), s.t), field.Clearance(s.position(), 0.0)});
         if (std::fmod(s.t + 1e-9, o.step) < kSubStep) states.push_back(s);
       }
-      if (room > best_room) {
+      if (room > best_room || out.states.empty()) {
         best_room = room;
         out.states = states;
         out.inputs.assign(states.size() - 1, ClampInput(u, r.limits));

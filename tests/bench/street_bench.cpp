@@ -45,8 +45,9 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, bool truth_people, 
   so.seed = seed;
   sim::Simulation s(scenario, so);
   const World& world = s.world();
-  planning::CostmapOptions co;
-  co.inflation_radius = world.robot.radius + 0.05;
+  planning::CostmapOptions co;  // navd's defaults: --inflation-margin 0.1, --cost-decay 0.5
+  co.inflation_radius = world.robot.radius + 0.10;
+  co.decay_radius = 0.5;
   const planning::Costmap costmap(std::make_shared<OccupancyGrid>(world.map), co);
 
   const navigation::PeopleAwareOptions people;  // navd's defaults

@@ -129,6 +129,21 @@ TEST(CrowdRrt, GoesRoundAStandingGroupAndBrakesWhenBoxedIn) {
   EXPECT_LT(t.states.back().v, 0.05);
 }
 
+TEST(CrowdRrt, ARobotPushedIntoTheInflationDrivesOut) {
+  // Passing people pushed it 0.4 m from the wall (the costmap's inflation is 0.4 m: lethal for
+  // plans): it may not go nearer the wall, but it drives on and away from it.
+  const planning::Costmap cm = Street();
+  CrowdRrtRequest r = DownTheStreet(1.0);
+  r.start.y = 0.45;
+  ASSERT_TRUE(cm.IsLethal(cm.grid().CellOf(r.start.position())));
+  const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+  ASSERT_GE(t.states.size(), 2u);
+  EXPECT_FALSE(t.escape);
+  EXPECT_GT(t.states.back().x, 4.0);
+  EXPECT_GT(t.states.back().y, 0.6);  // out of the inflation
+  for (const auto& s : t.states) EXPECT_GT(s.y, 0.4) << s.t;
+}
+
 TEST(CrowdRrt, BadInputIsRejected) {
   const planning::Costmap cm = Street();
   CrowdRrtRequest r = DownTheStreet(1.0);
