@@ -32,6 +32,18 @@ namespace {
 
 constexpr double kStep = 0.05;  // s, one Euler step of Eq. 10
 
+void CheckRequest(const KinodynamicRequest& r) {
+  const UnicycleLimits& l = r.limits;
+  if (!(l.max_speed > 0 && l.max_yaw_rate > 0 && l.max_accel > 0 && l.max_yaw_accel > 0))
+    throw Error(ErrorCode::kInvalidArgument, "limits: max_speed, max_yaw_rate, max_accel and max_yaw_accel must be > 0");
+  if (!(r.time_limit > 0.0 && r.time_limit <= 60.0))
+    throw Error(ErrorCode::kInvalidArgument, "time_limit must be in (0, 60] seconds");
+  if (!(r.horizon > 0.0 && r.horizon <= 3600.0)) throw Error(ErrorCode::kInvalidArgument, "horizon must be in (0, 3600] seconds");
+  if (!(r.goal_tolerance > 0.0)) throw Error(ErrorCode::kInvalidArgument, "goal_tolerance must be > 0 metres");
+  if (!(r.start_speed >= 0.0 && r.start_speed <= l.max_speed))
+    throw Error(ErrorCode::kInvalidArgument, "start_speed must be in [0, max_speed]");
+}
+
 // The unicycle's state as plain numbers.
 struct Unicycle {
   double x, y, yaw, v, w, t;
@@ -166,15 +178,8 @@ KinodynamicTrajectory PlanKinodynamic(const Costmap& costmap, const KinodynamicR
                                       const std::vector<MovingBody>& moving, const StopRequested& stop) {
   static std::once_flag quiet;
   std::call_once(quiet, [] { ompl::msg::setLogLevel(ompl::msg::LOG_ERROR); });
+  CheckRequest(r);
   const UnicycleLimits& l = r.limits;
-  if (!(l.max_speed > 0 && l.max_yaw_rate > 0 && l.max_accel > 0 && l.max_yaw_accel > 0))
-    throw Error(ErrorCode::kInvalidArgument, "limits: max_speed, max_yaw_rate, max_accel and max_yaw_accel must be > 0");
-  if (!(r.time_limit > 0.0 && r.time_limit <= 60.0))
-    throw Error(ErrorCode::kInvalidArgument, "time_limit must be in (0, 60] seconds");
-  if (!(r.horizon > 0.0 && r.horizon <= 3600.0)) throw Error(ErrorCode::kInvalidArgument, "horizon must be in (0, 3600] seconds");
-  if (!(r.goal_tolerance > 0.0)) throw Error(ErrorCode::kInvalidArgument, "goal_tolerance must be > 0 metres");
-  if (!(r.start_speed >= 0.0 && r.start_speed <= l.max_speed))
-    throw Error(ErrorCode::kInvalidArgument, "start_speed must be in [0, max_speed]");
 
   const OccupancyGrid& grid = costmap.grid();
   auto space = std::make_shared<ob::CompoundStateSpace>();
@@ -321,11 +326,7 @@ namespace {
 // Book ch. 7's crowd RRT in its MPC loop, rolled out to the goal along an A* route.
 CellPath PlanCrowdRouteInScene(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
                                const KinodynamicRequest& r, const PlanningScene& scene, const StopRequested& stop) {
-  if (!(r.limits.max_speed > 0.0 && r.limits.max_yaw_rate > 0.0 && r.limits.max_accel > 0.0 && r.limits.max_yaw_accel > 0.0))
-    throw Error(ErrorCode::kInvalidArgument, "limits: max_speed, max_yaw_rate, max_accel and max_yaw_accel must be > 0");
-  if (!(r.start_speed >= 0.0 && r.start_speed <= r.limits.max_speed))
-    throw Error(ErrorCode::kInvalidArgument, "start_speed must be in [0, max_speed]");
-  if (!(r.time_limit > 0.0 && r.time_limit <= 60.0)) throw Error(ErrorCode::kInvalidArgument, "time_limit must be in (0, 60] seconds");
+  CheckRequest(r);
   const CellPath route_cells =
       GridAStarPlanner().Plan(costmap, start, goal, {{"diagonal", 1.0}, {"cost_weight", 1.0}}, stop);
   if (route_cells.cells.empty()) throw Error(ErrorCode::kNotFound, "no route from the start to the goal");
