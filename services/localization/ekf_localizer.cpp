@@ -15,9 +15,16 @@ constexpr double kFoldAngle = 0.5;     // rad
 
 EkfLocalizer::EkfLocalizer(const OccupancyGrid& map, const EkfOptions& options, const Pose2& initial_pose,
                            const Eigen::Matrix3d& initial_covariance)
-    : field_(map, options.field), o_(options), fit_(field_, options.fit) {
+    : o_(options), model_(std::make_shared<const MapModel>(map, options)) {
   belief_.x << initial_pose.x, initial_pose.y, NormalizeAngle(initial_pose.theta);
   belief_.p = initial_covariance;
+}
+
+bool EkfLocalizer::SetMap(const OccupancyGrid& map) {
+  auto model = std::make_shared<const MapModel>(map, o_);  // the costly part, outside the lock
+  std::lock_guard<std::mutex> lock(mutex_);
+  model_ = std::move(model);
+  return true;
 }
 
 void EkfLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
@@ -97,7 +104,7 @@ bool EkfLocalizer::AddScan(const ScanReading& scan) {
   Eigen::Matrix3d& p = belief_.p;
   const Pose2 now{x.x(), x.y(), x.z()};
   const Pose2 scan_from_now = odom_history_.At(scan.stamp).inverse() * latest_odom_;
-  const ScanToMapFitResult fit = fit_.Fit(ends, now * scan_from_now.inverse());
+  const ScanToMapFitResult fit = model_->fit.Fit(ends, now * scan_from_now.inverse());
   if (!fit.ok) {
     quality_ = 0.0;
     return false;

@@ -12,6 +12,7 @@
 // filter re-anchors at the match). The seed leaves U, Q and R open; the
 // defaults below are documented choices. Metres, radians, map frame.
 #include <Eigen/Core>
+#include <memory>
 #include <mutex>
 
 #include "services/common/occupancy_grid.h"
@@ -54,6 +55,8 @@ class EkfLocalizer : public Localizer {
   void AddOdometry(const OdometryReading& reading) override;
   bool AddScan(const ScanReading& scan) override;
   PoseEstimate Estimate() const override;
+  // Matches scans against `map` from now on; the belief is kept.
+  bool SetMap(const OccupancyGrid& map) override;
   // Needs the laser to correct; cheap (one fit per scan), tracks but cannot recover from a wrong
   // pose outside its gate, as precise as its matches.
   MethodContext Suitability(bool laser_fresh) const override;
@@ -69,10 +72,15 @@ class EkfLocalizer : public Localizer {
   // The belief moved by the robot-frame odometry increment d.
   Belief Predicted(const Belief& b, const Pose2& d) const;
 
-  const LikelihoodField field_;
   const EkfOptions o_;
-  const ScanToMapFit fit_;
+  // The map's likelihood field and the scan matcher on it; SetMap replaces both.
+  struct MapModel {
+    MapModel(const OccupancyGrid& map, const EkfOptions& o) : field(map, o.field), fit(field, o.fit) {}
+    LikelihoodField field;
+    ScanToMapFit fit;
+  };
   mutable std::mutex mutex_;
+  std::shared_ptr<const MapModel> model_;  // guarded by mutex_
   Belief belief_;                    // at the odometry predicted_at_odom_
   Pose2 predicted_at_odom_;
   OdometryHistory odom_history_;

@@ -32,7 +32,16 @@ const HistogramOptions& Checked(const OccupancyGrid& map, const HistogramOptions
 }  // namespace
 
 HistogramLocalizer::HistogramLocalizer(const OccupancyGrid& map, const HistogramOptions& options)
-    : o_(Checked(map, options)), field_(map, o_.field), origin_(map.origin()) {
+    : requested_(Checked(map, options)), o_(requested_) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  LayOutLocked(map, o_, std::make_unique<const LikelihoodField>(map, o_.field));
+}
+
+void HistogramLocalizer::LayOutLocked(const OccupancyGrid& map, const HistogramOptions& o,
+                                      std::unique_ptr<const LikelihoodField> field) {
+  o_ = o;
+  field_ = std::move(field);
+  origin_ = map.origin();
   nx_ = std::max(1, static_cast<int>(std::ceil(map.size_x() / o_.cell_size)));
   ny_ = std::max(1, static_cast<int>(std::ceil(map.size_y() / o_.cell_size)));
   nk_ = o_.heading_bins;
@@ -47,7 +56,18 @@ HistogramLocalizer::HistogramLocalizer(const OccupancyGrid& map, const Histogram
   }
   belief_.assign(states, 0.0f);
   scratch_.assign(states, 0.0f);
-  GlobalRelocalize();
+  GlobalRelocalizeLocked();
+}
+
+bool HistogramLocalizer::SetMap(const OccupancyGrid& map) {
+  HistogramOptions o = requested_;
+  while (StatesFor(map, o) > o.max_states) o.cell_size *= 1.1;
+  auto field = std::make_unique<const LikelihoodField>(map, o.field);  // the costly part, outside the lock
+  std::lock_guard<std::mutex> lock(mutex_);
+  const PoseEstimate was = estimate_;
+  LayOutLocked(map, o, std::move(field));
+  if (was.valid) ResetPoseLocked(was.pose, was.covariance);
+  return true;
 }
 
 int HistogramLocalizer::ColumnOf(double x) const {
@@ -56,6 +76,11 @@ int HistogramLocalizer::ColumnOf(double x) const {
 
 bool HistogramLocalizer::GlobalRelocalize() {
   std::lock_guard<std::mutex> lock(mutex_);
+  GlobalRelocalizeLocked();
+  return true;
+}
+
+void HistogramLocalizer::GlobalRelocalizeLocked() {
   for (int k = 0; k < nk_; ++k) {
     for (int j = 0; j < ny_; ++j) {
       for (int i = 0; i < nx_; ++i) belief_[Index(i, j, k)] = free_[static_cast<size_t>(j) * nx_ + i] ? 1.0f : 0.0f;
@@ -65,11 +90,14 @@ bool HistogramLocalizer::GlobalRelocalize() {
   if (have_odom_) predicted_at_odom_ = odom_history_.latest().pose;
   moved_since_scan_ = true;
   UpdateEstimateLocked();
-  return true;
 }
 
 void HistogramLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   std::lock_guard<std::mutex> lock(mutex_);
+  ResetPoseLocked(pose, covariance);
+}
+
+void HistogramLocalizer::ResetPoseLocked(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   // A Gaussian over the grid; with no spread given, all mass in the nearest state.
   const double sx = std::sqrt(covariance(0, 0)), sy = std::sqrt(covariance(1, 1)), st = std::sqrt(covariance(2, 2));
   const int ci = ColumnOf(pose.x);
@@ -208,21 +236,21 @@ bool HistogramLocalizer::AddScan(const ScanReading& scan) {
   for (int k = 0; k < nk_; ++k) {
     const double c = std::cos(HeadingOf(k)), s = std::sin(HeadingOf(k));
     for (size_t b = 0; b < nb; ++b) {
-      ex[k * nb + b] = static_cast<float>((c * ends[b].x() - s * ends[b].y()) * field_.inv_resolution());
-      ey[k * nb + b] = static_cast<float>((s * ends[b].x() + c * ends[b].y()) * field_.inv_resolution());
+      ex[k * nb + b] = static_cast<float>((c * ends[b].x() - s * ends[b].y()) * field_->inv_resolution());
+      ey[k * nb + b] = static_cast<float>((s * ends[b].x() + c * ends[b].y()) * field_->inv_resolution());
     }
   }
   std::vector<float>& log_weight = scratch_;
   float best = -std::numeric_limits<float>::infinity();
   for (int k = 0; k < nk_; ++k) {
     for (int j = 0; j < ny_; ++j) {
-      const float cy = field_.ToCellY(origin_.y() + (j + 0.5) * o_.cell_size);
+      const float cy = field_->ToCellY(origin_.y() + (j + 0.5) * o_.cell_size);
       for (int i = 0; i < nx_; ++i) {
         const size_t s = Index(i, j, k);
         if (belief_[s] <= 0.0f) continue;
-        const float cx = field_.ToCellX(origin_.x() + (i + 0.5) * o_.cell_size);
+        const float cx = field_->ToCellX(origin_.x() + (i + 0.5) * o_.cell_size);
         float sum = 0.0f;
-        for (size_t b = 0; b < nb; ++b) sum += field_.LogLikelihoodAtCell(cx + ex[k * nb + b], cy + ey[k * nb + b]);
+        for (size_t b = 0; b < nb; ++b) sum += field_->LogLikelihoodAtCell(cx + ex[k * nb + b], cy + ey[k * nb + b]);
         log_weight[s] = static_cast<float>(o_.likelihood_scale) * sum + std::log(belief_[s]);
         best = std::max(best, log_weight[s]);
       }
@@ -235,7 +263,7 @@ bool HistogramLocalizer::AddScan(const ScanReading& scan) {
   Normalise();
   moved_since_scan_ = false;
   UpdateEstimateLocked();
-  estimate_.quality = field_.Agreement(estimate_.pose, ends);
+  estimate_.quality = field_->Agreement(estimate_.pose, ends);
   return true;
 }
 

@@ -11,6 +11,7 @@
 // x, y and theta. It needs no prior (uniform over free space: global localisation) and holds any
 // number of hypotheses, at a cost that grows with the map's area: for small maps. Metres,
 // radians, map frame.
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -45,6 +46,10 @@ class HistogramLocalizer : public Localizer {
   bool AddScan(const ScanReading& scan) override;
   PoseEstimate Estimate() const override;
   bool GlobalRelocalize() override;
+  // Lays the grid out over `map` and spreads the belief round the current estimate. A map larger
+  // than max_states allows at the requested cell_size gets coarser cells (the robot is running:
+  // refusing would leave it on the old map).
+  bool SetMap(const OccupancyGrid& map) override;
   // Needs the laser; the slowest method, recovers like the particle filter (every pose is held
   // until the scans rule it out), precise to a fraction of a cell.
   MethodContext Suitability(bool laser_fresh) const override;
@@ -65,8 +70,14 @@ class HistogramLocalizer : public Localizer {
   // Bin k is centred on -pi + k * bin (so 0 and the axes are bin centres).
   double HeadingOf(int k) const { return -M_PI + k * bin_; }
 
-  const HistogramOptions o_;        // before field_: checked before the field is built
-  const LikelihoodField field_;
+  // The grid over `map` (origin, size, free cells) for options `o`; with the mutex held.
+  void LayOutLocked(const OccupancyGrid& map, const HistogramOptions& o, std::unique_ptr<const LikelihoodField> field);
+  void ResetPoseLocked(const Pose2& pose, const Eigen::Matrix3d& covariance);
+  void GlobalRelocalizeLocked();
+
+  const HistogramOptions requested_;
+  HistogramOptions o_;              // in effect: SetMap may coarsen the cells of a larger map
+  std::unique_ptr<const LikelihoodField> field_;
   Point2 origin_;
   int nx_ = 0, ny_ = 0, nk_ = 0;
   double bin_ = 0.0;

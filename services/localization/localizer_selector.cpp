@@ -94,6 +94,12 @@ bool LocalizerSelector::GlobalRelocalize() {
   return any;
 }
 
+bool LocalizerSelector::SetMap(const OccupancyGrid& map) {
+  bool any = false;
+  for (auto& l : localizers_) any |= l->SetMap(map);
+  return any;
+}
+
 void LocalizerSelector::ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   for (auto& l : localizers_) l->SetPose(pose, covariance);
 }

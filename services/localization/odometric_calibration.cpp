@@ -15,7 +15,14 @@ constexpr double kVariancePerMetreTheta = 0.02 * 0.02;
 OdometricCalibrationLocalizer::OdometricCalibrationLocalizer(const OccupancyGrid& map,
                                                              const OdometricCalibrationOptions& options,
                                                              const Pose2& initial_pose)
-    : map_(map), o_(options), initial_pose_(initial_pose) {}
+    : o_(options), map_(std::make_shared<const RayCaster>(map)), initial_pose_(initial_pose) {}
+
+bool OdometricCalibrationLocalizer::SetMap(const OccupancyGrid& map) {
+  auto caster = std::make_shared<const RayCaster>(map);
+  std::lock_guard<std::mutex> lock(mutex_);
+  map_ = std::move(caster);
+  return true;
+}
 
 void OdometricCalibrationLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -49,7 +56,7 @@ OdometricCalibrationLocalizer::Match OdometricCalibrationLocalizer::Compare(cons
   const double reject2 = o_.reject_distance * o_.reject_distance;
   double kept_sum = 0.0;
   for (size_t i = 0; i < angles.size(); ++i) {
-    const double expected = map_.Cast(pose.translation(), pose.theta + angles[i], range_max);
+    const double expected = map_->Cast(pose.translation(), pose.theta + angles[i], range_max);
     const double diff = ranges[i] - std::min(expected, range_max);
     const double d2 = diff * diff;
     if (d2 <= reject2) {

@@ -12,6 +12,7 @@
 // defaults below are our choices, documented: T_mo is the seed's moving-obstacle threshold, the
 // search is a coarse-to-fine grid, and a ray beyond T_mo costs T_mo^2 during the search (so a pose
 // cannot win by explaining fewer rays). Metres, radians, seconds, map frame.
+#include <memory>
 #include <mutex>
 
 #include "services/common/occupancy_grid.h"
@@ -44,6 +45,8 @@ class OdometricCalibrationLocalizer : public Localizer {
   // Returns true when the scan was checked (whether or not the pose moved).
   bool AddScan(const ScanReading& scan) override;
   PoseEstimate Estimate() const override;
+  // Takes its virtual scans in `map` from now on; the calibration is kept.
+  bool SetMap(const OccupancyGrid& map) override;
   // Needs the laser to calibrate; a few milliseconds per search, recovers from errors within its
   // search region, as precise as its matches.
   MethodContext Suitability(bool laser_fresh) const override;
@@ -60,9 +63,9 @@ class OdometricCalibrationLocalizer : public Localizer {
   Match Compare(const std::vector<double>& angles, const std::vector<double>& ranges, double range_max,
                 const Pose2& pose) const;
 
-  const RayCaster map_;
   const OdometricCalibrationOptions o_;
   mutable std::mutex mutex_;
+  std::shared_ptr<const RayCaster> map_;  // the virtual scans' map; guarded by mutex_
   OdometryHistory odom_history_;
   bool have_odom_ = false;
   Pose2 initial_pose_;

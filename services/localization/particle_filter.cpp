@@ -13,14 +13,21 @@ namespace {
 constexpr double kScanlessSteps = 4.0;   // x the update thresholds
 }  // namespace
 
+ParticleFilterLocalizer::MapModel::MapModel(const OccupancyGrid& grid, const ParticleFilterOptions& o)
+    : map(grid), field(grid, {o.sigma_hit, o.z_hit, o.z_rand, o.max_distance, o.range_max}) {
+  if (o.sensor_model == SensorModel::kBeam) caster.emplace(grid);
+  for (size_t i = 0; i < map.cells().size(); ++i)
+    if (map.cells()[i] == OccupancyGrid::kFree) free_cells.push_back(static_cast<int32_t>(i));
+}
+
 ParticleFilterLocalizer::ParticleFilterLocalizer(const OccupancyGrid& map, const ParticleFilterOptions& options)
-    : map_(map),
-      o_(options),
-      field_(map, {options.sigma_hit, options.z_hit, options.z_rand, options.max_distance, options.range_max}),
-      rng_(options.seed) {
-  if (o_.sensor_model == SensorModel::kBeam) caster_.emplace(map);
-  for (size_t i = 0; i < map_.cells().size(); ++i)
-    if (map_.cells()[i] == OccupancyGrid::kFree) free_cells_.push_back(static_cast<int32_t>(i));
+    : o_(options), model_(std::make_shared<const MapModel>(map, options)), rng_(options.seed) {}
+
+bool ParticleFilterLocalizer::SetMap(const OccupancyGrid& map) {
+  auto model = std::make_shared<const MapModel>(map, o_);  // the costly part, outside the lock
+  std::lock_guard<std::mutex> lock(mutex_);
+  model_ = std::move(model);
+  return true;
 }
 
 size_t ParticleFilterLocalizer::particle_count() const {
@@ -30,10 +37,10 @@ size_t ParticleFilterLocalizer::particle_count() const {
 
 Pose2 ParticleFilterLocalizer::RandomFreePose() {
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  if (free_cells_.empty()) return {};
-  const int32_t i = free_cells_[static_cast<size_t>(u(rng_) * free_cells_.size()) % free_cells_.size()];
-  const Point2 c = map_.CellCenter({i % map_.width(), i / map_.width()});
-  const double r = map_.resolution();
+  if (model_->free_cells.empty()) return {};
+  const int32_t i = model_->free_cells[static_cast<size_t>(u(rng_) * model_->free_cells.size()) % model_->free_cells.size()];
+  const Point2 c = model_->map.CellCenter({i % model_->map.width(), i / model_->map.width()});
+  const double r = model_->map.resolution();
   return {c.x() + (u(rng_) - 0.5) * r, c.y() + (u(rng_) - 0.5) * r, NormalizeAngle(u(rng_) * 2 * M_PI)};
 }
 
@@ -164,16 +171,16 @@ void ParticleFilterLocalizer::WeighByLikelihoodField(const std::vector<Point2>& 
   // (shifted by half a cell) from here on, since this loop runs particles x beams times.
   std::vector<float> end_x(ends.size()), end_y(ends.size());
   for (size_t j = 0; j < ends.size(); ++j) {
-    end_x[j] = static_cast<float>(ends[j].x() * field_.inv_resolution());
-    end_y[j] = static_cast<float>(ends[j].y() * field_.inv_resolution());
+    end_x[j] = static_cast<float>(ends[j].x() * model_->field.inv_resolution());
+    end_y[j] = static_cast<float>(ends[j].y() * model_->field.inv_resolution());
   }
   for (size_t k = 0; k < particles_.size(); ++k) {
     const Pose2& p = particles_[k].pose;
     const float c = static_cast<float>(std::cos(p.theta)), s = static_cast<float>(std::sin(p.theta));
-    const float px = field_.ToCellX(p.x), py = field_.ToCellY(p.y);
+    const float px = model_->field.ToCellX(p.x), py = model_->field.ToCellY(p.y);
     float sum = 0.0f;
     for (size_t j = 0; j < end_x.size(); ++j) {
-      sum += field_.LogLikelihoodAtCell(px + c * end_x[j] - s * end_y[j], py + s * end_x[j] + c * end_y[j]);
+      sum += model_->field.LogLikelihoodAtCell(px + c * end_x[j] - s * end_y[j], py + s * end_x[j] + c * end_y[j]);
     }
     sensor[k] = sum;
   }
@@ -185,7 +192,7 @@ double ParticleFilterLocalizer::BeamModelLogLikelihood(const Pose2& pose, const 
   const double norm = 1.0 / (b.sigma_hit * std::sqrt(2 * M_PI));
   double sum = 0.0;
   for (const ScanBeam& beam : beams) {
-    const double expected = std::min(caster_->Cast(pose.translation(), pose.theta + beam.angle, range_max), range_max);
+    const double expected = std::min(model_->caster->Cast(pose.translation(), pose.theta + beam.angle, range_max), range_max);
     const double z = beam.range;
     double p = b.z_rand / range_max;
     if (!beam.hit) {
@@ -237,7 +244,7 @@ void ParticleFilterLocalizer::Reweigh(const std::vector<Point2>& ends, std::vect
   if (effective < particles_.size() / 2.0 || inject > 0.0) Resample();
   moved_since_scan_ = false;
   UpdateEstimate();
-  estimate_.quality = field_.Agreement(estimate_.pose, ends);
+  estimate_.quality = model_->field.Agreement(estimate_.pose, ends);
 }
 
 void ParticleFilterLocalizer::Resample() {

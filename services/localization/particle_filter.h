@@ -13,6 +13,7 @@
 // Units: metres, radians; poses in the map frame; odometry in the odom frame.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <random>
@@ -99,6 +100,8 @@ class ParticleFilterLocalizer : public Localizer {
     return {name(), laser_fresh ? 1.0 : 0.0, {2.0, 4.0, 1.0 + 4.0 * std::clamp(Estimate().quality, 0.0, 1.0)}};
   }
   PoseEstimate Estimate() const override;
+  // Matches scans against `map` from now on; the particles stay where they are.
+  bool SetMap(const OccupancyGrid& map) override;
 
   // Scatters particles uniformly over the free space (global localisation, no prior).
   void ScatterUniformly();
@@ -124,13 +127,18 @@ class ParticleFilterLocalizer : public Localizer {
   // estimate; with the mutex held.
   void Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams);
 
-  const OccupancyGrid map_;
   ParticleFilterOptions o_;
-  const LikelihoodField field_;
-  std::optional<RayCaster> caster_;  // the beam model's ray casts, built only when it is chosen
+  // What the filter knows of the map; SetMap replaces it whole.
+  struct MapModel {
+    MapModel(const OccupancyGrid& grid, const ParticleFilterOptions& o);
+    OccupancyGrid map;
+    LikelihoodField field;
+    std::optional<RayCaster> caster;  // the beam model's ray casts, built only when it is chosen
+    std::vector<int32_t> free_cells;
+  };
+  std::shared_ptr<const MapModel> model_;  // guarded by mutex_
   // Sum over `beams` of the beam model's log-likelihood from `pose` (map frame).
   double BeamModelLogLikelihood(const Pose2& pose, const std::vector<ScanBeam>& beams, double range_max) const;
-  std::vector<int32_t> free_cells_;
 
   mutable std::mutex mutex_;
   std::mt19937_64 rng_;

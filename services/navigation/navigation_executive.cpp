@@ -1,5 +1,6 @@
 #include "services/navigation/navigation_executive.h"
 
+#include <chrono>
 #include <cmath>
 #include <initializer_list>
 
@@ -12,7 +13,7 @@ namespace {
 const char* const kMeasured[] = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger",
                                  "map_building"};
 const char* const kProcesses[] = {"navigation",  "emergency_stop", "wake_up", "localization", "moving_obstacle_detection",
-                                  "moving_obstacle_avoidance"};
+                                  "moving_obstacle_avoidance", "long_term_memory"};
 
 // Eight points on the rim of obstacle `o` at each of `ahead` seconds on at its velocity, in the
 // frame of a robot at `pose`.
@@ -28,6 +29,10 @@ void AddPredictedRim(const DetectedObstacle& o, const Pose2& pose, std::initiali
 }
 
 constexpr double kContactDisc = 0.15;  // m: radius of what a bumper hit, as the plans see it
+// Outside the navigation grid: how far to look for the grid (m), and how often to ask whether a
+// leg can start from the pose (s; seed 000's state 2, each planning attempt a few milliseconds).
+constexpr double kReentrySearch = 3.0;
+constexpr double kReentryCheckPeriod = 0.25;
 
 long StateIndexOr(const UtilityDecisionMaker& brain, const char* name) {
   const auto& vars = brain.options().state_variables;
@@ -55,7 +60,8 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       crowd_(people.control),
       reflex_(options.reflex),
       avoider_(moving.avoidance),
-      recovery_(options.recovery, options.follower.wheel_base) {
+      recovery_(options.recovery, options.follower.wheel_base),
+      reentry_(options.reentry) {
   for (const std::string& v : brain_.options().state_variables) {
     bool known = false;
     for (const char* m : kMeasured) known = known || v == m;
@@ -74,6 +80,9 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
   wake_up_ = brain_.FindProcess("wake_up");
   localization_ = brain_.FindProcess("localization");
   detection_ = brain_.FindProcess("moving_obstacle_detection");
+  memory_ = brain_.FindProcess("long_term_memory");
+  // The localisers were built on the map served now.
+  if (const auto map = planning_.maps().Get()) localizer_map_version_ = map->version;
   avoidance_ = brain_.FindProcess("moving_obstacle_avoidance");
   for (const auto& [name, index] : {std::pair<const char*, long>{"emergency_stop", emergency_stop_},
                                     {"wake_up", wake_up_},
@@ -83,7 +92,8 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
     }
   }
   for (const auto& [name, index] :
-       {std::pair<const char*, long>{"localization", localization_}, {"moving_obstacle_detection", detection_}}) {
+       {std::pair<const char*, long>{"localization", localization_}, {"moving_obstacle_detection", detection_},
+        {"long_term_memory", memory_}}) {
     if (index >= 0 && brain_.options().processes[index].kind != ProcessKind::kCognitive) {
       throw Error(ErrorCode::kInvalidArgument, std::string("brain: '") + name + "' must be a cognitive process");
     }
@@ -95,7 +105,7 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       throw Error(ErrorCode::kInvalidArgument, "brain: process '" + p.name +
                                                    "' is not one navd runs (navigation, emergency_stop, wake_up, "
                                                    "localization, moving_obstacle_detection, "
-                                                   "moving_obstacle_avoidance)");
+                                                   "moving_obstacle_avoidance, long_term_memory)");
     }
   }
   z_contact_ = StateIndexOr(brain_, "contact");
@@ -198,18 +208,29 @@ uint64_t NavigationExecutive::StartMission(const Mission& mission, const std::st
   }
   const auto map = planning_.maps().Get();  // before planning: the plan is at least this new
   planning::PathPlan first;
-  if (mission.waypoints.size() == 1) {
-    // Validates the goal (finite, inside the map, free) and fails early when no path exists.
-    first = planning_.ComputePath(estimate.pose.translation(), mission.waypoints[0].pose.translation(), planner, {},
-                                  stop);
-  } else {
+  std::vector<Point2> points;
+  for (const auto& w : mission.waypoints) points.push_back(w.pose.translation());
+  // A cyclic mission's closing leg is checked as well.
+  if (mission.cyclic && points.size() > 1) points.push_back(points.front());
+  auto check = [&](const Point2& from) {
+    if (points.size() == 1) {
+      // Validates the goal (finite, inside the map, free) and fails early when no path exists.
+      return planning_.ComputePath(from, points[0], planner, {}, stop);
+    }
     // Every waypoint and every leg is checked now, not when the robot gets there; errors name
-    // waypoints[i]. A cyclic mission's closing leg is checked as well.
-    std::vector<Point2> points;
-    for (const auto& w : mission.waypoints) points.push_back(w.pose.translation());
-    if (mission.cyclic) points.push_back(points.front());
-    planning_.ComputePathThroughPoses(estimate.pose.translation(), points, planner, {}, stop);
-    first = planning_.ComputePath(estimate.pose.translation(), points.front(), planner, {}, stop);
+    // waypoints[i].
+    planning_.ComputePathThroughPoses(from, points, planner, {}, stop);
+    return planning_.ComputePath(from, points.front(), planner, {}, stop);
+  };
+  try {
+    first = check(estimate.pose.translation());
+  } catch (const Error& e) {
+    // Seed 000's state 2: a robot outside the navigation grid is not a bad mission. It drives back
+    // onto the grid first (GridReentry), so the mission is checked from where it will get on.
+    const std::optional<Point2> entry = StartsOffGrid(e) ? NearestGridPoint(estimate.pose.translation()) : std::nullopt;
+    if (!entry) throw;
+    check(*entry);
+    first = {};  // the first leg is planned once the robot is on the grid
   }
   const uint64_t id = navigator_.Start(mission, first.points, first.length, clock_.Now(), preempt);
   leg_map_version_ = map ? map->version : 0;
@@ -236,9 +257,59 @@ void NavigationExecutive::PlanLeg(double now) {
     }
     navigator_.SetLegPath(plan.points, plan.length, now);
     leg_map_version_ = plan_map_version;
+    reentry_.Stop();
   } catch (const Error& e) {
-    navigator_.Abort("no path to waypoint " + FormatPoint(leg->pose.translation()) + ": " + e.what(), now);
+    // Seed 000's state 2: the leg cannot start where the robot is (it is outside the grid); with
+    // its laser it drives back on (states 3-5), and the leg is planned again from there.
+    if (StartsOffGrid(e) && !reentry_.TimedOut(now)) {
+      if (!reentry_.active()) reentry_.Start(now);
+      reentry_why_ = e.what();
+      return;
+    }
+    std::string why = e.what();
+    if (reentry_.active()) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, " (outside the navigation grid for %.0f s)", now - reentry_.started_at());
+      why += buf;
+    }
+    reentry_.Stop();
+    navigator_.Abort("no path to waypoint " + FormatPoint(leg->pose.translation()) + ": " + why, now);
   }
+}
+
+void NavigationExecutive::RememberMap() {
+  if (map_handover_.valid()) {
+    if (map_handover_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+    map_handover_.get();
+  }
+  const auto map = planning_.maps().Get();
+  if (!map || map->version == localizer_map_version_) return;
+  localizer_map_version_ = map->version;
+  // A localiser's model of a large map (likelihood field, ray caster) takes up to a second to
+  // build: not in a control step. The localisers go on with the old map until it is ready.
+  map_handover_ = std::async(std::launch::async, [this, map] { localizer_.SetMap(map->grid); });
+}
+
+uint64_t NavigationExecutive::localizer_map_version() const {
+  const bool busy = map_handover_.valid() && map_handover_.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
+  return busy ? 0 : localizer_map_version_.load();
+}
+
+bool NavigationExecutive::StartsOffGrid(const Error& e) const {
+  // The planning engine's errors about the start begin with the field's name; the laser finds the
+  // way back onto the grid, so without a scan there is none.
+  if (std::string_view(e.what()).rfind("start ", 0) != 0) return false;
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  return !scan_points_.empty();
+}
+
+std::optional<Point2> NavigationExecutive::NearestGridPoint(const Point2& p) const {
+  const std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
+  if (!costmap || !costmap->grid().ContainsPoint(p)) return std::nullopt;
+  const std::optional<CellIndex> cell = costmap->NearestFree(
+      costmap->grid().CellOf(p), static_cast<int>(kReentrySearch / costmap->grid().resolution()), true);
+  if (!cell) return std::nullopt;
+  return costmap->grid().CellCenter(*cell);
 }
 
 planning::PlanningScene NavigationExecutive::Scene(const Pose2& pose) const {
@@ -617,6 +688,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   const double dt = last_step_ < 0.0 || now <= last_step_ ? 0.0 : std::min(now - last_step_, 1.0);
   last_step_ = now;
   brain_.Update(dt, z);
+  if (memory_ >= 0 && brain_.active(static_cast<size_t>(memory_))) RememberMap();
   const size_t motor = brain_.active_motor();
   navigator_.SetBehaviour(brain_.name(motor), brain_.Snapshot());
   {
@@ -709,6 +781,9 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   // then stood it still for 600 s of a 1 km run.
   const bool waited_out = avoider_.done() && now - avoidance_done_at_ > moving_.avoidance.wait_before_retry;
   const bool nothing_to_avoid = !nearest && (avoider_.phase() == AvoidancePhase::kIdle || waited_out);
+  if (avoidance_ >= 0 && static_cast<long>(motor) == avoidance_ && nothing_to_avoid) {
+    navigator_.SetBehaviour(brain_.name(navigation_), brain_.Snapshot());  // the one that drives
+  }
   if (avoidance_ >= 0 && static_cast<long>(motor) == avoidance_ && !nothing_to_avoid) {
     // A pressed rear bumper closes the way back, whatever the rear sensor says.
     const AvoidanceSensing sensing = Sensing(estimate.pose, in.contact && in.rear_contact_only ? 0.0 : in.rear_free);
@@ -752,6 +827,27 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
                       fresh);
       return *w;
     }
+  }
+  if (reentry_.active()) {
+    if (now - reentry_checked_at_ >= kReentryCheckPeriod) {
+      reentry_checked_at_ = now;
+      PlanLeg(now);  // state 2: on the grid yet?
+    }
+    if (reentry_.active() && navigator_.LegToPlan()) {
+      std::vector<Point2> local;
+      {
+        std::lock_guard<std::mutex> lock(detector_mutex_);
+        local = LocalScanPointsLocked(estimate.pose);
+      }
+      const WheelSpeeds w =
+          fresh ? reentry_.Step(estimate.pose, local, NearestGridPoint(estimate.pose.translation())) : WheelSpeeds{};
+      navigator_.Hold(estimate.pose, now, NavigationState::kRecovering,
+                      std::string("outside the navigation grid (") + reentry_why_ + "): " +
+                          ReentryStateName(reentry_.state()),
+                      fresh);
+      return ScanGuard(w, estimate.pose);
+    }
+    reentry_.Stop();  // on the grid, or the mission ended
   }
   if (now - last_blocked_check_ >= moving_.replan_period) {
     // Nav2 replans at 1 Hz; we replan when something has come to lie across the path ahead: a

@@ -6,6 +6,7 @@
 // the planning engine from the current pose estimate, and hands the paths to the navigator. The
 // gRPC adapter and the control loop both talk to this class only.
 #include <atomic>
+#include <future>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -13,9 +14,11 @@
 #include <vector>
 
 #include "services/common/clock.h"
+#include "services/common/error.h"
 #include "services/localization/localizer.h"
 #include "services/navigation/crowd_controller.h"
 #include "services/navigation/delivery_scheduler.h"
+#include "services/navigation/grid_reentry.h"
 #include "services/navigation/moving_obstacle_avoidance.h"
 #include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
@@ -202,13 +205,24 @@ class NavigationExecutive {
   SpeedZones speed_zones() const;
   // The people tracked now (map frame), with people-aware navigation on. Thread-safe.
   std::vector<TrackedPerson> people() const;
+  // The served map's version the localisers match scans against (long-term memory); 0 while a
+  // hand-over is under way. Control thread.
+  uint64_t localizer_map_version() const;
 
  private:
   uint64_t StartMission(const Mission& mission, const std::string& planner, bool preempt,
                         const planning::StopRequested& stop);
   // The motor behaviour's command before the speed zones cap it.
   WheelSpeeds Decide(const ExecutiveInputs& in, double now);
+  // Plans the leg the navigator asks for; a start off the grid starts (or continues) the drive
+  // back onto it, any other failure ends the mission.
   void PlanLeg(double now);
+  // Whether `e` says the robot is outside the navigation grid (the planner refuses its start) and
+  // the laser can lead it back.
+  bool StartsOffGrid(const Error& e) const;
+  // The nearest point where a leg could start (a costmap cell that is not lethal) within
+  // kReentrySearch of `p`, looking through walls (the estimate may be inside one); map frame.
+  std::optional<Point2> NearestGridPoint(const Point2& p) const;
   // Runs the detection process on a new scan (building its map view when the map changed).
   void DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now);
   // The served map for ray casts, rebuilt when the map changes; null before there is one.
@@ -242,6 +256,9 @@ class NavigationExecutive {
   std::vector<TrackedPerson> PeopleLocked(double now) const;
   // The crowd controller's command while it steers the current leg; nullopt when it does not.
   std::optional<WheelSpeeds> SteerAmongPeople(const Pose2& pose, double now);
+  // Seed 000's long-term memory (section 4.6), one step: hands a newly served map to the
+  // localisers (on a worker thread), once the previous hand-over has finished.
+  void RememberMap();
   // Updates lost_ from the estimate; `moving`: whether the robot is meant to be moving.
   void WatchLocalization(const localization::PoseEstimate& estimate, uint64_t scans, double now);
 
@@ -252,7 +269,7 @@ class NavigationExecutive {
   UtilityDecisionMaker brain_;
   LocalizationWatchOptions watch_;
   size_t navigation_ = 0;
-  long emergency_stop_ = -1, wake_up_ = -1, localization_ = -1, detection_ = -1, avoidance_ = -1;
+  long emergency_stop_ = -1, wake_up_ = -1, localization_ = -1, detection_ = -1, avoidance_ = -1, memory_ = -1;
   long z_contact_ = -1, z_stale_ = -1, z_lost_ = -1, z_danger_ = -1, z_map_building_ = -1;
   std::atomic<bool> map_building_{false};
   MovingObstacleOptions moving_;
@@ -283,6 +300,11 @@ class NavigationExecutive {
   std::vector<Point2> scan_points_;    // the last scan's returns, map frame
   MovingObstacleAvoidance avoider_;
   RecoveryBehaviour recovery_;
+  GridReentry reentry_;             // control thread only
+  std::string reentry_why_;         // what the planner said of the start
+  double reentry_checked_at_ = -1e9;
+  std::atomic<uint64_t> localizer_map_version_{0};
+  std::future<void> map_handover_;  // the localisers' SetMap under way; control thread only
   double avoidance_done_at_ = -1.0;
   EmergencyStopOptions stop_options_;
   double contact_since_ = -1.0;

@@ -92,7 +92,8 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
   moving_time_ = 0.0;
   last_step_ = now;
   path_length_ = path_length;
-  leg_needs_path_ = false;
+  // Without a path the first leg is planned later (the robot starts outside the navigation grid).
+  leg_needs_path_ = path.empty();
   stuck_ = false;
   f.recoveries = 0;
   f.reflexes = 0;
@@ -101,7 +102,7 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
   best_remaining_ = follower_.DistanceRemaining(last_pose_);
   best_remaining_at_ = now;
   stale_since_ = held_since_ = -1.0;
-  UpdateFeedbackLocked(FromFollower(follower_.state()), last_pose_, now);
+  UpdateFeedbackLocked(leg_needs_path_ ? NavigationState::kPlanning : FromFollower(follower_.state()), last_pose_, now);
   BumpLocked();
   return status_.goal_id;
 }

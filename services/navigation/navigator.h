@@ -16,6 +16,7 @@
 
 #include "services/common/diff_drive.h"
 #include "services/common/pose2.h"
+#include "services/navigation/grid_reentry.h"
 #include "services/navigation/path_follower.h"
 #include "services/navigation/sonar_reflex.h"
 #include "services/navigation/utility_decision_maker.h"
@@ -126,6 +127,8 @@ struct NavigatorOptions {
   int max_contacts = 3;
   double contact_radius = 0.3;      // m
   RecoveryOptions recovery;
+  // Seed 000's way back onto the navigation grid when a leg cannot start where the robot is.
+  GridReentryOptions reentry;
   // Seed 004's reflexes on the sonar ring, summed with the path follower's command.
   SonarReflexOptions reflex;
   // ...or when sensors stayed stale this long.

@@ -132,7 +132,9 @@ UtilityBrainOptions DefaultBrainOptions() {
   UtilityProcessOptions localization{"localization", ProcessKind::kCognitive, 0.1, 1.0, 0.5};
   UtilityProcessOptions detection{"moving_obstacle_detection", ProcessKind::kCognitive, 0.1, 1.0, 0.5,
                                   {{"map_building", -1.0}}};
-  o.processes = {navigation, stop, wake_up, avoidance, localization, detection};
+  // Seed 000 section 4.6: B6 keeps the map for the others; off while the map is being built.
+  UtilityProcessOptions memory{"long_term_memory", ProcessKind::kCognitive, 0.1, 1.0, 0.5, {{"map_building", -1.0}}};
+  o.processes = {navigation, stop, wake_up, avoidance, localization, detection, memory};
   return o;
 }
 

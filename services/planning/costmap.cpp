@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <queue>
 
 #include "services/common/distance_field.h"
 #include "services/common/grid_traversal.h"
@@ -41,6 +42,30 @@ int Costmap::SegmentMaxCost(const Point2& a, const Point2& b) const {
     return true;
   });
   return free ? worst : -1;
+}
+
+std::optional<CellIndex> Costmap::NearestFree(const CellIndex& from, int max_cells, bool through_obstacles) const {
+  if (!grid_->Contains(from)) return std::nullopt;
+  if (!IsLethal(from)) return from;
+  std::vector<uint8_t> seen(grid_->cells().size(), 0);
+  std::queue<CellIndex> q;
+  q.push(from);
+  seen[grid_->Flat(from)] = 1;
+  while (!q.empty()) {
+    const CellIndex c = q.front();
+    q.pop();
+    for (const CellIndex d : {CellIndex{1, 0}, CellIndex{-1, 0}, CellIndex{0, 1}, CellIndex{0, -1}}) {
+      const CellIndex n{c.x + d.x, c.y + d.y};
+      if (!grid_->Contains(n) || seen[grid_->Flat(n)] || std::abs(n.x - from.x) > max_cells ||
+          std::abs(n.y - from.y) > max_cells || (!through_obstacles && grid_->IsOccupied(n))) {
+        continue;
+      }
+      seen[grid_->Flat(n)] = 1;
+      if (!IsLethal(n)) return n;
+      q.push(n);
+    }
+  }
+  return std::nullopt;
 }
 
 }  // namespace navd::planning

@@ -6,6 +6,7 @@
 // allowed. Costs are 0..252 (free..nearly lethal); lethal cells are flagged separately.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
@@ -48,6 +49,11 @@ class Costmap {
   // The highest cost on the segment a-b (0 without decay), or -1 when it is not SegmentFree: both
   // answers from one traversal.
   int SegmentMaxCost(const Point2& a, const Point2& b) const;
+  // The nearest cell that is not lethal, by a breadth-first search (4-connected) from `from` out to
+  // `max_cells` cells along either axis; nullopt when there is none that near. through_obstacles
+  // false: the search does not cross occupied cells, so the answer is reachable from `from`; true:
+  // it does (where to head from a pose estimate that lies inside a wall).
+  std::optional<CellIndex> NearestFree(const CellIndex& from, int max_cells, bool through_obstacles) const;
 
  private:
   std::shared_ptr<const OccupancyGrid> grid_;

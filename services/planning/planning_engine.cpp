@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <queue>
 #include <algorithm>
 
 #include "services/common/error.h"
@@ -204,35 +203,15 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     throw Error(ErrorCode::kInvalidArgument, "start " + FormatPoint(start) + " is inside an obstacle");
   }
   if (costmap->IsLethal(start_cell)) {
-    // Breadth-first search outward for the nearest free cell.
-    const int max_r = static_cast<int>(options_.start_recovery_radius / grid.resolution());
-    std::vector<uint8_t> seen(grid.cells().size(), 0);
-    std::queue<CellIndex> q;
-    q.push(start_cell);
-    seen[grid.Flat(start_cell)] = 1;
-    bool found = false;
-    while (!q.empty() && !found) {
-      const CellIndex c = q.front();
-      q.pop();
-      for (const CellIndex d : {CellIndex{1, 0}, CellIndex{-1, 0}, CellIndex{0, 1}, CellIndex{0, -1}}) {
-        const CellIndex n{c.x + d.x, c.y + d.y};
-        if (!grid.Contains(n) || seen[grid.Flat(n)] || std::abs(n.x - start_cell.x) > max_r ||
-            std::abs(n.y - start_cell.y) > max_r || grid.IsOccupied(n)) {
-          continue;
-        }
-        seen[grid.Flat(n)] = 1;
-        if (!costmap->IsLethal(n)) {
-          start_cell = n;
-          found = true;
-          break;
-        }
-        q.push(n);
-      }
+    const std::optional<CellIndex> free = costmap->NearestFree(
+        start_cell, static_cast<int>(options_.start_recovery_radius / grid.resolution()), false);
+    if (!free) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, " is within %.2f m of an obstacle or unknown space, and no free cell is within %.2f m",
+                    costmap->options().inflation_radius, options_.start_recovery_radius);
+      throw Error(ErrorCode::kInvalidArgument, "start " + FormatPoint(start) + buf);
     }
-    if (!found) {
-      throw Error(ErrorCode::kInvalidArgument,
-                  "start " + FormatPoint(start) + " is too close to obstacles and no free cell is near it");
-    }
+    start_cell = *free;
   }
 
   if (!scene.moving.empty() && !planner.plans_among_moving_bodies()) {

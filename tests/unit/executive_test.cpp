@@ -6,11 +6,14 @@
 #include <cmath>
 #include <optional>
 #include <set>
+#include <thread>
 
 #include "services/common/diff_drive.h"
 #include "services/common/error.h"
 #include "services/common/map_store.h"
+#include "services/common/ray_caster.h"
 #include "services/localization/odometry_localizer.h"
+#include "services/localization/particle_filter.h"
 #include "services/navigation/navigation_executive.h"
 #include "services/navigation/navigator.h"
 #include "services/planning/planner_catalog.h"
@@ -456,6 +459,198 @@ TEST(NavigationExecutive, WhatTheBumperHitGoesIntoThePlansAndRepeatedBumpsAreBou
   EXPECT_EQ(wall.result->outcome, Outcome::kFailed);
   EXPECT_NE(wall.result->message.find("bumped into something at"), std::string::npos) << wall.result->message;
   std::printf("wall: %d contacts, %s\n", wall.contacts, wall.result->message.c_str());
+}
+
+// Seed 000's grid navigation, states 2-5: a robot whose estimate stands where no leg can start
+// (here: in a part of the room the map calls unknown, a metre from the mapped floor) is outside
+// the navigation grid. The mission is accepted all the same (checked from where the robot will get
+// on); the robot, facing away, turns towards the grid, drives straight on once the laser shows the
+// way clear, plans the leg from the grid and arrives. Boxed in, it turns in place and gives the
+// mission up after give_up_after, saying why.
+struct ReentryRun {
+  std::optional<NavigationResult> result;
+  std::string reason;               // the first hold reason outside the grid
+  double turned_before_driving = 0.0, least_x = 1e9;
+  bool accepted = false;
+};
+ReentryRun DriveBackOntoTheGrid(bool boxed_in) {
+  NavigatorOptions options;
+  options.reentry.give_up_after = 20.0;
+  MapStore maps;
+  {
+    OccupancyGrid grid(120, 100, 0.05, Point2(0.0, 0.0));
+    for (int y = 0; y < 100; ++y)
+      for (int x = 0; x < 30; ++x) grid.set({x, y}, OccupancyGrid::kUnknown);  // x < 1.5 m: unmapped
+    maps.Set(std::move(grid), "half-mapped");
+  }
+  planning::PlanningEngine planning{maps, {}};
+  planning::RegisterDefaultPlanners(planning);
+  localization::OdometryLocalizer localizer{Pose2(0.7, 2.5, M_PI)};  // facing away from the mapped floor
+  SimClock clock;
+  NavigationExecutive executive{planning, localizer, clock, options};
+  Pose2 odom(0.0, 0.0, 0.0);
+  double t = 0.0;
+  ReentryRun run;
+  bool driven = false;
+  auto step = [&] {
+    clock.Set(t);
+    localizer.AddOdometry({odom, Eigen::Matrix3d::Zero(), t});
+    const Pose2 pose = localizer.Estimate().pose;
+    // The laser in the real room, 6 m x 5 m and all free; boxed in, a ring of returns at 0.4 m.
+    localization::ScanReading scan;
+    scan.angle_min = -M_PI;
+    scan.angle_increment = M_PI / 90;
+    scan.range_max = 8.0;
+    scan.stamp = t;
+    for (int i = 0; i < 180; ++i) {
+      const double a = pose.theta + scan.angle_min + i * scan.angle_increment;
+      const double c = std::cos(a), s = std::sin(a);
+      double r = 8.0;
+      if (c > 1e-9) r = std::min(r, (6.0 - pose.x) / c);
+      if (c < -1e-9) r = std::min(r, -pose.x / c);
+      if (s > 1e-9) r = std::min(r, (5.0 - pose.y) / s);
+      if (s < -1e-9) r = std::min(r, -pose.y / s);
+      scan.ranges.push_back(static_cast<float>(boxed_in ? 0.4 : r));
+    }
+    ExecutiveInputs in;
+    in.scan = &scan;
+    const WheelSpeeds w = executive.Step(in, t);
+    const NavigationStatus s = executive.navigator().Status();
+    if (s.hold_reason.find("outside the navigation grid") != std::string::npos && run.reason.empty()) run.reason = s.hold_reason;
+    const Pose2 before = localizer.Estimate().pose;
+    odom = IntegrateDiffDrive(odom, w.left * 0.05, w.right * 0.05, options.follower.wheel_base);
+    driven = driven || w.left + w.right > 0.01;
+    if (!driven) run.turned_before_driving += std::abs(w.right - w.left) / options.follower.wheel_base * 0.05;
+    run.least_x = std::min(run.least_x, before.x);
+    t += 0.05;
+  };
+  step();
+  uint64_t id = 0;
+  try {
+    id = executive.Navigate({Pose2(5.0, 2.5, 0.0), false, "", false});
+    run.accepted = true;
+  } catch (const Error& e) {
+    ADD_FAILURE() << e.what();
+    return run;
+  }
+  for (int i = 0; i < 4000 && executive.navigator().Status().active; ++i) step();
+  run.result = executive.navigator().ResultOf(id);
+  return run;
+}
+
+TEST(NavigationExecutive, OutsideTheGridItTurnsTowardsItDrivesOnWhenClearAndPlansFromThere) {
+  const ReentryRun run = DriveBackOntoTheGrid(false);
+  ASSERT_TRUE(run.result);
+  EXPECT_EQ(run.result->outcome, Outcome::kSucceeded) << run.result->message;
+  EXPECT_NE(run.reason.find("start (0.70, 2.50)"), std::string::npos) << run.reason;
+  EXPECT_GT(run.turned_before_driving, M_PI - 0.6);  // it turned round before driving...
+  EXPECT_GT(run.least_x, 0.6);                       // ...rather than on into the unmapped part
+  EXPECT_NEAR(run.result->final_pose.x, 5.0, 0.1);
+}
+
+TEST(NavigationExecutive, BoxedInOutsideTheGridItGivesTheMissionUpSayingWhy) {
+  const ReentryRun run = DriveBackOntoTheGrid(true);
+  ASSERT_TRUE(run.result);
+  EXPECT_EQ(run.result->outcome, Outcome::kFailed);
+  EXPECT_NE(run.result->message.find("outside the navigation grid for 20 s"), std::string::npos) << run.result->message;
+  EXPECT_GT(run.turned_before_driving, 3.0);  // turning in place all along
+  EXPECT_NEAR(run.result->final_pose.x, 0.7, 1e-6);  // it never drove: the way was never clear
+}
+
+// The brain may pick the avoidance behaviour with nothing ahead to avoid (the danger level lags
+// the obstacle that raised it; here a brain that always prefers it, on an empty floor): navigation
+// then drives, and the feedback names navigation as the behaviour in control, not the avoidance.
+TEST(NavigationExecutive, NamesNavigationWhileItDrivesWithNothingAheadToAvoid) {
+  UtilityBrainOptions brain = DefaultBrainOptions();
+  for (UtilityProcessOptions& p : brain.processes)
+    if (p.name == "moving_obstacle_avoidance") p.b = 0.9;  // above navigation's 0.25 whatever the danger
+  NavigatorOptions options;
+  MapStore maps;
+  maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
+  planning::PlanningEngine planning{maps, {}};
+  planning::RegisterDefaultPlanners(planning);
+  localization::OdometryLocalizer localizer{Pose2(1.0, 2.5, 0.0)};
+  SimClock clock;
+  NavigationExecutive executive{planning, localizer, clock, options, brain};
+  Pose2 odom;
+  double t = 0.0;
+  int chosen = 0;
+  for (int i = 0; i < 60; ++i, t += 0.05) {
+    clock.Set(t);
+    localizer.AddOdometry({odom, Eigen::Matrix3d::Zero(), t});
+    const WheelSpeeds w = executive.Step(ExecutiveInputs{}, t);
+    if (i == 0) executive.Navigate({Pose2(5.0, 2.5, 0.0), false, "", false});
+    odom = IntegrateDiffDrive(odom, w.left * 0.05, w.right * 0.05, options.follower.wheel_base);
+    const NavigationFeedback f = executive.navigator().Status().feedback;
+    for (const ProcessUtility& u : f.utilities) {
+      if (u.name != "moving_obstacle_avoidance" || !u.active) continue;
+      ++chosen;
+      EXPECT_EQ(f.behaviour, "navigation") << "at t = " << t;
+    }
+  }
+  EXPECT_GT(chosen, 50);
+  EXPECT_GT(odom.x, 0.3);  // navigation drove
+}
+
+// Seed 000's long-term memory (section 4.6): the map the localisation process matches scans
+// against comes from it. A map served anew (here one with a wall the first lacked, as a map built
+// by exploration or loaded over gRPC would be) reaches the particle filter once the process runs,
+// not while a map is still being built; then the scans fit again.
+TEST(NavigationExecutive, LongTermMemoryHandsANewMapToTheLocalisers) {
+  OccupancyGrid first(120, 100, 0.05, Point2(0.0, 0.0));
+  first.FillBox({0.0, 0.0}, {6.0, 0.1});
+  first.FillBox({0.0, 4.9}, {6.0, 5.0});
+  first.FillBox({0.0, 0.0}, {0.1, 5.0});
+  first.FillBox({5.9, 0.0}, {6.0, 5.0});
+  OccupancyGrid second = first;
+  second.FillBox({0.0, 2.5}, {4.5, 2.6});  // a wall 1 m beside the robot's way
+  MapStore maps;
+  maps.Set(first, "first");
+  planning::PlanningEngine planning{maps, {}};
+  planning::RegisterDefaultPlanners(planning);
+  localization::ParticleFilterLocalizer localizer(first);
+  localizer.SetPose(Pose2(1.0, 1.5, 0.0), Eigen::Matrix3d::Identity() * 1e-4);
+  SimClock clock;
+  NavigationExecutive executive{planning, localizer, clock, NavigatorOptions{}};
+  EXPECT_EQ(executive.localizer_map_version(), 1u);
+  double t = 0.0;
+  auto step = [&](const OccupancyGrid& world) {
+    const Pose2 truth(1.0 + 0.5 * t, 1.5, 0.0);  // driving along at 0.5 m/s
+    clock.Set(t);
+    localizer.AddOdometry({Pose2(0.5 * t, 0.0, 0.0), Eigen::Matrix3d::Zero(), t});
+    const RayCaster caster(world);
+    localization::ScanReading scan;
+    scan.angle_min = -M_PI;
+    scan.angle_increment = M_PI / 90;
+    scan.range_max = 8.0;
+    scan.stamp = t;
+    for (int i = 0; i < 180; ++i)
+      scan.ranges.push_back(static_cast<float>(caster.Cast(truth.translation(), scan.angle_min + i * scan.angle_increment, 8.0)));
+    localizer.AddScan(scan);
+    executive.Step(ExecutiveInputs{}, t);
+    t += 0.1;
+    return localizer.Estimate().quality;
+  };
+  double quality = 0.0;
+  for (int i = 0; i < 20; ++i) quality = step(first);
+  EXPECT_GT(quality, 0.8) << "the scans fit the first map";
+  // The new map is served while it is still being built: the localisers keep the first.
+  executive.SetMapBuilding(true);
+  maps.Set(second, "second");
+  double while_building = 1.0;
+  for (int i = 0; i < 15; ++i) while_building = std::min(while_building, step(second));
+  EXPECT_EQ(executive.localizer_map_version(), 1u);
+  EXPECT_LT(while_building, 0.7) << "the wall the first map lacks should spoil the fit";
+  // Built: the long-term memory hands it over.
+  executive.SetMapBuilding(false);
+  for (int i = 0; i < 200 && executive.localizer_map_version() != 2; ++i) {
+    step(second);
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(executive.localizer_map_version(), 2u);
+  for (int i = 0; i < 10; ++i) quality = step(second);
+  EXPECT_GT(quality, 0.8) << "the scans fit the new map once the localiser has it";
+  EXPECT_NEAR(localizer.Estimate().pose.y, 1.5, 0.1);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "services/common/diff_drive.h"
 #include "services/common/error.h"
 #include "services/localization/odometry_localizer.h"
+#include "services/navigation/grid_reentry.h"
 #include "services/navigation/navigator.h"
 #include "services/navigation/path_follower.h"
 #include "services/navigation/speed_zones.h"
@@ -109,6 +110,70 @@ TEST(PathFollower, ClosedLoopReachesTheGoal) {
   EXPECT_EQ(f.state(), FollowerState::kArrived);
   EXPECT_LT(Distance(pose.translation(), {3, 2}), params.goal_tolerance + 1e-9);
   EXPECT_LT(steps * dt, 40.0);
+}
+
+// Seed 000's states 3-5: turn in place while the sector ahead holds an obstacle, drive straight
+// on once it is clear; and (navd's addition) drive off only towards the grid while a whole turn
+// has not shown a clear way there.
+TEST(GridReentry, TurnsWhileTheSectorAheadIsBlockedAndDrivesOnceClear) {
+  GridReentryOptions o;
+  o.sector_width = 1.0;
+  o.sector_radius = 0.6;
+  EXPECT_TRUE(GridReentry::SectorClear({{0.7, 0.0}, {0.3, 0.4}, {-0.2, 0.0}}, 1.0, 0.6));  // beyond r_c, beside, behind
+  EXPECT_FALSE(GridReentry::SectorClear({{0.5, 0.2}}, 1.0, 0.6));                         // 0.38 rad off, 0.54 m
+  GridReentry r(o);
+  EXPECT_EQ(r.Step(Pose2(), {}, std::nullopt).left, 0.0);  // not started: no command
+  r.Start(0.0);
+  WheelSpeeds w = r.Step(Pose2(), {{0.4, 0.0}}, std::nullopt);
+  EXPECT_EQ(r.state(), ReentryState::kRotate);
+  EXPECT_NEAR(w.left, -w.right, 1e-12);
+  w = r.Step(Pose2(), {{0.0, 0.4}}, std::nullopt);
+  EXPECT_EQ(r.state(), ReentryState::kForward);
+  EXPECT_GT(w.left, 0.0);
+  EXPECT_EQ(w.left, w.right);
+  EXPECT_FALSE(r.TimedOut(o.give_up_after - 1.0));
+  EXPECT_TRUE(r.TimedOut(o.give_up_after + 1.0));
+}
+
+TEST(GridReentry, TurnsTowardsTheGridBeforeDrivingAndTakesAnyClearWayAfterAWholeTurn) {
+  GridReentry r;
+  r.Start(0.0);
+  // Facing away from the grid (it lies behind and to the right) in open space: it turns right.
+  Pose2 pose(0.0, 0.0, 0.0);
+  const Point2 grid(-2.0, -1.0);
+  WheelSpeeds w = r.Step(pose, {}, grid);
+  EXPECT_EQ(r.state(), ReentryState::kRotate);
+  EXPECT_GT(w.left, 0.0);  // right turn
+  double turned = 0.0;
+  while (r.state() == ReentryState::kRotate && turned < 7.0) {
+    pose.theta = NormalizeAngle(pose.theta - 0.05);
+    turned += 0.05;
+    w = r.Step(pose, {}, grid);
+  }
+  EXPECT_EQ(r.state(), ReentryState::kForward);
+  const double bearing = std::atan2(grid.y() - pose.y, grid.x() - pose.x);
+  EXPECT_LE(std::abs(NormalizeAngle(bearing - pose.theta)), r.options().max_bearing + 1e-9);
+  // A wall in the way towards the grid (seen at every heading within the limits): after a whole turn
+  // any clear heading will do.
+  GridReentry blocked;
+  blocked.Start(0.0);
+  pose = Pose2(0.0, 0.0, 0.0);
+  turned = 0.0;
+  auto wall = [&] {
+    // A wall 0.4 m to the west of the robot, in its own frame.
+    std::vector<Point2> local;
+    for (double y = -2.0; y <= 2.0; y += 0.05) local.push_back(pose.inverse() * Point2(-0.4, y));
+    return local;
+  };
+  blocked.Step(pose, wall(), Point2(-2.0, 0.0));
+  while (blocked.state() == ReentryState::kRotate && turned < 10.0) {
+    pose.theta = NormalizeAngle(pose.theta + 0.05);
+    turned += 0.05;
+    blocked.Step(pose, wall(), Point2(-2.0, 0.0));
+  }
+  EXPECT_EQ(blocked.state(), ReentryState::kForward);
+  EXPECT_GT(turned, 2.0 * M_PI);
+  EXPECT_GT(std::cos(pose.theta), 0.5);  // away from the wall, not into it
 }
 
 TEST(Navigator, RejectsASecondGoalUnlessPreempting) {
