@@ -165,6 +165,36 @@ TEST(NavigationE2E, StreamReportsProgressAndCancelStopsTheRobot) {
   EXPECT_FALSE(stack.client().GetStatus().active());
 }
 
+// Seed 000's long-term memory through navd: navd starts on a warehouse map that lacks the wall
+// above the lower-left room (navsim's warehouse has it), so in that room the scans fit its map
+// poorly. A client loads the true map over gRPC; the long-term memory hands it to the localisers,
+// and the scans fit again.
+TEST(NavigationE2E, AMapLoadedOverGrpcReachesTheLocalisers) {
+  std::string world = ReadTextFile(SourceDir() + "/worlds/warehouse.yaml", "world");
+  for (const std::string line : {"    - [1.6, 3.4, 3.5, 3.5]\n", "    - [4.5, 3.4, 6.0, 3.5]\n"}) {
+    const size_t at = world.find(line);
+    ASSERT_NE(at, std::string::npos) << line;
+    world.erase(at, line.size());
+  }
+  const std::string path = MakeTempDir() + "/no_wall.yaml";
+  std::ofstream(path) << world;
+  StackOptions options;
+  options.navd_args = {"--world", path};
+  NavdStack stack(options);
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  Client& client = stack.client();
+  ASSERT_EQ(client.NavigateTo(3.0, 2.6, std::nullopt, {}, 120.0).outcome(), v1::SUCCEEDED) << stack.Logs();
+  ASSERT_EQ(client.NavigateTo(5.0, 2.6, std::nullopt, {}, 120.0).outcome(), v1::SUCCEEDED) << stack.Logs();
+  const double before = client.GetPose().quality();
+  client.LoadMap(SourceDir() + "/worlds/warehouse.yaml");
+  ASSERT_EQ(client.NavigateTo(3.0, 2.6, std::nullopt, {}, 120.0).outcome(), v1::SUCCEEDED) << stack.Logs();
+  const double after = client.GetPose().quality();
+  std::printf("scan fit in the lower-left room: %.2f on the map without the wall, %.2f once the true map is loaded\n",
+              before, after);
+  EXPECT_GT(after, before + 0.1);
+  EXPECT_GT(after, 0.8);
+}
+
 // Speed limits by zone: the warehouse with a 0.15 m/s zone across its corridor, in the world file
 // navd starts from. The robot, sent up the corridor, drives through the zone no faster than that
 // by the simulator's ground truth, and faster elsewhere; clients read and replace the zones over
