@@ -25,20 +25,16 @@ DStarLite::DStarLite(const Costmap& costmap, const CellIndex& start, const CellI
     throw Error(ErrorCode::kInvalidArgument, "map: " + std::to_string(width_) + " x " + std::to_string(height_) +
                                                  " cells is too large for D* Lite's exact costs");
   rhs_[Index(goal)] = OctileCost{};
-  Push(Index(goal));
+  Push(Index(goal), goal.x, goal.y);
 }
 
-OctileCost DStarLite::Heuristic(int32_t a, int32_t b) const {
-  return OctileCost::Distance(a % width_ - b % width_, a / width_ - b / width_);
-}
-
-DStarLite::Key DStarLite::CalculateKey(int32_t s) const {
+DStarLite::Key DStarLite::CalculateKey(int32_t s, int x, int y) const {
   const OctileCost m = Min(g_[s], rhs_[s]);
-  return {m + Heuristic(Index(start_), s) + km_, m};
+  return {m + HeuristicToStart(x, y) + km_, m};
 }
 
-void DStarLite::Push(int32_t u) {
-  const Key k = CalculateKey(u);
+void DStarLite::Push(int32_t u, int x, int y) {
+  const Key k = CalculateKey(u, x, y);
   queued_key_[u] = k;
   in_queue_[u] = 1;
   heap_.push(k, u);
@@ -49,21 +45,21 @@ void DStarLite::ForEachEdge(int32_t u, F&& f) const {
   const int x = u % width_, y = u / width_;
   if (!Free(x, y)) return;  // a blocked cell has no traversable edges
   ForEachMove(x, y, [this](int cx, int cy) { return Free(cx, cy); },
-              [&](int nx, int ny, bool diagonal) { f(ny * width_ + nx, diagonal ? kDiagonal : kStraight); });
+              [&](int nx, int ny, bool diagonal) { f(ny * width_ + nx, nx, ny, diagonal ? kDiagonal : kStraight); });
 }
 
 void DStarLite::RecomputeRhs(int32_t u) {
   if (u == Index(goal_)) return;
   OctileCost best = kInf;
-  ForEachEdge(u, [&](int32_t s, const OctileCost& c) { best = Min(best, c + g_[s]); });
+  ForEachEdge(u, [&](int32_t s, int, int, const OctileCost& c) { best = Min(best, c + g_[s]); });
   rhs_[u] = best;
 }
 
-void DStarLite::UpdateQueue(int32_t u) {
+void DStarLite::UpdateQueue(int32_t u, int x, int y) {
   if (g_[u] == rhs_[u]) {
     in_queue_[u] = 0;  // consistent: any queued entry is stale
-  } else if (!in_queue_[u] || !(queued_key_[u] == CalculateKey(u))) {
-    Push(u);
+  } else if (!in_queue_[u] || !(queued_key_[u] == CalculateKey(u, x, y))) {
+    Push(u, x, y);
   }
 }
 
@@ -87,27 +83,28 @@ bool DStarLite::ComputeShortestPath(const StopRequested& stop) {
                                                     " expansions: deadline exceeded or cancelled");
     }
     const int32_t u = top.node;
-    const Key k_new = CalculateKey(u);
+    const int ux = u % width_, uy = u / width_;
+    const Key k_new = CalculateKey(u, ux, uy);
     heap_.pop();
     in_queue_[u] = 0;
     if (top.key < k_new) {
-      Push(u);  // its key rose since it was queued (k_m grew): requeue
+      Push(u, ux, uy);  // its key rose since it was queued (k_m grew): requeue
     } else if (rhs_[u] < g_[u]) {
       // Overconsistent: settle it; neighbours can only improve through it (the paper's optimised
       // version: an O(1) min instead of recomputing their rhs).
       g_[u] = rhs_[u];
       const int32_t goal = Index(goal_);
-      ForEachEdge(u, [&](int32_t s, const OctileCost& c) {
+      ForEachEdge(u, [&](int32_t s, int sx, int sy, const OctileCost& c) {
         if (s != goal) rhs_[s] = Min(rhs_[s], c + g_[u]);
-        UpdateQueue(s);
+        UpdateQueue(s, sx, sy);
       });
     } else {
       // Underconsistent: raise it; only neighbours whose rhs came through it need recomputing.
       const OctileCost g_old = g_[u];
       g_[u] = kInf;
-      ForEachEdge(u, [&](int32_t s, const OctileCost& c) {
+      ForEachEdge(u, [&](int32_t s, int sx, int sy, const OctileCost& c) {
         if (rhs_[s] == c + g_old) RecomputeRhs(s);
-        UpdateQueue(s);
+        UpdateQueue(s, sx, sy);
       });
       UpdateVertex(u);
     }
@@ -130,7 +127,7 @@ void DStarLite::SetBlocked(const CellIndex& cell, bool blocked) {
 }
 
 void DStarLite::MoveStart(const CellIndex& start) {
-  km_ = km_ + Heuristic(Index(last_), Index(start));
+  km_ = km_ + OctileCost::Distance(last_.x - start.x, last_.y - start.y);
   last_ = start;
   start_ = start;
 }
@@ -145,7 +142,7 @@ std::vector<CellIndex> DStarLite::Path() const {
   for (size_t steps = 0; s != goal && steps < blocked_.size(); ++steps) {
     OctileCost best = kInf;
     int32_t next = -1;
-    ForEachEdge(s, [&](int32_t n, const OctileCost& c) {
+    ForEachEdge(s, [&](int32_t n, int, int, const OctileCost& c) {
       if (c + g_[n] < best) {
         best = c + g_[n];
         next = n;

@@ -41,13 +41,18 @@ class DStarLite {
   int32_t Index(const CellIndex& c) const { return c.y * width_ + c.x; }
   CellIndex Cell(int32_t i) const { return {i % width_, i / width_}; }
   bool Free(int x, int y) const { return x >= 0 && y >= 0 && x < width_ && y < height_ && !blocked_[y * width_ + x]; }
-  OctileCost Heuristic(int32_t a, int32_t b) const;
-  Key CalculateKey(int32_t s) const;
+  // The octile distance from cell (x, y) to the start. The hot paths pass a cell's coordinates
+  // along with its index: an index's coordinates cost an integer division.
+  OctileCost HeuristicToStart(int x, int y) const { return OctileCost::Distance(x - start_.x, y - start_.y); }
+  Key CalculateKey(int32_t s) const { return CalculateKey(s, s % width_, s / width_); }
+  Key CalculateKey(int32_t s, int x, int y) const;
   void RecomputeRhs(int32_t u);   // rhs = min over edges of c + g (not for the goal)
-  void UpdateQueue(int32_t u);    // queued iff inconsistent, with its current key
+  // Queued iff inconsistent, with its current key.
+  void UpdateQueue(int32_t u) { UpdateQueue(u, u % width_, u / width_); }
+  void UpdateQueue(int32_t u, int x, int y);
   void UpdateVertex(int32_t u);   // both
-  void Push(int32_t u);
-  // Calls f(neighbour, cost) for every traversable edge of u (cost an OctileCost step).
+  void Push(int32_t u, int x, int y);
+  // Calls f(neighbour, x, y, cost) for every traversable edge of u (cost an OctileCost step).
   template <typename F>
   void ForEachEdge(int32_t u, F&& f) const;
 
