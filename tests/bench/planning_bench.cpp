@@ -104,18 +104,23 @@ BENCHMARK_CAPTURE(BM_MazeSearch, dijkstra, std::string("dijkstra"))->Unit(benchm
 BENCHMARK_CAPTURE(BM_MazeSearch, thetastar, std::string("thetastar"))->Unit(benchmark::kMillisecond);
 
 // Seed 002's comparison of A* and D*: plan on a 512 x 512 map with 20% random obstacles, then 1%
-// of the cells change and the plan is repaired. Reports time and states processed (expansions)
-// for D* Lite's repair against A* planning again from scratch. Three kinds of change:
-//   spread    random toggles over the whole map;
-//   local     random toggles within 60 cells of the robot (a quarter of that disc changes);
-//   obstacle  what a robot's sensors discover as it drives, the case D* Lite is built for: an
-//             unknown wall appears across the way 40 cells ahead of the robot, as long as it takes
-//             for 1% of the map's cells to change (about 330 cells).
-enum class Change { kSpread, kLocal, kObstacle };
+// of the cells change and the plan is repaired. Reports time and states processed (expansions,
+// per replan) for D* Lite's repairs against A* planning again from scratch. Four kinds of change:
+//   spread    random toggles over the whole map, all at once;
+//   local     random toggles within 60 cells of the robot, all at once (a quarter of that disc);
+//   obstacle  an unknown wall across the way 40 cells ahead of the robot, as long as it takes for
+//             1% of the map's cells to change (about 330 cells), all at once;
+//   drive     how D* Lite is used, and how seed 002's robot met its changes: the robot drives its
+//             path and its sensors find small unknown obstacles ahead as it goes (10 x 10 cells,
+//             centred 20 cells ahead on the path, one find every 8 cells of travel) until 1% of
+//             the map's cells have changed, each find followed by a replan (~34).
+enum class Change { kSpread, kLocal, kObstacle, kDrive };
 
 struct ReplanCase {
-  std::shared_ptr<OccupancyGrid> before, after;
-  std::vector<std::pair<CellIndex, bool>> changes;
+  std::shared_ptr<OccupancyGrid> before;
+  std::vector<std::vector<std::pair<CellIndex, bool>>> finds;   // the changes before each replan
+  std::vector<CellIndex> starts;                                 // the robot at each replan
+  std::vector<std::shared_ptr<const planning::Costmap>> after;  // the map after each find
   CellIndex start{0, 0}, goal{511, 511};
 };
 
@@ -128,58 +133,84 @@ ReplanCase MakeReplanCase(Change kind) {
   if (kind != Change::kSpread) rc.start = {128, 128};
   rc.before->set(rc.start, OccupancyGrid::kFree);
   rc.before->set(rc.goal, OccupancyGrid::kFree);
-  rc.after = std::make_shared<OccupancyGrid>(*rc.before);
+  auto grid = std::make_shared<OccupancyGrid>(*rc.before);
   const size_t wanted = 512 * 512 / 100;
   std::vector<uint8_t> changed(512 * 512, 0);
+  std::vector<std::pair<CellIndex, bool>> changes;
   auto change = [&](const CellIndex& cell, bool block) {
-    if (!rc.after->Contains(cell) || cell == rc.start || cell == rc.goal || changed[rc.after->Flat(cell)]) return;
-    if ((rc.after->at(cell) == OccupancyGrid::kFree) != block) return;
-    changed[rc.after->Flat(cell)] = 1;
-    rc.after->set(cell, block ? OccupancyGrid::kOccupied : OccupancyGrid::kFree);
-    rc.changes.push_back({cell, block});
+    if (!grid->Contains(cell) || cell == rc.start || cell == rc.goal || changed[grid->Flat(cell)]) return;
+    if ((grid->at(cell) == OccupancyGrid::kFree) != block) return;
+    changed[grid->Flat(cell)] = 1;
+    grid->set(cell, block ? OccupancyGrid::kOccupied : OccupancyGrid::kFree);
+    changes.push_back({cell, block});
   };
+  auto replan_at = [&](const CellIndex& at) {
+    rc.finds.push_back(std::move(changes));
+    changes.clear();
+    rc.starts.push_back(at);
+    rc.after.push_back(std::make_shared<const planning::Costmap>(std::make_shared<OccupancyGrid>(*grid),
+                                                                 planning::CostmapOptions{0.0, true}));
+  };
+  if (kind == Change::kDrive) {
+    planning::DStarLite dstar(planning::Costmap(rc.before, {0.0, true}), rc.start, rc.goal);
+    dstar.ComputeShortestPath();
+    for (size_t total = 0; total < wanted;) {
+      const std::vector<CellIndex> path = dstar.Path();
+      if (path.size() < 40) break;
+      const CellIndex c = path[20], at = path[8];
+      for (int y = c.y - 4; y <= c.y + 5; ++y)
+        for (int x = c.x - 4; x <= c.x + 5; ++x)
+          if (std::max(std::abs(x - at.x), std::abs(y - at.y)) > 1) change({x, y}, true);
+      total += changes.size();
+      for (const auto& [cell, blocked] : changes) dstar.SetBlocked(cell, blocked);
+      dstar.MoveStart(at);
+      if (!dstar.ComputeShortestPath()) break;
+      replan_at(at);
+    }
+    return rc;
+  }
   if (kind == Change::kObstacle) {
-    // A wall 10 cells thick square across the diagonal, centred 40 cells from the robot towards
-    // the goal, lengthened on both ends until it is 1% of the map.
     const double cx = rc.start.x + 28.0, cy = rc.start.y + 28.0;
-    for (int half = 1; rc.changes.size() < wanted; ++half)
+    for (int half = 1; changes.size() < wanted; ++half)
       for (int y = 0; y < 512; ++y)
-        for (int x = 0; x < 512 && rc.changes.size() < wanted; ++x) {
+        for (int x = 0; x < 512 && changes.size() < wanted; ++x) {
           const double along = ((x - cx) + (y - cy)) / std::sqrt(2.0), across = ((x - cx) - (y - cy)) / std::sqrt(2.0);
           if (std::abs(along) <= 5.0 && std::abs(across) <= half) change({x, y}, true);
         }
-    return rc;
+  } else {
+    std::uniform_int_distribution<int> near(-60, 60);
+    while (changes.size() < wanted) {
+      const CellIndex cell = kind == Change::kLocal ? CellIndex{rc.start.x + near(rng), rc.start.y + near(rng)}
+                                                    : CellIndex{coord(rng), coord(rng)};
+      if (kind == Change::kLocal && std::hypot(cell.x - rc.start.x, cell.y - rc.start.y) > 60) continue;
+      if (grid->Contains(cell)) change(cell, grid->at(cell) == OccupancyGrid::kFree);
+    }
   }
-  std::uniform_int_distribution<int> near(-60, 60);
-  while (rc.changes.size() < wanted) {
-    const CellIndex cell = kind == Change::kLocal ? CellIndex{rc.start.x + near(rng), rc.start.y + near(rng)}
-                                                  : CellIndex{coord(rng), coord(rng)};
-    if (kind == Change::kLocal && std::hypot(cell.x - rc.start.x, cell.y - rc.start.y) > 60) continue;
-    if (rc.after->Contains(cell)) change(cell, rc.after->at(cell) == OccupancyGrid::kFree);
-  }
+  replan_at(rc.start);
   return rc;
 }
 
 const ReplanCase& Replan512(Change kind) {
-  static const ReplanCase spread = MakeReplanCase(Change::kSpread), near = MakeReplanCase(Change::kLocal),
-                          obstacle = MakeReplanCase(Change::kObstacle);
-  return kind == Change::kSpread ? spread : kind == Change::kLocal ? near : obstacle;
+  static const ReplanCase cases[] = {MakeReplanCase(Change::kSpread), MakeReplanCase(Change::kLocal),
+                                     MakeReplanCase(Change::kObstacle), MakeReplanCase(Change::kDrive)};
+  return cases[static_cast<int>(kind)];
 }
 
 void BM_Replan_AStarFromScratch(benchmark::State& state, Change kind) {
   const ReplanCase& rc = Replan512(kind);
-  planning::Costmap after(rc.after, {0.0, true});
   uint64_t expansions = 0;
   for (auto _ : state) {
-    const auto p = planning::GridAStarPlanner().Plan(after, rc.start, rc.goal, {{"diagonal", 1.0}, {"cost_weight", 0.0}}, {});
-    expansions = p.expansions;
-    benchmark::DoNotOptimize(p);
+    expansions = 0;
+    for (size_t k = 0; k < rc.finds.size(); ++k) {
+      const auto p = planning::GridAStarPlanner().Plan(*rc.after[k], rc.starts[k], rc.goal,
+                                                       {{"diagonal", 1.0}, {"cost_weight", 0.0}}, {});
+      expansions += p.expansions;
+      benchmark::DoNotOptimize(p);
+    }
   }
-  state.counters["states_processed"] = static_cast<double>(expansions);
+  state.counters["replans"] = static_cast<double>(rc.finds.size());
+  state.counters["states_processed"] = static_cast<double>(expansions) / std::max<size_t>(1, rc.finds.size());
 }
-BENCHMARK_CAPTURE(BM_Replan_AStarFromScratch, spread, Change::kSpread)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Replan_AStarFromScratch, local, Change::kLocal)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Replan_AStarFromScratch, obstacle, Change::kObstacle)->Unit(benchmark::kMillisecond);
 
 void BM_Replan_DStarLiteInitial(benchmark::State& state, Change kind) {
   const ReplanCase& rc = Replan512(kind);
@@ -193,9 +224,6 @@ void BM_Replan_DStarLiteInitial(benchmark::State& state, Change kind) {
   }
   state.counters["states_processed"] = static_cast<double>(expansions);
 }
-BENCHMARK_CAPTURE(BM_Replan_DStarLiteInitial, spread, Change::kSpread)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Replan_DStarLiteInitial, local, Change::kLocal)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Replan_DStarLiteInitial, obstacle, Change::kObstacle)->Unit(benchmark::kMillisecond);
 
 void BM_Replan_DStarLiteRepair(benchmark::State& state, Change kind) {
   const ReplanCase& rc = Replan512(kind);
@@ -207,101 +235,9 @@ void BM_Replan_DStarLiteRepair(benchmark::State& state, Change kind) {
     dstar->ComputeShortestPath();
     const uint64_t initial = dstar->expansions();
     state.ResumeTiming();
-    for (const auto& [cell, blocked] : rc.changes) dstar->SetBlocked(cell, blocked);
-    dstar->ComputeShortestPath();
-    expansions = dstar->expansions() - initial;
-    state.PauseTiming();
-    dstar.reset();
-    state.ResumeTiming();
-  }
-  state.counters["states_processed"] = static_cast<double>(expansions);
-}
-BENCHMARK_CAPTURE(BM_Replan_DStarLiteRepair, spread, Change::kSpread)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Replan_DStarLiteRepair, local, Change::kLocal)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Replan_DStarLiteRepair, obstacle, Change::kObstacle)->Unit(benchmark::kMillisecond);
-
-// How D* Lite is used, and how seed 002's robot met its changes: the robot drives its path and its
-// sensors find small unknown obstacles ahead as it goes (10 x 10 cells, centred 20 cells ahead on
-// the path, one find every 8 cells of travel) until 1% of the map's cells have changed; after each
-// find the path is repaired (D* Lite, after MoveStart) or planned again from scratch (A*). The
-// times are for the whole drive (~33 replans); states_processed is per replan.
-struct DriveCase {
-  std::shared_ptr<OccupancyGrid> before;
-  std::vector<std::vector<std::pair<CellIndex, bool>>> finds;
-  std::vector<CellIndex> starts;                            // the robot at each replan
-  std::vector<std::shared_ptr<const planning::Costmap>> after;  // the map after each find
-  CellIndex start{128, 128}, goal{511, 511};
-};
-
-DriveCase MakeDriveCase() {
-  DriveCase dc;
-  dc.before = Replan512(Change::kLocal).before;  // the same map and start
-  auto grid = std::make_shared<OccupancyGrid>(*dc.before);
-  planning::DStarLite dstar(planning::Costmap(dc.before, {0.0, true}), dc.start, dc.goal);
-  dstar.ComputeShortestPath();
-  CellIndex at = dc.start;
-  size_t total = 0;
-  while (total < 512 * 512 / 100) {
-    const std::vector<CellIndex> path = dstar.Path();
-    if (path.size() < 40) break;
-    std::vector<std::pair<CellIndex, bool>> find;
-    const CellIndex c = path[20];
-    for (int y = c.y - 4; y <= c.y + 5; ++y)
-      for (int x = c.x - 4; x <= c.x + 5; ++x) {
-        const CellIndex cell{x, y};
-        if (!grid->Contains(cell) || cell == dc.goal || grid->at(cell) != OccupancyGrid::kFree) continue;
-        if (std::max(std::abs(x - path[8].x), std::abs(y - path[8].y)) <= 1) continue;  // where the robot will be
-        grid->set(cell, OccupancyGrid::kOccupied);
-        find.push_back({cell, true});
-      }
-    total += find.size();
-    for (const auto& [cell, blocked] : find) dstar.SetBlocked(cell, blocked);
-    at = path[8];
-    dstar.MoveStart(at);
-    if (!dstar.ComputeShortestPath()) break;
-    dc.finds.push_back(std::move(find));
-    dc.starts.push_back(at);
-    dc.after.push_back(std::make_shared<const planning::Costmap>(std::make_shared<OccupancyGrid>(*grid),
-                                                                 planning::CostmapOptions{0.0, true}));
-  }
-  return dc;
-}
-
-const DriveCase& Drive512() {
-  static const DriveCase drive = MakeDriveCase();
-  return drive;
-}
-
-void BM_ReplanDrive_AStarFromScratch(benchmark::State& state) {
-  const DriveCase& dc = Drive512();
-  uint64_t expansions = 0;
-  for (auto _ : state) {
-    expansions = 0;
-    for (size_t k = 0; k < dc.finds.size(); ++k) {
-      const auto p = planning::GridAStarPlanner().Plan(*dc.after[k], dc.starts[k], dc.goal,
-                                                       {{"diagonal", 1.0}, {"cost_weight", 0.0}}, {});
-      expansions += p.expansions;
-      benchmark::DoNotOptimize(p);
-    }
-  }
-  state.counters["replans"] = static_cast<double>(dc.finds.size());
-  state.counters["states_processed"] = static_cast<double>(expansions) / std::max<size_t>(1, dc.finds.size());
-}
-BENCHMARK(BM_ReplanDrive_AStarFromScratch)->Unit(benchmark::kMillisecond);
-
-void BM_ReplanDrive_DStarLiteRepair(benchmark::State& state) {
-  const DriveCase& dc = Drive512();
-  const planning::Costmap before(dc.before, {0.0, true});
-  uint64_t expansions = 0;
-  for (auto _ : state) {
-    state.PauseTiming();
-    auto dstar = std::make_unique<planning::DStarLite>(before, dc.start, dc.goal);
-    dstar->ComputeShortestPath();
-    const uint64_t initial = dstar->expansions();
-    state.ResumeTiming();
-    for (size_t k = 0; k < dc.finds.size(); ++k) {
-      for (const auto& [cell, blocked] : dc.finds[k]) dstar->SetBlocked(cell, blocked);
-      dstar->MoveStart(dc.starts[k]);
+    for (size_t k = 0; k < rc.finds.size(); ++k) {
+      for (const auto& [cell, blocked] : rc.finds[k]) dstar->SetBlocked(cell, blocked);
+      dstar->MoveStart(rc.starts[k]);
       dstar->ComputeShortestPath();
     }
     expansions = dstar->expansions() - initial;
@@ -309,10 +245,18 @@ void BM_ReplanDrive_DStarLiteRepair(benchmark::State& state) {
     dstar.reset();
     state.ResumeTiming();
   }
-  state.counters["replans"] = static_cast<double>(dc.finds.size());
-  state.counters["states_processed"] = static_cast<double>(expansions) / std::max<size_t>(1, dc.finds.size());
+  state.counters["replans"] = static_cast<double>(rc.finds.size());
+  state.counters["states_processed"] = static_cast<double>(expansions) / std::max<size_t>(1, rc.finds.size());
 }
-BENCHMARK(BM_ReplanDrive_DStarLiteRepair)->Unit(benchmark::kMillisecond);
+
+#define NAVD_REPLAN_BENCHMARKS(bm)                                             \
+  BENCHMARK_CAPTURE(bm, spread, Change::kSpread)->Unit(benchmark::kMillisecond);     \
+  BENCHMARK_CAPTURE(bm, local, Change::kLocal)->Unit(benchmark::kMillisecond);       \
+  BENCHMARK_CAPTURE(bm, obstacle, Change::kObstacle)->Unit(benchmark::kMillisecond); \
+  BENCHMARK_CAPTURE(bm, drive, Change::kDrive)->Unit(benchmark::kMillisecond)
+NAVD_REPLAN_BENCHMARKS(BM_Replan_AStarFromScratch);
+NAVD_REPLAN_BENCHMARKS(BM_Replan_DStarLiteInitial);
+NAVD_REPLAN_BENCHMARKS(BM_Replan_DStarLiteRepair);
 
 // Fast Marching over a 1000 x 1000 grid (5 cm cells, a 50 x 50 m floor with 300 random boxes) on
 // the speed map Voronoi Fast Marching uses (log of the distance to obstacles), front from the centre.

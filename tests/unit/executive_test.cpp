@@ -257,16 +257,18 @@ TEST(NavigatorMission, RejectsAnEmptyMission) {
 // An executive on a 6 x 5 m open floor (nothing mapped), the robot at (1, 2.5) facing +x, driven
 // by odometry alone.
 struct OpenFloor {
-  explicit OpenFloor(const NavigatorOptions& o = {}) : options(o) {
+  explicit OpenFloor(const NavigatorOptions& o = {}, const UtilityBrainOptions& b = DefaultBrainOptions())
+      : options(o), brain(b) {
     maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
     planning::RegisterDefaultPlanners(planning);
   }
   NavigatorOptions options;
+  UtilityBrainOptions brain;
   MapStore maps;
   planning::PlanningEngine planning{maps, {}};
   localization::OdometryLocalizer localizer{Pose2(1.0, 2.5, 0.0)};
   SimClock clock;
-  NavigationExecutive executive{planning, localizer, clock, options};
+  NavigationExecutive executive{planning, localizer, clock, options, brain};
 };
 
 // A bumper pressed while driving: the emergency stop holds the robot, and when the bumper lets go
@@ -274,7 +276,7 @@ struct OpenFloor {
 // obstacle pressed it again and again).
 TEST(NavigationExecutive, BacksAwayFromWhatTheBumperTouchedBeforeNavigatingOn) {
   OpenFloor floor;
-  auto& [options, maps, planning, localizer, clock, executive] = floor;
+  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
   const double wheel_base = options.follower.wheel_base;
   Pose2 pose(0.0, 0.0, 0.0);  // odometry
   double t = 0.0;
@@ -322,7 +324,7 @@ StuckRun DriveAgainstAWall(int max_recoveries, int free_after_recoveries) {
   o.progress_timeout = 3.0;
   o.max_recoveries = max_recoveries;
   OpenFloor floor(o);
-  auto& [options, maps, planning, localizer, clock, executive] = floor;
+  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
   Pose2 pose(0.0, 0.0, 0.0);  // odometry
   double t = 0.0;
   StuckRun run;
@@ -374,7 +376,7 @@ TEST(NavigationExecutive, AStuckRobotGoesOnOnceARecoveryFreedIt) {
 // it, whatever the plans say, since the laser sees it.
 TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
   OpenFloor floor;
-  auto& [options, maps, planning, localizer, clock, executive] = floor;
+  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
   Pose2 odom(0.0, 0.0, 0.0);
   double t = 0.0, farthest = 0.0;
   constexpr double kWall = 3.0;
@@ -416,7 +418,7 @@ struct BumpRun {
 };
 BumpRun DriveIntoSomethingOnlyTheBumperFeels(double half_x, double half_y) {
   OpenFloor floor;
-  auto& [options, maps, planning, localizer, clock, executive] = floor;
+  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
   const Point2 post(3.0, 2.5);
   Pose2 odom(0.0, 0.0, 0.0);
   const Pose2 offset(1.0, 2.5, 0.0);  // map pose = offset * odom
@@ -564,14 +566,8 @@ TEST(NavigationExecutive, NamesNavigationWhileItDrivesWithNothingAheadToAvoid) {
   UtilityBrainOptions brain = DefaultBrainOptions();
   for (UtilityProcessOptions& p : brain.processes)
     if (p.name == "moving_obstacle_avoidance") p.b = 0.9;  // above navigation's 0.25 whatever the danger
-  NavigatorOptions options;
-  MapStore maps;
-  maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
-  planning::PlanningEngine planning{maps, {}};
-  planning::RegisterDefaultPlanners(planning);
-  localization::OdometryLocalizer localizer{Pose2(1.0, 2.5, 0.0)};
-  SimClock clock;
-  NavigationExecutive executive{planning, localizer, clock, options, brain};
+  OpenFloor floor({}, brain);
+  auto& [options, unused_brain, maps, planning, localizer, clock, executive] = floor;
   Pose2 odom;
   double t = 0.0;
   int chosen = 0;
