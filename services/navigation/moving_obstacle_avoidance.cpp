@@ -32,7 +32,7 @@ void MovingObstacleAvoidance::Start(const Pose2& pose, const Point2& obstacle, c
   zone_ = Zone(std::atan2(local.y(), local.x()));
   // Away from the obstacle: clockwise when it is on the left (zones 1, 2).
   turn_sign_ = zone_ <= 2 ? -1.0 : 1.0;
-  const bool rear_clear = sensing.rear_free >= options_.backup_distance + options_.min_clearance;
+  const bool rear_clear = sensing.rear_free >= options_.backup_distance + options_.back_clearance;
   const bool head_on = zone_ == 2 || zone_ == 3;
   if (touching && rear_clear) {
     Enter(AvoidancePhase::kBackingUp, pose, now);
@@ -73,7 +73,7 @@ WheelSpeeds MovingObstacleAvoidance::Step(const Pose2& pose, const AvoidanceSens
         phase_ = AvoidancePhase::kWaiting;
         return {};
       }
-      if (sensing.rear_free < options_.min_clearance) {
+      if (sensing.rear_free < options_.back_clearance) {
         // Something behind after all: turn and pass instead (the seed's fallback).
         BeginTurn(pose, zone_ == 2 || zone_ == 3 ? options_.inner_turn : options_.outer_turn, now);
         return Step(pose, sensing, now);

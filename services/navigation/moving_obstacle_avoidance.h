@@ -34,6 +34,9 @@ struct MovingObstacleAvoidanceOptions {
   // takes the command's latency and the deceleration.
   double pass_clearance = 0.25;    // m
   double min_clearance = 0.10;     // m kept free between the robot's rim and anything in its way
+  // Backing up stops this far short of what the rear sensor reads, for the same reasons, and what
+  // is behind may be coming closer (a cart at 0.3 m/s and the robot close 15 cm in 0.25 s).
+  double back_clearance = 0.25;    // m
   // Closer than this, even turning in place may graze (the wheels never turn perfectly in place,
   // and a cart at 0.3 m/s closes 3 cm between two scans): the robot waits instead.
   double turn_clearance = 0.12;    // m

@@ -179,6 +179,22 @@ TEST(MovingObstacleAvoidance, ZonesAndTheSeedsManoeuvres) {
   EXPECT_GT(left.right, 0.0);
 }
 
+// Something coming up behind while the robot backs away (a cart through the door it backs into):
+// the robot stops backing back_clearance short of the rear sensor's reading and turns to pass
+// instead; it does not start backing up when the whole way back does not fit.
+TEST(MovingObstacleAvoidance, BackingUpStopsShortOfWhatComesUpBehind) {
+  MovingObstacleAvoidance a;
+  const double clearance = a.options().back_clearance;
+  ASSERT_GT(clearance, a.options().min_clearance);
+  a.Start(Pose2(), {1.0, 1.2}, OpenAround(2.0), 0.0);
+  ASSERT_EQ(a.phase(), AvoidancePhase::kBackingUp);
+  EXPECT_LT(a.Step(Pose2(), OpenAround(clearance + 0.05), 0.05).left, 0.0);  // still backing
+  a.Step(Pose2(), OpenAround(clearance - 0.05), 0.10);
+  EXPECT_EQ(a.phase(), AvoidancePhase::kTurning);
+  a.Start(Pose2(), {1.0, 1.2}, OpenAround(a.options().backup_distance + clearance - 0.01), 0.0);
+  EXPECT_EQ(a.phase(), AvoidancePhase::kTurning);
+}
+
 TEST(MovingObstacleAvoidance, StalledWheelsEndTheManoeuvre) {
   MovingObstacleAvoidance a;
   const Pose2 stuck(0, 0, 0);
