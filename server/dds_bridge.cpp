@@ -64,10 +64,11 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
         participant_, dds::TopicName(ns, dds::kIr), Reliability::kBestEffort,
         [this, rear_range_frame](const sensor_msgs::msg::dds_::Range_& m) {
           if (m.header().frame_id() != rear_range_frame) return;
-          // ROS: +inf (or anything past max_range) is "nothing in range"; a reading at min_range
-          // (a Sharp IR's 0.1 m) is something that close or closer.
-          double r = std::isfinite(m.range()) ? std::min<double>(m.range(), m.max_range()) : m.max_range();
-          if (!(r >= 0.0)) return;
+          // REP 117: +inf (or anything past max_range) is "nothing in range", -inf and readings at
+          // min_range (a Sharp IR's 0.1 m) something that close or closer; NaN says nothing.
+          if (std::isnan(m.range())) return;
+          double r = m.range() == -std::numeric_limits<float>::infinity() ? 0.0
+                                                                           : std::min<double>(m.range(), m.max_range());
           if (r <= m.min_range()) r = 0.0;
           rear_range_ = r;
           last_rear_arrival_ = arrival_clock_.Now();

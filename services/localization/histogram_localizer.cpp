@@ -64,9 +64,11 @@ bool HistogramLocalizer::SetMap(const OccupancyGrid& map) {
   while (StatesFor(map, o) > o.max_states) o.cell_size *= 1.1;
   auto field = std::make_unique<const LikelihoodField>(map, o.field);  // the costly part, outside the lock
   std::lock_guard<std::mutex> lock(mutex_);
-  const PoseEstimate was = estimate_;
+  // The belief is at predicted_at_odom_; the reset anchors at the latest odometry (as Estimate()).
+  PoseEstimate was = estimate_;
+  if (have_odom_) was.pose = was.pose * (predicted_at_odom_.inverse() * odom_history_.latest().pose);
   LayOutLocked(map, o, std::move(field));
-  if (was.valid) ResetPoseLocked(was.pose, was.covariance);
+  if (have_odom_) ResetPoseLocked(was.pose, was.covariance);
   return true;
 }
 

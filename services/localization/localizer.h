@@ -56,9 +56,9 @@ class Localizer {
   // localisers that cannot.
   virtual bool GlobalRelocalize() { return false; }
   // Matches scans against `map` from now on (the same map frame: the pose is kept), e.g. once a
-  // map has been built or loaded. Thread-safe; the costly part runs outside the localiser's lock,
-  // so scans go on being matched against the old map meanwhile. Returns whether this localiser
-  // uses a map at all.
+  // map has been built or loaded. Thread-safe; the costly part (likelihood fields, ray casters) is
+  // built outside the localiser's lock, so scans go on being matched against the old map meanwhile.
+  // Returns whether this localiser uses a map at all.
   virtual bool SetMap(const OccupancyGrid& map) { return false; }
   // How suitable this method is now, for the chapter-10 arbiter: the gate (can it work with the
   // sensors there are) and the criteria computing time, fault tolerance and precision, 1..5.

@@ -19,7 +19,8 @@ void GridReentry::Start(double now) {
   started_at_ = now;
   turn_sign_ = 0.0;
   turned_ = 0.0;
-  last_heading_.reset();
+  last_step_ = -1.0;
+  any_clear_way_ = false;
 }
 
 bool GridReentry::SectorClear(const std::vector<Point2>& scan, double width, double radius) {
@@ -29,21 +30,34 @@ bool GridReentry::SectorClear(const std::vector<Point2>& scan, double width, dou
   return true;
 }
 
-WheelSpeeds GridReentry::Step(const Pose2& pose, const std::vector<Point2>& scan, const std::optional<Point2>& toward) {
+WheelSpeeds GridReentry::Step(const Pose2& pose, const std::vector<Point2>& scan, const std::optional<Point2>& toward,
+                              double now) {
   if (!active()) return {};
-  if (last_heading_) turned_ += std::abs(NormalizeAngle(pose.theta - *last_heading_));
+  // Turning counts between consecutive steps only: another behaviour may have had the robot.
+  if (last_step_ >= 0.0 && now - last_step_ <= kStepGap) turned_ += std::abs(NormalizeAngle(pose.theta - last_heading_));
+  last_step_ = now;
   last_heading_ = pose.theta;
+  if (any_clear_way_ && Distance(pose.translation(), relaxed_at_) > o_.relaxed_distance) {
+    any_clear_way_ = false;  // driven far enough on any clear way: towards the grid again
+    turned_ = 0.0;
+  }
+  if (!any_clear_way_ && turned_ > 2.0 * M_PI) {
+    // A whole turn and no clear way towards the grid: any clear way will do for a while.
+    any_clear_way_ = true;
+    relaxed_at_ = pose.translation();
+  }
 
-  // State 3: is the way ahead clear, and (the addition) does it lead towards the grid?
+  // State 3: is the way ahead clear, and (the addition) does it lead towards the grid? Driving
+  // goes on while it stays clear and does not turn away from the grid.
   const std::optional<double> bearing =
       toward ? std::optional<double>(NormalizeAngle(std::atan2(toward->y() - pose.y, toward->x() - pose.x) - pose.theta))
              : std::nullopt;
-  const bool towards_grid = !bearing || std::abs(*bearing) <= o_.max_bearing || turned_ > 2.0 * M_PI;
-  state_ = ReentryState::kCheckSector;
+  const double allowed = state_ == ReentryState::kForward ? M_PI / 2.0 : o_.max_bearing;
+  const bool towards_grid = !bearing || any_clear_way_ || std::abs(*bearing) <= allowed;
   if (SectorClear(scan, o_.sector_width, o_.sector_radius) && towards_grid) {
     // State 5: equal wheel speeds, straight on.
     state_ = ReentryState::kForward;
-    turned_ = 0.0;
+    if (!any_clear_way_) turned_ = 0.0;
     turn_sign_ = 0.0;
     return {o_.forward_speed, o_.forward_speed};
   }

@@ -7,8 +7,9 @@
 // on (state 5). The executive checks between steps whether a leg can start from the pose (state 2).
 //
 // One addition to the seed: where the nearest grid point is known, the robot drives off only
-// within max_bearing of its bearing, so it does not drive away from the grid into open space. After
-// a whole turn without such a heading, any clear one will do (the seed's rule), until it has driven.
+// within max_bearing of its bearing (and on while within 90 degrees), so it does not drive away
+// from the grid into open space. After a whole turn without such a heading, any clear one will do
+// (the seed's rule) until it has driven relaxed_distance.
 // Map frame; metres, radians, m/s at the wheel rim.
 #include <optional>
 #include <vector>
@@ -23,7 +24,8 @@ struct GridReentryOptions {
   double sector_radius = 0.6;   // r_c, m from the robot's centre
   double forward_speed = 0.15;  // m/s, both wheels (state 5)
   double rotate_speed = 0.08;   // m/s, the wheels with opposite signs (state 4)
-  double max_bearing = 0.5;     // rad: how far off the grid's bearing it may drive
+  double max_bearing = 0.5;     // rad: how far off the grid's bearing it may drive off
+  double relaxed_distance = 0.5;  // m driven on any clear way before the grid's bearing counts again
   double give_up_after = 30.0;  // s outside the grid before the leg fails
 };
 
@@ -42,9 +44,9 @@ class GridReentry {
   ReentryState state() const { return state_; }
   double started_at() const { return started_at_; }
 
-  // One step: `scan` is the last scan's returns in the robot's frame (m); `toward` the nearest
-  // point of the grid (map frame), when known. Returns the wheel command.
-  WheelSpeeds Step(const Pose2& pose, const std::vector<Point2>& scan, const std::optional<Point2>& toward);
+  // One step at `now` (s): `scan` is the last scan's returns in the robot's frame (m); `toward` the
+  // nearest point of the grid (map frame), when known. Returns the wheel command.
+  WheelSpeeds Step(const Pose2& pose, const std::vector<Point2>& scan, const std::optional<Point2>& toward, double now);
 
   // True when no point of `scan` (robot frame) lies within `radius` of the origin inside the
   // sector of full width `width` centred on the x axis.
@@ -57,8 +59,12 @@ class GridReentry {
   ReentryState state_ = ReentryState::kIdle;
   double started_at_ = 0.0;
   double turn_sign_ = 0.0;       // +1 left, -1 right; 0: not chosen yet
-  double turned_ = 0.0;          // rad turned since the robot last drove
-  std::optional<double> last_heading_;
+  static constexpr double kStepGap = 0.5;  // s: steps further apart are not consecutive
+  double turned_ = 0.0;          // rad turned since the robot last drove towards the grid
+  double last_step_ = -1.0;
+  double last_heading_ = 0.0;
+  bool any_clear_way_ = false;   // after a whole turn: any clear way, for relaxed_distance
+  Point2 relaxed_at_ = Point2::Zero();
 };
 
 }  // namespace navd::navigation

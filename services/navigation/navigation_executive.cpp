@@ -33,6 +33,7 @@ constexpr double kContactDisc = 0.15;  // m: radius of what a bumper hit, as the
 // leg can start from the pose (s; seed 000's state 2, each planning attempt a few milliseconds).
 constexpr double kReentrySearch = 3.0;
 constexpr double kReentryCheckPeriod = 0.25;
+constexpr double kOnTheGrid = 0.05;  // m: the nearest grid point this near is the robot's own cell
 
 long StateIndexOr(const UtilityDecisionMaker& brain, const char* name) {
   const auto& vars = brain.options().state_variables;
@@ -261,8 +262,13 @@ void NavigationExecutive::PlanLeg(double now) {
   } catch (const Error& e) {
     // Seed 000's state 2: the leg cannot start where the robot is (it is outside the grid); with
     // its laser it drives back on (states 3-5), and the leg is planned again from there.
-    if (StartsOffGrid(e) && !reentry_.TimedOut(now)) {
-      if (!reentry_.active()) reentry_.Start(now);
+    const uint64_t mission = navigator_.Status().goal_id;
+    if (reentry_.active() && reentry_mission_ != mission) reentry_.Stop();  // another mission's
+    if (StartsOffGrid(e) && !reentry_.TimedOut(now) && NearestGridPoint(estimate.pose.translation())) {
+      if (!reentry_.active()) {
+        reentry_.Start(now);
+        reentry_mission_ = mission;
+      }
       reentry_why_ = e.what();
       return;
     }
@@ -280,14 +286,25 @@ void NavigationExecutive::PlanLeg(double now) {
 void NavigationExecutive::RememberMap() {
   if (map_handover_.valid()) {
     if (map_handover_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-    map_handover_.get();
+    const uint64_t handed = map_handover_.get();
+    if (handed > 0) localizer_map_version_ = handed;  // 0: it failed, and is tried again
   }
   const auto map = planning_.maps().Get();
   if (!map || map->version == localizer_map_version_) return;
-  localizer_map_version_ = map->version;
   // A localiser's model of a large map (likelihood field, ray caster) takes up to a second to
   // build: not in a control step. The localisers go on with the old map until it is ready.
-  map_handover_ = std::async(std::launch::async, [this, map] { localizer_.SetMap(map->grid); });
+  try {
+    map_handover_ = std::async(std::launch::async, [this, map]() -> uint64_t {
+      try {
+        localizer_.SetMap(map->grid);
+        return map->version;
+      } catch (const std::exception&) {
+        return 0;  // out of memory, say: the old map stays
+      }
+    });
+  } catch (const std::system_error&) {
+    // No thread to be had now; the next step tries again.
+  }
 }
 
 uint64_t NavigationExecutive::localizer_map_version() const {
@@ -306,8 +323,11 @@ bool NavigationExecutive::StartsOffGrid(const Error& e) const {
 std::optional<Point2> NavigationExecutive::NearestGridPoint(const Point2& p) const {
   const std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
   if (!costmap || !costmap->grid().ContainsPoint(p)) return std::nullopt;
+  const CellIndex from = costmap->grid().CellOf(p);
+  // Through walls only from inside one (an estimate there is off; the laser finds the way), else
+  // the grid point must be reachable from where the robot is.
   const std::optional<CellIndex> cell = costmap->NearestFree(
-      costmap->grid().CellOf(p), static_cast<int>(kReentrySearch / costmap->grid().resolution()), true);
+      from, static_cast<int>(kReentrySearch / costmap->grid().resolution()), costmap->grid().IsOccupied(from));
   if (!cell) return std::nullopt;
   return costmap->grid().CellCenter(*cell);
 }
@@ -833,14 +853,18 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       reentry_checked_at_ = now;
       PlanLeg(now);  // state 2: on the grid yet?
     }
+    const std::optional<Point2> toward =
+        reentry_.active() ? NearestGridPoint(estimate.pose.translation()) : std::nullopt;
+    if (reentry_.active() && toward && Distance(*toward, estimate.pose.translation()) < kOnTheGrid) {
+      PlanLeg(now);  // on the grid: plan now rather than turn towards its own cell meanwhile
+    }
     if (reentry_.active() && navigator_.LegToPlan()) {
       std::vector<Point2> local;
       {
         std::lock_guard<std::mutex> lock(detector_mutex_);
         local = LocalScanPointsLocked(estimate.pose);
       }
-      const WheelSpeeds w =
-          fresh ? reentry_.Step(estimate.pose, local, NearestGridPoint(estimate.pose.translation())) : WheelSpeeds{};
+      const WheelSpeeds w = fresh ? reentry_.Step(estimate.pose, local, toward, now) : WheelSpeeds{};
       navigator_.Hold(estimate.pose, now, NavigationState::kRecovering,
                       std::string("outside the navigation grid (") + reentry_why_ + "): " +
                           ReentryStateName(reentry_.state()),

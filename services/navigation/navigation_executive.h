@@ -221,7 +221,8 @@ class NavigationExecutive {
   // the laser can lead it back.
   bool StartsOffGrid(const Error& e) const;
   // The nearest point where a leg could start (a costmap cell that is not lethal) within
-  // kReentrySearch of `p`, looking through walls (the estimate may be inside one); map frame.
+  // kReentrySearch of `p` along each axis, reachable from `p` or, from inside a wall (an estimate
+  // off the truth), through walls; map frame.
   std::optional<Point2> NearestGridPoint(const Point2& p) const;
   // Runs the detection process on a new scan (building its map view when the map changed).
   void DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now);
@@ -303,8 +304,11 @@ class NavigationExecutive {
   GridReentry reentry_;             // control thread only
   std::string reentry_why_;         // what the planner said of the start
   double reentry_checked_at_ = -1e9;
+  uint64_t reentry_mission_ = 0;    // the mission the reentry is for
   std::atomic<uint64_t> localizer_map_version_{0};
-  std::future<void> map_handover_;  // the localisers' SetMap under way; control thread only
+  // The localisers' SetMap under way: the map version it hands over, 0 if it failed. Control
+  // thread only.
+  std::future<uint64_t> map_handover_;
   double avoidance_done_at_ = -1.0;
   EmergencyStopOptions stop_options_;
   double contact_since_ = -1.0;

@@ -47,20 +47,25 @@ int Costmap::SegmentMaxCost(const Point2& a, const Point2& b) const {
 std::optional<CellIndex> Costmap::NearestFree(const CellIndex& from, int max_cells, bool through_obstacles) const {
   if (!grid_->Contains(from)) return std::nullopt;
   if (!IsLethal(from)) return from;
-  std::vector<uint8_t> seen(grid_->cells().size(), 0);
+  // Marks over the search window only: the executive asks every control step.
+  const int side = 2 * max_cells + 1;
+  std::vector<uint8_t> seen(static_cast<size_t>(side) * side, 0);
+  auto mark = [&](const CellIndex& c) -> uint8_t& {
+    return seen[static_cast<size_t>(c.y - from.y + max_cells) * side + (c.x - from.x + max_cells)];
+  };
   std::queue<CellIndex> q;
   q.push(from);
-  seen[grid_->Flat(from)] = 1;
+  mark(from) = 1;
   while (!q.empty()) {
     const CellIndex c = q.front();
     q.pop();
     for (const CellIndex d : {CellIndex{1, 0}, CellIndex{-1, 0}, CellIndex{0, 1}, CellIndex{0, -1}}) {
       const CellIndex n{c.x + d.x, c.y + d.y};
-      if (!grid_->Contains(n) || seen[grid_->Flat(n)] || std::abs(n.x - from.x) > max_cells ||
-          std::abs(n.y - from.y) > max_cells || (!through_obstacles && grid_->IsOccupied(n))) {
+      if (!grid_->Contains(n) || std::abs(n.x - from.x) > max_cells || std::abs(n.y - from.y) > max_cells ||
+          mark(n) || (!through_obstacles && grid_->IsOccupied(n))) {
         continue;
       }
-      seen[grid_->Flat(n)] = 1;
+      mark(n) = 1;
       if (!IsLethal(n)) return n;
       q.push(n);
     }

@@ -41,8 +41,7 @@ void DStarLite::Push(int32_t u, int x, int y) {
 }
 
 template <typename F>
-void DStarLite::ForEachEdge(int32_t u, F&& f) const {
-  const int x = u % width_, y = u / width_;
+void DStarLite::ForEachEdge(int32_t u, int x, int y, F&& f) const {
   if (!Free(x, y)) return;  // a blocked cell has no traversable edges
   ForEachMove(x, y, [this](int cx, int cy) { return Free(cx, cy); },
               [&](int nx, int ny, bool diagonal) { f(ny * width_ + nx, nx, ny, diagonal ? kDiagonal : kStraight); });
@@ -94,7 +93,7 @@ bool DStarLite::ComputeShortestPath(const StopRequested& stop) {
       // version: an O(1) min instead of recomputing their rhs).
       g_[u] = rhs_[u];
       const int32_t goal = Index(goal_);
-      ForEachEdge(u, [&](int32_t s, int sx, int sy, const OctileCost& c) {
+      ForEachEdge(u, ux, uy, [&](int32_t s, int sx, int sy, const OctileCost& c) {
         if (s != goal) rhs_[s] = Min(rhs_[s], c + g_[u]);
         UpdateQueue(s, sx, sy);
       });
@@ -102,7 +101,7 @@ bool DStarLite::ComputeShortestPath(const StopRequested& stop) {
       // Underconsistent: raise it; only neighbours whose rhs came through it need recomputing.
       const OctileCost g_old = g_[u];
       g_[u] = kInf;
-      ForEachEdge(u, [&](int32_t s, int sx, int sy, const OctileCost& c) {
+      ForEachEdge(u, ux, uy, [&](int32_t s, int sx, int sy, const OctileCost& c) {
         if (rhs_[s] == c + g_old) RecomputeRhs(s);
         UpdateQueue(s, sx, sy);
       });

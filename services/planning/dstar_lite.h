@@ -4,6 +4,7 @@
 // change (or the robot moves) repairs only what the change invalidates. 8-connected, octile
 // heuristic, no corner cutting; costs in cells (1 and sqrt 2), kept exact as OctileCost.
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "services/planning/global_planner.h"
@@ -52,9 +53,14 @@ class DStarLite {
   void UpdateQueue(int32_t u, int x, int y);
   void UpdateVertex(int32_t u);   // both
   void Push(int32_t u, int x, int y);
-  // Calls f(neighbour, x, y, cost) for every traversable edge of u (cost an OctileCost step).
+  // Calls f(neighbour, x, y, cost) for every traversable edge of u = (ux, uy) (cost an OctileCost
+  // step).
   template <typename F>
-  void ForEachEdge(int32_t u, F&& f) const;
+  void ForEachEdge(int32_t u, int ux, int uy, F&& f) const;
+  template <typename F>
+  void ForEachEdge(int32_t u, F&& f) const {
+    ForEachEdge(u, u % width_, u / width_, std::forward<F>(f));
+  }
 
   int width_, height_;
   std::vector<uint8_t> blocked_;

@@ -112,8 +112,8 @@ BENCHMARK_CAPTURE(BM_MazeSearch, thetastar, std::string("thetastar"))->Unit(benc
 //             1% of the map's cells to change (about 330 cells), all at once;
 //   drive     how D* Lite is used, and how seed 002's robot met its changes: the robot drives its
 //             path and its sensors find small unknown obstacles ahead as it goes (10 x 10 cells,
-//             centred 20 cells ahead on the path, one find every 8 cells of travel) until 1% of
-//             the map's cells have changed, each find followed by a replan (~34).
+//             centred 12 cells ahead of where it replans, one find every 8 cells of travel) until
+//             1% of the map's cells have changed, each find followed by a replan (~34).
 enum class Change { kSpread, kLocal, kObstacle, kDrive };
 
 struct ReplanCase {

@@ -122,12 +122,12 @@ TEST(GridReentry, TurnsWhileTheSectorAheadIsBlockedAndDrivesOnceClear) {
   EXPECT_TRUE(GridReentry::SectorClear({{0.7, 0.0}, {0.3, 0.4}, {-0.2, 0.0}}, 1.0, 0.6));  // beyond r_c, beside, behind
   EXPECT_FALSE(GridReentry::SectorClear({{0.5, 0.2}}, 1.0, 0.6));                         // 0.38 rad off, 0.54 m
   GridReentry r(o);
-  EXPECT_EQ(r.Step(Pose2(), {}, std::nullopt).left, 0.0);  // not started: no command
+  EXPECT_EQ(r.Step(Pose2(), {}, std::nullopt, 0.0).left, 0.0);  // not started: no command
   r.Start(0.0);
-  WheelSpeeds w = r.Step(Pose2(), {{0.4, 0.0}}, std::nullopt);
+  WheelSpeeds w = r.Step(Pose2(), {{0.4, 0.0}}, std::nullopt, 0.0);
   EXPECT_EQ(r.state(), ReentryState::kRotate);
   EXPECT_NEAR(w.left, -w.right, 1e-12);
-  w = r.Step(Pose2(), {{0.0, 0.4}}, std::nullopt);
+  w = r.Step(Pose2(), {{0.0, 0.4}}, std::nullopt, 0.05);
   EXPECT_EQ(r.state(), ReentryState::kForward);
   EXPECT_GT(w.left, 0.0);
   EXPECT_EQ(w.left, w.right);
@@ -141,38 +141,47 @@ TEST(GridReentry, TurnsTowardsTheGridBeforeDrivingAndTakesAnyClearWayAfterAWhole
   // Facing away from the grid (it lies behind and to the right) in open space: it turns right.
   Pose2 pose(0.0, 0.0, 0.0);
   const Point2 grid(-2.0, -1.0);
-  WheelSpeeds w = r.Step(pose, {}, grid);
+  double t = 0.0;
+  WheelSpeeds w = r.Step(pose, {}, grid, t);
   EXPECT_EQ(r.state(), ReentryState::kRotate);
   EXPECT_GT(w.left, 0.0);  // right turn
   double turned = 0.0;
   while (r.state() == ReentryState::kRotate && turned < 7.0) {
     pose.theta = NormalizeAngle(pose.theta - 0.05);
     turned += 0.05;
-    w = r.Step(pose, {}, grid);
+    w = r.Step(pose, {}, grid, t += 0.05);
   }
   EXPECT_EQ(r.state(), ReentryState::kForward);
   const double bearing = std::atan2(grid.y() - pose.y, grid.x() - pose.x);
   EXPECT_LE(std::abs(NormalizeAngle(bearing - pose.theta)), r.options().max_bearing + 1e-9);
   // A wall in the way towards the grid (seen at every heading within the limits): after a whole turn
-  // any clear heading will do.
+  // any clear heading will do, for relaxed_distance of driving.
   GridReentry blocked;
   blocked.Start(0.0);
   pose = Pose2(0.0, 0.0, 0.0);
   turned = 0.0;
+  t = 0.0;
   auto wall = [&] {
     // A wall 0.4 m to the west of the robot, in its own frame.
     std::vector<Point2> local;
     for (double y = -2.0; y <= 2.0; y += 0.05) local.push_back(pose.inverse() * Point2(-0.4, y));
     return local;
   };
-  blocked.Step(pose, wall(), Point2(-2.0, 0.0));
+  blocked.Step(pose, wall(), Point2(-2.0, 0.0), t);
   while (blocked.state() == ReentryState::kRotate && turned < 10.0) {
     pose.theta = NormalizeAngle(pose.theta + 0.05);
     turned += 0.05;
-    blocked.Step(pose, wall(), Point2(-2.0, 0.0));
+    blocked.Step(pose, wall(), Point2(-2.0, 0.0), t += 0.05);
   }
   EXPECT_EQ(blocked.state(), ReentryState::kForward);
   EXPECT_GT(turned, 2.0 * M_PI);
+  double driven = 0.0;
+  while (blocked.state() == ReentryState::kForward && driven < 2.0) {
+    pose = pose * Pose2(0.01, 0.0, 0.0);
+    driven += 0.01;
+    blocked.Step(pose, wall(), Point2(-2.0, 0.0), t += 0.05);
+  }
+  EXPECT_NEAR(driven, blocked.options().relaxed_distance, 0.02);  // then it turns back towards the grid
   EXPECT_GT(std::cos(pose.theta), 0.5);  // away from the wall, not into it
 }
 
