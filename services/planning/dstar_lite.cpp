@@ -17,26 +17,25 @@ constexpr OctileCost kDiagonal = OctileCost::Steps(0, 1);
 DStarLite::DStarLite(const Costmap& costmap, const CellIndex& start, const CellIndex& goal)
     : width_(costmap.width()), height_(costmap.height()),
       blocked_(costmap.lethal_data(), costmap.lethal_data() + static_cast<size_t>(width_) * height_),
-      g_(blocked_.size(), kInf), rhs_(blocked_.size(), kInf), queued_key_(blocked_.size()),
-      in_queue_(blocked_.size(), 0), start_(start), goal_(goal), last_(start) {
+      node_(blocked_.size()), start_(start), goal_(goal), last_(start) {
   // A path visits each cell once, so the grid's size bounds every finite cost (keys add the
   // heuristic and k_m, hence the factor).
   if (static_cast<int64_t>(blocked_.size()) * 4 > OctileCost::kMaxCells)
     throw Error(ErrorCode::kInvalidArgument, "map: " + std::to_string(width_) + " x " + std::to_string(height_) +
                                                  " cells is too large for D* Lite's exact costs");
-  rhs_[Index(goal)] = OctileCost{};
+  node_[Index(goal)].rhs = OctileCost{};
   Push(Index(goal), goal.x, goal.y);
 }
 
 DStarLite::Key DStarLite::CalculateKey(int32_t s, int x, int y) const {
-  const OctileCost m = Min(g_[s], rhs_[s]);
+  const OctileCost m = Min(node_[s].g, node_[s].rhs);
   return {m + HeuristicToStart(x, y) + km_, m};
 }
 
 void DStarLite::Push(int32_t u, int x, int y) {
   const Key k = CalculateKey(u, x, y);
-  queued_key_[u] = k;
-  in_queue_[u] = 1;
+  node_[u].queued_key = k;
+  node_[u].in_queue = true;
   heap_.push(k, u);
 }
 
@@ -50,14 +49,14 @@ void DStarLite::ForEachEdge(int32_t u, int x, int y, F&& f) const {
 void DStarLite::RecomputeRhs(int32_t u) {
   if (u == Index(goal_)) return;
   OctileCost best = kInf;
-  ForEachEdge(u, [&](int32_t s, int, int, const OctileCost& c) { best = Min(best, c + g_[s]); });
-  rhs_[u] = best;
+  ForEachEdge(u, [&](int32_t s, int, int, const OctileCost& c) { best = Min(best, c + node_[s].g); });
+  node_[u].rhs = best;
 }
 
 void DStarLite::UpdateQueue(int32_t u, int x, int y) {
-  if (g_[u] == rhs_[u]) {
-    in_queue_[u] = 0;  // consistent: any queued entry is stale
-  } else if (!in_queue_[u] || !(queued_key_[u] == CalculateKey(u, x, y))) {
+  if (node_[u].g == node_[u].rhs) {
+    node_[u].in_queue = false;  // consistent: any queued entry is stale
+  } else if (!node_[u].in_queue || !(node_[u].queued_key == CalculateKey(u, x, y))) {
     Push(u, x, y);
   }
 }
@@ -71,12 +70,12 @@ bool DStarLite::ComputeShortestPath(const StopRequested& stop) {
   const int32_t s_start = Index(start_);
   while (!heap_.empty()) {
     const auto top = heap_.top();
-    if (!in_queue_[top.node] || !(queued_key_[top.node] == top.key)) {  // stale entry
+    if (!node_[top.node].in_queue || !(node_[top.node].queued_key == top.key)) {  // stale entry
       heap_.pop();
       continue;
     }
     // Stop once nothing queued can lower the start's cost (exact comparison: see OctileCost).
-    if (!(top.key < CalculateKey(s_start)) && rhs_[s_start] == g_[s_start]) break;
+    if (!(top.key < CalculateKey(s_start)) && node_[s_start].rhs == node_[s_start].g) break;
     if ((++expansions_ & 1023) == 1 && stop && stop()) {
       throw Error(ErrorCode::kDeadlineExceeded, "planning stopped after " + std::to_string(expansions_) +
                                                     " expansions: deadline exceeded or cancelled");
@@ -85,30 +84,30 @@ bool DStarLite::ComputeShortestPath(const StopRequested& stop) {
     const int ux = u % width_, uy = u / width_;
     const Key k_new = CalculateKey(u, ux, uy);
     heap_.pop();
-    in_queue_[u] = 0;
+    node_[u].in_queue = false;
     if (top.key < k_new) {
       Push(u, ux, uy);  // its key rose since it was queued (k_m grew): requeue
-    } else if (rhs_[u] < g_[u]) {
+    } else if (node_[u].rhs < node_[u].g) {
       // Overconsistent: settle it; neighbours can only improve through it (the paper's optimised
       // version: an O(1) min instead of recomputing their rhs).
-      g_[u] = rhs_[u];
+      node_[u].g = node_[u].rhs;
       const int32_t goal = Index(goal_);
       ForEachEdge(u, ux, uy, [&](int32_t s, int sx, int sy, const OctileCost& c) {
-        if (s != goal) rhs_[s] = Min(rhs_[s], c + g_[u]);
+        if (s != goal) node_[s].rhs = Min(node_[s].rhs, c + node_[u].g);
         UpdateQueue(s, sx, sy);
       });
     } else {
       // Underconsistent: raise it; only neighbours whose rhs came through it need recomputing.
-      const OctileCost g_old = g_[u];
-      g_[u] = kInf;
+      const OctileCost g_old = node_[u].g;
+      node_[u].g = kInf;
       ForEachEdge(u, ux, uy, [&](int32_t s, int sx, int sy, const OctileCost& c) {
-        if (rhs_[s] == c + g_old) RecomputeRhs(s);
+        if (node_[s].rhs == c + g_old) RecomputeRhs(s);
         UpdateQueue(s, sx, sy);
       });
       UpdateVertex(u);
     }
   }
-  return !g_[s_start].infinite();
+  return !node_[s_start].g.infinite();
 }
 
 void DStarLite::SetBlocked(const CellIndex& cell, bool blocked) {
@@ -117,7 +116,7 @@ void DStarLite::SetBlocked(const CellIndex& cell, bool blocked) {
   // Edges that change: those of the cell itself and the diagonals that squeeze past its corners,
   // all of which start at the cell or one of its 8 neighbours. Their rhs values are recomputed.
   blocked_[c] = blocked;
-  if (blocked) g_[c] = kInf;
+  if (blocked) node_[c].g = kInf;
   UpdateVertex(c);
   for (const GridMove& m : kGridMoves) {
     const int nx = cell.x + m.dx, ny = cell.y + m.dy;
@@ -134,7 +133,7 @@ void DStarLite::MoveStart(const CellIndex& start) {
 std::vector<CellIndex> DStarLite::Path() const {
   std::vector<CellIndex> path;
   int32_t s = Index(start_);
-  if (g_[s].infinite()) return path;
+  if (node_[s].g.infinite()) return path;
   const int32_t goal = Index(goal_);
   path.push_back(start_);
   // Descend g: each step to the neighbour minimising c + g (at most one step per cell).
@@ -142,8 +141,8 @@ std::vector<CellIndex> DStarLite::Path() const {
     OctileCost best = kInf;
     int32_t next = -1;
     ForEachEdge(s, [&](int32_t n, int, int, const OctileCost& c) {
-      if (c + g_[n] < best) {
-        best = c + g_[n];
+      if (c + node_[n].g < best) {
+        best = c + node_[n].g;
         next = n;
       }
     });

@@ -28,7 +28,7 @@ class DStarLite {
   // The current shortest path, start first; empty when unreachable.
   std::vector<CellIndex> Path() const;
   // Length of the shortest path in cells (infinity when unreachable).
-  double PathCost() const { return g_[Index(start_)].value(); }
+  double PathCost() const { return node_[Index(start_)].g.value(); }
   // Vertices expanded (made consistent) so far: the "states processed" of seed 002.
   uint64_t expansions() const { return expansions_; }
 
@@ -64,9 +64,14 @@ class DStarLite {
 
   int width_, height_;
   std::vector<uint8_t> blocked_;
-  std::vector<OctileCost> g_, rhs_;
-  std::vector<Key> queued_key_;    // the key u is queued with, valid while in_queue_
-  std::vector<uint8_t> in_queue_;
+  // A vertex's search state in one place: the search touches all of it at once, and over a large
+  // grid each separate array cost a cache miss of its own.
+  struct Node {
+    OctileCost g = OctileCost::Infinite(), rhs = OctileCost::Infinite();
+    Key queued_key;        // the key the vertex is queued with, valid while in_queue
+    bool in_queue = false;
+  };
+  std::vector<Node> node_;
   QuaternaryHeap<Key> heap_;  // lazy deletion: entries whose key no longer matches are skipped
   CellIndex start_, goal_, last_;
   OctileCost km_;
