@@ -849,14 +849,13 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     }
   }
   if (reentry_.active()) {
-    if (now - reentry_checked_at_ >= kReentryCheckPeriod) {
+    const std::optional<Point2> toward = NearestGridPoint(estimate.pose.translation());
+    // State 2, on the grid yet? Asked periodically, and at once when the robot's own cell is on it
+    // (rather than turning towards that cell meanwhile).
+    const bool own_cell = toward && Distance(*toward, estimate.pose.translation()) < kOnTheGrid;
+    if (own_cell || now - reentry_checked_at_ >= kReentryCheckPeriod) {
       reentry_checked_at_ = now;
-      PlanLeg(now);  // state 2: on the grid yet?
-    }
-    const std::optional<Point2> toward =
-        reentry_.active() ? NearestGridPoint(estimate.pose.translation()) : std::nullopt;
-    if (reentry_.active() && toward && Distance(*toward, estimate.pose.translation()) < kOnTheGrid) {
-      PlanLeg(now);  // on the grid: plan now rather than turn towards its own cell meanwhile
+      PlanLeg(now);
     }
     if (reentry_.active() && navigator_.LegToPlan()) {
       std::vector<Point2> local;
