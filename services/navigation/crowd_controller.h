@@ -24,7 +24,11 @@ struct CrowdControllerOptions {
   // has no notion of stopping on a point).
   double handover_distance = 1.5;
   double command_lead = 0.1;        // s: the command is the plan's speeds this far ahead
-  double max_heading_error = 1.3;   // rad off the way to the plan's goal: the path follower turns the robot
+  // rad off the way to the plan's goal: beyond, the path follower turns the robot round. The RRT
+  // turns a robot back from any heading it starts with (it prunes only worse ones), so this is
+  // for a robot facing nearly backwards: the follower is slow among walkers and heads straight
+  // back onto the path, across their way (at 1.3 rad, its turns cost the street runs 6 points).
+  double max_heading_error = 2.4;
 };
 
 // Forward speed and yaw rate.

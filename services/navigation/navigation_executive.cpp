@@ -416,8 +416,8 @@ std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& po
   if (!steer) return hand_back();
   std::vector<Point2> path = navigator_.PathAhead(c.lookahead);
   const std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
-  // Facing away from where the path leads (turned by an escape or a bump), the crowd RRT, which
-  // prunes heading back, has nothing to offer: the path follower turns the robot round first.
+  // Facing almost backwards (turned by an escape or a bump), the path follower turns the robot
+  // round first; the crowd RRT turns it back from anything less.
   const bool facing = !path.empty() && std::abs(NormalizeAngle(std::atan2(path.back().y() - pose.y, path.back().x() - pose.x) -
                                                                pose.theta)) < c.max_heading_error;
   if (!facing || !costmap) return hand_back();

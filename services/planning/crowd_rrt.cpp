@@ -12,6 +12,7 @@ namespace navd::planning {
 namespace {
 
 constexpr double kSubStep = 0.05;  // s: Eq. 10 is integrated this finely within a vertex step
+constexpr double kIndexCell = 0.5;  // m: the nearest-vertex grid's cells
 
 struct Vertex {
   UnicycleState state;
@@ -88,6 +89,77 @@ class CrowdField {
   const std::vector<Point2>& path_;
   std::vector<MovingBody> people_;
   double least_wall_distance_ = std::numeric_limits<double>::infinity();  // m; infinity: lethal is lethal
+};
+
+// The vertices the tree may grow from, bucketed on a square grid round the start, so the nearest
+// to a target is found among the cells round it rather than by a scan of every vertex (which made
+// a plan's cost grow with the square of its size). Exact: the same vertex as the scan, ties to
+// the lowest index. A vertex beyond the grid is kept in the border cell it lies past; a target
+// beyond it is answered by a scan.
+class NearestVertexIndex {
+ public:
+  NearestVertexIndex(const Point2& centre, double half_size, double cell)
+      : origin_(centre - Point2(half_size, half_size)),
+        cell_(cell),
+        side_(std::max(1, static_cast<int>(std::ceil(2.0 * half_size / cell)))),
+        cells_(static_cast<size_t>(side_) * static_cast<size_t>(side_)) {}
+
+  void Add(int index, const Point2& p) {
+    cells_[Flat(Clamp(Cell(p.x(), origin_.x())), Clamp(Cell(p.y(), origin_.y())))].push_back(index);
+    all_.push_back(index);
+  }
+
+  // Index of the added vertex nearest to `target` in the plane; -1 when none was added.
+  template <typename PositionOf>
+  int Nearest(const Point2& target, const PositionOf& position) const {
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    const auto consider = [&](int i) {
+      const double d = (position(i) - target).squaredNorm();
+      if (d < best_d || (d == best_d && i < best)) {
+        best_d = d;
+        best = i;
+      }
+    };
+    const int cx = Cell(target.x(), origin_.x()), cy = Cell(target.y(), origin_.y());
+    if (cx < 0 || cy < 0 || cx >= side_ || cy >= side_) {
+      for (const int i : all_) consider(i);
+      return best;
+    }
+    for (int ring = 0; ring < side_; ++ring) {
+      const auto visit = [&](int x, int y) {
+        if (x >= 0 && y >= 0 && x < side_ && y < side_)
+          for (const int i : cells_[Flat(x, y)]) consider(i);
+      };
+      if (ring == 0) {
+        visit(cx, cy);
+      } else {
+        for (int x = cx - ring; x <= cx + ring; ++x) {
+          visit(x, cy - ring);
+          visit(x, cy + ring);
+        }
+        for (int y = cy - ring + 1; y <= cy + ring - 1; ++y) {
+          visit(cx - ring, y);
+          visit(cx + ring, y);
+        }
+      }
+      // Whatever lies in the next ring or beyond is at least `ring` whole cells away.
+      const double reach = ring * cell_;
+      if (best >= 0 && best_d <= reach * reach) break;
+    }
+    return best;
+  }
+
+ private:
+  int Cell(double v, double origin) const { return static_cast<int>(std::floor((v - origin) / cell_)); }
+  int Clamp(int c) const { return std::clamp(c, 0, side_ - 1); }
+  size_t Flat(int x, int y) const { return static_cast<size_t>(y) * static_cast<size_t>(side_) + static_cast<size_t>(x); }
+
+  Point2 origin_;
+  double cell_;
+  int side_;
+  std::vector<std::vector<int>> cells_;
+  std::vector<int> all_;
 };
 
 void Check(bool ok, const std::string& what) {
@@ -214,6 +286,21 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
     tip = extend(tip, {-r.limits.max_accel, -s.w / o.step}, true);
   }
 
+  // Too late for children; the braking chain is a way out, not a place to grow from (trees grown
+  // from its end stop first and then set off again).
+  const auto growable = [&](int i) {
+    const Vertex& v = tree[static_cast<size_t>(i)];
+    return v.state.t <= o.horizon - o.step + 1e-9 && !v.braking;
+  };
+  // Large enough for every random target and for where the robot can get to within the horizon.
+  NearestVertexIndex index(start, std::max(1.1 * reach + o.lateral_range, r.limits.max_speed * o.horizon) + 1.0, kIndexCell);
+  for (int i = 0; i < static_cast<int>(tree.size()); ++i)
+    if (growable(i)) index.Add(i, tree[static_cast<size_t>(i)].state.position());
+  const auto grow = [&](int from, const UnicycleInput& u) {
+    const int i = extend(from, u, false);
+    if (i >= 0 && growable(i)) index.Add(i, tree[static_cast<size_t>(i)].state.position());
+  };
+
   std::mt19937_64 rng(r.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> noise_v(0.0, o.speed_noise), noise_w(0.0, o.yaw_noise);
@@ -224,23 +311,12 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
     if (unit(rng) >= o.goal_bias) {
       target = start + axis * (reach * (1.1 * unit(rng) - 0.1)) + normal * (o.lateral_range * (2.0 * unit(rng) - 1.0));
     }
-    size_t nearest = 0;
-    double best = std::numeric_limits<double>::infinity();
-    for (size_t i = 0; i < tree.size(); ++i) {
-      // Too late for children; the braking chain is a way out, not a place to grow from (trees
-      // grown from its end stop first and then set off again).
-      if (tree[i].state.t > o.horizon - o.step + 1e-9 || tree[i].braking) continue;
-      const double d = (tree[i].state.position() - target).squaredNorm();
-      if (d < best) {
-        best = d;
-        nearest = i;
-      }
-    }
-    if (!std::isfinite(best)) break;
-    UnicycleInput u = SteerTowards(tree[nearest].state, target, o.desired_speed, o.gains);
+    const int nearest = index.Nearest(target, [&](int i) { return tree[static_cast<size_t>(i)].state.position(); });
+    if (nearest < 0) break;
+    UnicycleInput u = SteerTowards(tree[static_cast<size_t>(nearest)].state, target, o.desired_speed, o.gains);
     u.accel += noise_v(rng);
     u.yaw_accel += noise_w(rng);
-    extend(static_cast<int>(nearest), u, false);
+    grow(nearest, u);
   }
 
   // Line 10: the cheapest vertex by Eq. 15, not the newest; early vertices only when nothing else.
