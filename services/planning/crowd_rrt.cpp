@@ -13,6 +13,7 @@ namespace {
 
 constexpr double kSubStep = 0.05;  // s: Eq. 10 is integrated this finely within a vertex step
 constexpr double kIndexCell = 0.5;  // m: the nearest-vertex grid's cells
+constexpr double kIndexMaxHalfSize = 40.0;  // m: the grid reaches no farther from the start
 
 struct Vertex {
   UnicycleState state;
@@ -292,8 +293,11 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
     const Vertex& v = tree[static_cast<size_t>(i)];
     return v.state.t <= o.horizon - o.step + 1e-9 && !v.braking;
   };
-  // Large enough for every random target and for where the robot can get to within the horizon.
-  NearestVertexIndex index(start, std::max(1.1 * reach + o.lateral_range, r.limits.max_speed * o.horizon) + 1.0, kIndexCell);
+  // Large enough for every random target and for where the robot can get to within the horizon,
+  // within reason: beyond the grid the answers stay exact, only slower.
+  const double index_half_size =
+      std::min(std::max(1.1 * reach + o.lateral_range, r.limits.max_speed * o.horizon) + 1.0, kIndexMaxHalfSize);
+  NearestVertexIndex index(start, index_half_size, kIndexCell);
   for (int i = 0; i < static_cast<int>(tree.size()); ++i)
     if (growable(i)) index.Add(i, tree[static_cast<size_t>(i)].state.position());
   const auto grow = [&](int from, const UnicycleInput& u) {

@@ -83,6 +83,17 @@ TEST(CrowdRrt, AnEmptyStreetIsDrivenAlongThePathAtTheDesiredSpeed) {
   EXPECT_GT(t.states.back().x - 2.0, 0.7 * 1.5 * t.states.back().t);
 }
 
+TEST(CrowdRrt, AVeryHighSpeedLimitStillPlansInBoundedMemory) {
+  // The nearest-vertex grid is sized by how far the robot could get: with a limit of 1 km/s that
+  // would be 16 km across, a billion cells. It stops at a bounded size and stays exact beyond.
+  const planning::Costmap cm = Street();
+  CrowdRrtRequest r = DownTheStreet(1.5);
+  r.limits.max_speed = 1000.0;
+  const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+  ExpectFeasible(cm, r, t);
+  EXPECT_EQ(t.tree_size, Options().max_nodes);
+}
+
 TEST(CrowdRrt, KeepsOutOfAnOncomingWalkersPersonalZone) {
   const planning::Costmap cm = Street();
   int outside = 0, runs = 20;
