@@ -14,6 +14,10 @@ namespace {
 constexpr double kSubStep = 0.05;  // s: Eq. 10 is integrated this finely within a vertex step
 constexpr double kIndexCell = 0.5;  // m: the nearest-vertex grid's cells
 constexpr double kIndexMaxHalfSize = 40.0;  // m: the grid reaches no farther from the start
+// A robot slower than this (m/s) and more than kTurnOnTheSpot (rad) off the goal's direction is
+// offered a turn on the spot.
+constexpr double kStanding = 0.2;
+constexpr double kTurnOnTheSpot = 0.5;
 
 struct Vertex {
   UnicycleState state;
@@ -287,6 +291,18 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
     tip = extend(tip, {-r.limits.max_accel, -s.w / o.step}, true);
   }
 
+  // Ours: a turn on the spot towards the goal, then on towards it. From a standstill the random
+  // extensions speed up as they turn, so a robot that passers-by left facing a wall found no way
+  // round and stood there.
+  if (root.v < kStanding && std::abs(NormalizeAngle(root.yaw - direction)) > kTurnOnTheSpot) {
+    tip = 0;
+    while (tip >= 0 && tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
+      const UnicycleState& s = tree[static_cast<size_t>(tip)].state;
+      const double off = std::abs(NormalizeAngle(std::atan2(r.goal.y() - s.y, r.goal.x() - s.x) - s.yaw));
+      tip = extend(tip, SteerTowards(s, r.goal, off > 0.3 ? 0.0 : o.desired_speed, o.gains), false);  // off within 0.3 rad
+    }
+  }
+
   // Too late for children; the braking chain is a way out, not a place to grow from (trees grown
   // from its end stop first and then set off again).
   const auto growable = [&](int i) {
@@ -332,16 +348,19 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
   };
   int chosen = -1;
   double chosen_cost = std::numeric_limits<double>::infinity();
-  for (const bool late_only : {true, false}) {
-    for (size_t i = 1; i < tree.size(); ++i) {
-      if (late_only && tree[i].state.t < o.min_select_time - 1e-9) continue;
-      const double c = total(tree[i]);
-      if (c < chosen_cost) {
-        chosen_cost = c;
-        chosen = static_cast<int>(i);
-      }
+  double latest = 0.0;
+  for (size_t i = 1; i < tree.size(); ++i) latest = std::max(latest, tree[i].state.t);
+  // When no vertex lives min_select_time (everything runs into someone's predicted way), the
+  // cheapest of those that stay clear the longest: the cheapest overall is the shortest, which
+  // then ends in a stop in front of people who do not stop.
+  const double earliest = std::min(o.min_select_time, latest - o.step) - 1e-9;
+  for (size_t i = 1; i < tree.size(); ++i) {
+    if (tree[i].state.t < earliest) continue;
+    const double c = total(tree[i]);
+    if (c < chosen_cost) {
+      chosen_cost = c;
+      chosen = static_cast<int>(i);
     }
-    if (chosen >= 0) break;
   }
 
   CrowdTrajectory out = chosen < 0 ? Escape(field, root, r, o) : CrowdTrajectory{};

@@ -2,7 +2,10 @@
 // Book chapter 7's planner for a robot among people (Sec. 8, Algorithm 2): an RRT in
 // configuration-time space, meant to run inside a model-predictive loop. Each call
 //   1. seeds the tree with what is left of the previous best trajectory (its inputs replayed from
-//      the robot's state now) and, our addition, a braking chain, so stopping is always a choice;
+//      the robot's state now) and, our additions, a braking chain, so stopping is always a choice,
+//      and for a robot standing more than 0.5 rad off the goal's direction a turn on the spot
+//      towards the goal and on (random extensions speed up as they turn: a robot left facing a
+//      wall found no way out);
 //   2. grows it to max_nodes vertices: a target is the goal with probability goal_bias, else a
 //      random point in the region ahead; the nearest vertex (in the plane; not the braking chain)
 //      is extended by one step of the unicycle (Eq. 10) under Eq. 16's steering towards the
@@ -14,8 +17,10 @@
 //      predicted disc;
 //   4. returns the trajectory to the vertex of least Eq. 15 cost (the last plan's at a discount),
 //      I = ∫(g1 + g2 + c_v·shortfall²) dt + g3, among the vertices at least min_select_time ahead
-//      (the chapter's "discard nodes with a small time"); when nothing at all is valid (someone
-//      walks into the robot), the escape among a fan of constant inputs that keeps most room.
+//      (the chapter's "discard nodes with a small time"); when none lives that long, among those
+//      that stay valid longest (ours: the cheapest overall is the shortest, a stop in front of
+//      people who do not stop); when nothing at all is valid (someone walks into the robot), the
+//      escape among a fan of constant inputs that keeps most room.
 // g1 is the environment's valley: c_y·d² with d the distance from the request's path (the
 // chapter's c_y·y² for a street's centre line), plus the costmap's decaying cost near walls. g2 is
 // PersonCostModel per person, each predicted at constant velocity. The speed shortfall (ours) is

@@ -155,6 +155,38 @@ TEST(CrowdRrt, ARobotPushedIntoTheInflationDrivesOut) {
   for (const auto& s : t.states) EXPECT_GT(s.y, 0.4) << s.t;
 }
 
+TEST(CrowdRrt, ARobotLeftStandingFacingTheWallTurnsAndDrivesOn) {
+  // Walkers pushed it against the wall and left it facing it, 64° off the way (seen in the street
+  // bench: it stood there for the rest of the run). Every extension that sets off moves it nearer
+  // the wall; the turn on the spot gets it out.
+  const planning::Costmap cm = Street();
+  CrowdRrtRequest r = DownTheStreet(0.0);
+  r.start.y = 0.4;
+  r.start.yaw = -1.12;
+  const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+  ASSERT_GE(t.states.size(), 2u);
+  EXPECT_FALSE(t.braking);
+  EXPECT_FALSE(t.escape);
+  EXPECT_GT(t.states.back().x, 4.0);
+  EXPECT_LT(std::abs(t.states.back().yaw), 0.5);
+  for (const auto& s : t.states) EXPECT_GT(s.y, 0.35) << s.t;
+}
+
+TEST(CrowdRrt, WhenEverythingRunsIntoSomeoneThePlanStaysClearTheLongest) {
+  // A line of walkers across the whole street comes at the robot: no way lives the 4 s a plan
+  // should, braking lives longest. The cheapest vertex overall would be one of the first, a plan
+  // that ends in a fraction of a second.
+  const planning::Costmap cm = Street();
+  CrowdRrtRequest r = DownTheStreet(1.5);
+  for (double y = 0.4; y < 7.8; y += 0.5) r.people.push_back({{9.0, y}, {-1.3, 0.0}, 0.25, true});
+  const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+  ASSERT_GE(t.states.size(), 2u);
+  EXPECT_FALSE(t.escape);
+  EXPECT_GT(t.states.back().t, 2.5);
+  EXPECT_LT(t.states.back().v, 0.5);
+  for (const MovingBody& p : r.people) EXPECT_GT(ClosestApproach(t, p), 0.55);
+}
+
 TEST(CrowdRrt, BadInputIsRejected) {
   const planning::Costmap cm = Street();
   CrowdRrtRequest r = DownTheStreet(1.0);
