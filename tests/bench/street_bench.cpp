@@ -6,9 +6,14 @@
 //                   velocity within 45 m in front of the robot, and the robot's pose.
 //   --people laser  navd's perception: the laser's unexplained blobs, tracked by the person
 //                   tracker, from the true pose.
+// and, to tell apart what the rest of the personal-zone time is made of:
+//   --people truth-all            as truth, people behind the robot as well;
+//   --people laser-true-velocity  the laser's tracks, each with its person's true walking velocity;
+//   --straight-walkers            walkers who keep to one goal far down the street, without Brownian
+//                                 motion, so constant-velocity predictions hold.
 // Prints one line per run and the totals: collisions, the share of the time the nearest person
 // was outside the personal zone (1.2 m, centre to centre), closest approach.
-//   build/tests/street_bench [--runs N] [--first-seed S] [--people truth|laser] [--speed V] [--collisions]
+//   build/tests/street_bench [--runs N] [--first-seed S] [--people MODE] [--speed V] [--straight-walkers] [--collisions]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -40,7 +45,17 @@ struct RunFigures {
   bool reached = false;
 };
 
-RunFigures Run(const sim::Scenario& scenario, uint64_t seed, bool truth_people, double distance, bool print_contacts, double speed) {
+enum class Knowledge { kTruth, kTruthAll, kLaser, kLaserTrueVelocity };
+
+// A person's walking velocity: towards their goal at their speed. The step's velocity also holds
+// the Brownian motion, ~1 m/s of noise over a 0.01 s step.
+Point2 WalkingVelocity(const sim::Person& p) {
+  const Point2 to_goal = p.goal - p.position;
+  return to_goal.norm() > 1e-9 ? Point2(p.speed * to_goal.normalized()) : Point2::Zero();
+}
+
+RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge, double distance, bool print_contacts, double speed) {
+  const bool truth_people = knowledge == Knowledge::kTruth || knowledge == Knowledge::kTruthAll;
   sim::SimulationOptions so;
   so.seed = seed;
   sim::Simulation s(scenario, so);
@@ -81,15 +96,24 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, bool truth_people, 
       if (truth_people) {
         for (const sim::Person& p : s.people()) {
           const Point2 rel = pose.inverse() * p.position;
-          // The walking velocity (towards the person's goal at their speed): the step's velocity
-          // also holds the Brownian motion, ~1 m/s of noise over a 0.01 s step.
-          const Point2 to_goal = p.goal - p.position;
-          const Point2 walking = to_goal.norm() > 1e-9 ? Point2(p.speed * to_goal.normalized()) : Point2::Zero();
-          if (rel.x() > 0.0 && rel.norm() <= 45.0) bodies.push_back({p.position, walking, people.person_radius, true});
+          if ((rel.x() > 0.0 || knowledge == Knowledge::kTruthAll) && rel.norm() <= 45.0)
+            bodies.push_back({p.position, WalkingVelocity(p), people.person_radius, true});
         }
       } else {
-        for (const navigation::TrackedPerson& p : tracker.People(s.now()))
-          bodies.push_back({p.position, p.velocity, people.person_radius, true});
+        for (const navigation::TrackedPerson& t : tracker.People(s.now())) {
+          Point2 velocity = t.velocity;
+          if (knowledge == Knowledge::kLaserTrueVelocity) {
+            // The person the track is on: the nearest within half a metre.
+            double nearest = 0.5;
+            for (const sim::Person& p : s.people()) {
+              if (Distance(p.position, t.position) < nearest) {
+                nearest = Distance(p.position, t.position);
+                velocity = WalkingVelocity(p);
+              }
+            }
+          }
+          bodies.push_back({t.position, velocity, people.person_radius, true});
+        }
       }
       const navigation::UnicycleCommand u = controller.Step(costmap, pose, path, bodies, s.now());
       s.Command(0, {u.v, 0.0, u.w});
@@ -138,12 +162,16 @@ int main(int argc, char** argv) {
   double distance = 88.0;
   app.add_option("--runs", runs)->check(CLI::Range(1, 10000));
   app.add_option("--first-seed", first);
-  app.add_option("--people", people, "truth (the chapter's: known within 45 m ahead) or laser (navd's tracker)")
-      ->check(CLI::IsMember({"truth", "laser"}));
+  app.add_option("--people", people,
+                 "truth (the chapter's: known within 45 m ahead), truth-all (and behind), laser (navd's tracker) or "
+                 "laser-true-velocity (its tracks with the true walking velocities)")
+      ->check(CLI::IsMember({"truth", "truth-all", "laser", "laser-true-velocity"}));
   app.add_option("--scenario", scenario_path);
   app.add_option("--distance", distance, "metres down the street")->check(CLI::Range(1.0, 1000.0));
   double speed = 1.5;
   app.add_option("--speed", speed, "desired speed among people, m/s (navd --crowd-speed)")->check(CLI::Range(0.1, 5.0));
+  bool straight = false;
+  app.add_flag("--straight-walkers", straight, "walkers keep one goal far down the street, no Brownian motion");
   bool print_contacts = false;
   app.add_flag("--collisions", print_contacts, "print each collision: where the person was, what the plan did");
   CLI11_PARSE(app, argc, argv);
@@ -155,6 +183,19 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "street_bench: %s\n", e.what());
     return 1;
   }
+  if (!scenario.crowd) {
+    std::fprintf(stderr, "street_bench: %s has no people\n", scenario_path.c_str());
+    return 1;
+  }
+  if (straight) {
+    scenario.crowd->goal_ahead = 1000.0;
+    scenario.crowd->goal_period_min = scenario.crowd->goal_period_max = 1000.0;
+    scenario.crowd->brownian = 0.0;
+  }
+  const Knowledge knowledge = people == "truth"       ? Knowledge::kTruth
+                              : people == "truth-all" ? Knowledge::kTruthAll
+                              : people == "laser"     ? Knowledge::kLaser
+                                                      : Knowledge::kLaserTrueVelocity;
   const auto t0 = std::chrono::steady_clock::now();
   double time = 0.0, outside = 0.0, nearest = std::numeric_limits<double>::infinity();
   uint32_t collisions = 0;
@@ -162,7 +203,7 @@ int main(int argc, char** argv) {
   std::vector<double> shares;
   for (int i = 0; i < runs; ++i) {
     const uint64_t seed = first + static_cast<uint64_t>(i);
-    const RunFigures f = Run(scenario, seed, people == "truth", distance, print_contacts, speed);
+    const RunFigures f = Run(scenario, seed, knowledge, distance, print_contacts, speed);
     std::printf("seed %lu: %s, %.1f s, collisions %u, outside personal %.3f, nearest %.2f m\n",
                 static_cast<unsigned long>(seed), f.reached ? "reached" : "timed out", f.time, f.collisions,
                 f.outside_personal / f.time, f.nearest);
