@@ -15,9 +15,10 @@ constexpr double kSubStep = 0.05;  // s: Eq. 10 is integrated this finely within
 constexpr double kIndexCell = 0.5;  // m: the nearest-vertex grid's cells
 constexpr double kIndexMaxHalfSize = 40.0;  // m: the grid reaches no farther from the start
 // A robot slower than this (m/s) and more than kTurnOnTheSpot (rad) off the goal's direction is
-// offered a turn on the spot.
+// offered a turn on the spot, which sets off once the goal is within kSetOff (rad) of its heading.
 constexpr double kStanding = 0.2;
 constexpr double kTurnOnTheSpot = 0.5;
+constexpr double kSetOff = 0.3;
 
 struct Vertex {
   UnicycleState state;
@@ -299,7 +300,7 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
     while (tip >= 0 && tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
       const UnicycleState& s = tree[static_cast<size_t>(tip)].state;
       const double off = std::abs(NormalizeAngle(std::atan2(r.goal.y() - s.y, r.goal.x() - s.x) - s.yaw));
-      tip = extend(tip, SteerTowards(s, r.goal, off > 0.3 ? 0.0 : o.desired_speed, o.gains), false);  // off within 0.3 rad
+      tip = extend(tip, SteerTowards(s, r.goal, off > kSetOff ? 0.0 : o.desired_speed, o.gains), false);
     }
   }
 
