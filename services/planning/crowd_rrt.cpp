@@ -61,13 +61,17 @@ class CrowdField {
     for (const MovingBody& b : people_) {
       const Point2 at = b.position + t * b.velocity;
       const double d = Distance(p, at);
-      if (d < b.radius + o_.robot_radius + o_.clearance) return kBlocked;
+      if (d < b.radius + o_.robot_radius + Margin(t)) return kBlocked;
       // Beyond five of the widest sigmas the Gaussians are nothing.
       if (d < 6.0) g += o_.people.Cost(p, at, b.velocity);
     }
     return g;
   }
   static constexpr double kBlocked = std::numeric_limits<double>::infinity();
+
+  // Metres kept from a person's disc predicted `t` seconds ahead: the prediction strays more the
+  // further it reaches.
+  double Margin(double t) const { return o_.clearance + o_.clearance_growth * std::min(t, o_.clearance_growth_time); }
 
   // Metres between the robot's disc at `p` and the nearest person's predicted disc at `t`
   // (negative: overlapping); -infinity on a lethal cell or off the map.
@@ -222,6 +226,8 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
   Check(o.max_nodes >= 2 && o.horizon > 0.0 && o.step > 0.0 && o.desired_speed > 0.0 && o.goal_bias >= 0.0 &&
             o.goal_bias <= 1.0,
         "crowd RRT options: max_nodes >= 2, positive horizon, step and desired_speed, goal_bias in [0, 1]");
+  Check(o.clearance >= 0.0 && o.clearance_growth >= 0.0 && o.clearance_growth_time >= 0.0,
+        "crowd RRT options: clearance, clearance_growth and clearance_growth_time must not be negative");
   Check(r.limits.max_speed > 0.0 && r.limits.max_accel > 0.0 && r.limits.max_yaw_rate > 0.0 &&
             r.limits.max_yaw_accel > 0.0,
         "limits: every limit must be positive");

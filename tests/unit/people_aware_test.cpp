@@ -131,9 +131,9 @@ TEST(CrowdRrt, GoesRoundAStandingGroupAndBrakesWhenBoxedIn) {
   EXPECT_TRUE(lowest < 2.6 || highest > 6.2) << lowest << " " << highest;
   EXPECT_GT(t.states.back().x, 5.0);
 
-  // A wall of people 1 m ahead across the whole street: nothing gets past; the plan stops.
+  // A wall of people 3 m ahead across the whole street: nothing gets past; the plan stops.
   r.people.clear();
-  for (double y = 0.4; y < 7.8; y += 0.5) r.people.push_back({{3.6, y}, {0, 0}, 0.25, true});
+  for (double y = 0.4; y < 7.8; y += 0.5) r.people.push_back({{5.0, y}, {0, 0}, 0.25, true});
   t = planning::PlanCrowdRrt(cm, r, Options());
   ASSERT_FALSE(t.states.empty());
   for (const MovingBody& p : r.people) EXPECT_GT(ClosestApproach(t, p), 0.55);
@@ -185,6 +185,29 @@ TEST(CrowdRrt, WhenEverythingRunsIntoSomeoneThePlanStaysClearTheLongest) {
   EXPECT_GT(t.states.back().t, 2.5);
   EXPECT_LT(t.states.back().v, 0.5);
   for (const MovingBody& p : r.people) EXPECT_GT(ClosestApproach(t, p), 0.55);
+}
+
+TEST(CrowdRrt, TheRoomKeptFromAPersonGrowsWithHowFarAheadTheyArePredicted) {
+  // With the comfort costs off, only the hard clearance keeps the plan from the person on its
+  // path: 0.1 m now, 0.1 + 0.4 m/s × t later, up to 2 s (predictions stray from walkers who
+  // change their minds).
+  const planning::Costmap cm = Street();
+  CrowdRrtOptions o = Options();
+  o.people.parallel_weight = o.people.perpendicular_weight = o.people.rear_weight = 0.0;
+  for (int k = 0; k < 10; ++k) {
+    CrowdRrtRequest r = DownTheStreet(1.5);
+    r.seed = 300 + k;
+    const MovingBody walker{{9.0, 4.0}, {-0.5, 0.0}, 0.25, true};
+    r.people = {walker};
+    const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, o);
+    ExpectFeasible(cm, r, t);
+    EXPECT_GT(t.states.back().x, 6.0) << "seed " << r.seed;  // on its way
+    for (const auto& s : t.states) {
+      const double kept = Distance(s.position(), walker.position + s.t * walker.velocity) - 0.25 - o.robot_radius;
+      EXPECT_GE(kept, 0.1 + 0.4 * std::min(s.t, 2.0) - 1e-9)
+          << "seed " << r.seed << " at " << s.t << " s";
+    }
+  }
 }
 
 TEST(CrowdRrt, BadInputIsRejected) {
