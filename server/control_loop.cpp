@@ -61,6 +61,30 @@ void ControlLoop::Run() {
   }
 }
 
+void ControlLoop::LogCrowdPlan(const WheelSpeeds& wheels, double now) {
+  crowd_plans_seen_ = executive_.crowd().plans();
+  const planning::CrowdTrajectory& plan = executive_.crowd().plan();
+  const Pose2 pose = localizer_.Estimate().pose;
+  std::string nearest = "nobody";
+  double closest = std::numeric_limits<double>::infinity();
+  const std::vector<navigation::TrackedPerson> people = executive_.people();
+  for (const navigation::TrackedPerson& p : people) {
+    const double d = Distance(p.position, pose.translation());
+    if (d >= closest) continue;
+    closest = d;
+    const Point2 at = pose.inverse() * p.position;
+    nearest = fmt::format("{:.2f} m, at ({:.2f}, {:.2f}) in the robot's frame, walking ({:.2f}, {:.2f}) m/s", d, at.x(),
+                          at.y(), p.velocity.x(), p.velocity.y());
+  }
+  spdlog::debug("t={:.2f}s crowd plan {} at ({:.2f}, {:.2f}, {:.2f}): {} {:.2f} s, cost {:.1f}, {} vertices; command "
+                "{:.2f} m/s {:.2f} rad/s{}; {} people, nearest {}",
+                now, crowd_plans_seen_, pose.x, pose.y, pose.theta,
+                plan.escape ? "escape" : plan.braking ? "braking" : "driving",
+                plan.states.empty() ? 0.0 : plan.states.back().t, plan.cost, plan.tree_size,
+                0.5 * (wheels.left + wheels.right), (wheels.right - wheels.left) / options_.wheel_base,
+                executive_.crowd_steering() ? "" : " (not the crowd controller's)", people.size(), nearest);
+}
+
 void ControlLoop::StaleTick(double now) {
   const bool was_active = executive_.navigator().Status().active;
   executive_.Step(false, now);
@@ -123,6 +147,7 @@ void ControlLoop::Tick(uint64_t tick, double now) {
     behaviour_ = status.feedback.behaviour;
     hold_reason_ = status.hold_reason;
   }
+  if (spdlog::should_log(spdlog::level::debug) && executive_.crowd().plans() != crowd_plans_seen_) LogCrowdPlan(wheels, now);
   was_searching_ = executive_.searching();
   if (status.active || was_searching_) {
     bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));

@@ -34,6 +34,9 @@ class ControlLoop {
   void Tick(uint64_t tick, double now);
   // Runs when the clock has not advanced for sensor_timeout wall seconds; `now` is extrapolated.
   void StaleTick(double now);
+  // At debug level (SPDLOG_LEVEL=debug), each new plan of the crowd controller: what it chose and
+  // the nearest person it knew, so a street run's contacts can be traced.
+  void LogCrowdPlan(const WheelSpeeds& wheels, double now);
 
   ControlLoopOptions options_;
   Clock& clock_;
@@ -48,6 +51,7 @@ class ControlLoop {
   int zero_commands_left_ = 0;
   uint64_t scans_seen_ = 0;
   std::string behaviour_, hold_reason_;  // at the last tick, to log changes
+  uint64_t crowd_plans_seen_ = 0;        // the crowd controller's plans already in the debug log
 };
 
 }  // namespace navd::server

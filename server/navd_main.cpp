@@ -1,4 +1,5 @@
 // navd: the navigation daemon. Parses the command line and runs the daemon until SIGINT/SIGTERM.
+#include <spdlog/cfg/env.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -76,6 +77,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "navd: %s\n", e.what());
     return 2;
   }
+  // SPDLOG_LEVEL=debug (or e.g. "info"): the log's level, as spdlog reads it.
+  spdlog::cfg::load_env_levels();
   for (double d : sonar_degrees) o.sonar_angles.push_back(d * M_PI / 180.0);
   if (initial.size() == 3) {
     o.initial_pose_set = true;

@@ -185,6 +185,9 @@ class NavigationExecutive {
   WheelSpeeds Step(bool sensors_fresh, double now) { return Step(ExecutiveInputs{sensors_fresh, false}, now); }
 
   const Navigator& navigator() const { return navigator_; }
+  // Book chapter 7's crowd controller, and whether it drove the last step (for the debug log).
+  const CrowdController& crowd() const { return crowd_; }
+  bool crowd_steering() const { return crowd_steering_; }
   bool localization_lost() const { return lost_; }
   // The wake-up behaviour has the robot (its pose is lost): it turns the robot in place whether or
   // not a mission is active, since an idle robot that stands still can never be found again.

@@ -5,6 +5,7 @@
 // loopback. The 50-run figures come from scripts/street-runs.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include "tests/support/navd_fixture.h"
@@ -18,6 +19,8 @@ TEST(StreetE2E, PeopleAwareNavigationDrivesDownTheStreetOutOfPeoplesWay) {
   options.rate = 10.0;
   options.sim_args = {"--scenario", scenario, "--seed", "3"};
   options.navd_args = {"--world", SourceDir() + "/worlds/street.yaml", "--people-aware"};
+  // navd's debug log has each crowd plan and the nearest person it knew (inherited by the child).
+  setenv("SPDLOG_LEVEL", "debug", 1);
   NavdStack stack(options);
   ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
   // 45 m towards the far end of the street (the mission ends there, succeeded).
@@ -46,6 +49,8 @@ TEST(StreetE2E, PeopleAwareNavigationDrivesDownTheStreetOutOfPeoplesWay) {
   // One run is one crowd, and runs vary widely (the same seed gave 59.5 % and 81.6 %: DDS timing
   // changes who meets whom; 68-98 % over 25 seeds): this bounds a single run, street-runs measures.
   EXPECT_GE(outside, 0.5) << logs;
+  EXPECT_NE(logs.find("crowd plan"), std::string::npos) << "no crowd plan in navd's debug log";
+  EXPECT_NE(logs.find(": driving "), std::string::npos);
 }
 
 }  // namespace
