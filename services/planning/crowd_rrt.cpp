@@ -61,7 +61,7 @@ class CrowdField {
     for (const MovingBody& b : people_) {
       const Point2 at = b.position + t * b.velocity;
       const double d = Distance(p, at);
-      if (d < b.radius + o_.robot_radius + Margin(t)) return kBlocked;
+      if (d < b.radius + o_.robot_radius + Margin(t, b.velocity.norm())) return kBlocked;
       // Beyond five of the widest sigmas the Gaussians are nothing.
       if (d < 6.0) g += o_.people.Cost(p, at, b.velocity);
     }
@@ -69,9 +69,11 @@ class CrowdField {
   }
   static constexpr double kBlocked = std::numeric_limits<double>::infinity();
 
-  // Metres kept from a person's disc predicted `t` seconds ahead: the prediction strays more the
-  // further it reaches.
-  double Margin(double t) const { return o_.clearance + o_.clearance_growth * std::min(t, o_.clearance_growth_time); }
+  // Metres kept from the disc of a person walking at `speed` (m/s), predicted `t` seconds ahead: the
+  // prediction strays more the further they are predicted to walk.
+  double Margin(double t, double speed) const {
+    return o_.clearance + o_.clearance_growth * speed * std::min(t, o_.clearance_growth_time);
+  }
 
   // Metres between the robot's disc at `p` and the nearest person's predicted disc at `t`
   // (negative: overlapping); -infinity on a lethal cell or off the map.
