@@ -81,6 +81,7 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
   const double control_period = 0.05, dt = s.options().physics_step;
   double next_control = 0.0;
   RunFigures f;
+  double driven = 0.0;  // m/s before the step: a collision stalls the robot
   while (s.now() < 4.0 * distance / control.limits.max_speed) {
     const Pose2 pose = s.robot().base().true_pose();
     if (pose.x >= goal_x) {
@@ -117,19 +118,21 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
       }
       const navigation::UnicycleCommand u = controller.Step(costmap, pose, path, bodies, s.now());
       s.Command(0, {u.v, 0.0, u.w});
+      driven = s.robot().base().true_twist().vx;
     }
     const sim::StepOutputs out = s.Step();
     if (print_contacts) {
-      // Each collision as the robot saw it: the person in the robot's frame and the plan it drove.
+      // Each collision: how fast the robot went, the plan it drove, and who was next to it.
       const Pose2 rp = s.robot().base().true_pose();
       for (const sim::CollisionEvent& e : out.events) {
+        std::printf("  collision at %.2f s with %s, robot at (%.2f, %.2f) driven at %.2f m/s; plan %s, cost %.1f\n", e.time,
+                    e.other.c_str(), rp.x, rp.y, driven,
+                    controller.plan().escape ? "escape" : controller.plan().braking ? "braking" : "driving",
+                    controller.plan().cost);
         for (const sim::Person& p : s.people()) {
           if (Distance(p.position, rp.translation()) > 0.6) continue;
           const Point2 rel = rp.inverse() * p.position;
-          std::printf("  collision at %.2f s with %s at (%.2f, %.2f) in the robot's frame; plan %s, cost %.1f\n", e.time,
-                      e.other.c_str(), rel.x(), rel.y(),
-                      controller.plan().escape ? "escape" : controller.plan().braking ? "braking" : "driving",
-                      controller.plan().cost);
+          std::printf("    person %d at (%.2f, %.2f) in the robot's frame\n", p.id, rel.x(), rel.y());
         }
       }
     }
@@ -173,7 +176,7 @@ int main(int argc, char** argv) {
   bool straight = false;
   app.add_flag("--straight-walkers", straight, "walkers keep one goal far down the street, no Brownian motion");
   bool print_contacts = false;
-  app.add_flag("--collisions", print_contacts, "print each collision: where the person was, what the plan did");
+  app.add_flag("--collisions", print_contacts, "print each collision (with a person or a wall): the robot's speed, the plan it drove, who was near");
   CLI11_PARSE(app, argc, argv);
 
   sim::Scenario scenario;
