@@ -102,7 +102,8 @@ int RunFollow(Client& client, const FollowOptions& o) {
     j["truth"] = {{"distance_travelled", distance},     {"sim_time", result.elapsed()},
                   {"collisions", collisions},           {"mean_position_error", e.mean_position},
                   {"rms_position_error", e.rms_position}, {"max_position_error", e.max_position},
-                  {"mean_heading_error", e.mean_heading}, {"samples", e.samples}};
+                  {"mean_heading_error", e.mean_heading}, {"samples", e.samples},
+                  {"mission_start", from}};
     if (first_100m >= 0.0) j["truth"]["time_to_first_100m"] = first_100m;
     proximity.SetWindow(from, from + result.elapsed());
     const ProximityFigures people = proximity.Figures();

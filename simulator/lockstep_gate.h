@@ -5,12 +5,15 @@
 // simulated time does not depend on how loaded the machine is (a controller that falls behind
 // the wall clock would otherwise act late and see sensors late), as Gazebo's lockstep.
 //
-// A controller that has never reported does not hold the simulation (a robot without navd, or
-// navd still starting); one that stops answering is released after a wall-clock timeout and held
-// again from its next report (a navd that died and was restarted).
+// Until its first report a controller holds the simulation at its start: a run begins when its
+// navd does (at 8x real time a navd a second late to start would find the world 8 s on, people
+// walked up to a robot still waiting for its mission). A controller that does not report within
+// the wall-clock timeout (a robot without navd), or stops answering, is released and held again
+// from its next report (a navd that died and was restarted).
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
+#include <limits>
 #include <mutex>
 #include <vector>
 
@@ -29,7 +32,7 @@ class LockstepGate {
   // ahead of t), or until the timeout. Returns the robots released by the timeout (normally none).
   std::vector<size_t> WaitUntilAllowed(double t);
 
-  // Whether some controller holds the simulation (has reported and not timed out).
+  // Whether some controller holds the simulation (has not reported yet, or has, and not timed out).
   bool holding() const;
 
  private:
@@ -39,8 +42,8 @@ class LockstepGate {
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   struct Controller {
-    bool held = false;
-    double next_tick = 0.0;
+    bool held = true;        // at first: until it reports
+    double next_tick = -std::numeric_limits<double>::infinity();
   };
   std::vector<Controller> controllers_;
 };

@@ -715,8 +715,7 @@ TEST(CarmenRecorder, RoundTripsThroughTheLogReader) {
 
 TEST(LockstepGate, HoldsTheSimulationAtAControllersNextTickUntilItReportsTheNext) {
   LockstepGate gate(2, 5.0);
-  // Nobody has reported: nothing holds.
-  EXPECT_TRUE(gate.WaitUntilAllowed(100.0).empty());
+  gate.Report(0, 1.0e9);  // robot 0's controller is far ahead
   gate.Report(1, 1.05);
   EXPECT_TRUE(gate.WaitUntilAllowed(1.04).empty());
   // At 1.05 the controller has not finished that tick: the step waits until it reports the next.
@@ -730,6 +729,30 @@ TEST(LockstepGate, HoldsTheSimulationAtAControllersNextTickUntilItReportsTheNext
   gate.Report(1, 1.10);
   step.join();
   EXPECT_TRUE(released);
+}
+
+TEST(LockstepGate, TheSimulationWaitsAtItsStartForEveryControllersFirstReport) {
+  LockstepGate gate(1, 5.0);
+  EXPECT_TRUE(gate.holding());
+  std::atomic<bool> released{false};
+  std::thread step([&] {
+    EXPECT_TRUE(gate.WaitUntilAllowed(0.0).empty());
+    released = true;
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_FALSE(released);  // navd still starting: time stays at 0
+  gate.Report(0, 0.05);
+  step.join();
+  EXPECT_TRUE(released);
+}
+
+TEST(LockstepGate, AControllerThatNeverReportsIsReleasedAfterTheTimeout) {
+  LockstepGate gate(2, 0.1);  // two robots, neither with a navd
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(gate.WaitUntilAllowed(0.0), (std::vector<size_t>{0, 1}));
+  EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.09);
+  EXPECT_FALSE(gate.holding());
+  EXPECT_TRUE(gate.WaitUntilAllowed(100.0).empty());  // stepping on without them
 }
 
 TEST(LockstepGate, ASilentControllerIsReleasedAfterTheTimeoutAndHeldAgainWhenItReports) {
