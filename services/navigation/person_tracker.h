@@ -23,7 +23,14 @@ struct PersonTrackerOptions {
   double initial_speed_std = 1.0;  // m/s, of a new track's velocity (it starts at rest)
   double gate = 0.9;               // m, detection to predicted position
   int confirm_hits = 3;
-  double forget_after = 1.0;       // s
+  // s. Walkers pass behind and beside one another all the time, the laser loses one or shows two
+  // as one blob, and one who turns lands outside the gate and starts a new track, unconfirmed for
+  // confirm_hits scans. Forgotten after 1 s, a walker coming the other way came out from behind
+  // another at 2 m closing at 2.8 m/s, half a second from contact. Kept 2 s, predicted on: on the
+  // street bench (laser, seeds 1-50) 5 collisions became 2 and the share outside the personal
+  // zone 97.9% became 98.2% (2.5 s: 1 and 98.1%). Keeping them only where the laser could not see
+  // through the place they would be (others in front) did no better than 1 s.
+  double forget_after = 2.0;
   double max_speed = 2.5;          // m/s: a faster track is clamped (a person does not run past this)
   // m/s: slower, the estimate's direction is the filter's noise (it undershoots when someone
   // stops), and the orientation is left as it was: Eq. 6's β = 0.9 would still turn a standing

@@ -137,7 +137,13 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
         for (const sim::Person& p : s.people()) {
           if (Distance(p.position, rp.translation()) > 0.6) continue;
           const Point2 rel = rp.inverse() * p.position;
-          std::printf("    person %d at (%.2f, %.2f) in the robot's frame\n", p.id, rel.x(), rel.y());
+          // Who closed the gap: each one's speed towards the other (the person's walking velocity,
+          // the robot's before the step).
+          const Point2 towards = (p.position - rp.translation()).normalized();
+          const double robot_closing = driven * (std::cos(rp.theta) * towards.x() + std::sin(rp.theta) * towards.y());
+          const double person_closing = -WalkingVelocity(p).dot(towards);
+          std::printf("    person %d at (%.2f, %.2f) in the robot's frame; closing at %.2f m/s, the robot at %.2f\n", p.id,
+                      rel.x(), rel.y(), person_closing, robot_closing);
         }
       }
     }

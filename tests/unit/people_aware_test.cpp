@@ -354,10 +354,10 @@ TEST(PersonTracker, EstimatesWalkersFromNoisyPositionsAndKeepsThemApart) {
     EXPECT_NEAR(NormalizeAngle(p.orientation - (is_a ? 0.0 : -M_PI / 2.0)), 0.0, 0.2);
   }
   // Gone from view: forgotten after forget_after.
-  tracker.Update({}, 4.5);
-  EXPECT_EQ(tracker.People(4.5).size(), 2u);
-  tracker.Update({}, 5.2);
-  EXPECT_TRUE(tracker.People(5.2).empty());
+  tracker.Update({}, 5.5);
+  EXPECT_EQ(tracker.People(5.5).size(), 2u);
+  tracker.Update({}, 6.2);
+  EXPECT_TRUE(tracker.People(6.2).empty());
 }
 
 TEST(PersonTracker, AStandingPersonKeepsTheOrientationTheyWalkedIn) {
