@@ -48,6 +48,9 @@ void ControlLoop::Run() {
     }
     if (now < next - 2 * period) next = now;  // the clock went back (simulator restarted)
     if (!reached) {
+      // navsim --lockstep holds time until it hears this loop's next tick; a report sent before
+      // its reader matched ours (DDS discovery) is lost, and both would wait: say it again.
+      if (tick > 0) bridge_.PublishNextTick(next);
       // Time has not moved for longer than the sensor timeout: the simulator died or hangs, which
       // is stale sensors too. Its time is extrapolated so the navigator's stale timeout runs.
       const double frozen = std::chrono::duration<double>(wall - last_advance).count();
