@@ -27,14 +27,9 @@ CellIndex OccupancyGrid::CellOf(const Point2& p) const {
 bool OccupancyGrid::DiscHitsObstacle(const Point2& p, double radius) const {
   if (!p.allFinite()) return true;
   const CellIndex lo = CellOf(p - Point2(radius, radius)), hi = CellOf(p + Point2(radius, radius));
-  const double h = resolution_ / 2;
   for (int y = lo.y; y <= hi.y; ++y) {
     for (int x = lo.x; x <= hi.x; ++x) {
-      const Point2 centre = CellCenter({x, y});
-      // Distance from p to the cell's square.
-      const double dx = std::max(std::abs(p.x() - centre.x()) - h, 0.0);
-      const double dy = std::max(std::abs(p.y() - centre.y()) - h, 0.0);
-      if (dx * dx + dy * dy >= radius * radius) continue;
+      if (DistanceToCell(p, {x, y}) >= radius) continue;
       if (!Contains({x, y}) || IsOccupied({x, y})) return true;
     }
   }
@@ -43,6 +38,12 @@ bool OccupancyGrid::DiscHitsObstacle(const Point2& p, double radius) const {
 
 Point2 OccupancyGrid::CellCenter(const CellIndex& c) const {
   return {origin_.x() + (c.x + 0.5) * resolution_, origin_.y() + (c.y + 0.5) * resolution_};
+}
+
+double OccupancyGrid::DistanceToCell(const Point2& p, const CellIndex& c) const {
+  const Point2 centre = CellCenter(c);
+  const double h = resolution_ / 2;
+  return std::hypot(std::max(std::abs(p.x() - centre.x()) - h, 0.0), std::max(std::abs(p.y() - centre.y()) - h, 0.0));
 }
 
 void OccupancyGrid::FillBox(const Point2& min, const Point2& max, int8_t value) {

@@ -47,6 +47,9 @@ class OccupancyGrid {
   // points map to cells far outside rather than overflowing.
   CellIndex CellOf(const Point2& p) const;
   Point2 CellCenter(const CellIndex& c) const;
+  // Metres from p to the nearest point of cell c's square (0 inside it): a wall's cells reach half
+  // a cell beyond their centres, and footprint tests that used the centres missed corners by that.
+  double DistanceToCell(const Point2& p, const CellIndex& c) const;
   // True when p lies inside the grid's extent.
   bool ContainsPoint(const Point2& p) const { return Contains(CellOf(p)); }
   double size_x() const { return width_ * resolution_; }

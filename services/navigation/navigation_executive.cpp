@@ -518,14 +518,13 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
       const OccupancyGrid& grid = map->grid;
       const Point2 back(-std::cos(pose.theta), -std::sin(pose.theta));
       constexpr double kStep = 0.02, kHorizon = 1.0;
-      const double r = radius + 0.02;
+      const double r = radius + 0.03;  // the pose estimate is a few centimetres off
       auto hits = [&](const Point2& centre) {
         const CellIndex lo = grid.CellOf(centre - Point2(r, r)), hi = grid.CellOf(centre + Point2(r, r));
         for (int y = lo.y; y <= hi.y; ++y)
           for (int x = lo.x; x <= hi.x; ++x) {
             const CellIndex c{x, y};
-            const Point2 at = grid.CellCenter(c);
-            if ((at - centre).norm() > r || (at - pose.translation()).dot(back) <= 0.0) continue;
+            if (grid.DistanceToCell(centre, c) > r || (grid.CellCenter(c) - pose.translation()).dot(back) <= 0.0) continue;
             if (!grid.Contains(c) || grid.IsOccupied(c)) return true;
           }
         return false;

@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <set>
 #include <thread>
+#include <vector>
 
 #include "services/common/diff_drive.h"
 #include "services/common/error.h"
@@ -271,11 +273,16 @@ struct OpenFloor {
   NavigationExecutive executive{planning, localizer, clock, options, brain};
 };
 
-// A bumper pressed while driving: the emergency stop holds the robot, and when the bumper lets go
-// it backs straight away 10 cm before navigation has the robot again (driving on from against the
-// obstacle pressed it again and again).
-TEST(NavigationExecutive, BacksAwayFromWhatTheBumperTouchedBeforeNavigatingOn) {
-  OpenFloor floor;
+// The open floor's robot drives towards (5, 2.5), its bumper is pressed for half a second and
+// lets go. `while_pressed`, given the robot's map pose, may change the map meanwhile.
+struct ReleaseRun {
+  std::vector<WheelSpeeds> pressed;  // the commands while pressed
+  double backed = 0.0;               // m backed away after the release
+  int backing_steps = 0;
+  double driven_on = 0.0;            // m beyond the pressed point two seconds later
+  bool active = false;               // the mission still on
+};
+ReleaseRun PressTheBumperWhileDriving(OpenFloor& floor, const std::function<void(const Pose2&)>& while_pressed = {}) {
   auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
   const double wheel_base = options.follower.wheel_base;
   Pose2 pose(0.0, 0.0, 0.0);  // odometry
@@ -293,21 +300,59 @@ TEST(NavigationExecutive, BacksAwayFromWhatTheBumperTouchedBeforeNavigatingOn) {
   step(false);
   executive.Navigate({Pose2(5.0, 2.5, 0.0), false, "", false});
   for (int i = 0; i < 40; ++i) step(false);
-  EXPECT_GT(pose.x, 0.3);  // driving on
-  for (int i = 0; i < 10; ++i) {
-    const WheelSpeeds w = step(true);
-    if (i > 1) EXPECT_EQ(w.left, 0.0);
-  }
-  EXPECT_EQ(executive.navigator().Status().feedback.state, NavigationState::kEmergencyStop);
+  ReleaseRun run;
+  for (int i = 0; i < 10; ++i) run.pressed.push_back(step(true));
+  if (while_pressed) while_pressed(Pose2(1.0, 2.5, 0.0) * pose);
   const double pressed_at = pose.x;
-  int backing = 0;
-  for (int i = 0; i < 60 && step(false).left < 0.0; ++i) ++backing;
-  EXPECT_NEAR(pressed_at - pose.x, 0.10, 0.02);
-  EXPECT_GE(backing, 15);  // 10 cm at 0.1 m/s
-  // Then navigation drives on to the goal.
+  for (int i = 0; i < 60 && step(false).left < 0.0; ++i) ++run.backing_steps;
+  run.backed = pressed_at - pose.x;
   for (int i = 0; i < 40; ++i) step(false);
-  EXPECT_GT(pose.x, pressed_at + 0.1);
-  EXPECT_TRUE(executive.navigator().Status().active);
+  run.driven_on = pose.x - pressed_at;
+  run.active = executive.navigator().Status().active;
+  EXPECT_GT(pressed_at, 0.3);  // it was driving on when pressed
+  return run;
+}
+
+// A bumper pressed while driving: the emergency stop holds the robot, and when the bumper lets go
+// it backs straight away 10 cm before navigation has the robot again (driving on from against the
+// obstacle pressed it again and again).
+TEST(NavigationExecutive, BacksAwayFromWhatTheBumperTouchedBeforeNavigatingOn) {
+  OpenFloor floor;
+  bool stopped = false;
+  const ReleaseRun run = PressTheBumperWhileDriving(floor, [&](const Pose2&) {
+    stopped = floor.executive.navigator().Status().feedback.state == NavigationState::kEmergencyStop;
+  });
+  for (size_t i = 2; i < run.pressed.size(); ++i) EXPECT_EQ(run.pressed[i].left, 0.0) << i;
+  EXPECT_TRUE(stopped);
+  EXPECT_NEAR(run.backed, 0.10, 0.02);
+  EXPECT_GE(run.backing_steps, 15);  // 10 cm at 0.1 m/s
+  // Then navigation drives on to the goal.
+  EXPECT_GT(run.driven_on, 0.1);
+  EXPECT_TRUE(run.active);
+}
+
+// The laser is blind behind: the way back is what the map leaves free for the robot's whole disc.
+// A wall's cells reach half a cell past their centres; a door jamb beside the way back, its cells'
+// centres clear of the disc but not their squares, was backed into in seed 000's Run 2.
+TEST(NavigationExecutive, AWallBesideTheWayBackKeepsTheRobotFromBackingAlongIt) {
+  // gap: metres from the robot's centre line to the wall's edge (its radius is 0.20).
+  auto backed_beside_a_wall = [](double gap) {
+    OpenFloor floor;
+    double actual_gap = 0.0;
+    const ReleaseRun run = PressTheBumperWhileDriving(floor, [&](const Pose2& at) {
+      OccupancyGrid grid = floor.maps.Get()->grid;
+      // From a metre behind to just behind the robot's centre, its edge on a cell boundary.
+      const double edge = std::ceil((at.y + gap) / grid.resolution() - 0.5) * grid.resolution();
+      actual_gap = edge - at.y;
+      grid.FillBox(Point2(at.x - 1.0, edge + 0.01), Point2(at.x - 0.05, edge + 0.09));
+      floor.maps.Set(std::move(grid), "jamb");
+    });
+    EXPECT_NEAR(actual_gap, gap, 0.026);
+    return run.backed;
+  };
+  // 21 cm: the cells' centres lie 23.5 cm off, the squares 21; the rim would scrape the wall.
+  EXPECT_LT(backed_beside_a_wall(0.21), 0.01);
+  EXPECT_NEAR(backed_beside_a_wall(0.30), 0.10, 0.02);
 }
 
 // A robot pushing against something nothing senses (an invisible wall 1 m ahead): stuck, it runs
