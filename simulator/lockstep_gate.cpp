@@ -1,5 +1,7 @@
 #include "simulator/lockstep_gate.h"
 
+#include <algorithm>
+
 namespace navd::sim {
 
 namespace {
@@ -25,14 +27,29 @@ bool LockstepGate::AllowedLocked(double t) const {
   return true;
 }
 
-std::vector<size_t> LockstepGate::WaitUntilAllowed(double t) {
+std::vector<size_t> LockstepGate::WaitUntilAllowed(double t, const std::function<void()>& while_held) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_));
+  const auto repeat = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kRepeatPeriod));
   std::unique_lock<std::mutex> lock(mutex_);
   std::vector<size_t> released;
-  if (cv_.wait_for(lock, std::chrono::duration<double>(timeout_), [&] { return AllowedLocked(t); })) return released;
-  for (size_t i = 0; i < controllers_.size(); ++i) {
-    if (controllers_[i].held && t >= controllers_[i].next_tick - kEpsilon) {
-      controllers_[i].held = false;
-      released.push_back(i);
+  while (!AllowedLocked(t)) {
+    const auto now = Clock::now();
+    if (now >= deadline) {
+      for (size_t i = 0; i < controllers_.size(); ++i) {
+        if (controllers_[i].held && t >= controllers_[i].next_tick - kEpsilon) {
+          controllers_[i].held = false;
+          released.push_back(i);
+        }
+      }
+      break;
+    }
+    if (cv_.wait_until(lock, while_held ? std::min(deadline, now + repeat) : deadline, [&] { return AllowedLocked(t); }))
+      break;
+    if (while_held && Clock::now() < deadline) {
+      lock.unlock();
+      while_held();
+      lock.lock();
     }
   }
   return released;

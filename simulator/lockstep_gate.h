@@ -13,6 +13,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <vector>
@@ -30,7 +31,12 @@ class LockstepGate {
 
   // Blocks until every held controller has been given simulated time `t` (its next tick lies
   // ahead of t), or until the timeout. Returns the robots released by the timeout (normally none).
-  std::vector<size_t> WaitUntilAllowed(double t);
+  // `while_held`, when given, is called every kRepeatPeriod of the wait (without the gate's lock):
+  // navsim repeats the clock there, since a best-effort sample sent before a navd's reader had
+  // matched is lost and that navd would never reach its tick.
+  std::vector<size_t> WaitUntilAllowed(double t, const std::function<void()>& while_held = {});
+
+  static constexpr double kRepeatPeriod = 0.05;  // s of wall time
 
   // Whether some controller holds the simulation (has not reported yet, or has, and not timed out).
   bool holding() const;

@@ -390,7 +390,7 @@ int Run(int argc, char** argv) {
     if (gate) {
       // A navd waits for rt/clock to reach its tick: it must have heard the time it is held at.
       if (!clock_sent) send_clock();
-      for (const size_t i : gate->WaitUntilAllowed(simulation.now())) {
+      for (const size_t i : gate->WaitUntilAllowed(simulation.now(), send_clock)) {
         spdlog::warn("navsim: robot '{}''s navd sent no next tick for {} s at t={:.2f}s: stepping on without it until "
                      "it reports again",
                      simulation.BodyName(robots[i]->id()), lockstep_timeout, simulation.now());

@@ -755,6 +755,28 @@ TEST(LockstepGate, AControllerThatNeverReportsIsReleasedAfterTheTimeout) {
   EXPECT_TRUE(gate.WaitUntilAllowed(100.0).empty());  // stepping on without them
 }
 
+// navsim repeats rt/clock while it waits: a navd whose reader matched after the first sample (best
+// effort, lost) hears a later one, ticks and reports, and the run goes on without the timeout.
+TEST(LockstepGate, WhileHeldTheWaitRepeatsItsCallbackUntilTheControllerAnswers) {
+  LockstepGate gate(1, 5.0);
+  int repeats = 0;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_TRUE(gate.WaitUntilAllowed(0.0, [&] {
+                    if (++repeats == 3) gate.Report(0, 0.05);  // the third clock got through
+                  }).empty());
+  EXPECT_EQ(repeats, 3);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GE(waited, 3 * LockstepGate::kRepeatPeriod - 0.01);
+  EXPECT_LT(waited, 2.0);  // well before the timeout
+  EXPECT_TRUE(gate.holding());
+  // A controller that never answers is still released at the timeout, the callback repeating until then.
+  LockstepGate silent(1, 0.3);
+  repeats = 0;
+  EXPECT_EQ(silent.WaitUntilAllowed(0.0, [&] { ++repeats; }), std::vector<size_t>{0});
+  EXPECT_GE(repeats, 3);
+  EXPECT_LE(repeats, 6);
+}
+
 TEST(LockstepGate, ASilentControllerIsReleasedAfterTheTimeoutAndHeldAgainWhenItReports) {
   LockstepGate gate(1, 0.1);
   gate.Report(0, 2.0);
