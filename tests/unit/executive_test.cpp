@@ -27,7 +27,7 @@ namespace {
 UtilityBrainOptions TwoBehaviours() {
   UtilityBrainOptions o;
   o.state_variables = {"danger"};
-  o.processes = {{"navigation", ProcessKind::kMotor, 0.1, 1.0, 0.25},
+  o.processes = {{"navigation", ProcessKind::kMotor, 0.1, 1.0, 0.25, {}},
                  {"avoid", ProcessKind::kMotor, 0.1, 1.0, -0.45, {{"danger", 1.0}}},
                  {"watch", ProcessKind::kCognitive, 0.1, 1.0, -0.2, {{"danger", 1.0}}}};
   return o;
@@ -96,7 +96,7 @@ TEST(UtilityDecisionMaker, GammaSetOnActivationHoldsTheBehaviourThenDecays) {
 
 TEST(UtilityDecisionMaker, RejectsBrainsThatCannotWork) {
   UtilityBrainOptions none = TwoBehaviours();
-  none.processes = {{"watch", ProcessKind::kCognitive, 0.1, 1.0, 0.5}};
+  none.processes = {{"watch", ProcessKind::kCognitive, 0.1, 1.0, 0.5, {}}};
   EXPECT_THROW(UtilityDecisionMaker{none}, Error);
   UtilityBrainOptions twice = TwoBehaviours();
   twice.processes.push_back(twice.processes[0]);

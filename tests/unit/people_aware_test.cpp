@@ -337,7 +337,9 @@ TEST(PersonTracker, EstimatesWalkersFromNoisyPositionsAndKeepsThemApart) {
     const double t = 0.1 * k;
     tracker.Update({a + t * va + Point2(noise(rng), noise(rng)), b + t * vb + Point2(noise(rng), noise(rng))}, t);
     const auto people = tracker.People(t);
-    if (k < 2) EXPECT_TRUE(people.empty()) << "confirmed after three detections";
+    if (k < 2) {
+      EXPECT_TRUE(people.empty()) << "confirmed after three detections";
+    }
     if (k == 10) {
       ASSERT_EQ(people.size(), 2u);
       for (const auto& p : people) (Distance(p.position, a + t * va) < 0.5 ? id_a : id_b) = p.id;
