@@ -40,6 +40,7 @@ using namespace navd;
 struct RunFigures {
   double time = 0.0;            // s, simulated
   double outside_personal = 0;  // s
+  double turned = 0.0;          // rad, the robot's |yaw rate| integrated: how much it weaves
   double nearest = std::numeric_limits<double>::infinity();
   uint32_t collisions = 0;
   // Times the nearest person came within kCloseCall (a new one only after they were kCloseCallEnd
@@ -158,6 +159,7 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
     for (const sim::Person& p : s.people())
       nearest = std::min(nearest, Distance(p.position, s.robot().base().true_pose().translation()));
     f.time += dt;
+    f.turned += std::abs(s.robot().base().true_twist().omega) * dt;
     if (nearest > planning::kPersonalZone) f.outside_personal += dt;
     if (nearest < kCloseCall && !close) ++f.close_calls;
     close = nearest < kCloseCall || (close && nearest < kCloseCallEnd);
@@ -213,7 +215,7 @@ int main(int argc, char** argv) {
                               : people == "laser"     ? Knowledge::kLaser
                                                       : Knowledge::kLaserTrueVelocity;
   const auto t0 = std::chrono::steady_clock::now();
-  double time = 0.0, outside = 0.0, nearest = std::numeric_limits<double>::infinity();
+  double time = 0.0, outside = 0.0, turned = 0.0, nearest = std::numeric_limits<double>::infinity();
   uint32_t collisions = 0, close_calls = 0;
   int reached = 0, clean = 0;
   std::vector<double> shares;
@@ -226,6 +228,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     time += f.time;
     outside += f.outside_personal;
+    turned += f.turned;
     collisions += f.collisions;
     close_calls += f.close_calls;
     nearest = std::min(nearest, f.nearest);
@@ -237,8 +240,8 @@ int main(int argc, char** argv) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("street bench (%s people): %d/%d reached, %u collisions (%d runs without), %u close calls (within %.2f m), "
               "%.1f s simulated; outside the personal zone %.2f%% of the time (per run: min %.1f%%, median %.1f%%); closest "
-              "%.2f m; %.0f s wall\n",
+              "%.2f m; mean |yaw rate| %.2f rad/s; %.0f s wall\n",
               people.c_str(), reached, runs, collisions, clean, close_calls, kCloseCall, time, 100.0 * outside / time, 100.0 * shares.front(),
-              100.0 * shares[shares.size() / 2], nearest, wall);
+              100.0 * shares[shares.size() / 2], nearest, turned / time, wall);
   return 0;
 }
