@@ -43,9 +43,7 @@ Point2 OccupancyGrid::CellCenter(const CellIndex& c) const {
 double OccupancyGrid::DistanceToCell(const Point2& p, const CellIndex& c) const {
   const Point2 centre = CellCenter(c);
   const double h = resolution_ / 2;
-  const double dx = std::max(std::abs(p.x() - centre.x()) - h, 0.0);
-  const double dy = std::max(std::abs(p.y() - centre.y()) - h, 0.0);
-  return std::sqrt(dx * dx + dy * dy);  // not std::hypot: the simulator's footprint test runs this per cell
+  return std::hypot(std::max(std::abs(p.x() - centre.x()) - h, 0.0), std::max(std::abs(p.y() - centre.y()) - h, 0.0));
 }
 
 void OccupancyGrid::FillBox(const Point2& min, const Point2& max, int8_t value) {
