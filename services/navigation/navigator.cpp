@@ -146,8 +146,11 @@ void Navigator::SetLegPath(const std::vector<Point2>& path, double path_length, 
   follower_.SetPath(path, HeadingOf(status_.goal));
   path_length_ += path_length;
   leg_needs_path_ = false;
+  // A new path restarts the distance measured, not the clock: the clock starts with the leg (and
+  // again after a recovery). A leg replanned every second because an obstacle too near to plan
+  // round lies across its path, while the scan guard holds the robot, would otherwise never be
+  // called stuck (an office run stood 1000 s so).
   best_remaining_ = follower_.DistanceRemaining(last_pose_);
-  best_remaining_at_ = now;
   UpdateFeedbackLocked(FromFollower(follower_.state()), last_pose_, now);
   BumpLocked();
 }
@@ -230,6 +233,7 @@ bool Navigator::AdvanceLocked(const Pose2& pose, double now) {
   status_.goal = mission_.waypoints[next];
   follower_.Clear();
   leg_needs_path_ = true;
+  best_remaining_at_ = now;  // the progress clock of the new leg
   return true;
 }
 

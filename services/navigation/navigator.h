@@ -123,7 +123,9 @@ struct NavigatorOptions {
   double progress_distance = 0.05;  // m
   int max_recoveries = 3;
   // ...or when a bumper is pressed this many times within contact_radius of one place on a leg
-  // (drive, bump, back away, replan, drive into it again: each replan restarts the progress clock).
+  // (drive, bump, back away, replan, drive into it again: sooner than the progress clock, which
+  // stands still while the bumper holds the robot). Replans do not restart that clock; a new leg
+  // and a recovery do.
   int max_contacts = 3;
   double contact_radius = 0.3;      // m
   RecoveryOptions recovery;

@@ -243,6 +243,30 @@ TEST(Navigator, FailsWhenTheRobotMakesNoProgress) {
   EXPECT_NE(nav.ResultOf(id)->message.find("no progress"), std::string::npos);
 }
 
+// The office run that stood 1000 s: a box too near to plan round lay across the path, so the leg
+// was replanned every second (through the box again) while the scan guard held the robot still.
+TEST(Navigator, ReplanningALegDoesNotRestartItsProgressClock) {
+  NavigatorOptions o;
+  o.progress_timeout = 5.0;
+  o.max_recoveries = 1;
+  Navigator nav(o);
+  nav.Step({0, 0, 0}, 0.0, true);
+  nav.Start({{3, 0, 0}, false}, {{0, 0}, {3, 0}}, 3.0, 0.0, false);
+  double stuck_at = -1.0;
+  for (int step = 0; step < 160 && stuck_at < 0.0; ++step) {
+    const double t = 0.05 * step;
+    if (step % 20 == 0) {  // once a second
+      ASSERT_TRUE(nav.ReplanIfBlocked([](const Point2& p) { return p.x() > 0.1; }, 2.0));
+      ASSERT_TRUE(nav.LegToPlan());
+      nav.SetLegPath({{0.5, 0}, {3, 0}}, 2.5, t);
+    }
+    nav.Step({0.5, 0, 0}, t, true);
+    if (nav.TakeStuck()) stuck_at = t;
+  }
+  EXPECT_NEAR(stuck_at, 5.0, 0.1);
+  EXPECT_EQ(nav.Status().feedback.recoveries, 1u);
+}
+
 TEST(Navigator, FailsWhenSensorsStayStale) {
   NavigatorOptions o;
   o.stale_timeout = 2.0;
