@@ -86,8 +86,6 @@ struct Quality {
 Quality CompareWithEveryOrder(size_t exact_up_to) {
   std::mt19937 rng(5);
   Quality q;
-  int optimal = 0, instances = 0;
-  double worst = 0.0;
   for (int i = 0; i < 60; ++i) {
     const auto tasks = RandomTasks(rng, 4, i % 3 == 0 ? 2 : 1);
     DeliveryScheduleOptions o;
@@ -98,7 +96,9 @@ Quality CompareWithEveryOrder(size_t exact_up_to) {
     ExpectRulesHold(s, tasks, o.capacity);
     double sum = 0.0;
     for (const DeliveryStop& stop : s.stops) sum += stop.leg_length;
-    if (!o.return_to_start) EXPECT_NEAR(sum, s.length, 1e-9);
+    if (!o.return_to_start) {
+      EXPECT_NEAR(sum, s.length, 1e-9);
+    }
     const double best = BruteForce({5.0, 5.0}, tasks, o);
     EXPECT_GE(s.length, best - 1e-9);
     q.worst = std::max(q.worst, s.length / best);
