@@ -32,7 +32,9 @@ void ExpectRulesHold(const DeliverySchedule& s, const std::vector<DeliveryTask>&
     if (stop.pickup) {
       ++picked[stop.task];
       ++load;
-      if (capacity > 0) EXPECT_LE(load, capacity);
+      if (capacity > 0) {
+        EXPECT_LE(load, capacity);
+      }
     } else {
       EXPECT_EQ(picked[stop.task], 1) << "dropoff before pickup";
       ++dropped[stop.task];
