@@ -69,21 +69,12 @@ class CrowdField {
     return g;
   }
   static constexpr double kBlocked = std::numeric_limits<double>::infinity();
+  const std::vector<MovingBody>& people() const { return people_; }
 
   // Metres kept from the disc of a person walking at `speed` (m/s), predicted `t` seconds ahead: the
   // prediction strays more the further they are predicted to walk.
   double Margin(double t, double speed) const {
     return o_.clearance + o_.clearance_growth * speed * std::min(t, o_.clearance_growth_time);
-  }
-
-  // Metres between the robot's disc at `p` and the nearest person's predicted disc at `t`
-  // (negative: overlapping); -infinity on a lethal cell or off the map.
-  double Clearance(const Point2& p, double t) const {
-    if (!Allowed(p)) return -std::numeric_limits<double>::infinity();
-    double clearance = std::numeric_limits<double>::infinity();
-    for (const MovingBody& b : people_)
-      clearance = std::min(clearance, Distance(p, b.position + t * b.velocity) - b.radius - o_.robot_radius);
-    return clearance;
   }
 
  private:
@@ -180,26 +171,52 @@ void Check(bool ok, const std::string& what) {
 }
 
 // Nothing is valid, not even stopping: someone is walking into the robot. Ours: of a fan of
-// constant inputs held for escape_time, the one that keeps the most room.
+// constant inputs held for escape_time, the best by what the people would do. Someone who walks
+// up to a robot stops short of it (people step round what blocks them), so what touches is the
+// robot's own motion into someone beside it: each person walks on as predicted until the next
+// step would touch the robot, and stands there. A manoeuvre that moves the robot into someone
+// (within escape_touch) or into a wall's inflation loses to any that does not; among those, the
+// most room kept wins; among those that all touch, the one that touches latest. On the street bench 21 of 23 contacts in 100
+// runs came during escapes, judged by the room alone (the person walking on, or standing still
+// where they are): the robot drove on beside someone at its rim.
 CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const CrowdRrtRequest& r,
                        const CrowdRrtOptions& o) {
   CrowdTrajectory out;
   out.escape = true;
-  double best_room = -std::numeric_limits<double>::infinity();
+  double best_touch = -1.0, best_room = -std::numeric_limits<double>::infinity();
+  const std::vector<MovingBody>& people = field.people();
   for (const double a : {-1.0, 0.0, 1.0}) {
     for (const double b : {-1.0, -0.5, 0.0, 0.5, 1.0}) {
       const UnicycleInput u{a * r.limits.max_accel, b * r.limits.max_yaw_accel};
       std::vector<UnicycleState> states{root};
+      std::vector<Point2> at;
+      for (const MovingBody& p : people) at.push_back(p.position);
       double room = std::numeric_limits<double>::infinity();
+      double touch = std::numeric_limits<double>::infinity();  // s: when the robot moves into someone
       UnicycleState s = root;
       for (double t = kSubStep; t <= o.escape_time + 1e-9; t += kSubStep) {
+        const Point2 from = s.position();
         s = Propagate(s, u, kSubStep, r.limits);
-        // A person who walks into the robot may as well stop short of it (people step round what
-        // blocks them): the room is the least of both.
-        room = std::min({room, field.Clearance(s.position(), s.t), field.Clearance(s.position(), 0.0)});
+        if (!field.Allowed(s.position())) {  // a wall's inflation: as bad as touching someone
+          room = -std::numeric_limits<double>::infinity();
+          touch = std::min(touch, s.t);
+        }
+        const bool moved = Distance(from, s.position()) > 1e-9;
+        for (size_t i = 0; i < people.size(); ++i) {
+          const double reach = people[i].radius + o.robot_radius;
+          const double gap = Distance(s.position(), at[i]) - reach;
+          // Closer than before, within escape_touch: the robot's own motion into them.
+          if (moved && gap < o.escape_touch && gap < Distance(from, at[i]) - reach - 1e-9) touch = std::min(touch, s.t);
+          const Point2 next = at[i] + kSubStep * people[i].velocity;
+          if (Distance(s.position(), next) - reach > 0.0) at[i] = next;  // else they stop short
+          room = std::min(room, Distance(s.position(), at[i]) - reach);
+        }
         if (std::fmod(s.t + 1e-9, o.step) < kSubStep) states.push_back(s);
       }
-      if (room > best_room || out.states.empty()) {
+      const bool better = touch > best_touch + 1e-9 ||
+                          (std::abs(touch - best_touch) <= 1e-9 && room > best_room);
+      if (better || out.states.empty()) {
+        best_touch = touch;
         best_room = room;
         out.states = states;
         out.inputs.assign(states.size() - 1, ClampInput(u, r.limits));

@@ -92,6 +92,7 @@ struct CrowdRrtOptions {
   double clearance_growth = 0.3;
   double clearance_growth_time = 2.0;  // s
   double escape_time = 1.0;      // s: when nothing is valid, the fan of escapes is judged this far
+  double escape_touch = 0.05;    // m: an escape that brings the robot's rim this near someone touches them
   double people_range = 40.0;    // m: people farther than this from the robot are left out
 };
 
