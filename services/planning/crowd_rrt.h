@@ -20,7 +20,9 @@
 //      (the chapter's "discard nodes with a small time"); when none lives that long, among those
 //      that stay valid longest (ours: the cheapest overall is the shortest, a stop in front of
 //      people who do not stop); when nothing at all is valid (someone walks into the robot), the
-//      escape among a fan of constant inputs that keeps most room. Ours: when the chosen vertex
+//      escape among a fan of constant inputs (ours: judged with the people walking on until
+//      they would touch the robot and standing there; one that moves the robot into someone
+//      loses, then the most room kept wins). Ours: when the chosen vertex
 //      does not live min_select_time, or it is the escape, the tree is grown again with the
 //      clearance not grown, and its plan taken if that one lives min_select_time.
 // g1 is the environment's valley: c_y·d² with d the distance from the request's path (the
