@@ -168,6 +168,20 @@ TEST(CrowdRrt, AnEscapeDoesNotDriveIntoAWalkerWhoStopsShort) {
   }
 }
 
+TEST(CrowdRrt, AnEscapeThatTouchesNoOneKeepsTheMostRoom) {
+  // Someone walks up behind a standing robot. Standing (or turning on the spot) touches no one,
+  // nor does driving off ahead; driving off keeps them further away. An escape that compared
+  // "never touches" with itself (inf - inf) took the first of the fan: standing, braking.
+  const planning::Costmap cm = Street();
+  CrowdRrtRequest r = DownTheStreet(0.0);
+  const MovingBody walker{{1.25, 4.0}, {0.5, 0.0}, 0.25, true};  // their rim 0.2 m from the robot's
+  r.people = {walker};
+  const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+  ASSERT_TRUE(t.escape);
+  ASSERT_GE(t.states.size(), 2u);
+  EXPECT_GT(t.states.back().x, r.start.x + 0.3) << "it stood while they walked up to it";
+}
+
 TEST(CrowdRrt, ARobotPushedIntoTheInflationDrivesOut) {
   // Passing people pushed it 0.4 m from the wall (the costmap's inflation is 0.4 m: lethal for
   // plans): it may not go nearer the wall, but it drives on and away from it.
