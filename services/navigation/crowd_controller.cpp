@@ -39,6 +39,13 @@ planning::UnicycleState CrowdController::StateAt(double t) const {
   return end;
 }
 
+UnicycleCommand CrowdController::HoldTurn(const Pose2& pose, UnicycleCommand command,
+                                          const std::vector<planning::MovingBody>& people) const {
+  for (const planning::MovingBody& p : people)
+    if (Distance(p.position, pose.translation()) - p.radius - o_.planner.robot_radius < o_.no_turn_gap) command.w = 0.0;
+  return command;
+}
+
 UnicycleCommand CrowdController::Step(const planning::Costmap& costmap, const Pose2& pose, const std::vector<Point2>& path,
                                       const std::vector<planning::MovingBody>& people, double now) {
   const double since = plan_start_ < 0.0 ? 0.0 : now - plan_start_;
@@ -62,7 +69,7 @@ UnicycleCommand CrowdController::Step(const planning::Costmap& costmap, const Po
     plan_start_ = now;
   }
   const planning::UnicycleState s = StateAt(now - plan_start_ + o_.command_lead);
-  last_ = {s.v, s.w};
+  last_ = HoldTurn(pose, {s.v, s.w}, people);
   return last_;
 }
 

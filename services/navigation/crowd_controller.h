@@ -32,6 +32,10 @@ struct CrowdControllerOptions {
   // for a robot facing nearly backwards: the follower is slow among walkers and heads straight
   // back onto the path, across their way (at 1.3 rad, its turns cost the street runs 6 points).
   double max_heading_error = 2.4;
+  // m: with someone's rim this near the robot's (as tracked: a laser blob's centre is off by up
+  // to 0.1 m), the robot does not turn: a turn slides it along them, and wheel slip nudges it
+  // into them (in navsim, a collision). Ours.
+  double no_turn_gap = 0.15;
 };
 
 // Forward speed and yaw rate.
@@ -60,6 +64,8 @@ class CrowdController {
  private:
   // The plan's state at `t` seconds after it started (linear between its vertices).
   planning::UnicycleState StateAt(double t) const;
+  // `command` without its turn while someone is against the robot's rim.
+  UnicycleCommand HoldTurn(const Pose2& pose, UnicycleCommand command, const std::vector<planning::MovingBody>& people) const;
 
   CrowdControllerOptions o_;
   planning::CrowdTrajectory plan_;

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "services/common/error.h"
+#include "services/planning/stop_short_rollout.h"
 
 namespace navd::planning {
 
@@ -183,46 +184,24 @@ CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const
                        const CrowdRrtOptions& o) {
   CrowdTrajectory out;
   out.escape = true;
+  const StopShortOptions stop_short{o.robot_radius, o.escape_touch, kSubStep};
+  const auto allowed = [&field](const Point2& p) { return field.Allowed(p); };
   double best_touch = -1.0, best_room = -std::numeric_limits<double>::infinity();
-  const std::vector<MovingBody>& people = field.people();
   for (const double a : {-1.0, 0.0, 1.0}) {
     for (const double b : {-1.0, -0.5, 0.0, 0.5, 1.0}) {
       const UnicycleInput u{a * r.limits.max_accel, b * r.limits.max_yaw_accel};
-      std::vector<UnicycleState> states{root};
-      std::vector<Point2> at;
-      for (const MovingBody& p : people) at.push_back(p.position);
-      double room = std::numeric_limits<double>::infinity();
-      double touch = std::numeric_limits<double>::infinity();  // s: when the robot moves into someone
-      UnicycleState s = root;
-      for (double t = kSubStep; t <= o.escape_time + 1e-9; t += kSubStep) {
-        const Point2 from = s.position();
-        s = Propagate(s, u, kSubStep, r.limits);
-        if (!field.Allowed(s.position())) {  // a wall's inflation: as bad as touching someone
-          room = -std::numeric_limits<double>::infinity();
-          touch = std::min(touch, s.t);
-        }
-        const bool moved = Distance(from, s.position()) > 1e-9;
-        for (size_t i = 0; i < people.size(); ++i) {
-          const double reach = people[i].radius + o.robot_radius;
-          const double gap = Distance(s.position(), at[i]) - reach;
-          // Closer than before, within escape_touch: the robot's own motion into them.
-          if (moved && gap < o.escape_touch && gap < Distance(from, at[i]) - reach - 1e-9) {
-            touch = std::min(touch, s.t);
-          }
-          const Point2 next = at[i] + kSubStep * people[i].velocity;
-          if (Distance(s.position(), next) - reach > 0.0) at[i] = next;  // else they stop short
-          room = std::min(room, Distance(s.position(), at[i]) - reach);
-        }
-        if (std::fmod(s.t + 1e-9, o.step) < kSubStep) states.push_back(s);
-      }
+      const StopShortRollout run = RollOutStopShort(
+          root, [&u](const UnicycleState&) { return u; }, o.escape_time, field.people(), r.limits, stop_short, allowed);
       // Two that never touch both have touch = inf: compare equal first (inf - inf is NaN).
-      const bool same_touch = touch == best_touch || std::abs(touch - best_touch) <= 1e-9;
-      const bool better = (!same_touch && touch > best_touch) || (same_touch && room > best_room);
+      const bool same_touch = run.touch == best_touch || std::abs(run.touch - best_touch) <= 1e-9;
+      const bool better = (!same_touch && run.touch > best_touch) || (same_touch && run.room > best_room);
       if (better || out.states.empty()) {
-        best_touch = touch;
-        best_room = room;
-        out.states = states;
-        out.inputs.assign(states.size() - 1, ClampInput(u, r.limits));
+        best_touch = run.touch;
+        best_room = run.room;
+        out.states.clear();
+        for (const UnicycleState& s : run.states)
+          if (s.t == root.t || std::fmod(s.t + 1e-9, o.step) < kSubStep) out.states.push_back(s);
+        out.inputs.assign(out.states.size() - 1, ClampInput(u, r.limits));
       }
     }
   }

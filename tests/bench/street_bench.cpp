@@ -145,6 +145,20 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
           const double person_closing = -WalkingVelocity(p).dot(towards);
           std::printf("    person %d at (%.2f, %.2f) in the robot's frame; closing at %.2f m/s, the robot at %.2f\n", p.id,
                       rel.x(), rel.y(), person_closing, robot_closing);
+          if (truth_people) continue;
+          // What the tracker made of them: the nearest track, as the planner last saw it.
+          const navigation::TrackedPerson* track = nullptr;
+          for (const navigation::TrackedPerson& t : tracker.tracks())
+            if (Distance(t.position, p.position) < 0.6 && (!track || Distance(t.position, p.position) < Distance(track->position, p.position)))
+              track = &t;
+          if (!track) {
+            std::printf("      no track within 0.6 m\n");
+            continue;
+          }
+          const Point2 v = WalkingVelocity(p);
+          std::printf("      track %d%s, %d hits, seen %.2f-%.2f s, %.2f m off; velocity (%.2f, %.2f), true (%.2f, %.2f)\n",
+                      track->id, track->confirmed ? "" : " (unconfirmed)", track->hits, track->first_seen, track->last_seen,
+                      Distance(track->position, p.position), track->velocity.x(), track->velocity.y(), v.x(), v.y());
         }
       }
     }

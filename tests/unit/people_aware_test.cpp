@@ -328,6 +328,31 @@ TEST(CrowdRoute, RollsTheLoopOutToTheGoalPastWalkersAndSaysWhenItCannot) {
   EXPECT_THROW(planning::PlanCrowdRoute(cm, r, Options()), Error);
 }
 
+TEST(CrowdController, DoesNotTurnWhileSomeoneIsAgainstItsRim) {
+  // The way on lies behind the robot; someone has walked up against its side. A turn on the spot
+  // slides it along them (navsim's wheel slip nudges it into them: a collision): it does not turn.
+  const planning::Costmap cm = Street();
+  navigation::CrowdControllerOptions o;
+  o.planner = Options();
+  o.limits = {1.5, 2.0, 1.0, 4.0};
+  std::vector<Point2> back;
+  for (double x = 10.0; x >= 2.0; x -= 0.25) back.push_back({x, 4.0});
+  const Pose2 pose(10.0, 4.0, 0.0);
+  const MovingBody beside{{10.0, 4.0 + 0.3 + 0.25 + 0.02}, {0.0, 0.0}, 0.25, true};
+  CrowdController controller(o);
+  const navigation::UnicycleCommand held = controller.Step(cm, pose, back, {beside}, 0.0);
+  EXPECT_EQ(held.w, 0.0);
+  // Once they have stepped half a metre away, it turns.
+  MovingBody away = beside;
+  away.position.y() += 0.5;
+  CrowdController free(o);
+  EXPECT_GT(std::abs(free.Step(cm, pose, back, {away}, 0.0).w), 0.1);
+  // The plan itself turns beside them: the hold is the controller's.
+  o.no_turn_gap = 0.0;
+  CrowdController unheld(o);
+  EXPECT_GT(std::abs(unheld.Step(cm, pose, back, {beside}, 0.0).w), 0.1);
+}
+
 TEST(CrowdController, DrivesPastAWalkerReplanningAsItGoes) {
   // The controller's commands, integrated as a unicycle would, among a walker the controller
   // knows: past them, bodies apart.
