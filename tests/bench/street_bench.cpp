@@ -12,13 +12,15 @@
 //   --straight-walkers            walkers who keep to one goal far down the street, without Brownian
 //                                 motion, so constant-velocity predictions hold.
 // Prints one line per run and the totals: collisions, close calls, the share of the time the nearest person
-// was outside the personal zone (1.2 m, centre to centre), closest approach.
+// was outside the personal zone (1.2 m, centre to centre), closest approach. With --collisions, each
+// collision with the plans of the 2.5 s before it and the tracker's view of who was touched.
 //   build/tests/street_bench [--runs N] [--first-seed S] [--people MODE] [--speed V] [--straight-walkers] [--collisions]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <limits>
 #include <memory>
 
@@ -88,6 +90,7 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
   RunFigures f;
   bool close = false;  // within a close call
   double driven = 0.0;  // m/s before the step: a collision stalls the robot
+  std::deque<std::pair<double, std::string>> recent_plans;  // (time, line), the last 2.5 s, for --collisions
   while (s.now() < 4.0 * distance / control.limits.max_speed) {
     const Pose2 pose = s.robot().base().true_pose();
     if (pose.x >= goal_x) {
@@ -122,7 +125,24 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
           bodies.push_back({t.position, velocity, people.person_radius, true});
         }
       }
+      const uint64_t plans_before = controller.plans();
       const navigation::UnicycleCommand u = controller.Step(costmap, pose, path, bodies, s.now());
+      if (print_contacts && controller.plans() != plans_before) {
+        const planning::CrowdTrajectory& plan = controller.plan();
+        double nearest_gap = std::numeric_limits<double>::infinity();  // rim to rim, as tracked
+        for (const planning::MovingBody& b : bodies)
+          nearest_gap = std::min(nearest_gap, Distance(b.position, pose.translation()) - b.radius - world.robot.radius);
+        char line[300];
+        std::snprintf(line, sizeof line,
+                      "    plan at %.2f s, robot at %.2f m/s: %s for %.2f s, first input (%.2f m/s², %.2f rad/s²), "
+                      "ends at %.2f m/s; nearest rim %.2f m",
+                      s.now(), s.robot().base().true_twist().vx,
+                      plan.escape ? "escape" : plan.braking ? "braking" : "driving", plan.states.back().t,
+                      plan.inputs.empty() ? 0.0 : plan.inputs[0].accel, plan.inputs.empty() ? 0.0 : plan.inputs[0].yaw_accel,
+                      plan.states.back().v, nearest_gap);
+        recent_plans.emplace_back(s.now(), line);
+        while (recent_plans.front().first < s.now() - 2.5) recent_plans.pop_front();
+      }
       s.Command(0, {u.v, 0.0, u.w});
       driven = s.robot().base().true_twist().vx;
     }
@@ -131,6 +151,7 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
       // Each collision: how fast the robot went, the plan it drove, and who was next to it.
       const Pose2 rp = s.robot().base().true_pose();
       for (const sim::CollisionEvent& e : out.events) {
+        for (const auto& [time, line] : recent_plans) std::printf("%s\n", line.c_str());
         std::printf("  collision at %.2f s with %s, robot at (%.2f, %.2f) driven at %.2f m/s; plan %s, cost %.1f\n", e.time,
                     e.other.c_str(), rp.x, rp.y, driven,
                     controller.plan().escape ? "escape" : controller.plan().braking ? "braking" : "driving",
@@ -205,7 +226,7 @@ int main(int argc, char** argv) {
   bool straight = false;
   app.add_flag("--straight-walkers", straight, "walkers keep one goal far down the street, no Brownian motion");
   bool print_contacts = false;
-  app.add_flag("--collisions", print_contacts, "print each collision (with a person or a wall): the robot's speed, the plan it drove, who was near");
+  app.add_flag("--collisions", print_contacts, "print each collision (with a person or a wall): the robot's speed, the plans of the 2.5 s before, who was near");
   CLI11_PARSE(app, argc, argv);
 
   sim::Scenario scenario;
