@@ -122,14 +122,14 @@ std::vector<ProcessUtility> UtilityDecisionMaker::Snapshot() const {
 UtilityBrainOptions DefaultBrainOptions() {
   UtilityBrainOptions o;
   o.state_variables = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger", "map_building"};
-  UtilityProcessOptions navigation{"navigation", ProcessKind::kMotor, 0.1, 1.0, 0.25};
+  UtilityProcessOptions navigation{"navigation", ProcessKind::kMotor, 0.1, 1.0, 0.25, {}};
   UtilityProcessOptions stop{"emergency_stop", ProcessKind::kMotor, 0.05, 5.0, 0.0,
                              {{"contact", 1.0}, {"sensors_stale", 1.0}}};
   UtilityProcessOptions wake_up{"wake_up", ProcessKind::kMotor, 0.1, 3.0, -0.2, {{"localization_lost", 1.0}}};
   // Seed 000 section 6: a_51 = 1, b_5 = -0.45, tau 0.1 s, Gamma_5 = 3 on activation decaying in 1 s.
   UtilityProcessOptions avoidance{"moving_obstacle_avoidance", ProcessKind::kMotor, 0.1, 1.0, -0.45,
                                   {{"moving_obstacle_danger", 1.0}}, 1.0, 3.0};
-  UtilityProcessOptions localization{"localization", ProcessKind::kCognitive, 0.1, 1.0, 0.5};
+  UtilityProcessOptions localization{"localization", ProcessKind::kCognitive, 0.1, 1.0, 0.5, {}};
   UtilityProcessOptions detection{"moving_obstacle_detection", ProcessKind::kCognitive, 0.1, 1.0, 0.5,
                                   {{"map_building", -1.0}}};
   // Seed 000 section 4.6: B6 keeps the map for the others; off while the map is being built.

@@ -33,7 +33,7 @@ BENCHMARK(BM_CostmapInflation)->Unit(benchmark::kMicrosecond);
 void BM_Plan(benchmark::State& state, const std::string& planner) {
   MapStore maps;
   maps.Set(Warehouse().map, "warehouse");
-  planning::PlanningEngine engine(maps, {{0.30, true}, "astar", 0.5});
+  planning::PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   planning::RegisterDefaultPlanners(engine);
   engine.CurrentCostmap();
   const Point2 start = Warehouse().start.translation();

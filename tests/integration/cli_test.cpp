@@ -213,7 +213,9 @@ class NavdExplore : public ::testing::TestWithParam<std::string> {};
 TEST_P(NavdExplore, MapsTheWarehouseFromNothing) {
   const auto r = RunCommand({NavdExploreBinary(), "--method", GetParam(), "--max-time", "900"}, 240.0);
   const bool may_time_out = GetParam() == "vfm";
-  if (!(may_time_out && r.exit_code == 3)) ASSERT_EQ(r.exit_code, 0) << r.output;
+  if (!(may_time_out && r.exit_code == 3)) {
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
   double mapped = -1, simulated = -1, driven = -1;
   int collisions = -1;
   const std::string ending = r.exit_code == 0 ? "complete, " : "stopped at --max-time, ";

@@ -147,7 +147,7 @@ TEST(ConvexGrid, StartInTheMarginJoinsTheGridAndFarPointsAreRefused) {
 TEST(MeadowMap, AStarOverBorderMidpointsIsCollisionFreeAndNearTheShortest) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine engine(maps, {{0.30, true}, "astar", 0.5});
+  PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(engine);
   const auto cm = engine.CurrentCostmap();
   const Point2 s(0.8, 1.0), g(8.8, 8.8);
@@ -168,7 +168,7 @@ TEST(MeadowMap, AStarOverBorderMidpointsIsCollisionFreeAndNearTheShortest) {
 TEST(TopologicalGraph, RoutesComeFromTheTableAfterTheFirstQueryFromAPlace) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine engine(maps, {{0.30, true}, "astar", 0.5});
+  PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   auto cells = std::make_shared<ConvexCellMapCache>();
   auto owned = std::make_unique<TopologicalGraphPlanner>(cells);
   const TopologicalGraphPlanner& topo = *owned;

@@ -175,7 +175,7 @@ TEST(World, DefaultWarehouseParsesAndItsGoalsAreReachable) {
   EXPECT_TRUE(w.map.IsOccupied(w.map.CellOf({8.5, 1.5})));
   MapStore maps;
   maps.Set(w.map, w.name);
-  planning::PlanningEngine engine(maps, {{w.robot.radius + 0.1, true}, "astar", 0.5});
+  planning::PlanningEngine engine(maps, {.costmap = {w.robot.radius + 0.1, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   engine.Register(std::make_unique<planning::GridAStarPlanner>());
   Point2 from = w.start.translation();
   for (const auto& g : w.goals) {

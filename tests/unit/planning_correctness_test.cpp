@@ -103,7 +103,7 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
   for (int m = 0; m < 30; ++m) {
     MapStore maps;
     RandomMap(maps, rng);
-    PlanningEngine engine(maps, {{0.15, true}, "astar", 0.5});
+    PlanningEngine engine(maps, {.costmap = {0.15, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
     RegisterDefaultPlanners(engine);
     const auto cm = engine.CurrentCostmap();
     for (int q = 0; q < 10; ++q) {
@@ -136,7 +136,9 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
             ++planned;
             contracted_planned += contracted;
           } catch (const Error& e) {
-            if (!contracted) EXPECT_FALSE(reachable) << planner << ": " << e.what();
+            if (!contracted) {
+              EXPECT_FALSE(reachable) << planner << ": " << e.what();
+            }
             EXPECT_EQ(e.code(), ErrorCode::kNotFound);
             ++unreachable;
           }
@@ -242,8 +244,8 @@ TEST(DistanceField, MatchesBruteForce) {
 TEST(CostAwareAStar, KeepsClearanceInTheWarehouse) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine plain(maps, {{0.30, true}, "astar", 0.5});
-  PlanningEngine aware(maps, {{0.30, true, 0.5, 3.0}, "astar", 0.5});
+  PlanningEngine plain(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  PlanningEngine aware(maps, {.costmap = {0.30, true, 0.5, 3.0}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(plain);
   RegisterDefaultPlanners(aware);
   const DistanceField field(plain.CurrentCostmap()->grid());
@@ -268,7 +270,7 @@ TEST(PathTransform, KeepsClearanceThatTheShortestPathDoesNot) {
   OccupancyGrid g(100, 60, 0.1, Point2::Zero());
   g.FillBox({4.8, 2.6}, {5.2, 3.4});  // a pillar just above the straight line y = 2.5
   maps.Set(std::move(g), "room");
-  PlanningEngine engine(maps, {{0.0, true}, "astar", 0.5});
+  PlanningEngine engine(maps, {.costmap = {0.0, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(engine);
   const DistanceField field(engine.CurrentCostmap()->grid());
   auto min_clearance = [&](const PathPlan& p) {
@@ -292,7 +294,7 @@ TEST(PathTransform, KeepsClearanceThatTheShortestPathDoesNot) {
 TEST(OmplPlanners, FindCollisionFreePathsInTheWarehouse) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine engine(maps, {{0.30, true}, "astar", 0.5});
+  PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(engine);
   const auto cm = engine.CurrentCostmap();
   const Point2 s(0.8, 1.0), g(8.8, 8.8);
@@ -345,7 +347,7 @@ TEST(FastMarching, ArrivalTimesApproximateEuclideanDistance) {
 TEST(VoronoiFastMarching, SmoothSafePathWithSpeedLimits) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine engine(maps, {{0.30, true}, "astar", 0.5});
+  PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(engine);
   const auto cm = engine.CurrentCostmap();
   const DistanceField field(cm->grid());

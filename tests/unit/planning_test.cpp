@@ -133,7 +133,7 @@ class EngineTest : public ::testing::Test {
     return ErrorCode::kInternal;
   }
   MapStore maps;
-  PlanningEngine engine{maps, PlanningEngineOptions{{0.3, true}, "astar", 0.5}};
+  PlanningEngine engine{maps, PlanningEngineOptions{.costmap = {0.3, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}}};
   std::string message;
 };
 
