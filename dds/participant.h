@@ -11,6 +11,7 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include <exception>
 #include <functional>
 #include <map>
 #include <memory>
@@ -85,7 +86,17 @@ class Writer {
   ~Writer() { participant_.DeleteWriter(writer_); }
   Writer(const Writer&) = delete;
   Writer& operator=(const Writer&) = delete;
-  bool Write(const Message& m) { return writer_->write(const_cast<Message*>(&m)); }
+  // False when the sample was not sent. Fast DDS's shared-memory transport locks each reader's
+  // port: a peer stopped while holding that lock (SIGSTOP, a debugger) makes the write throw
+  // boost's "interprocess mutex timeout" after a while, which killed navsim in the lockstep test
+  // that freezes navd. A sample lost to a stuck reader is dropped, as on any lossy link.
+  bool Write(const Message& m) {
+    try {
+      return writer_->write(const_cast<Message*>(&m));
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
   // Blocks until every matched reliable reader acknowledged what was written, or `timeout_s`.
   bool WaitForAcknowledgments(double timeout_s) {
     return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(timeout_s)) == ReturnCode_t::RETCODE_OK;
