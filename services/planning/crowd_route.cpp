@@ -79,6 +79,9 @@ CrowdRoute PlanCrowdRoute(const Costmap& costmap, const CrowdRouteRequest& r, co
       round.path.push_back(r.route[i]);
     }
     round.goal = VisibleGoal(costmap, robot.position(), round.path);
+    // The route's end in sight: a plan that reaches it ends there (a round that swept past it at
+    // speed, a few centimetres wide of the tolerance, came back round for seconds).
+    if (round.goal == r.route.back()) round.goal_tolerance = r.goal_tolerance;
     round.people = r.people;
     for (MovingBody& b : round.people) b.position += robot.t * b.velocity;
     round.previous = left;

@@ -6,9 +6,11 @@
 // executes 2 s of each plan) and carries the people on at their velocities by as much; the next
 // plan starts from what is left of the last. A round's goal is the point `lookahead` metres along
 // the route (a grid path from the start to the goal, through the map's walls), and the route is
-// its valley, so the route says where to go and the crowd RRT how to get there among people. The
-// trajectory ends where it first comes within goal_tolerance of the goal, at speed: the crowd RRT
-// has no notion of stopping on a point. Map frame, metres, radians, seconds.
+// its valley, so the route says where to go and the crowd RRT how to get there among people. Once
+// the goal is a round's goal, it is an end to that round's tree (CrowdRrtRequest::goal_tolerance),
+// so a plan that reaches it is taken however short. The trajectory ends where it first comes
+// within goal_tolerance of the goal, at speed: the crowd RRT has no notion of stopping on a point.
+// Map frame, metres, radians, seconds.
 #include <cstdint>
 #include <vector>
 

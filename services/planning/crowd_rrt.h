@@ -14,10 +14,12 @@
 //      (checked every 0.05 s: robot and person close at 3 m/s), (b) it heads more than 90° away
 //      from the goal's direction, (c) it leaves the map or touches a lethal cell, (d) it is later
 //      than the horizon, and (ours) when its disc comes within `clearance` of a person's
-//      predicted disc, a clearance that grows with how far they are predicted to walk;
+//      predicted disc, a clearance that is wider for walkers and grows with how far they are
+//      predicted to walk;
 //   4. returns the trajectory to the vertex of least Eq. 15 cost (the last plan's at a discount),
 //      I = ∫(g1 + g2 + c_v·shortfall²) dt + g3, among the vertices at least min_select_time ahead
-//      (the chapter's "discard nodes with a small time"); when none lives that long, among those
+//      (the chapter's "discard nodes with a small time"; ours: a request may make its goal an end,
+//      and a vertex that has arrived is taken however soon); when none lives that long, among those
 //      that stay valid longest (ours: the cheapest overall is the shortest, a stop in front of
 //      people who do not stop); when nothing at all is valid (someone walks into the robot), the
 //      escape among a fan of constant inputs (ours: judged with the people walking on until
@@ -94,6 +96,12 @@ struct CrowdRrtOptions {
   // 98% and 6.
   double clearance_growth = 0.3;
   double clearance_growth_time = 2.0;  // s
+  // Ours: anyone walking faster than walking_speed is kept walking_clearance more, from t = 0. On
+  // the street most contacts left were walkers who turned towards the robot 1 m away as it passed
+  // them with 0.2-0.3 m planned, their tracks' sideways velocity 0.2-0.4 m/s off; people standing
+  // or shuffling are kept `clearance`, so the robot still squeezes past them in a corridor.
+  double walking_clearance = 0.1;  // m
+  double walking_speed = 0.3;      // m/s
   double escape_time = 1.0;      // s: when nothing is valid, the fan of escapes is judged this far
   double escape_touch = 0.05;    // m: an escape that brings the robot's rim this near someone touches them
   double people_range = 40.0;    // m: people farther than this from the robot are left out
@@ -106,6 +114,11 @@ struct CrowdRrtRequest {
   std::vector<MovingBody> people;          // now, with velocities (m/s) for the prediction
   std::vector<UnicycleInput> previous;     // the last best trajectory's inputs still to come
   UnicycleLimits limits;
+  // 0: the goal is a point ahead to drive towards. Positive (m): the goal is where the plan ends. A
+  // vertex whose way came this near it has arrived: it pays no g3 and nothing after the arrival,
+  // and it is chosen however soon it arrives (ours: a plan that swept past a few centimetres wide
+  // came back round for seconds).
+  double goal_tolerance = 0.0;
   uint64_t seed = 1;
 };
 
@@ -117,6 +130,7 @@ struct CrowdTrajectory {
   int pruned = 0;                          // extensions rejected
   bool braking = false;                    // the chosen vertex is on the braking chain
   bool escape = false;                     // nothing was valid: the escape manoeuvre
+  bool arrived = false;                    // it comes within the request's goal_tolerance of the goal
 };
 
 // The goal for a plan along `path` (map frame) from `from`: the last point of the path before

@@ -274,8 +274,8 @@ TEST(CrowdRrt, WhenEverythingRunsIntoSomeoneThePlanStaysClearTheLongest) {
 
 TEST(CrowdRrt, TheRoomKeptFromAWalkerGrowsWithHowFarTheyArePredictedToWalk) {
   // With the comfort costs off, only the hard clearance keeps the plan from the walker coming
-  // down the path: 0.1 m now, and 0.3 m more for every metre they are predicted to walk, up to
-  // 2 s ahead (predictions stray from walkers who change their minds).
+  // down the path: 0.1 m, 0.1 m more for someone walking, and 0.3 m more for every metre they are
+  // predicted to walk, up to 2 s ahead (predictions stray from walkers who change their minds).
   const planning::Costmap cm = Street();
   CrowdRrtOptions o = Options();
   o.people.parallel_weight = o.people.perpendicular_weight = o.people.rear_weight = 0.0;
@@ -289,7 +289,7 @@ TEST(CrowdRrt, TheRoomKeptFromAWalkerGrowsWithHowFarTheyArePredictedToWalk) {
     EXPECT_GT(t.states.back().x, 6.0) << "seed " << r.seed;  // on its way
     for (const auto& s : t.states) {
       const double kept = Distance(s.position(), walker.position + s.t * walker.velocity) - 0.25 - o.robot_radius;
-      EXPECT_GE(kept, 0.1 + 0.3 * 1.3 * std::min(s.t, 2.0) - 1e-9) << "seed " << r.seed << " at " << s.t << " s";
+      EXPECT_GE(kept, 0.1 + 0.1 + 0.3 * 1.3 * std::min(s.t, 2.0) - 1e-9) << "seed " << r.seed << " at " << s.t << " s";
     }
   }
 }
@@ -298,7 +298,8 @@ TEST(CrowdRrt, WhenTheGrownClearanceClosesEveryWayItPlansAgainWithoutTheGrowth) 
   // A walker 3 m ahead coming straight at a robot doing 1.5 m/s: with the clearance grown by
   // 0.3 of how far they are predicted to walk, no way round them and no stop stays clear, so the
   // plan would be whatever lives longest. Planned again with the clearance not grown, a way
-  // round lives the whole min_select_time and keeps 0.1 m from their predicted disc.
+  // round lives the whole min_select_time and keeps 0.1 m (and 0.1 m more for a walker) from
+  // their predicted disc.
   const planning::Costmap cm = Street();
   const CrowdRrtOptions o = Options();
   for (int k = 0; k < 10; ++k) {
@@ -312,9 +313,40 @@ TEST(CrowdRrt, WhenTheGrownClearanceClosesEveryWayItPlansAgainWithoutTheGrowth) 
     EXPECT_GE(t.states.back().t, o.min_select_time - 1e-9) << "seed " << r.seed;
     for (const auto& s : t.states) {
       const double kept = Distance(s.position(), walker.position + s.t * walker.velocity) - 0.25 - o.robot_radius;
-      EXPECT_GE(kept, o.clearance - 1e-9) << "seed " << r.seed << " at " << s.t << " s";
+      EXPECT_GE(kept, o.clearance + o.walking_clearance - 1e-9) << "seed " << r.seed << " at " << s.t << " s";
     }
   }
+}
+
+TEST(CrowdRrt, AGoalWithAToleranceIsAnEndNotAPointToPass) {
+  // 1.2 m short of the goal at 1 m/s: no plan of min_select_time (4 s) can end near it, so as a
+  // point to drive towards it is passed; as an end, the plan comes within the tolerance and is
+  // chosen though it is short.
+  const planning::Costmap cm = Street();
+  CrowdRrtRequest r = DownTheStreet(1.0);
+  r.goal = {r.start.x + 1.2, r.start.y};
+  r.path = {r.start.position(), r.goal};
+  const CrowdRrtOptions o = Options();
+  const auto nearest = [&r](const planning::CrowdTrajectory& t) {
+    double d = 1e9;
+    for (const auto& s : t.states) d = std::min(d, Distance(s.position(), r.goal));
+    return d;
+  };
+  for (int k = 0; k < 5; ++k) {
+    r.seed = 700 + k;
+    r.goal_tolerance = 0.0;
+    const planning::CrowdTrajectory on = planning::PlanCrowdRrt(cm, r, o);
+    EXPECT_FALSE(on.arrived);
+    EXPECT_GE(on.states.back().t, o.min_select_time - 1e-9);
+    r.goal_tolerance = 0.25;
+    const planning::CrowdTrajectory end = planning::PlanCrowdRrt(cm, r, o);
+    ExpectFeasible(cm, r, end);
+    EXPECT_TRUE(end.arrived) << "seed " << r.seed;
+    EXPECT_LE(nearest(end), 0.25 + 1e-9) << "seed " << r.seed;
+    EXPECT_LT(end.states.back().t, o.min_select_time) << "seed " << r.seed;
+  }
+  r.goal_tolerance = -0.1;
+  EXPECT_THROW(planning::PlanCrowdRrt(cm, r, o), Error);
 }
 
 TEST(CrowdRrt, BadInputIsRejected) {
@@ -334,7 +366,8 @@ TEST(CrowdRrt, BadInputIsRejected) {
 TEST(CrowdRoute, RollsTheLoopOutToTheGoalPastWalkersAndSaysWhenItCannot) {
   // 26 m down the street among three walkers coming the other way: the rolled-out MPC loop
   // arrives within the goal tolerance, dynamically feasible, and never meets anyone's predicted
-  // body.
+  // body. Before the rounds knew the goal as an end, 3 seeds in 12 swept past it a few
+  // centimetres wide and came back round (34-46 s; now 19-22 s).
   const planning::Costmap cm = Street();
   planning::CrowdRouteRequest r;
   r.start = {2.0, 4.0, 0.0, 0.0, 0.0, 0.0};
@@ -343,19 +376,23 @@ TEST(CrowdRoute, RollsTheLoopOutToTheGoalPastWalkersAndSaysWhenItCannot) {
   r.people = {{{12.0, 4.2}, {-1.3, 0.0}, 0.25, true}, {{18.0, 3.0}, {-1.2, 0.1}, 0.25, true},
               {{24.0, 5.5}, {-1.4, -0.1}, 0.25, true}};
   r.limits = {1.5, 2.0, 1.0, 4.0};
-  const planning::CrowdRoute route = planning::PlanCrowdRoute(cm, r, Options());
-  ASSERT_GE(route.states.size(), 10u);
-  EXPECT_LE(Distance(route.states.back().position(), r.goal), r.goal_tolerance + 1e-9);
-  EXPECT_GT(route.plans, 5);  // 2 s of each plan: ~26 m at up to 1.5 m/s is many rounds
-  EXPECT_LT(route.states.back().t, 26.0 / 1.5 * 1.6);
-  for (size_t i = 1; i < route.states.size(); ++i) {
-    const auto& a = route.states[i - 1];
-    const auto& b = route.states[i];
-    ASSERT_GT(b.t, a.t);
-    EXPECT_LE(std::abs(b.v - a.v), r.limits.max_accel * (b.t - a.t) + 1e-9) << i;
-    EXPECT_FALSE(cm.IsLethal(cm.grid().CellOf(b.position()))) << i;
-    for (const MovingBody& p : r.people)
-      EXPECT_GT(Distance(b.position(), p.position + b.t * p.velocity), 0.25 + 0.3) << "state " << i << " at t " << b.t;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    r.seed = seed;
+    const planning::CrowdRoute route = planning::PlanCrowdRoute(cm, r, Options());
+    ASSERT_GE(route.states.size(), 10u);
+    EXPECT_LE(Distance(route.states.back().position(), r.goal), r.goal_tolerance + 1e-9);
+    EXPECT_GT(route.plans, 5);  // 2 s of each plan: ~26 m at up to 1.5 m/s is many rounds
+    EXPECT_LT(route.states.back().t, 26.0 / 1.5 * 1.4);
+    for (size_t i = 1; i < route.states.size(); ++i) {
+      const auto& a = route.states[i - 1];
+      const auto& b = route.states[i];
+      ASSERT_GT(b.t, a.t);
+      EXPECT_LE(std::abs(b.v - a.v), r.limits.max_accel * (b.t - a.t) + 1e-9) << i;
+      EXPECT_FALSE(cm.IsLethal(cm.grid().CellOf(b.position()))) << i;
+      for (const MovingBody& p : r.people)
+        EXPECT_GT(Distance(b.position(), p.position + b.t * p.velocity), 0.25 + 0.3) << "state " << i << " at t " << b.t;
+    }
   }
   // Boxed in for good (a line of standing people across the street): not found, and said so.
   r.people.clear();
