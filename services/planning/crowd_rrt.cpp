@@ -169,6 +169,12 @@ class NearestVertexIndex {
   std::vector<int> all_;
 };
 
+// Full braking, the yaw rate damped to nought within one step: the braking chain's input, and
+// what follows a short plan when it is judged against the escapes.
+UnicycleInput Braking(const UnicycleState& s, const UnicycleLimits& limits, double step) {
+  return {-limits.max_accel, -s.w / step};
+}
+
 void Check(bool ok, const std::string& what) {
   if (!ok) throw Error(ErrorCode::kInvalidArgument, what);
 }
@@ -195,7 +201,7 @@ CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const
     const auto follow = [&](const UnicycleState& s) -> UnicycleInput {
       const size_t i = static_cast<size_t>(std::max(0.0, std::floor((s.t - root.t) / o.step + 1e-9)));
       if (i < short_plan->inputs.size()) return short_plan->inputs[i];
-      return {-r.limits.max_accel, -s.w / o.step};
+      return Braking(s, r.limits, o.step);
     };
     const StopShortRollout run = RollOutStopShort(root, follow, o.escape_time, field.people(), r.limits, stop_short, allowed);
     best_touch = run.touch;
@@ -305,7 +311,7 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
   tip = 0;
   while (tip >= 0 && tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
     const UnicycleState& s = tree[static_cast<size_t>(tip)].state;
-    tip = extend(tip, {-r.limits.max_accel, -s.w / o.step}, true);
+    tip = extend(tip, Braking(s, r.limits, o.step), true);
   }
 
   // Ours: a turn on the spot towards the goal, then on towards it. From a standstill the random
