@@ -97,7 +97,7 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
   stuck_ = false;
   f.recoveries = 0;
   f.reflexes = 0;
-  leg_recoveries_ = 0;
+  leg_recoveries_.clear();
   leg_contacts_.clear();
   best_remaining_ = follower_.DistanceRemaining(last_pose_);
   best_remaining_at_ = now;
@@ -210,7 +210,7 @@ void Navigator::StopProgressClockLocked(double now) {
 bool Navigator::AdvanceLocked(const Pose2& pose, double now) {
   NavigationFeedback& f = status_.feedback;
   ++f.waypoints_reached;
-  leg_recoveries_ = 0;
+  leg_recoveries_.clear();
   leg_contacts_.clear();
   size_t next = f.mission_index + 1;
   if (next >= mission_.waypoints.size()) {
@@ -362,16 +362,20 @@ void Navigator::NoteContact(const Point2& where, double now) {
 
 bool Navigator::RecoverOrFailLocked(const std::string& why, const std::string& verdict, const Pose2& pose,
                                     double now) {
-  if (leg_recoveries_ < options_.max_recoveries) {
-    ++leg_recoveries_;
+  int here = 0;
+  for (const Point2& p : leg_recoveries_) here += Distance(p, pose.translation()) <= options_.recovery_radius;
+  if (here < options_.max_recoveries) {
+    leg_recoveries_.push_back(pose.translation());
     ++status_.feedback.recoveries;
     stuck_ = true;  // the executive runs the recovery
     BumpLocked();
     return true;
   }
+  char where[64];
+  std::snprintf(where, sizeof where, " within %.1f m of here", options_.recovery_radius);
   FinishLocked(Outcome::kFailed,
-               why + " after " + std::to_string(options_.max_recoveries) + " recoveries on this leg: " + verdict, pose,
-               now);
+               why + " after " + std::to_string(options_.max_recoveries) + " recoveries on this leg" + where + ": " + verdict,
+               pose, now);
   return false;
 }
 

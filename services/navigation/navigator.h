@@ -117,8 +117,11 @@ struct NavigatorOptions {
   PathFollowerParams follower;
   // The robot is stuck when the distance left on a leg has not shrunk by progress_distance for
   // progress_timeout seconds of driving (e.g. pushing against an unmapped obstacle): a recovery
-  // runs, up to max_recoveries on one leg (to the next waypoint); stuck once more, the mission
-  // fails...
+  // runs, up to max_recoveries within recovery_radius of one place on a leg (to the next
+  // waypoint); stuck there once more, the mission fails. Recoveries that freed the robot further
+  // back do not count: an office leg past two panes of glass spent its three on the first and
+  // then gave up at the second, 5 m on...
+  double recovery_radius = 1.0;     // m
   double progress_timeout = 15.0;   // s
   double progress_distance = 0.05;  // m
   int max_recoveries = 3;
@@ -220,7 +223,7 @@ class Navigator {
   Mission mission_;
   bool leg_needs_path_ = false;
   bool stuck_ = false;              // a recovery is due
-  int leg_recoveries_ = 0;          // recoveries since the last waypoint was reached
+  std::vector<Point2> leg_recoveries_;  // where recoveries ran since the last waypoint was reached
   std::vector<Point2> leg_contacts_;  // where bumpers were pressed since then
   double best_remaining_ = 0.0;     // smallest distance left on this leg so far (progress check)
   double best_remaining_at_ = 0.0;  // when it was reached

@@ -267,6 +267,38 @@ TEST(Navigator, ReplanningALegDoesNotRestartItsProgressClock) {
   EXPECT_EQ(nav.Status().feedback.recoveries, 1u);
 }
 
+// The office run past two panes of glass: its recoveries freed the robot at the first, and it
+// stuck again at the second, 5 m on. Recoveries count by place: it may recover there too, and
+// gives up only when stuck again where they were spent.
+TEST(Navigator, RecoveriesSpentFurtherBackDoNotCountAgainstANewPlace) {
+  NavigatorOptions o;
+  o.progress_timeout = 2.0;
+  o.max_recoveries = 1;
+  Navigator nav(o);
+  nav.Step({0, 0, 0}, 0.0, true);
+  const uint64_t id = nav.Start({{6, 0, 0}, false}, {{0, 0}, {6, 0}}, 6.0, 0.0, false);
+  double t = 0.0;
+  int recoveries = 0;
+  const auto hold = [&](double x, double seconds) {
+    for (const double end = t + seconds; t < end && nav.Status().active; t += 0.05) {
+      nav.Step({x, 0, 0}, t, true);
+      recoveries += nav.TakeStuck();
+    }
+  };
+  hold(0.5, 2.5);  // stuck at the first pane: a recovery
+  EXPECT_EQ(recoveries, 1);
+  for (double x = 0.5; x < 3.0; x += 0.1) hold(x, 0.05);  // freed, on 2.5 m
+  hold(3.0, 2.5);  // stuck at the second: a recovery there too
+  EXPECT_EQ(recoveries, 2);
+  ASSERT_TRUE(nav.Status().active);
+  hold(3.1, 2.5);  // stuck there again: it gives up
+  EXPECT_EQ(recoveries, 2);
+  ASSERT_TRUE(nav.ResultOf(id));
+  EXPECT_EQ(nav.ResultOf(id)->outcome, Outcome::kFailed);
+  EXPECT_NE(nav.ResultOf(id)->message.find("after 1 recoveries on this leg within 1.0 m of here"), std::string::npos)
+      << nav.ResultOf(id)->message;
+}
+
 TEST(Navigator, FailsWhenSensorsStayStale) {
   NavigatorOptions o;
   o.stale_timeout = 2.0;
