@@ -84,8 +84,17 @@ int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, co
     const auto a = ParseTuple(from, "--from", 2, 2), b = ParseTuple(to, "--to", 2, 2);
     for (const auto& p : planners) {
       const auto r = engine.ComputePath({a[0], a[1]}, {b[0], b[1]}, p, planner_options, {}, {moving});
-      std::printf("%s: %zu waypoints, length %.4f m, %.3f ms, %lu expansions\n", r.planner.c_str(), r.points.size(),
-                  r.length, r.planning_time * 1e3, static_cast<unsigned long>(r.expansions));
+      if (json_out) {  // the same object as the online plan's
+        json path = json::array();
+        for (const auto& q : r.points) path.push_back({q.x(), q.y()});
+        std::printf("%s\n", json{{"planner", r.planner}, {"length", r.length}, {"planning_time", r.planning_time},
+                                 {"expansions", r.expansions}, {"path", path}}
+                                .dump()
+                                .c_str());
+      } else {
+        std::printf("%s: %zu waypoints, length %.4f m, %.3f ms, %lu expansions\n", r.planner.c_str(), r.points.size(),
+                    r.length, r.planning_time * 1e3, static_cast<unsigned long>(r.expansions));
+      }
     }
     return 0;
   }

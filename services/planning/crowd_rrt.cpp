@@ -326,6 +326,15 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
     }
   }
 
+  // Ours: with the goal an end, a chain steered straight at it. The random extensions, noisy at
+  // 1.5 m/s, came within a metre of a 0.25 m goal disc and not into it, round after round.
+  if (r.goal_tolerance > 0.0) {
+    tip = 0;
+    while (tip >= 0 && !tree[static_cast<size_t>(tip)].arrived && tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
+      tip = extend(tip, SteerTowards(tree[static_cast<size_t>(tip)].state, r.goal, o.desired_speed, o.gains), false);
+    }
+  }
+
   // Too late for children; the braking chain is a way out, not a place to grow from (trees grown
   // from its end stop first and then set off again).
   const auto growable = [&](int i) {

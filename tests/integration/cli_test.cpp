@@ -31,6 +31,23 @@ TEST(Navctl, UnreachableServerIsOneLineAndNonZero) {
   EXPECT_EQ(Lines(h.output), 1) << h.output;
 }
 
+// Offline, `--json` gives the online plan's object. The crowd RRT rolled out along the street
+// past two oncoming walkers ends in the goal's disc on its first pass: before its rounds knew the
+// goal as an end, this trajectory swept past it and came back round (57 m for 38).
+TEST(Navctl, OfflineCrowdRouteEndsAtTheGoalAsJson) {
+  const auto r = RunCommand({NavctlBinary(), "plan", "--map", SourceDir() + "/worlds/street.yaml", "--from", "2,4", "--to",
+                             "40,4", "--planner", "kinodynamic", "--option", "algorithm=3", "--option", "max_speed=1.5",
+                             "--option", "max_accel=1", "--person", "20,4.2,-1.3,0", "--person", "30,3,-1.2,0.1", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  EXPECT_EQ(j["planner"], "kinodynamic");
+  const auto& path = j["path"];
+  ASSERT_GE(path.size(), 10u);
+  const Point2 end(path.back()[0].get<double>(), path.back()[1].get<double>());
+  EXPECT_LT(Distance(end, {40.0, 4.0}), 0.25 + 0.1) << end.transpose();  // the goal cell's centre, its disc
+  EXPECT_LT(j["length"].get<double>(), 38.0 * 1.2);
+}
+
 TEST(Navctl, MalformedArgumentsAreRejectedLocally) {
   const auto r = RunCommand({NavctlBinary(), "plan", "--from", "1,abc", "--to", "2,2"});
   EXPECT_NE(r.exit_code, 0);
