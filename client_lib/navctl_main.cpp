@@ -28,6 +28,16 @@ using navd::navctl::ParseTuple;
 using navd::navctl::PoseJson;
 using navd::navctl::StateText;
 
+// `navctl plan --json`'s object, the same from navd and offline; `points` are gRPC's or Eigen's.
+template <typename Points>
+json PlanJson(const std::string& planner, double length, double planning_time, uint64_t expansions,
+              const Points& points) {
+  json path = json::array();
+  for (const auto& p : points) path.push_back({p.x(), p.y()});
+  return {{"planner", planner}, {"length", length}, {"planning_time", planning_time}, {"expansions", expansions},
+          {"path", path}};
+}
+
 // "--option NAME=VALUE" flags into planner options.
 std::map<std::string, double> ParseOptions(const std::vector<std::string>& texts) {
   std::map<std::string, double> out;
@@ -84,13 +94,8 @@ int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, co
     const auto a = ParseTuple(from, "--from", 2, 2), b = ParseTuple(to, "--to", 2, 2);
     for (const auto& p : planners) {
       const auto r = engine.ComputePath({a[0], a[1]}, {b[0], b[1]}, p, planner_options, {}, {moving});
-      if (json_out) {  // the same object as the online plan's
-        json path = json::array();
-        for (const auto& q : r.points) path.push_back({q.x(), q.y()});
-        std::printf("%s\n", json{{"planner", r.planner}, {"length", r.length}, {"planning_time", r.planning_time},
-                                 {"expansions", r.expansions}, {"path", path}}
-                                .dump()
-                                .c_str());
+      if (json_out) {
+        std::printf("%s\n", PlanJson(r.planner, r.length, r.planning_time, r.expansions, r.points).dump().c_str());
       } else {
         std::printf("%s: %zu waypoints, length %.4f m, %.3f ms, %lu expansions\n", r.planner.c_str(), r.points.size(),
                     r.length, r.planning_time * 1e3, static_cast<unsigned long>(r.expansions));
@@ -386,12 +391,8 @@ int main(int argc, char** argv) {
       }
       const auto r = client.ComputePath(a[0], a[1], b[0], b[1], planner, ParseOptions(option_texts), moving);
       if (json_out) {
-        json path = json::array();
-        for (const auto& p : r.path()) path.push_back({p.x(), p.y()});
-        std::printf("%s\n", json{{"planner", r.planner()}, {"length", r.length()}, {"planning_time", r.planning_time()},
-                                 {"expansions", r.expansions()}, {"path", path}}
-                                .dump()
-                                .c_str());
+        std::printf("%s\n",
+                    PlanJson(r.planner(), r.length(), r.planning_time(), r.expansions(), r.path()).dump().c_str());
       } else {
         std::printf("planner %s: %d waypoints, length %.3f m, planned in %.2f ms (%lu expansions)\n",
                     r.planner().c_str(), r.path_size(), r.length(), r.planning_time() * 1e3,

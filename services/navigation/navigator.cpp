@@ -10,6 +10,13 @@ namespace navd::navigation {
 namespace {
 constexpr size_t kResultsKept = 64;
 
+// How many of `places` lie within `radius` (m) of `at`: bumps and recoveries are counted by place.
+int CountWithin(const std::vector<Point2>& places, const Point2& at, double radius) {
+  int n = 0;
+  for (const Point2& p : places) n += Distance(p, at) <= radius;
+  return n;
+}
+
 NavigationState FromFollower(FollowerState s) {
   switch (s) {
     case FollowerState::kRotating: return NavigationState::kRotating;
@@ -352,8 +359,7 @@ void Navigator::NoteContact(const Point2& where, double now) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!status_.active) return;
   leg_contacts_.push_back(where);
-  int here = 0;
-  for (const Point2& p : leg_contacts_) here += Distance(p, where) <= options_.contact_radius;
+  const int here = CountWithin(leg_contacts_, where, options_.contact_radius);
   if (here < options_.max_contacts) return;
   char why[96];
   std::snprintf(why, sizeof why, "bumped into something at (%.2f, %.2f) %d times", where.x(), where.y(), here);
@@ -362,9 +368,7 @@ void Navigator::NoteContact(const Point2& where, double now) {
 
 bool Navigator::RecoverOrFailLocked(const std::string& why, const std::string& verdict, const Pose2& pose,
                                     double now) {
-  int here = 0;
-  for (const Point2& p : leg_recoveries_) here += Distance(p, pose.translation()) <= options_.recovery_radius;
-  if (here < options_.max_recoveries) {
+  if (CountWithin(leg_recoveries_, pose.translation(), options_.recovery_radius) < options_.max_recoveries) {
     leg_recoveries_.push_back(pose.translation());
     ++status_.feedback.recoveries;
     stuck_ = true;  // the executive runs the recovery
