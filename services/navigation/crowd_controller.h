@@ -10,6 +10,7 @@
 // The plan's goal is the point `lookahead` metres along the leg's path, and the path itself is the
 // valley of its cost (g1), so the global plan says where to go and the crowd RRT how to get there
 // among people. Map frame, metres, radians, seconds.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -28,10 +29,12 @@ struct CrowdControllerOptions {
   double handover_distance = 1.5;
   double command_lead = 0.1;        // s: the command is the plan's speeds this far ahead
   // rad off the way to the plan's goal: beyond, the path follower turns the robot round. The RRT
-  // turns a robot back from any heading it starts with (it prunes only worse ones), so this is
-  // for a robot facing nearly backwards: the follower is slow among walkers and heads straight
-  // back onto the path, across their way (at 1.3 rad, its turns cost the street runs 6 points).
-  double max_heading_error = 2.4;
+  // turns a robot back from any heading it starts with (it prunes only worse ones), so by default
+  // it keeps the robot whatever its heading. The follower heads straight back onto the path across
+  // the walkers' way (at 1.3 rad, its turns cost the street runs 6 points), and it turns in place:
+  // a robot an escape had turned round at 1.5 m/s coasted on for a metre, blind to the walkers
+  // (at 2.4 rad, two of three people walking into it in ten navd street runs).
+  double max_heading_error = M_PI;
   // m: with someone's rim this near the robot's (as tracked: a laser blob's centre is off by up
   // to 0.1 m), the robot does not turn: a turn slides it along them, and wheel slip nudges it
   // into them (in navsim, a collision). Ours.

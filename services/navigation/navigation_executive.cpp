@@ -416,10 +416,10 @@ std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& po
   if (!steer) return hand_back();
   std::vector<Point2> path = navigator_.PathAhead(c.lookahead);
   const std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
-  // Facing almost backwards (turned by an escape or a bump), the path follower turns the robot
-  // round first; the crowd RRT turns it back from anything less.
+  // Facing further off than max_heading_error (by default never), the path follower turns the
+  // robot round first; the crowd RRT turns it back from anything less.
   const bool facing = !path.empty() && std::abs(NormalizeAngle(std::atan2(path.back().y() - pose.y, path.back().x() - pose.x) -
-                                                               pose.theta)) < c.max_heading_error;
+                                                               pose.theta)) <= c.max_heading_error;
   if (!facing || !costmap) return hand_back();
   if (!crowd_steering_) {
     // From what the robot was doing: the path follower's last command.
