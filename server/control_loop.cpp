@@ -79,11 +79,16 @@ void ControlLoop::LogCrowdPlan(const WheelSpeeds& wheels, double now) {
     nearest = fmt::format("{:.2f} m, at ({:.2f}, {:.2f}) in the robot's frame, walking ({:.2f}, {:.2f}) m/s", d, at.x(),
                           at.y(), p.velocity.x(), p.velocity.y());
   }
-  spdlog::debug("t={:.2f}s crowd plan {} at ({:.2f}, {:.2f}, {:.2f}): {} {:.2f} s, cost {:.1f}, {} vertices; command "
-                "{:.2f} m/s {:.2f} rad/s{}; {} people, nearest {}",
+  // Where the leg's path ahead ends (the plan's goal, unless the costmap hides it) and where the plan ends.
+  const std::vector<Point2> ahead = executive_.navigator().PathAhead(executive_.crowd().options().lookahead);
+  const Point2 path_end = ahead.empty() ? pose.translation() : ahead.back();
+  const Point2 plan_end = plan.states.empty() ? pose.translation() : plan.states.back().position();
+  spdlog::debug("t={:.2f}s crowd plan {} at ({:.2f}, {:.2f}, {:.2f}): {} {:.2f} s to ({:.2f}, {:.2f}) for the path's "
+                "({:.2f}, {:.2f}), cost {:.1f}, {} vertices; command {:.2f} m/s {:.2f} rad/s{}; {} people, nearest {}",
                 now, crowd_plans_seen_, pose.x, pose.y, pose.theta,
                 plan.escape ? "escape" : plan.braking ? "braking" : "driving",
-                plan.states.empty() ? 0.0 : plan.states.back().t, plan.cost, plan.tree_size,
+                plan.states.empty() ? 0.0 : plan.states.back().t, plan_end.x(), plan_end.y(), path_end.x(), path_end.y(),
+                plan.cost, plan.tree_size,
                 0.5 * (wheels.left + wheels.right), (wheels.right - wheels.left) / options_.wheel_base,
                 executive_.crowd_steering() ? "" : " (not the crowd controller's)", people.size(), nearest);
 }
@@ -142,6 +147,14 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   inputs.sonar = &sonar;
   const WheelSpeeds wheels = executive_.Step(inputs, now);
   const navigation::NavigationStatus status = executive_.navigator().Status();
+  if (spdlog::should_log(spdlog::level::trace)) {
+    // Every tick's command, with what it came from, to set beside navsim's trace of the truth.
+    const localization::PoseEstimate e = localizer_.Estimate();
+    spdlog::trace("t={:.2f}s tick at ({:.3f}, {:.3f}, {:.3f}): wheels {:.3f} {:.3f} m/s, {}, state {}{}{}{}", now, e.pose.x,
+                  e.pose.y, e.pose.theta, wheels.left, wheels.right,
+                  executive_.crowd_steering() ? "crowd controller" : "navigator", navigation::NavigationStateName(status.feedback.state),
+                  inputs.contact ? ", bumper pressed" : "", status.hold_reason.empty() ? "" : ": ", status.hold_reason);
+  }
   if (status.feedback.behaviour != behaviour_ || status.hold_reason != hold_reason_) {
     // Why the robot does what it does, in the log as well as in the telemetry.
     const localization::PoseEstimate e = localizer_.Estimate();

@@ -3,6 +3,7 @@
 // (rt/<robot>/...) scan, sonar, ir, odom, joint_states, bumper, ground_truth and sim/status out,
 // cmd_vel and cmd_accel in. Optionally records one robot as a CARMEN log. With --lockstep it steps
 // no further than each robot's navd has been given (rt/<robot>/navd/next_tick).
+#include <spdlog/cfg/env.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -259,6 +260,31 @@ class DoorCommands {
   navd::dds::Reader<msgs_sim::DoorCommand_PubSubType> reader_;
 };
 
+// SPDLOG_LEVEL=trace: the ground truth of every step, to set beside navd's trace of its ticks
+// when a run goes wrong: each robot's pose and velocity, the moving obstacles, and the people
+// within kTracedPeopleRange of a robot.
+constexpr double kTracedPeopleRange = 1.5;  // m
+void LogGroundTruth(double t, const sim::Simulation& s) {
+  std::string line = fmt::format("t={:.2f}s truth:", t);
+  for (const auto& r : s.robots()) {
+    const Pose2& p = r->base().true_pose();
+    const auto& v = r->base().true_twist();
+    line += fmt::format(" {} ({:.3f}, {:.3f}, {:.3f}) at {:.2f} m/s {:.2f} rad/s;", s.BodyName(r->id()), p.x, p.y, p.theta,
+                        v.vx, v.omega);
+  }
+  for (const auto& o : s.moving_obstacles())
+    line += fmt::format(" {} ({:.3f}, {:.3f}) at ({:.2f}, {:.2f}) m/s;", o.description().name, o.position().x(),
+                        o.position().y(), o.velocity().x(), o.velocity().y());
+  for (const auto& q : s.people()) {
+    bool near = false;
+    for (const auto& r : s.robots()) near = near || Distance(q.position, r->base().true_pose().translation()) < kTracedPeopleRange;
+    if (near)
+      line += fmt::format(" person {} ({:.3f}, {:.3f}) at ({:.2f}, {:.2f}) m/s;", q.id, q.position.x(), q.position.y(),
+                          q.velocity.x(), q.velocity.y());
+  }
+  spdlog::trace("{}", line);
+}
+
 int Run(int argc, char** argv) {
   CLI::App app{"navsim: 2-D simulator of wheeled robots with lasers, sonars, IR, encoders and bumpers among moving "
                "obstacles and people, over ROS 2-layout DDS"};
@@ -301,6 +327,8 @@ int Run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  // SPDLOG_LEVEL=trace (or e.g. "debug"): the log's level, as spdlog reads it (as navd does).
+  spdlog::cfg::load_env_levels();
 
   sim::Scenario scenario;
   if (!scenario_path.empty()) {
@@ -410,6 +438,7 @@ int Run(int argc, char** argv) {
     // After the sensors, so that a sim-time consumer woken by the clock finds this step's readings.
     if (steps % clock_every == 0) send_clock();
     if (out.truth) world_writer.Write(MakeWorldState(t, simulation));
+    if (spdlog::should_log(spdlog::level::trace)) LogGroundTruth(t, simulation);
     for (const auto& e : out.events) {
       // Where the robot stood, too: what it was doing when it touched.
       Pose2 at;

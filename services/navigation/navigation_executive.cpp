@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <initializer_list>
+#include <limits>
 
 #include "services/common/error.h"
 #include "services/localization/scan_points.h"
@@ -920,15 +921,25 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
   // Nav2's collision monitor (its approach model) on the laser: whatever the map says (one still
   // being built, a wall a few centimetres off, a box it lacks), never faster forward than the robot
   // can stop in before what the last scan saw ahead. The plans keep the rim 0.1 m from walls, so
-  // on a planned path it binds only head-on.
-  if (0.5 * (wheels.left + wheels.right) <= 0.0) return wheels;
+  // on a planned path it binds only head-on. Nor does the robot turn with something at its rim
+  // ahead (turn_guard_gap).
   std::vector<Point2> local;
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     local = LocalScanPointsLocked(pose);
   }
   if (local.empty()) return wheels;
-  return CapApproach(wheels, std::move(local), moving_.scan_guard_margin);
+  WheelSpeeds guarded = wheels;
+  if (wheels.left != wheels.right) {
+    const double rim = moving_.detection.robot_radius;
+    double gap = std::numeric_limits<double>::infinity();
+    for (const Point2& p : local)
+      if (p.x() > 0.5 * p.norm()) gap = std::min(gap, p.norm() - rim);  // within 60 degrees of the heading
+    const double v = 0.5 * (wheels.left + wheels.right);
+    if (gap < moving_.turn_guard_gap) guarded = {v, v};
+  }
+  if (0.5 * (guarded.left + guarded.right) <= 0.0) return guarded;
+  return CapApproach(guarded, std::move(local), moving_.scan_guard_margin);
 }
 
 std::vector<Point2> NavigationExecutive::LocalScanPointsLocked(const Pose2& pose) const {

@@ -94,6 +94,12 @@ struct MovingObstacleOptions {
   double guard_min_speed = 0.1;      // m/s: slower tracked obstacles are left to the plans
   // ... and never faster than it could stop scan_guard_margin short of what the laser sees ahead.
   double scan_guard_margin = 0.05;   // m
+  // Turning in place is never quite in place: each wheel misses its speed a little, so the centre
+  // creeps along the heading. With something this near the rim ahead (within 60 degrees of the
+  // heading: a cart that came up to the robot and waits there), that creep touches it; the robot
+  // keeps only the straight part of its command then, as the avoidance behaviour waits rather
+  // than turn (its turn_clearance).
+  double turn_guard_gap = 0.05;      // m
 };
 
 // What the emergency stop does when a bumper stays pressed: something pushed into the robot (an

@@ -452,6 +452,52 @@ TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
   EXPECT_LT(farthest, kWall - 0.2 - 0.02);  // ...and stopped short of touching it
 }
 
+// Turning in place next to something at the front rim: the wheels never turn quite in place, and
+// the creep along the heading touches it. The robot faces +x with a box the map lacks 2 cm ahead;
+// its goal lies to its left. It does not turn while the box is there; once it is gone, it turns
+// and arrives.
+TEST(NavigationExecutive, DoesNotTurnWithSomethingAtItsRimAhead) {
+  OpenFloor floor;
+  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
+  Pose2 odom(0.0, 0.0, 0.0);
+  double t = 0.0;
+  bool box = true;
+  const double rim = MovingObstacleOptions().detection.robot_radius;
+  const double box_x = 1.0 + rim + 0.02;  // the robot starts at (1, 2.5), facing +x
+  auto step = [&] {
+    clock.Set(t);
+    localizer.AddOdometry({odom, Eigen::Matrix3d::Zero(), t});
+    const Pose2 pose = localizer.Estimate().pose;
+    localization::ScanReading scan;
+    scan.angle_min = -M_PI / 2;
+    scan.angle_increment = M_PI / 180;
+    scan.range_max = 4.0;
+    scan.stamp = t;
+    for (int i = 0; i <= 180; ++i) {
+      const double c = std::cos(pose.theta + scan.angle_min + i * scan.angle_increment);
+      scan.ranges.push_back(box && c > 1e-6 ? static_cast<float>(std::min(4.0, (box_x - pose.x) / c)) : 4.0f);
+    }
+    ExecutiveInputs in;
+    in.scan = &scan;
+    const WheelSpeeds w = executive.Step(in, t);
+    odom = IntegrateDiffDrive(odom, w.left * 0.05, w.right * 0.05, options.follower.wheel_base);
+    t += 0.05;
+    return w;
+  };
+  step();
+  executive.Navigate({Pose2(1.0, 4.0, M_PI / 2), false, "", false});
+  for (int i = 0; i < 60; ++i) {
+    const WheelSpeeds w = step();
+    EXPECT_DOUBLE_EQ(w.left, w.right) << "turned at t = " << t;
+    EXPECT_LE(w.left + w.right, 0.0) << "drove at the box at t = " << t;
+  }
+  EXPECT_NEAR(localizer.Estimate().pose.theta, 0.0, 1e-9);
+  box = false;
+  for (int i = 0; i < 400 && executive.navigator().Status().active; ++i) step();
+  EXPECT_FALSE(executive.navigator().Status().active);
+  EXPECT_NEAR(localizer.Estimate().pose.y, 4.0, 0.15);
+}
+
 // Nav2's bumper layer: a post nothing but the bumper senses, straight across the path. The robot
 // bumps it and backs away; the replanned leg leads into it again while the post's disc is too near
 // the start to be planned round (the planner leaves such bodies out), until the recoveries' back-up
