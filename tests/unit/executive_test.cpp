@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <set>
 #include <thread>
@@ -417,6 +418,21 @@ TEST(NavigationExecutive, AStuckRobotGoesOnOnceARecoveryFreedIt) {
   EXPECT_EQ(run.recoveries_reported, 2u);
 }
 
+// What a 180-degree laser (4 m) at `pose` sees of a wall the map lacks, across the whole map at
+// x = `wall` (map frame; infinity: no wall), at time `t`.
+localization::ScanReading ScanOfAWallAcross(double wall, const Pose2& pose, double t) {
+  localization::ScanReading scan;
+  scan.angle_min = -M_PI / 2;
+  scan.angle_increment = M_PI / 180;
+  scan.range_max = 4.0;
+  scan.stamp = t;
+  for (int i = 0; i <= 180; ++i) {
+    const double c = std::cos(pose.theta + scan.angle_min + i * scan.angle_increment);
+    scan.ranges.push_back(c > 1e-6 ? static_cast<float>(std::min(4.0, (wall - pose.x) / c)) : 4.0f);
+  }
+  return scan;
+}
+
 // The scan guard: a wall the map lacks (at x = 3 m across the whole map) stops the robot short of
 // it, whatever the plans say, since the laser sees it.
 TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
@@ -428,16 +444,7 @@ TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
   auto step = [&] {
     clock.Set(t);
     localizer.AddOdometry({odom, Eigen::Matrix3d::Zero(), t});
-    const Pose2 pose = localizer.Estimate().pose;
-    localization::ScanReading scan;
-    scan.angle_min = -M_PI / 2;
-    scan.angle_increment = M_PI / 180;
-    scan.range_max = 4.0;
-    scan.stamp = t;
-    for (int i = 0; i <= 180; ++i) {
-      const double c = std::cos(pose.theta + scan.angle_min + i * scan.angle_increment);
-      scan.ranges.push_back(c > 1e-6 ? static_cast<float>(std::min(4.0, (kWall - pose.x) / c)) : 4.0f);
-    }
+    const localization::ScanReading scan = ScanOfAWallAcross(kWall, localizer.Estimate().pose, t);
     ExecutiveInputs in;
     in.scan = &scan;
     const WheelSpeeds w = executive.Step(in, t);
@@ -467,16 +474,8 @@ TEST(NavigationExecutive, DoesNotTurnWithSomethingAtItsRimAhead) {
   auto step = [&] {
     clock.Set(t);
     localizer.AddOdometry({odom, Eigen::Matrix3d::Zero(), t});
-    const Pose2 pose = localizer.Estimate().pose;
-    localization::ScanReading scan;
-    scan.angle_min = -M_PI / 2;
-    scan.angle_increment = M_PI / 180;
-    scan.range_max = 4.0;
-    scan.stamp = t;
-    for (int i = 0; i <= 180; ++i) {
-      const double c = std::cos(pose.theta + scan.angle_min + i * scan.angle_increment);
-      scan.ranges.push_back(box && c > 1e-6 ? static_cast<float>(std::min(4.0, (box_x - pose.x) / c)) : 4.0f);
-    }
+    const localization::ScanReading scan =
+        ScanOfAWallAcross(box ? box_x : std::numeric_limits<double>::infinity(), localizer.Estimate().pose, t);
     ExecutiveInputs in;
     in.scan = &scan;
     const WheelSpeeds w = executive.Step(in, t);
