@@ -923,6 +923,8 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
   // can stop in before what the last scan saw ahead. The plans keep the rim 0.1 m from walls, so
   // on a planned path it binds only head-on. Nor does the robot turn with something at its rim
   // ahead (turn_guard_gap).
+  const bool turning = wheels.left != wheels.right;
+  if (!turning && wheels.left <= 0.0) return wheels;  // standing or backing straight: nothing to guard
   std::vector<Point2> local;
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);
@@ -930,7 +932,7 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
   }
   if (local.empty()) return wheels;
   WheelSpeeds guarded = wheels;
-  if (wheels.left != wheels.right) {
+  if (turning) {
     const double rim = moving_.detection.robot_radius;
     double gap = std::numeric_limits<double>::infinity();
     for (const Point2& p : local)
