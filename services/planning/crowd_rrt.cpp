@@ -70,6 +70,18 @@ class CrowdField {
     }
     return g;
   }
+  // Metres between the robot's rim at `p` and the nearest rim of a person predicted at `t` ahead of
+  // a robot heading `yaw` (in its forward half-plane); infinity when nobody is.
+  double GapAhead(const Point2& p, double yaw, double t) const {
+    const Point2 heading(std::cos(yaw), std::sin(yaw));
+    double gap = std::numeric_limits<double>::infinity();
+    for (const MovingBody& b : people_) {
+      const Point2 at = b.position + t * b.velocity;
+      if ((at - p).dot(heading) <= 0.0) continue;
+      gap = std::min(gap, Distance(p, at) - b.radius - o_.robot_radius);
+    }
+    return gap;
+  }
   static constexpr double kBlocked = std::numeric_limits<double>::infinity();
   const std::vector<MovingBody>& people() const { return people_; }
 
@@ -280,6 +292,8 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
     // step would jump through a person.
     double cost = parent.cost, previous = parent.potential, highest = 0.0;
     bool arrived = parent.arrived;
+    const bool slowing = ClampInput(u, r.limits).accel <= -0.5 * r.limits.max_accel;
+    const double stop_deceleration = std::min(o.approach_deceleration, r.limits.max_accel);
     for (double done = 0.0; done < o.step - 1e-9; done += kSubStep) {
       const double dt = std::min(kSubStep, o.step - done);
       s = Propagate(s, u, dt, r.limits);
@@ -289,6 +303,12 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
       // Ours: the shortfall of the speed along the goal's direction from the desired speed, so a
       // plan that dawdles pays for every second of it, not just for the progress it lacks at the end.
       const double shortfall = std::max(0.0, o.desired_speed - s.v * std::cos(NormalizeAngle(s.yaw - direction)));
+      // (e) Too fast to stop short of someone ahead, and not braking.
+      if (!braking && !slowing && stop_deceleration > 0.0 && s.v > 0.0 &&
+          s.v * s.v > 2.0 * stop_deceleration * std::max(0.0, field.GapAhead(s.position(), s.yaw, s.t))) {
+        highest = CrowdField::kBlocked;
+        break;
+      }
       if (!arrived) cost += 0.5 * dt * (previous + g) + dt * o.speed_weight * shortfall * shortfall;
       arrived = arrived || (r.goal_tolerance > 0.0 && Distance(s.position(), r.goal) <= r.goal_tolerance);
       previous = g;
@@ -428,9 +448,9 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
             o.goal_bias <= 1.0,
         "crowd RRT options: max_nodes >= 2, positive horizon, step and desired_speed, goal_bias in [0, 1]");
   Check(o.clearance >= 0.0 && o.clearance_growth >= 0.0 && o.clearance_growth_time >= 0.0 &&
-            o.walking_clearance >= 0.0 && o.walking_speed >= 0.0,
-        "crowd RRT options: clearance, clearance_growth, clearance_growth_time, walking_clearance and "
-        "walking_speed must not be negative");
+            o.walking_clearance >= 0.0 && o.walking_speed >= 0.0 && o.approach_deceleration >= 0.0,
+        "crowd RRT options: clearance, clearance_growth, clearance_growth_time, walking_clearance, "
+        "walking_speed and approach_deceleration must not be negative");
   Check(r.limits.max_speed > 0.0 && r.limits.max_accel > 0.0 && r.limits.max_yaw_rate > 0.0 &&
             r.limits.max_yaw_accel > 0.0,
         "limits: every limit must be positive");
