@@ -12,7 +12,8 @@
 //   --straight-walkers            walkers who keep to one goal far down the street, without Brownian
 //                                 motion, so constant-velocity predictions hold.
 // Prints one line per run and the totals: collisions, close calls, the share of the time the nearest person
-// was outside the personal zone (1.2 m, centre to centre), closest approach. With --collisions, each
+// was outside the personal zone (1.2 m, centre to centre), closest approach, and how many plans were
+// escapes (nothing valid, or a short plan the escapes' fan replaced). With --collisions, each
 // collision with the plans of the 2.5 s before it and the tracker's view of who was touched.
 //   build/tests/street_bench [--runs N] [--first-seed S] [--people MODE] [--speed V] [--straight-walkers] [--collisions]
 #include <CLI/CLI.hpp>
@@ -48,6 +49,7 @@ struct RunFigures {
   // Times the nearest person came within kCloseCall (a new one only after they were kCloseCallEnd
   // away): near misses, the situations collisions come from, three to four times as many.
   uint32_t close_calls = 0;
+  uint32_t plans = 0, escapes = 0;  // escapes: nothing valid, or a short plan the escapes' fan replaced
   bool reached = false;
 };
 constexpr double kCloseCall = 0.70, kCloseCallEnd = 0.90;  // m, centre to centre (contact: 0.55)
@@ -127,6 +129,10 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
       }
       const uint64_t plans_before = controller.plans();
       const navigation::UnicycleCommand u = controller.Step(costmap, pose, path, bodies, s.now());
+      if (controller.plans() != plans_before) {
+        ++f.plans;
+        f.escapes += controller.plan().escape;
+      }
       if (print_contacts && controller.plans() != plans_before) {
         const planning::CrowdTrajectory& plan = controller.plan();
         double nearest_gap = std::numeric_limits<double>::infinity();  // rim to rim, as tracked
@@ -251,21 +257,23 @@ int main(int argc, char** argv) {
                                                       : Knowledge::kLaserTrueVelocity;
   const auto t0 = std::chrono::steady_clock::now();
   double time = 0.0, outside = 0.0, turned = 0.0, nearest = std::numeric_limits<double>::infinity();
-  uint32_t collisions = 0, close_calls = 0;
+  uint32_t collisions = 0, close_calls = 0, plans = 0, escapes = 0;
   int reached = 0, clean = 0;
   std::vector<double> shares;
   for (int i = 0; i < runs; ++i) {
     const uint64_t seed = first + static_cast<uint64_t>(i);
     const RunFigures f = Run(scenario, seed, knowledge, distance, print_contacts, speed);
-    std::printf("seed %lu: %s, %.1f s, collisions %u, close calls %u, outside personal %.3f, nearest %.2f m\n",
+    std::printf("seed %lu: %s, %.1f s, collisions %u, close calls %u, outside personal %.3f, nearest %.2f m, escapes %u of %u plans\n",
                 static_cast<unsigned long>(seed), f.reached ? "reached" : "timed out", f.time, f.collisions,
-                f.close_calls, f.outside_personal / f.time, f.nearest);
+                f.close_calls, f.outside_personal / f.time, f.nearest, f.escapes, f.plans);
     std::fflush(stdout);
     time += f.time;
     outside += f.outside_personal;
     turned += f.turned;
     collisions += f.collisions;
     close_calls += f.close_calls;
+    plans += f.plans;
+    escapes += f.escapes;
     nearest = std::min(nearest, f.nearest);
     reached += f.reached;
     clean += f.collisions == 0;
@@ -275,8 +283,8 @@ int main(int argc, char** argv) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("street bench (%s people): %d/%d reached, %u collisions (%d runs without), %u close calls (within %.2f m), "
               "%.1f s simulated; outside the personal zone %.2f%% of the time (per run: min %.1f%%, median %.1f%%); closest "
-              "%.2f m; mean |yaw rate| %.2f rad/s; %.0f s wall\n",
+              "%.2f m; mean |yaw rate| %.2f rad/s; escapes %u of %u plans; %.0f s wall\n",
               people.c_str(), reached, runs, collisions, clean, close_calls, kCloseCall, time, 100.0 * outside / time, 100.0 * shares.front(),
-              100.0 * shares[shares.size() / 2], nearest, turned / time, wall);
+              100.0 * shares[shares.size() / 2], nearest, turned / time, escapes, plans, wall);
   return 0;
 }
