@@ -297,14 +297,15 @@ TEST(CrowdRrt, TheRoomKeptFromAWalkerGrowsWithHowFarTheyArePredictedToWalk) {
 TEST(CrowdRrt, PassesSomeoneCloseAheadNoFasterThanItCouldStopShortOfThem) {
   // A 2 m wide way (the costmap leaves y 3.0-5.0 to the robot's centre) and someone standing in it
   // 5 m ahead, 0.3 m above the path: the only way past is 0.1-0.65 m from their rim, which the
-  // robot could not stop short of at 1.5 m/s. Every vertex with them ahead is either slow enough to
-  // stop at 1 m/s² before their rim or braking.
+  // robot could not stop short of at 1.5 m/s. With approach_deceleration 1 m/s², every vertex with
+  // them ahead is either slow enough to stop before their rim or braking.
   OccupancyGrid g(300, 80, 0.1, Point2::Zero());
   g.FillBox({0.0, 0.0}, {30.0, 2.6});
   g.FillBox({0.0, 5.4}, {30.0, 8.0});
   const planning::Costmap cm(std::make_shared<const OccupancyGrid>(std::move(g)), planning::CostmapOptions{0.4, true, 0.5, 3.0});
   const MovingBody person{{7.0, 4.3}, {0.0, 0.0}, 0.25, true};
-  const CrowdRrtOptions o = Options();
+  CrowdRrtOptions o = Options();
+  o.approach_deceleration = 1.0;
   for (int k = 0; k < 10; ++k) {
     CrowdRrtRequest r = DownTheStreet(1.5);
     r.seed = 500 + k;
@@ -328,11 +329,9 @@ TEST(CrowdRrt, WhenTheGrownClearanceClosesEveryWayItPlansAgainWithoutTheGrowth) 
   // 0.3 of how far they are predicted to walk, no way round them and no stop stays clear, so the
   // plan would be whatever lives longest. Planned again with the clearance not grown, a way
   // round lives the whole min_select_time and keeps 0.1 m (and 0.1 m more for a walker) from
-  // their predicted disc. (Without (e): a robot that must also be able to stop short of them
-  // cannot get round at this speed, and escapes.)
+  // their predicted disc.
   const planning::Costmap cm = Street();
-  CrowdRrtOptions o = Options();
-  o.approach_deceleration = 0.0;
+  const CrowdRrtOptions o = Options();
   for (int k = 0; k < 10; ++k) {
     CrowdRrtRequest r = DownTheStreet(1.5);
     r.seed = 500 + k;
