@@ -283,6 +283,8 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
   // turn back towards it: only headings worse than where it starts are pruned (ours; the
   // chapter's robot always faces down the street).
   const double max_heading_error = std::max(M_PI / 2.0, std::abs(NormalizeAngle(root.yaw - direction)) + 1e-6);
+  // (e): 0 when off; the robot cannot stop harder than its limit.
+  const double stop_deceleration = std::min(o.approach_deceleration, r.limits.max_accel);
   // One vertex step from tree[from] under `u`; returns the new vertex's index, or -1 when pruned.
   auto extend = [&](int from, const UnicycleInput& u, bool braking, bool kept = false) -> int {
     const double limit = braking ? std::numeric_limits<double>::max() : ceiling;
@@ -292,8 +294,9 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
     // step would jump through a person.
     double cost = parent.cost, previous = parent.potential, highest = 0.0;
     bool arrived = parent.arrived;
-    const bool slowing = ClampInput(u, r.limits).accel <= -0.5 * r.limits.max_accel;
-    const double stop_deceleration = std::min(o.approach_deceleration, r.limits.max_accel);
+    const UnicycleInput input = ClampInput(u, r.limits);
+    // (e) spares a vertex braking at half the limit or more.
+    const bool guarded = !braking && stop_deceleration > 0.0 && input.accel > -0.5 * r.limits.max_accel;
     for (double done = 0.0; done < o.step - 1e-9; done += kSubStep) {
       const double dt = std::min(kSubStep, o.step - done);
       s = Propagate(s, u, dt, r.limits);
@@ -304,7 +307,7 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
       // plan that dawdles pays for every second of it, not just for the progress it lacks at the end.
       const double shortfall = std::max(0.0, o.desired_speed - s.v * std::cos(NormalizeAngle(s.yaw - direction)));
       // (e) Too fast to stop short of someone ahead, and not braking.
-      if (!braking && !slowing && stop_deceleration > 0.0 && s.v > 0.0 &&
+      if (guarded && s.v > 0.0 &&
           s.v * s.v > 2.0 * stop_deceleration * std::max(0.0, field.GapAhead(s.position(), s.yaw, s.t))) {
         highest = CrowdField::kBlocked;
         break;
@@ -318,7 +321,7 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
       ++pruned;
       return -1;
     }
-    tree.push_back({s, ClampInput(u, r.limits), from, cost, previous, braking, kept, arrived});
+    tree.push_back({s, input, from, cost, previous, braking, kept, arrived});
     return static_cast<int>(tree.size()) - 1;
   };
 

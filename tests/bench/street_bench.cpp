@@ -129,11 +129,12 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
       }
       const uint64_t plans_before = controller.plans();
       const navigation::UnicycleCommand u = controller.Step(costmap, pose, path, bodies, s.now());
-      if (controller.plans() != plans_before) {
+      const bool replanned = controller.plans() != plans_before;
+      if (replanned) {
         ++f.plans;
         f.escapes += controller.plan().escape;
       }
-      if (print_contacts && controller.plans() != plans_before) {
+      if (print_contacts && replanned) {
         const planning::CrowdTrajectory& plan = controller.plan();
         double nearest_gap = std::numeric_limits<double>::infinity();  // rim to rim, as tracked
         for (const planning::MovingBody& b : bodies)
