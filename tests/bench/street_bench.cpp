@@ -14,7 +14,9 @@
 // Prints one line per run and the totals: collisions, close calls, the share of the time the nearest person
 // was outside the personal zone (1.2 m, centre to centre), closest approach, and how many plans were
 // escapes (nothing valid, or a short plan the escapes' fan replaced). With --collisions, each
-// collision with the plans of the 2.5 s before it and the tracker's view of who was touched.
+// collision with the plans of the 2.5 s before it (and, for each, what it made of the person
+// touched later: how far off and how fast it had them, and how close its way passed their
+// prediction) and the tracker's view of who was touched.
 //   build/tests/street_bench [--runs N] [--first-seed S] [--people MODE] [--speed V] [--straight-walkers] [--collisions]
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -92,7 +94,16 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
   RunFigures f;
   bool close = false;  // within a close call
   double driven = 0.0;  // m/s before the step: a collision stalls the robot
-  std::deque<std::pair<double, std::string>> recent_plans;  // (time, line), the last 2.5 s, for --collisions
+  // The plans of the last 2.5 s, for --collisions: what each was, what it knew of the people, and
+  // where each person truly was and walked then.
+  struct RecentPlan {
+    double time = 0.0;
+    std::string line;
+    planning::CrowdTrajectory plan;
+    std::vector<planning::MovingBody> bodies;
+    std::vector<sim::Person> people;
+  };
+  std::deque<RecentPlan> recent_plans;
   while (s.now() < 4.0 * distance / control.limits.max_speed) {
     const Pose2 pose = s.robot().base().true_pose();
     if (pose.x >= goal_x) {
@@ -147,8 +158,8 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
                       plan.escape ? "escape" : plan.braking ? "braking" : "driving", plan.states.back().t,
                       plan.inputs.empty() ? 0.0 : plan.inputs[0].accel, plan.inputs.empty() ? 0.0 : plan.inputs[0].yaw_accel,
                       plan.states.back().v, nearest_gap);
-        recent_plans.emplace_back(s.now(), line);
-        while (recent_plans.front().first < s.now() - 2.5) recent_plans.pop_front();
+        recent_plans.push_back({s.now(), line, plan, bodies, s.people()});
+        while (recent_plans.front().time < s.now() - 2.5) recent_plans.pop_front();
       }
       s.Command(0, {u.v, 0.0, u.w});
       driven = s.robot().base().true_twist().vx;
@@ -158,7 +169,40 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
       // Each collision: how fast the robot went, the plan it drove, and who was next to it.
       const Pose2 rp = s.robot().base().true_pose();
       for (const sim::CollisionEvent& e : out.events) {
-        for (const auto& [time, line] : recent_plans) std::printf("%s\n", line.c_str());
+        // Whom it touched: the person nearest the robot.
+        int touched = -1;
+        double touched_at = std::numeric_limits<double>::infinity();
+        for (const sim::Person& p : s.people())
+          if (Distance(p.position, rp.translation()) < touched_at) {
+            touched_at = Distance(p.position, rp.translation());
+            touched = p.id;
+          }
+        for (const RecentPlan& r : recent_plans) {
+          std::printf("%s\n", r.line.c_str());
+          // What the plan made of the person it later touched: their nearest body, and the least gap
+          // (rim to rim) between the plan's way and that body's prediction.
+          const auto who = std::find_if(r.people.begin(), r.people.end(), [&](const sim::Person& p) { return p.id == touched; });
+          if (who == r.people.end()) continue;
+          const planning::MovingBody* body = nullptr;
+          for (const planning::MovingBody& b : r.bodies)
+            if (!body || Distance(b.position, who->position) < Distance(body->position, who->position)) body = &b;
+          if (!body || Distance(body->position, who->position) > 1.0) {
+            std::printf("      the person touched later: not among the plan's people (none within 1 m of them)\n");
+            continue;
+          }
+          double least = std::numeric_limits<double>::infinity(), least_t = 0.0;
+          for (const planning::UnicycleState& st : r.plan.states) {
+            const double gap = Distance(st.position(), body->position + st.t * body->velocity) - body->radius - world.robot.radius;
+            if (gap < least) {
+              least = gap;
+              least_t = st.t;
+            }
+          }
+          const Point2 v = WalkingVelocity(*who);
+          std::printf("      the person touched later: %.2f m off, velocity (%.2f, %.2f), true (%.2f, %.2f); "
+                      "planned gap %.2f m at +%.2f s\n",
+                      Distance(body->position, who->position), body->velocity.x(), body->velocity.y(), v.x(), v.y(), least, least_t);
+        }
         std::printf("  collision at %.2f s with %s, robot at (%.2f, %.2f) driven at %.2f m/s; plan %s, cost %.1f\n", e.time,
                     e.other.c_str(), rp.x, rp.y, driven,
                     controller.plan().escape ? "escape" : controller.plan().braking ? "braking" : "driving",
