@@ -5,6 +5,11 @@
 
 namespace navd::sim {
 
+Point2 WalkingVelocity(const Person& p) {
+  const Point2 to_goal = p.goal - p.position;
+  return to_goal.norm() > 1e-9 ? Point2(p.speed * to_goal.normalized()) : Point2::Zero();
+}
+
 Crowd::Crowd(const CrowdDescription& description, uint64_t seed) : d_(description), rng_(seed) {}
 
 Point2 Crowd::RandomPointInArea(double margin) {

@@ -41,6 +41,10 @@ struct Person {
   double next_goal_change = 0.0;
 };
 
+// Where a person walks: towards their goal at their preferred speed (m/s). Their step's velocity
+// holds the Brownian motion as well, ~1 m/s of noise over a 0.01 s step.
+Point2 WalkingVelocity(const Person& p);
+
 // What occupies a disc: kFree, kWall, or the id of a body (robot, obstacle, other person) other
 // than `self`. With `robots_only`, only robots count.
 constexpr int kFree = -1;

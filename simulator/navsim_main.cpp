@@ -444,8 +444,9 @@ int Run(int argc, char** argv) {
       Pose2 at;
       for (const auto& r : robots)
         if (r->name() == e.robot || (r->name().empty() && e.robot == "robot")) at = r->base().true_pose();
-      spdlog::warn("navsim: collision of '{}' at ({:.2f}, {:.2f}, {:.2f}) with {} at ({:.2f}, {:.2f}) t={:.2f}s", e.robot,
-                   at.x, at.y, at.theta, e.other, e.where.x(), e.where.y(), e.time);
+      spdlog::warn("navsim: collision of '{}' at ({:.2f}, {:.2f}, {:.2f}) with {} at ({:.2f}, {:.2f}) t={:.2f}s, the robot "
+                   "closing at {:.2f} m/s, the other at {:.2f} m/s",
+                   e.robot, at.x, at.y, at.theta, e.other, e.where.x(), e.where.y(), e.time, e.robot_closing, e.other_closing);
       msgs_sim::CollisionEvent_ m;
       m.header(MakeHeader(e.time, "map"));
       m.robot(e.robot);

@@ -95,6 +95,22 @@ std::string Simulation::BodyName(int id) const {
   return name.empty() ? "robot" : name;
 }
 
+std::pair<Point2, Point2> Simulation::BodyMotion(int id) const {
+  if (id >= Crowd::kFirstPersonId) {
+    for (const auto& p : crowd_->people())
+      if (p.id == id) return {p.position, WalkingVelocity(p)};
+  }
+  if (id >= kFirstObstacleId) {
+    const MovingObstacle& o = obstacles_.at(id - kFirstObstacleId);
+    return {o.position(), o.velocity()};
+  }
+  const auto& base = robots_.at(id)->base();
+  const Pose2& pose = base.true_pose();
+  const BodyTwist t = base.true_twist();
+  return {pose.translation(), Point2(std::cos(pose.theta) * t.vx - std::sin(pose.theta) * t.vy,
+                                     std::sin(pose.theta) * t.vx + std::cos(pose.theta) * t.vy)};
+}
+
 int Simulation::Occupied(const Point2& centre, double radius, int self, bool robots_only) const {
   if (!robots_only && truth_.DiscHitsWall(centre, radius)) return kWall;
   auto overlaps = [&](const Point2& c, double r) { return (c - centre).squaredNorm() < (r + radius) * (r + radius); };
@@ -174,8 +190,22 @@ StepOutputs Simulation::Step() {
     r->base_.CommitMotion(hit != kFree, dt);
     if (hit != kFree) {
       // Where it touched: just beyond the rim in the direction it tried to go.
-      const Point2 dir = (next.translation() - from.translation()).normalized();
+      const Point2 step = next.translation() - from.translation();
+      const Point2 dir = step.normalized();
+      const bool first = !r->contact_this_step_;
       Touch(*r, hit, from.translation() + r->spec_.body.radius * dir, true);
+      if (first) {
+        // Who closed the gap, along the line between the centres (for a wall, the way it went).
+        Point2 towards = dir;
+        double other_closing = 0.0;
+        if (hit != kWall) {
+          const auto [centre, velocity] = BodyMotion(hit);
+          if ((centre - from.translation()).norm() > 1e-9) towards = (centre - from.translation()).normalized();
+          other_closing = -velocity.dot(towards);
+        }
+        r->contact_robot_closing_ = step.dot(towards) / dt;
+        r->contact_other_closing_ = other_closing;
+      }
     }
   }
   // Scripted obstacles wait while a body is in the way.
@@ -208,7 +238,8 @@ StepOutputs Simulation::Step() {
     if (r->contact_this_step_) {
       if (now_ - r->last_contact_ > kContactGap) {
         ++r->collisions_;
-        out.events.push_back({now_, r->name().empty() ? "robot" : r->name(), r->contact_with_, r->contact_where_});
+        out.events.push_back({now_, r->name().empty() ? "robot" : r->name(), r->contact_with_, r->contact_where_,
+                              r->contact_robot_closing_, r->contact_other_closing_});
       }
       r->last_contact_ = now_;
     }

@@ -37,6 +37,12 @@ struct CollisionEvent {
   std::string robot;
   std::string other;                // "wall", a robot's or obstacle's name, or "person <id>"
   Point2 where = Point2::Zero();
+  // Who closed the gap (m/s, along the line between the two centres): the robot's speed towards
+  // the other (towards a wall, its speed), and the other's towards the robot (a person's walking
+  // speed, a robot's or an obstacle's; 0 for a wall). A robot driving on as someone walks into its
+  // side touches them with a small robot_closing and a large other_closing.
+  double robot_closing = 0.0;
+  double other_closing = 0.0;
 };
 
 struct BumperState {
@@ -75,6 +81,7 @@ class SimulatedRobot {
   bool contact_this_step_ = false;
   std::string contact_with_;
   Point2 contact_where_ = Point2::Zero();
+  double contact_robot_closing_ = 0.0, contact_other_closing_ = 0.0;
   BumperState bumper_;
   uint32_t collisions_ = 0;
   double last_scan_ = -1e9, last_sonar_ = -1e9, last_ir_ = -1e9, last_odom_ = -1e9, last_encoders_ = -1e9,
@@ -137,6 +144,9 @@ class Simulation {
   // kFree, kWall or the body id a disc at `centre` would overlap (ignoring `self`).
   int Occupied(const Point2& centre, double radius, int self, bool robots_only) const;
   void Touch(SimulatedRobot& robot, int other, const Point2& where, bool robot_moved);
+  // Where body `id` (not a wall) is and how fast it goes (map frame, m/s; a person's walking
+  // velocity).
+  std::pair<Point2, Point2> BodyMotion(int id) const;
 
   Scenario scenario_;
   SimulationOptions options_;

@@ -58,12 +58,7 @@ constexpr double kCloseCall = 0.70, kCloseCallEnd = 0.90;  // m, centre to centr
 
 enum class Knowledge { kTruth, kTruthAll, kLaser, kLaserTrueVelocity };
 
-// A person's walking velocity: towards their goal at their speed. The step's velocity also holds
-// the Brownian motion, ~1 m/s of noise over a 0.01 s step.
-Point2 WalkingVelocity(const sim::Person& p) {
-  const Point2 to_goal = p.goal - p.position;
-  return to_goal.norm() > 1e-9 ? Point2(p.speed * to_goal.normalized()) : Point2::Zero();
-}
+using sim::WalkingVelocity;
 
 RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge, double distance, bool print_contacts, double speed) {
   const bool truth_people = knowledge == Knowledge::kTruth || knowledge == Knowledge::kTruthAll;
@@ -203,20 +198,15 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
                       "planned gap %.2f m at +%.2f s\n",
                       Distance(body->position, who->position), body->velocity.x(), body->velocity.y(), v.x(), v.y(), least, least_t);
         }
-        std::printf("  collision at %.2f s with %s, robot at (%.2f, %.2f) driven at %.2f m/s; plan %s, cost %.1f\n", e.time,
-                    e.other.c_str(), rp.x, rp.y, driven,
+        std::printf("  collision at %.2f s with %s, robot at (%.2f, %.2f) driven at %.2f m/s, closing at %.2f m/s, the other at "
+                    "%.2f m/s; plan %s, cost %.1f\n",
+                    e.time, e.other.c_str(), rp.x, rp.y, driven, e.robot_closing, e.other_closing,
                     controller.plan().escape ? "escape" : controller.plan().braking ? "braking" : "driving",
                     controller.plan().cost);
         for (const sim::Person& p : s.people()) {
           if (Distance(p.position, rp.translation()) > 0.6) continue;
           const Point2 rel = rp.inverse() * p.position;
-          // Who closed the gap: each one's speed towards the other (the person's walking velocity,
-          // the robot's before the step).
-          const Point2 towards = (p.position - rp.translation()).normalized();
-          const double robot_closing = driven * (std::cos(rp.theta) * towards.x() + std::sin(rp.theta) * towards.y());
-          const double person_closing = -WalkingVelocity(p).dot(towards);
-          std::printf("    person %d at (%.2f, %.2f) in the robot's frame; closing at %.2f m/s, the robot at %.2f\n", p.id,
-                      rel.x(), rel.y(), person_closing, robot_closing);
+          std::printf("    person %d at (%.2f, %.2f) in the robot's frame\n", p.id, rel.x(), rel.y());
           if (truth_people) continue;
           // What the tracker made of them: the nearest track, as the planner last saw it.
           const navigation::TrackedPerson* track = nullptr;

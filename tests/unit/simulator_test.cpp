@@ -454,6 +454,26 @@ TEST(Simulation, TwoRobotsSeeAndBumpIntoEachOther) {
   EXPECT_EQ(events[0].other, "beta");
   EXPECT_EQ(events[1].robot, "beta");
   EXPECT_EQ(events[1].other, "alpha");
+  // Who closed the gap: both drove at 0.3 m/s; the first to touch met the other still driving at
+  // it, the second met one the contact had stalled.
+  EXPECT_NEAR(events[0].robot_closing, 0.3, 0.01);
+  EXPECT_NEAR(events[1].robot_closing, 0.3, 0.01);
+  EXPECT_NEAR(std::max(events[0].other_closing, events[1].other_closing), 0.3, 0.01);
+  EXPECT_NEAR(std::min(events[0].other_closing, events[1].other_closing), 0.0, 1e-9);
+}
+
+TEST(Simulation, AWallContactIsTheRobotClosingTheGap) {
+  Simulation sim(BoxWorld(), {});
+  std::vector<CollisionEvent> events;
+  for (int i = 0; i < 1500 && events.empty(); ++i) {
+    sim.Command(0, {0.5, 0.0, 0.0});
+    const auto out = sim.Step();
+    events.insert(events.end(), out.events.begin(), out.events.end());
+  }
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].other, "wall");
+  EXPECT_NEAR(events[0].robot_closing, 0.5, 0.05);  // the wheels' achieved speed varies by 2%
+  EXPECT_EQ(events[0].other_closing, 0.0);
 }
 
 TEST(MovingObstacles, LoopAtTheirSpeedAndWaitForRobots) {
