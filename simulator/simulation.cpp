@@ -95,20 +95,24 @@ std::string Simulation::BodyName(int id) const {
   return name.empty() ? "robot" : name;
 }
 
-std::pair<Point2, Point2> Simulation::BodyMotion(int id) const {
+std::optional<std::pair<Point2, Point2>> Simulation::BodyMotion(int id) const {
   if (id >= Crowd::kFirstPersonId) {
-    for (const auto& p : crowd_->people())
-      if (p.id == id) return {p.position, WalkingVelocity(p)};
+    if (crowd_)
+      for (const auto& p : crowd_->people())
+        if (p.id == id) return std::pair{p.position, WalkingVelocity(p)};
+    return std::nullopt;
   }
   if (id >= kFirstObstacleId) {
-    const MovingObstacle& o = obstacles_.at(id - kFirstObstacleId);
-    return {o.position(), o.velocity()};
+    if (id - kFirstObstacleId >= static_cast<int>(obstacles_.size())) return std::nullopt;
+    const MovingObstacle& o = obstacles_[static_cast<size_t>(id - kFirstObstacleId)];
+    return std::pair{o.position(), o.velocity()};
   }
-  const auto& base = robots_.at(id)->base();
+  if (id < 0 || id >= static_cast<int>(robots_.size())) return std::nullopt;
+  const auto& base = robots_[static_cast<size_t>(id)]->base();
   const Pose2& pose = base.true_pose();
   const BodyTwist t = base.true_twist();
-  return {pose.translation(), Point2(std::cos(pose.theta) * t.vx - std::sin(pose.theta) * t.vy,
-                                     std::sin(pose.theta) * t.vx + std::cos(pose.theta) * t.vy)};
+  return std::pair{pose.translation(), Point2(std::cos(pose.theta) * t.vx - std::sin(pose.theta) * t.vy,
+                                               std::sin(pose.theta) * t.vx + std::cos(pose.theta) * t.vy)};
 }
 
 int Simulation::Occupied(const Point2& centre, double radius, int self, bool robots_only) const {
@@ -198,8 +202,8 @@ StepOutputs Simulation::Step() {
         // Who closed the gap, along the line between the centres (for a wall, the way it went).
         Point2 towards = dir;
         double other_closing = 0.0;
-        if (hit != kWall) {
-          const auto [centre, velocity] = BodyMotion(hit);
+        if (const auto motion = hit != kWall ? BodyMotion(hit) : std::nullopt) {
+          const auto& [centre, velocity] = *motion;
           if ((centre - from.translation()).norm() > 1e-9) towards = (centre - from.translation()).normalized();
           other_closing = -velocity.dot(towards);
         }

@@ -145,8 +145,8 @@ class Simulation {
   int Occupied(const Point2& centre, double radius, int self, bool robots_only) const;
   void Touch(SimulatedRobot& robot, int other, const Point2& where, bool robot_moved);
   // Where body `id` (not a wall) is and how fast it goes (map frame, m/s; a person's walking
-  // velocity).
-  std::pair<Point2, Point2> BodyMotion(int id) const;
+  // velocity); nullopt for an id that is no body.
+  std::optional<std::pair<Point2, Point2>> BodyMotion(int id) const;
 
   Scenario scenario_;
   SimulationOptions options_;
