@@ -111,8 +111,7 @@ std::optional<std::pair<Point2, Point2>> Simulation::BodyMotion(int id) const {
   const auto& base = robots_[static_cast<size_t>(id)]->base();
   const Pose2& pose = base.true_pose();
   const BodyTwist t = base.true_twist();
-  return std::pair{pose.translation(), Point2(std::cos(pose.theta) * t.vx - std::sin(pose.theta) * t.vy,
-                                               std::sin(pose.theta) * t.vx + std::cos(pose.theta) * t.vy)};
+  return std::pair{pose.translation(), Pose2{0.0, 0.0, pose.theta} * Point2(t.vx, t.vy)};
 }
 
 int Simulation::Occupied(const Point2& centre, double radius, int self, bool robots_only) const {
@@ -159,13 +158,16 @@ bool Simulation::Due(double rate, double& last) const {
   return true;
 }
 
-void Simulation::Touch(SimulatedRobot& robot, int other, const Point2& where, bool robot_moved) {
+void Simulation::Touch(SimulatedRobot& robot, int other, const Point2& where, bool robot_moved, double robot_closing,
+                       double other_closing) {
   // A collision is the robot's own motion into something. People and obstacles that walk up to a
   // robot stop short of it (they press its bumper, but that is not the robot's collision).
   if (robot_moved) {
     if (!robot.contact_this_step_) {
       robot.contact_with_ = BodyName(other);
       robot.contact_where_ = where;
+      robot.contact_robot_closing_ = robot_closing;
+      robot.contact_other_closing_ = other_closing;
     }
     robot.contact_this_step_ = true;
   }
@@ -196,20 +198,15 @@ StepOutputs Simulation::Step() {
       // Where it touched: just beyond the rim in the direction it tried to go.
       const Point2 step = next.translation() - from.translation();
       const Point2 dir = step.normalized();
-      const bool first = !r->contact_this_step_;
-      Touch(*r, hit, from.translation() + r->spec_.body.radius * dir, true);
-      if (first) {
-        // Who closed the gap, along the line between the centres (for a wall, the way it went).
-        Point2 towards = dir;
-        double other_closing = 0.0;
-        if (const auto motion = hit != kWall ? BodyMotion(hit) : std::nullopt) {
-          const auto& [centre, velocity] = *motion;
-          if ((centre - from.translation()).norm() > 1e-9) towards = (centre - from.translation()).normalized();
-          other_closing = -velocity.dot(towards);
-        }
-        r->contact_robot_closing_ = step.dot(towards) / dt;
-        r->contact_other_closing_ = other_closing;
+      // Who closed the gap, along the line between the centres (for a wall, the way it went).
+      Point2 towards = dir;
+      double other_closing = 0.0;
+      if (const auto motion = hit != kWall ? BodyMotion(hit) : std::nullopt) {
+        const auto& [centre, velocity] = *motion;
+        if ((centre - from.translation()).norm() > 1e-9) towards = (centre - from.translation()).normalized();
+        other_closing = -velocity.dot(towards);
       }
+      Touch(*r, hit, from.translation() + r->spec_.body.radius * dir, true, step.dot(towards) / dt, other_closing);
     }
   }
   // Scripted obstacles wait while a body is in the way.

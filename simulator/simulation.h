@@ -143,7 +143,9 @@ class Simulation {
   bool Due(double rate, double& last) const;
   // kFree, kWall or the body id a disc at `centre` would overlap (ignoring `self`).
   int Occupied(const Point2& centre, double radius, int self, bool robots_only) const;
-  void Touch(SimulatedRobot& robot, int other, const Point2& where, bool robot_moved);
+  // robot_moved: the robot's own motion touched `other`, closing at these speeds (CollisionEvent's).
+  void Touch(SimulatedRobot& robot, int other, const Point2& where, bool robot_moved, double robot_closing = 0.0,
+             double other_closing = 0.0);
   // Where body `id` (not a wall) is and how fast it goes (map frame, m/s; a person's walking
   // velocity); nullopt for an id that is no body.
   std::optional<std::pair<Point2, Point2>> BodyMotion(int id) const;
