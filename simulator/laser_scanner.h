@@ -30,7 +30,8 @@ class LaserScanner {
 };
 
 // Distance along the unit vector `dir` from `origin` to the nearest of the static world and the discs (except
-// `self`), at most max_range. Shared by the laser and the range sensors.
+// `self`), at most max_range (also where the ray leaves the map: beyond its edge nothing reflects). Shared
+// by the laser and the range sensors.
 double CastAgainstWorld(const RayCaster& world, const std::vector<const Disc*>& nearby, const Point2& origin,
                         const Point2& dir, double max_range);
 // The discs (except `self`) that a sensor at `origin` with reach `max_range` could see.

@@ -214,6 +214,30 @@ TEST(LaserScanner, SeesDiscsButNotItsOwnRobot) {
   EXPECT_NEAR(ranges[0], 1.9 / std::sin(M_PI / 3), 1e-3);  // -120 degrees: the wall y = 0.1, unobstructed
 }
 
+// The street of book chapter 7 is open at its ends: a laser there sees the wall along its side and
+// nothing out of the open end (the ray caster's edge of the map is no wall to a sensor), while a
+// wall on the map's edge row is seen as any other.
+TEST(LaserScanner, SeesNothingBeyondTheMapsOpenEdge) {
+  OccupancyGrid street(100, 40, 0.1, {0, 0});  // 10 m x 4 m
+  for (int x = 0; x < 100; ++x) street.set({x, 0}, OccupancyGrid::kOccupied);  // a wall along y in [0, 0.1]
+  LaserDescription d;
+  d.fov = 2 * M_PI;
+  d.beams = 361;  // beam i at -180 + i degrees
+  d.range_max = 30.0;
+  d.noise = 0.0;
+  LaserScanner laser(d);
+  std::mt19937_64 rng(1);
+  const auto ranges = laser.Scan({0.5, 2.0, 0.0}, RayCaster(street), {}, -1, rng);
+  const float none = 31.0f;  // no return reads range_max + 1
+  EXPECT_EQ(ranges[0], none);    // -180 degrees: out of the open end 0.5 m behind
+  EXPECT_EQ(ranges[180], none);  // ahead: out of the far end, 9.5 m on
+  EXPECT_EQ(ranges[270], none);  // +90 degrees: the map's edge at y = 4, no wall there
+  EXPECT_NEAR(ranges[90], 1.9, 1e-6);  // -90 degrees: the wall on the edge row
+  // A person standing in the open end is seen.
+  const auto with_person = laser.Scan({0.5, 2.0, 0.0}, RayCaster(street), {{{0.2, 2.0}, 0.1, 3}}, -1, rng);
+  EXPECT_NEAR(with_person[0], 0.2, 1e-6);
+}
+
 TEST(RangeSensors, SonarConeSeesWhatItsAxisMisses) {
   const World w = BoxWorld();
   const RayCaster walls(w.map);
