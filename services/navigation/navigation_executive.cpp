@@ -599,6 +599,23 @@ void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e,
   }
 }
 
+void NavigationExecutive::Search(const localization::PoseEstimate& estimate, double now) {
+  const size_t wake_up = static_cast<size_t>(wake_up_);
+  if (brain_.activated(wake_up)) {
+    global_search_at_ = -1.0;
+    if (estimate.valid && watch_.local_search_for > 0.0) {
+      const double sxy = watch_.search_sigma_xy, st = watch_.search_sigma_theta;
+      localizer_.SetPose(estimate.pose, Eigen::Vector3d(sxy * sxy, sxy * sxy, st * st).asDiagonal());
+      global_search_at_ = now + watch_.local_search_for;
+    } else {
+      localizer_.GlobalRelocalize();
+    }
+  } else if (global_search_at_ >= 0.0 && now >= global_search_at_) {
+    global_search_at_ = -1.0;
+    if (lost_ && brain_.active(wake_up)) localizer_.GlobalRelocalize();
+  }
+}
+
 WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   reflex_acted_ = false;
   const WheelSpeeds wheels = Decide(in, now);
@@ -720,7 +737,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
   }
 
-  if (wake_up_ >= 0 && brain_.activated(static_cast<size_t>(wake_up_))) localizer_.GlobalRelocalize();
+  if (wake_up_ >= 0) Search(estimate, now);
 
   const bool fresh = in.sensors_fresh && estimate.valid;
   // Another behaviour taking the robot ends a recovery; the leg is replanned when navigation has it back.
@@ -786,7 +803,9 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   pressed_ = false;  // another behaviour has the robot: no recoil pending
   recoil_from_.reset();
   if (static_cast<long>(motor) == wake_up_) {
-    navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop, "localization lost: searching the map", fresh);
+    navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop,
+                    global_search_at_ >= 0.0 ? "localization lost: searching nearby" : "localization lost: searching the map",
+                    fresh);
     // Turning in place shows the filter the whole room; it cannot tell places apart standing still.
     const double v = watch_.search_turn_rate * navigator_.options().follower.wheel_base / 2.0;
     return {-v, v};

@@ -66,6 +66,11 @@ inline constexpr size_t kMaxDeliveryTasks = 25;
 // Measured agreement: at true poses 0.99 in navsim's warehouse, 0.94 median and 0.43 at the 1st
 // percentile on the real Intel log; at wrong poses in the warehouse 0.15 median, 0.48 at most
 // (200 random pairs).
+// The wake-up search looks first around the pose the robot was lost at (a Gaussian of
+// search_sigma_xy, search_sigma_theta), for local_search_for seconds, and only then over the
+// whole map as seed 000 proposes: most losses are short (walkers crowding the laser, a door
+// opened) and the pose is still near, and along a featureless street or corridor a global search
+// cannot tell places apart at all; a robot carried far away is found by the global search after.
 struct LocalizationWatchOptions {
   double lost_quality = 0.45;
   double lost_after = 3.0;     // s
@@ -73,6 +78,9 @@ struct LocalizationWatchOptions {
   double found_quality = 0.6;
   double max_spread = 0.3;     // m, sqrt(var x + var y)
   double search_turn_rate = 0.5;  // rad/s: the wake-up behaviour turns in place while it searches
+  double search_sigma_xy = 0.2;     // m: the spread stays within max_spread along a featureless way
+  double search_sigma_theta = 0.3;  // rad
+  double local_search_for = 15.0;   // s: a full turn at search_turn_rate, and some; 0: global at once
 };
 
 // Seed 000's moving obstacles: the detection process (section 4.4), the avoidance behaviour
@@ -271,6 +279,9 @@ class NavigationExecutive {
   void RememberMap();
   // Updates lost_ from the estimate; `moving`: whether the robot is meant to be moving.
   void WatchLocalization(const localization::PoseEstimate& estimate, uint64_t scans, double now);
+  // The wake-up's search: on its activation around the pose the robot was lost at, after
+  // local_search_for seconds still lost over the whole map.
+  void Search(const localization::PoseEstimate& estimate, double now);
 
   planning::PlanningEngine& planning_;
   localization::Localizer& localizer_;
@@ -331,6 +342,7 @@ class NavigationExecutive {
   std::string planner_;            // the active mission's planner
   double last_step_ = -1.0;
   double poor_fit_since_ = -1.0;
+  double global_search_at_ = -1.0;  // when the wake-up's local search gives way to the global one
   uint64_t last_scans_ = 0;
   int poor_scans_ = 0;          // scans in a row that fitted poorly
   std::atomic<bool> lost_{false};  // read by gRPC threads
