@@ -17,12 +17,7 @@ std::vector<const Disc*> DiscsWithin(const std::vector<Disc>& discs, const Point
 
 double CastAgainstWorld(const RayCaster& world, const std::vector<const Disc*>& nearby, const Point2& origin,
                         const Point2& dir, double max_range) {
-  double r = world.Cast(origin, dir, max_range);
-  // The caster counts the map's edge as a wall; for a sensor it is where the world ends (a street's
-  // open end): nothing there reflects. A quarter cell on from the hit is inside what was hit.
-  if (r < max_range && !world.grid().ContainsPoint(origin + dir * (r + 0.25 * world.grid().resolution()))) {
-    r = max_range;
-  }
+  double r = world.CastOpenEdge(origin, dir, max_range);
   for (const Disc* d : nearby) r = std::min(r, RayDiscDistance(origin, dir, *d));
   return r;
 }

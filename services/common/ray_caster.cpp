@@ -213,6 +213,19 @@ double RayCaster::Cast(const Point2& origin, const Point2& dir, double max_range
   }
 }
 
+double RayCaster::CastOpenEdge(const Point2& origin, const Point2& dir, double max_range) const {
+  const double r = Cast(origin, dir, max_range);
+  // A hit lies on the boundary of the cell the ray enters there, to within 1e-9 cells: a step of
+  // 1e-4 cells on is inside that cell (for a ring cell, off the grid). Only a ray through a grid
+  // corner exactly, touching an edge wall cell at its corner, is misjudged.
+  if (r < max_range && !grid_.ContainsPoint(origin + dir * (r + 1e-4 * grid_.resolution()))) return max_range;
+  return r;
+}
+
+double RayCaster::CastOpenEdge(const Point2& origin, double angle, double max_range) const {
+  return CastOpenEdge(origin, Point2(std::cos(angle), std::sin(angle)), max_range);
+}
+
 bool RayCaster::DiscHitsWall(const Point2& p, double radius) const {
   const CellIndex c = grid_.CellOf(p);
   if (!p.allFinite() || !grid_.Contains(c)) return true;

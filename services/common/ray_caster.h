@@ -6,8 +6,8 @@
 // one leap and walks cell by cell (Amanatides & Woo, corners as in TraverseSegment) only through
 // tiles with walls: the same hit as a pure cell walk at a fraction of the cost. The walk counts in
 // fixed point, so it handles rays up to 2^15 cells (1.6 km at 5 cm). Cells outside the grid count
-// as walls. The simulator's sensors and the localisers' virtual scans both cast with it. Metres,
-// radians, map frame.
+// as walls to Cast; the simulator's sensors and navd's virtual scans cast with CastOpenEdge, to
+// which the map's edge is open. Metres, radians, map frame.
 #include <cstdint>
 #include <vector>
 
@@ -24,6 +24,11 @@ class RayCaster {
   double Cast(const Point2& origin, double angle, double max_range) const;
   // The same along the unit vector `dir`, for callers that already have it (a laser's beams).
   double Cast(const Point2& origin, const Point2& dir, double max_range) const;
+  // What a range sensor reads: Cast, but the map's edge is open, so a ray that leaves the grid
+  // reads max_range. Beyond the map nothing is known to reflect (a street's open end, where
+  // people walk in and out); sensors and the virtual scans compared with them agree on it.
+  double CastOpenEdge(const Point2& origin, const Point2& dir, double max_range) const;
+  double CastOpenEdge(const Point2& origin, double angle, double max_range) const;
   // True when a disc at p of `radius` overlaps an occupied cell or leaves the grid.
   bool DiscHitsWall(const Point2& p, double radius) const;
   // Metres from p's cell centre to the nearest occupied cell centre.

@@ -62,6 +62,7 @@ class HistogramLocalizer : public Localizer {
 
  private:
   void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+  bool CanSearch() const override { return true; }
   void Predict(const Pose2& increment);
   void Blur();
   void Normalise();

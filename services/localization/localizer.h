@@ -55,6 +55,10 @@ class Localizer {
   // Forgets the pose and searches the whole map for it (seed 000's "wake-up"). Returns false for
   // localisers that cannot.
   virtual bool GlobalRelocalize() { return false; }
+  // Forgets the pose and searches for it around `pose` (map frame) with `covariance` of (x, y,
+  // theta): the wake-up's first search, near where the robot was lost. Returns false for
+  // localisers that cannot search (they keep their estimate) and for non-finite input.
+  virtual bool SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance);
   // Matches scans against `map` from now on (the same map frame: the pose is kept), e.g. once a
   // map has been built or loaded. Thread-safe; the costly part (likelihood fields, ray casters) is
   // built outside the localiser's lock, so scans go on being matched against the old map meanwhile.
@@ -67,6 +71,9 @@ class Localizer {
  protected:
   // Called by SetPose with checked values; theta already in (-pi, pi].
   virtual void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) = 0;
+  // Whether SearchAround re-anchors this localiser at the search's cloud: those that hold many
+  // hypotheses (a Gaussian estimate re-anchored at the cloud's mean would just forget its own).
+  virtual bool CanSearch() const { return false; }
 };
 
 }  // namespace navd::localization

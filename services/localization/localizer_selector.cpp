@@ -94,6 +94,12 @@ bool LocalizerSelector::GlobalRelocalize() {
   return any;
 }
 
+bool LocalizerSelector::SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) {
+  bool any = false;
+  for (auto& l : localizers_) any |= l->SearchAround(pose, covariance);
+  return any;
+}
+
 bool LocalizerSelector::SetMap(const OccupancyGrid& map) {
   bool any = false;
   for (auto& l : localizers_) any |= l->SetMap(map);

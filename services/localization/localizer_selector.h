@@ -37,6 +37,7 @@ class LocalizerSelector : public Localizer {
   bool AddScan(const ScanReading& scan) override;
   PoseEstimate Estimate() const override;
   bool GlobalRelocalize() override;   // on every localiser that can; true if any did
+  bool SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) override;  // likewise
   bool SetMap(const OccupancyGrid& map) override;  // every localiser's map
   MethodContext Suitability(bool laser_fresh) const override { return Selected().Suitability(laser_fresh); }
 

@@ -56,7 +56,7 @@ OdometricCalibrationLocalizer::Match OdometricCalibrationLocalizer::Compare(cons
   const double reject2 = o_.reject_distance * o_.reject_distance;
   double kept_sum = 0.0;
   for (size_t i = 0; i < angles.size(); ++i) {
-    const double expected = map_->Cast(pose.translation(), pose.theta + angles[i], range_max);
+    const double expected = map_->CastOpenEdge(pose.translation(), pose.theta + angles[i], range_max);
     const double diff = ranges[i] - std::min(expected, range_max);
     const double d2 = diff * diff;
     if (d2 <= reject2) {

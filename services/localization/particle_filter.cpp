@@ -50,12 +50,7 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   const double sy = covariance(1, 1) > 0 ? std::sqrt(covariance(1, 1)) : o_.initial_sigma_xy;
   const double st = covariance(2, 2) > 0 ? std::sqrt(covariance(2, 2)) : o_.initial_sigma_theta;
   const ZigguratNormal n;
-  // About one particle per KLD bin the cloud covers within two sigma (a wake-up's search around a
-  // lost pose spans metres and a turn; a told pose, a few bins).
-  const double bins = std::ceil(4.0 * sx / o_.kld_bin_xy) * std::ceil(4.0 * sy / o_.kld_bin_xy) *
-                      std::ceil(std::min(4.0 * st, 2.0 * M_PI) / o_.kld_bin_theta);
-  const int count = static_cast<int>(
-      std::clamp(std::max(bins, 2.0 * o_.min_particles), 1.0 * o_.min_particles, 1.0 * o_.max_particles));
+  const int count = std::clamp(2 * o_.min_particles, o_.min_particles, o_.max_particles);
   particles_.assign(count, {});
   for (auto& p : particles_) {
     p.pose = {pose.x + sx * n(rng_), pose.y + sy * n(rng_), NormalizeAngle(pose.theta + st * n(rng_))};

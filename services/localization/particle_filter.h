@@ -117,6 +117,7 @@ class ParticleFilterLocalizer : public Localizer {
     double weight;
   };
   void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+  bool CanSearch() const override { return true; }
   void MoveParticles(const Pose2& from, const Pose2& to);
   void Resample();
   Pose2 RandomFreePose();

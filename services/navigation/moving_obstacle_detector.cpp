@@ -53,7 +53,7 @@ std::vector<DetectedObstacle> MovingObstacleDetector::Segment(const localization
     bool flagged = false;
     if (std::isfinite(r) && r >= scan.range_min && r < max_range && r <= options_.max_distance) {
       const double angle = pose.theta + scan.angle_min + scan.angle_increment * static_cast<double>(i);
-      const double expected = map_->Cast(origin, angle, max_range);
+      const double expected = map_->CastOpenEdge(origin, angle, max_range);
       // Something stands where the map knows free space. A map still being built (exploration)
       // has not seen every wall, and its walls shift a little with each loop closure.
       const CellIndex hit = map_->grid().CellOf(origin + r * Point2(std::cos(angle), std::sin(angle)));

@@ -466,7 +466,7 @@ std::vector<SonarEcho> NavigationExecutive::Stimuli(const std::vector<SonarEcho>
     if (map) {
       // The sensor's cone as the map would echo it (five rays across it).
       for (int k = -2; k <= 2; ++k) {
-        known = std::min(known, map->Cast(pose * origin, pose.theta + e.angle + k * o.sensor_cone / 4.0, horizon));
+        known = std::min(known, map->CastOpenEdge(pose * origin, pose.theta + e.angle + k * o.sensor_cone / 4.0, horizon));
       }
     }
     for (const Point2& p : local) {
@@ -578,7 +578,8 @@ double NavigationExecutive::danger() const {
   return detector_.danger();
 }
 
-void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e, uint64_t scans, double now) {
+void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e, const std::optional<Pose2>& odometry,
+                                            uint64_t scans, double now) {
   const double spread = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
   const bool new_scan = scans != last_scans_;
   last_scans_ = scans;
@@ -596,24 +597,34 @@ void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e,
   } else {
     poor_fit_since_ = -1.0;
     poor_scans_ = 0;
+    fit_pose_ = e.pose;
+    fit_odometry_ = odometry;
   }
 }
 
-void NavigationExecutive::Search(const localization::PoseEstimate& estimate, double now) {
-  const size_t wake_up = static_cast<size_t>(wake_up_);
-  if (brain_.activated(wake_up)) {
-    global_search_at_ = -1.0;
-    if (estimate.valid && watch_.local_search_for > 0.0) {
-      const double sxy = watch_.search_sigma_xy, st = watch_.search_sigma_theta;
-      localizer_.SetPose(estimate.pose, Eigen::Vector3d(sxy * sxy, sxy * sxy, st * st).asDiagonal());
-      global_search_at_ = now + watch_.local_search_for;
-    } else {
-      localizer_.GlobalRelocalize();
-    }
-  } else if (global_search_at_ >= 0.0 && now >= global_search_at_) {
-    global_search_at_ = -1.0;
-    if (lost_ && brain_.active(wake_up)) localizer_.GlobalRelocalize();
+void NavigationExecutive::Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
+                                double now) {
+  if (!lost_) {
+    search_ = SearchStage::kNone;
+    return;
   }
+  if (search_ == SearchStage::kNone) {
+    if (!brain_.active(static_cast<size_t>(wake_up_))) return;
+    Pose2 centre = estimate.pose;
+    if (fit_pose_ && fit_odometry_ && odometry) centre = *fit_pose_ * (fit_odometry_->inverse() * *odometry);
+    const double sxy = watch_.search_sigma_xy, st = watch_.search_sigma_theta;
+    if (watch_.local_search_for > 0.0 &&
+        localizer_.SearchAround(centre, Eigen::Vector3d(sxy * sxy, sxy * sxy, st * st).asDiagonal())) {
+      search_ = SearchStage::kNearby;
+      global_search_at_ = now + watch_.local_search_for;
+      return;
+    }
+  } else if (now < global_search_at_) {
+    return;
+  }
+  localizer_.GlobalRelocalize();
+  search_ = SearchStage::kGlobal;
+  global_search_at_ = now + watch_.global_search_every;
 }
 
 WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
@@ -644,7 +655,7 @@ SpeedZones NavigationExecutive::speed_zones() const {
 
 WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   const localization::PoseEstimate estimate = localizer_.Estimate();
-  if (estimate.valid && in.sensors_fresh) WatchLocalization(estimate, in.scans, now);
+  if (estimate.valid && in.sensors_fresh) WatchLocalization(estimate, in.odometry, in.scans, now);
 
   const bool detecting = detection_ >= 0 && brain_.active(static_cast<size_t>(detection_));
   // Where the robot was when the scan was taken (map frame).
@@ -737,7 +748,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
   }
 
-  if (wake_up_ >= 0) Search(estimate, now);
+  if (wake_up_ >= 0) Search(estimate, in.odometry, now);
 
   const bool fresh = in.sensors_fresh && estimate.valid;
   // Another behaviour taking the robot ends a recovery; the leg is replanned when navigation has it back.
@@ -804,7 +815,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   recoil_from_.reset();
   if (static_cast<long>(motor) == wake_up_) {
     navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop,
-                    global_search_at_ >= 0.0 ? "localization lost: searching nearby" : "localization lost: searching the map",
+                    search_ == SearchStage::kNearby ? "localization lost: searching nearby" : "localization lost: searching the map",
                     fresh);
     // Turning in place shows the filter the whole room; it cannot tell places apart standing still.
     const double v = watch_.search_turn_rate * navigator_.options().follower.wheel_base / 2.0;

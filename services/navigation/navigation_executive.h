@@ -66,11 +66,13 @@ inline constexpr size_t kMaxDeliveryTasks = 25;
 // Measured agreement: at true poses 0.99 in navsim's warehouse, 0.94 median and 0.43 at the 1st
 // percentile on the real Intel log; at wrong poses in the warehouse 0.15 median, 0.48 at most
 // (200 random pairs).
-// The wake-up search looks first around the pose the robot was lost at (a Gaussian of
-// search_sigma_xy, search_sigma_theta), for local_search_for seconds, and only then over the
-// whole map as seed 000 proposes: most losses are short (walkers crowding the laser, a door
-// opened) and the pose is still near, and along a featureless street or corridor a global search
-// cannot tell places apart at all; a robot carried far away is found by the global search after.
+// The wake-up searches first around where the robot was lost (the last pose that fitted, carried
+// on by odometry; a Gaussian of search_sigma_xy, search_sigma_theta), for local_search_for
+// seconds, and only then over the whole map as seed 000 proposes, again every
+// global_search_every seconds while still lost: most losses are short (walkers crowding the
+// laser, a door opened) and the pose is still near, and along a featureless street or corridor a
+// global search cannot tell places apart at all; a robot carried far away is found by the global
+// search after.
 struct LocalizationWatchOptions {
   double lost_quality = 0.45;
   double lost_after = 3.0;     // s
@@ -81,6 +83,7 @@ struct LocalizationWatchOptions {
   double search_sigma_xy = 0.2;     // m: the spread stays within max_spread along a featureless way
   double search_sigma_theta = 0.3;  // rad
   double local_search_for = 15.0;   // s: a full turn at search_turn_rate, and some; 0: global at once
+  double global_search_every = 30.0;  // s
 };
 
 // Seed 000's moving obstacles: the detection process (section 4.4), the avoidance behaviour
@@ -278,10 +281,12 @@ class NavigationExecutive {
   // localisers (on a worker thread), once the previous hand-over has finished.
   void RememberMap();
   // Updates lost_ from the estimate; `moving`: whether the robot is meant to be moving.
-  void WatchLocalization(const localization::PoseEstimate& estimate, uint64_t scans, double now);
-  // The wake-up's search: on its activation around the pose the robot was lost at, after
-  // local_search_for seconds still lost over the whole map.
-  void Search(const localization::PoseEstimate& estimate, double now);
+  // `odometry`: the robot's odometry pose at the estimate's stamp, if known.
+  void WatchLocalization(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
+                         uint64_t scans, double now);
+  // The wake-up's search for a lost pose (LocalizationWatchOptions): begins once the wake-up has
+  // the robot, first nearby, then over the whole map.
+  void Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry, double now);
 
   planning::PlanningEngine& planning_;
   localization::Localizer& localizer_;
@@ -342,7 +347,11 @@ class NavigationExecutive {
   std::string planner_;            // the active mission's planner
   double last_step_ = -1.0;
   double poor_fit_since_ = -1.0;
-  double global_search_at_ = -1.0;  // when the wake-up's local search gives way to the global one
+  // The last pose that fitted the scans, and the odometry then (for where the search begins).
+  std::optional<Pose2> fit_pose_, fit_odometry_;
+  enum class SearchStage { kNone, kNearby, kGlobal };
+  SearchStage search_ = SearchStage::kNone;  // of the current loss
+  double global_search_at_ = 0.0;            // when the next global search begins
   uint64_t last_scans_ = 0;
   int poor_scans_ = 0;          // scans in a row that fitted poorly
   std::atomic<bool> lost_{false};  // read by gRPC threads

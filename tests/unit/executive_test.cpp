@@ -742,22 +742,19 @@ TEST(NavigationExecutive, NamesNavigationWhileItDrivesWithNothingAheadToAvoid) {
   EXPECT_GT(odom.x, 0.3);  // navigation drove
 }
 
-// Seed 000's long-term memory (section 4.6): the map the localisation process matches scans
-// against comes from it. A map served anew (here one with a wall the first lacked, as a map built
-// by exploration or loaded over gRPC would be) reaches the particle filter once the process runs,
-// not while a map is still being built; then the scans fit again.
 // A featureless corridor, 40 m by 3 m (the pedestrian street in small): the robot, localised at
-// x = 15 and driving on, has people crowding its laser for 4 s (most beams end on them), so the executive
-// declares the pose lost. The wake-up searches around where it was lost first: once the people
-// leave, the pose is found where the robot is. A global search could never tell x = 15 from any
-// other place along the corridor (street seed 150 in navd: it searched the street for ever).
-// Found or not, after local_search_for seconds it searches the whole map.
+// x = 15 and driving on, has people crowding its laser (four beams in five end on them) for
+// `crowded_for` seconds, so the executive declares the pose lost. The wake-up searches around
+// where the robot was lost first: once the people have gone, the pose is found where the robot is.
+// A global search could never tell x = 15 from any other place along the corridor (street seed 150
+// in navd searched the street for ever). Still lost after local_search_for seconds, it searches the
+// whole map.
 struct CorridorLoss {
   bool lost = false, found = false;
-  double error = 0.0;  // m from the truth when found
-  double spread = 0.0;  // m, when it was given up on
+  double error = 0.0;                     // m from the truth when found
+  std::vector<std::string> searches;      // the wake-up's messages, in turn
 };
-CorridorLoss LoseThePoseInACorridor(double crowded_for, double local_search_for) {
+CorridorLoss LoseThePoseInACorridor(double crowded_for) {
   OccupancyGrid corridor(800, 60, 0.05, Point2(0.0, 0.0));
   corridor.FillBox({0.0, 0.0}, {40.0, 0.1});
   corridor.FillBox({0.0, 2.9}, {40.0, 3.0});
@@ -765,24 +762,24 @@ CorridorLoss LoseThePoseInACorridor(double crowded_for, double local_search_for)
   maps.Set(corridor, "corridor");
   planning::PlanningEngine planning{maps, {}};
   planning::RegisterDefaultPlanners(planning);
-  localization::ParticleFilterLocalizer localizer(corridor);
+  localization::ParticleFilterOptions pf;
+  pf.global_particles = 20000;  // the corridor is small
+  localization::ParticleFilterLocalizer localizer(corridor, pf);
   localizer.SetPose(Pose2(15.0, 1.5, 0.0), Eigen::Matrix3d::Identity() * 1e-4);
   SimClock clock;
-  LocalizationWatchOptions watch;
-  watch.local_search_for = local_search_for;
-  NavigationExecutive executive{planning, localizer, clock, NavigatorOptions{}, DefaultBrainOptions(), watch};
+  NavigationExecutive executive{planning, localizer, clock, NavigatorOptions{}};
   const double wheel_base = NavigatorOptions{}.follower.wheel_base;
   Pose2 truth(15.0, 1.5, 0.0);
   const Pose2 odom_origin = truth;
   const RayCaster caster(corridor);
   CorridorLoss out;
-  uint64_t scans = 0;
-  for (int step = 0; step < 400; ++step) {
+  for (int step = 0; step < 500; ++step) {
     const double t = 0.1 * step;
     clock.Set(t);
+    const Pose2 odometry = odom_origin.inverse() * truth;
+    localizer.AddOdometry({odometry, Eigen::Matrix3d::Zero(), t});
     // Driving on down the corridor (a standing robot's filter skips its scans).
     if (step == 1) executive.Navigate({Pose2(35.0, 1.5, 0.0), false, "", false});
-    localizer.AddOdometry({odom_origin.inverse() * truth, Eigen::Matrix3d::Zero(), t});
     localization::ScanReading scan;
     scan.angle_min = -M_PI;
     scan.angle_increment = M_PI / 90;
@@ -790,48 +787,47 @@ CorridorLoss LoseThePoseInACorridor(double crowded_for, double local_search_for)
     scan.stamp = t;
     const bool crowded = t >= 2.0 && t < 2.0 + crowded_for;
     for (int i = 0; i < 180; ++i) {
-      const double r = caster.Cast(truth.translation(), truth.theta + scan.angle_min + i * scan.angle_increment, 8.0);
-      // Four of five beams end on someone half a metre to a metre away.
-      scan.ranges.push_back(static_cast<float>(crowded && i % 5 != 0 ? std::min(r, 0.5 + 0.1 * (i % 6)) : (r >= 8.0 ? 9.0 : r)));
+      const double r = caster.CastOpenEdge(truth.translation(), truth.theta + scan.angle_min + i * scan.angle_increment, 8.0);
+      scan.ranges.push_back(static_cast<float>(crowded && i % 5 != 0 ? std::min(r, 0.5 + 0.1 * (i % 6)) : r >= 8.0 ? 9.0 : r));
     }
     localizer.AddScan(scan);
     ExecutiveInputs in;
-    in.scans = ++scans;
+    in.scans = static_cast<uint64_t>(step + 1);
+    in.odometry = odometry;
     const WheelSpeeds w = executive.Step(in, t);
     truth = IntegrateDiffDrive(truth, w.left * 0.1, w.right * 0.1, wheel_base);
+    const std::string message = executive.navigator().Status().hold_reason;
+    if (executive.searching() && (out.searches.empty() || out.searches.back() != message)) out.searches.push_back(message);
     out.lost |= executive.localization_lost();
-    const localization::PoseEstimate e = localizer.Estimate();
     if (out.lost && !executive.localization_lost()) {
       out.found = true;
-      out.error = Distance(e.pose.translation(), truth.translation());
-      std::printf("crowded %.0f s, local search %.0f s: found at t=%.1f s, %.2f m from the truth\n", crowded_for,
-                  local_search_for, t, out.error);
+      out.error = Distance(localizer.Estimate().pose.translation(), truth.translation());
+      std::printf("crowded %.0f s: found at t=%.1f s, %.2f m from the truth\n", crowded_for, t, out.error);
       return out;
     }
-    out.spread = std::sqrt(e.covariance(0, 0) + e.covariance(1, 1));
   }
-  std::printf("crowded %.0f s, local search %.0f s: lost %d, not found; spread %.2f m\n", crowded_for, local_search_for,
-              out.lost, out.spread);
+  std::printf("crowded %.0f s: lost %d, not found\n", crowded_for, out.lost);
   return out;
 }
 
 TEST(NavigationExecutive, AWakeUpSearchesWhereThePoseWasLostFirst) {
-  const CorridorLoss nearby = LoseThePoseInACorridor(4.0, 15.0);
-  EXPECT_TRUE(nearby.lost);
-  EXPECT_TRUE(nearby.found);
-  EXPECT_LT(nearby.error, 0.3);
-  // Crowded for good: not found nearby, and the global search that follows cannot tell places
-  // apart along the corridor either (its spread is the corridor's length).
-  const CorridorLoss crowded = LoseThePoseInACorridor(60.0, 15.0);
-  EXPECT_TRUE(crowded.lost);
-  EXPECT_FALSE(crowded.found);
-  EXPECT_GT(crowded.spread, 3.0);
-  // The seed's global search at once: lost in the corridor for good.
-  const CorridorLoss global = LoseThePoseInACorridor(4.0, 0.0);
-  EXPECT_TRUE(global.lost);
-  EXPECT_FALSE(global.found);
+  const CorridorLoss brief = LoseThePoseInACorridor(4.0);
+  EXPECT_TRUE(brief.lost);
+  EXPECT_TRUE(brief.found);
+  EXPECT_LT(brief.error, 0.3);
+  EXPECT_EQ(brief.searches, std::vector<std::string>{"localization lost: searching nearby"});
+  // Crowded for good: not found nearby, then the whole map is searched.
+  const CorridorLoss lasting = LoseThePoseInACorridor(60.0);
+  EXPECT_TRUE(lasting.lost);
+  EXPECT_FALSE(lasting.found);
+  EXPECT_EQ(lasting.searches,
+            (std::vector<std::string>{"localization lost: searching nearby", "localization lost: searching the map"}));
 }
 
+// Seed 000's long-term memory (section 4.6): the map the localisation process matches scans
+// against comes from it. A map served anew (here one with a wall the first lacked, as a map built
+// by exploration or loaded over gRPC would be) reaches the particle filter once the process runs,
+// not while a map is still being built; then the scans fit again.
 TEST(NavigationExecutive, LongTermMemoryHandsANewMapToTheLocalisers) {
   OccupancyGrid first(120, 100, 0.05, Point2(0.0, 0.0));
   first.FillBox({0.0, 0.0}, {6.0, 0.1});

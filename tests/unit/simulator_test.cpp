@@ -76,6 +76,33 @@ TEST(RayCaster, MeasuresDistancesToWalls) {
   EXPECT_NEAR(walls.Cast({2, 2}, 0.0, 1.0), 1.0, 1e-9);                         // max range
 }
 
+// To a sensor the map's edge is open: rays that leave the grid read max_range, while walls on the
+// grid's edge rows and columns are hit as any other, also from inside the edge row (a door jamb)
+// and at grazing angles.
+TEST(RayCaster, TheMapsEdgeIsOpenToSensors) {
+  OccupancyGrid map(100, 40, 0.1, {0, 0});
+  for (int x = 0; x < 40; ++x) map.set({x, 0}, OccupancyGrid::kOccupied);    // wall along y in [0, 0.1], x < 4
+  for (int y = 10; y < 40; ++y) map.set({99, y}, OccupancyGrid::kOccupied);  // wall along x in [9.9, 10], y >= 1
+  const RayCaster caster(map);
+  EXPECT_NEAR(caster.Cast({0.5, 2.0}, M_PI, 30.0), 0.5, 1e-9);  // the edge as a wall
+  EXPECT_EQ(caster.CastOpenEdge({0.5, 2.0}, M_PI, 30.0), 30.0);
+  EXPECT_EQ(caster.CastOpenEdge({5.0, 2.0}, M_PI / 2, 30.0), 30.0);
+  EXPECT_NEAR(caster.CastOpenEdge({2.0, 2.0}, -M_PI / 2, 30.0), 1.9, 1e-9);
+  EXPECT_NEAR(caster.CastOpenEdge({5.0, 0.05}, M_PI, 30.0), 1.0, 1e-9);  // the wall's end, from inside the edge row
+  EXPECT_EQ(caster.CastOpenEdge({5.0, 0.05}, 0.0, 30.0), 30.0);           // out through the gap at x = 10
+  EXPECT_NEAR(caster.CastOpenEdge({9.95, 0.5}, M_PI / 2, 30.0), 0.5, 1e-9);  // up the edge column into its wall
+  // Grazing the edge walls at 5 degrees: the wall along y = 0.1 (up to x = 4) or the one along
+  // x = 9.9 (from y = 1), or out of the grid past them.
+  const double down = M_PI + 5 * M_PI / 180, up = M_PI / 2 - 5 * M_PI / 180;
+  EXPECT_NEAR(caster.CastOpenEdge({6.0, 0.3}, down, 30.0), 0.2 / std::sin(5 * M_PI / 180), 1e-9);
+  EXPECT_NEAR(caster.CastOpenEdge({6.0, 0.6}, down, 30.0), 0.5 / std::sin(5 * M_PI / 180), 1e-9);
+  EXPECT_EQ(caster.CastOpenEdge({6.0, 0.9}, down, 30.0), 30.0);  // out at x = 0, y = 0.38
+  EXPECT_NEAR(caster.CastOpenEdge({9.8, 1.5}, up, 30.0), 0.1 / std::sin(5 * M_PI / 180), 1e-9);
+  EXPECT_EQ(caster.CastOpenEdge({9.0, 1.5}, up, 30.0), 30.0);  // out at y = 4, x = 9.22
+  // The corner cell's top face, 2 cm from the grid's edge, the ray heading out through that edge.
+  EXPECT_NEAR(caster.CastOpenEdge({1.0, 1.0}, std::atan2(-0.9, -0.98), 30.0), std::hypot(0.98, 0.9), 1e-9);
+}
+
 TEST(RayCaster, BlockLeapsGiveExactlyTheCellWalksHits) {
   // A cluttered 1000 x 1000 grid: leaping over empty blocks must never skip an obstacle.
   OccupancyGrid map(1000, 1000, 0.05, {0, 0});
