@@ -192,7 +192,7 @@ double ParticleFilterLocalizer::BeamModelLogLikelihood(const Pose2& pose, const 
   const double norm = 1.0 / (b.sigma_hit * std::sqrt(2 * M_PI));
   double sum = 0.0;
   for (const ScanBeam& beam : beams) {
-    const double expected = std::min(model_->caster->Cast(pose.translation(), pose.theta + beam.angle, range_max), range_max);
+    const double expected = std::min(model_->caster->CastOpenEdge(pose.translation(), pose.theta + beam.angle, range_max), range_max);
     const double z = beam.range;
     double p = b.z_rand / range_max;
     if (!beam.hit) {
