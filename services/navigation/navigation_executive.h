@@ -280,7 +280,7 @@ class NavigationExecutive {
   // Seed 000's long-term memory (section 4.6), one step: hands a newly served map to the
   // localisers (on a worker thread), once the previous hand-over has finished.
   void RememberMap();
-  // Updates lost_ from the estimate; `moving`: whether the robot is meant to be moving.
+  // Updates lost_ from the estimate, and the last pose that fitted.
   // `odometry`: the robot's odometry pose at the estimate's stamp, if known.
   void WatchLocalization(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
                          uint64_t scans, double now);
