@@ -165,6 +165,7 @@ void Simulation::Touch(SimulatedRobot& robot, int other, const Point2& where, bo
   if (robot_moved) {
     if (!robot.contact_this_step_) {
       robot.contact_with_ = BodyName(other);
+      robot.contact_other_id_ = other;
       robot.contact_where_ = where;
       robot.contact_robot_closing_ = robot_closing;
       robot.contact_other_closing_ = other_closing;
@@ -239,8 +240,8 @@ StepOutputs Simulation::Step() {
     if (r->contact_this_step_) {
       if (now_ - r->last_contact_ > kContactGap) {
         ++r->collisions_;
-        out.events.push_back({now_, r->name().empty() ? "robot" : r->name(), r->contact_with_, r->contact_where_,
-                              r->contact_robot_closing_, r->contact_other_closing_});
+        out.events.push_back({now_, r->name().empty() ? "robot" : r->name(), r->contact_with_, r->contact_other_id_,
+                              r->contact_where_, r->contact_robot_closing_, r->contact_other_closing_});
       }
       r->last_contact_ = now_;
     }

@@ -36,6 +36,7 @@ struct CollisionEvent {
   double time = 0.0;
   std::string robot;
   std::string other;                // "wall", a robot's or obstacle's name, or "person <id>"
+  int other_id = kWall;             // the body's id (Crowd::kFirstPersonId and up: a person), or kWall
   Point2 where = Point2::Zero();
   // Who closed the gap (m/s, along the line between the two centres): the robot's speed towards
   // the other (towards a wall, its speed), and the other's towards the robot (a person's walking
@@ -80,6 +81,7 @@ class SimulatedRobot {
   double last_contact_ = -1e9;
   bool contact_this_step_ = false;
   std::string contact_with_;
+  int contact_other_id_ = kWall;
   Point2 contact_where_ = Point2::Zero();
   double contact_robot_closing_ = 0.0, contact_other_closing_ = 0.0;
   BumperState bumper_;

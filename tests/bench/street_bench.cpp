@@ -23,7 +23,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <deque>
 #include <limits>
 #include <memory>
@@ -165,9 +164,8 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
       // Each collision: how fast the robot went, the plan it drove, and who was next to it.
       const Pose2 rp = s.robot().base().true_pose();
       for (const sim::CollisionEvent& e : out.events) {
-        // Whom it touched ("person <id>"); -1 for a wall or anything else.
-        const std::string person = "person ";
-        const int touched = e.other.rfind(person, 0) == 0 ? std::atoi(e.other.c_str() + person.size()) : -1;
+        // Whom it touched: a person's id, or none (a wall, anything else).
+        const int touched = e.other_id >= sim::Crowd::kFirstPersonId ? e.other_id : -1;
         for (const RecentPlan& r : recent_plans) {
           std::printf("%s\n", r.line.c_str());
           // What the plan made of the person it later touched: their nearest body, and the least gap
