@@ -2,6 +2,7 @@
 // The interface of pose estimators: they consume odometry and laser scans and report the robot's
 // pose in the map frame with a covariance. Units: metres, radians, seconds.
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,19 @@ class Localizer {
   // theta): the wake-up's first search, near where the robot was lost. Returns false for
   // localisers that cannot search (they keep their estimate) and for non-finite input.
   virtual bool SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance);
+  // The wake-up's whole-map search run beside the estimate, not in its place: the estimate goes on
+  // tracking (a pose lost where the map does not explain the scans, among people or furniture, is
+  // often still right, and a whole-map search in a building of like rooms can settle in the wrong
+  // one) while another localiser of the same kind searches the whole map. SearchEstimate says what
+  // it has found so far (valid = false while none runs); EndSearch stops it, and with `adopt` moves
+  // the estimate to the search's. Returns false for localisers that cannot (GlobalRelocalize then
+  // searches in place); a new search, SetPose and SearchAround end a running one.
+  virtual bool StartSearch() { return false; }
+  virtual PoseEstimate SearchEstimate() const { return {}; }
+  virtual void EndSearch(bool adopt) {}
+  // A new localiser of the same kind on the same map and options, without a pose: what
+  // StartSearch runs beside this one. nullptr for kinds that cannot search the whole map.
+  virtual std::unique_ptr<Localizer> Fresh() const { return nullptr; }
   // Matches scans against `map` from now on (the same map frame: the pose is kept), e.g. once a
   // map has been built or loaded. Thread-safe; the costly part (likelihood fields, ray casters) is
   // built outside the localiser's lock, so scans go on being matched against the old map meanwhile.

@@ -65,12 +65,20 @@ void LocalizerSelector::AddOdometry(const OdometryReading& raw) {
     reading = jump_filter_.Filter(raw);
   }
   for (auto& l : localizers_) l->AddOdometry(reading);
+  {
+    std::lock_guard<std::mutex> lock(search_mutex_);
+    if (search_) search_->AddOdometry(reading);
+  }
   Arbitrate(reading.stamp);
 }
 
 bool LocalizerSelector::AddScan(const ScanReading& scan) {
   bool used = false;
   for (auto& l : localizers_) used |= l->AddScan(scan);
+  {
+    std::lock_guard<std::mutex> lock(search_mutex_);
+    if (search_) search_->AddScan(scan);
+  }
   // The laser is there when scans arrive, used or not: a filter skips scans while the robot
   // stands still.
   {
@@ -89,12 +97,14 @@ int LocalizerSelector::odometry_jumps() const {
 }
 
 bool LocalizerSelector::GlobalRelocalize() {
+  EndSearch(false);
   bool any = false;
   for (auto& l : localizers_) any |= l->GlobalRelocalize();
   return any;
 }
 
 bool LocalizerSelector::SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) {
+  EndSearch(false);
   bool any = false;
   for (auto& l : localizers_) any |= l->SearchAround(pose, covariance);
   return any;
@@ -103,10 +113,40 @@ bool LocalizerSelector::SearchAround(const Pose2& pose, const Eigen::Matrix3d& c
 bool LocalizerSelector::SetMap(const OccupancyGrid& map) {
   bool any = false;
   for (auto& l : localizers_) any |= l->SetMap(map);
+  std::lock_guard<std::mutex> lock(search_mutex_);
+  if (search_) search_->SetMap(map);
   return any;
 }
 
+bool LocalizerSelector::StartSearch() {
+  std::unique_ptr<Localizer> search = Selected().Fresh();
+  if (!search || !search->GlobalRelocalize()) return false;
+  std::lock_guard<std::mutex> lock(search_mutex_);
+  search_ = std::move(search);
+  return true;
+}
+
+PoseEstimate LocalizerSelector::SearchEstimate() const {
+  std::lock_guard<std::mutex> lock(search_mutex_);
+  return search_ ? search_->Estimate() : PoseEstimate{};
+}
+
+void LocalizerSelector::EndSearch(bool adopt) {
+  std::unique_ptr<Localizer> search;
+  {
+    std::lock_guard<std::mutex> lock(search_mutex_);
+    search = std::move(search_);
+  }
+  if (!adopt || !search) return;
+  const PoseEstimate found = search->Estimate();
+  if (found.valid) ResetPose(found.pose, 0.5 * (found.covariance + found.covariance.transpose()));
+}
+
 void LocalizerSelector::ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
+  {
+    std::lock_guard<std::mutex> lock(search_mutex_);
+    search_.reset();
+  }
   for (auto& l : localizers_) l->SetPose(pose, covariance);
 }
 

@@ -38,7 +38,12 @@ class LocalizerSelector : public Localizer {
   PoseEstimate Estimate() const override;
   bool GlobalRelocalize() override;   // on every localiser that can; true if any did
   bool SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) override;  // likewise
-  bool SetMap(const OccupancyGrid& map) override;  // every localiser's map
+  bool SetMap(const OccupancyGrid& map) override;  // every localiser's map (and the search's)
+  // The search runs beside the selected localiser, on a Fresh() one of its kind fed the same
+  // odometry and scans; adopting it re-anchors every localiser at the search's estimate.
+  bool StartSearch() override;
+  PoseEstimate SearchEstimate() const override;
+  void EndSearch(bool adopt) override;
   MethodContext Suitability(bool laser_fresh) const override { return Selected().Suitability(laser_fresh); }
 
  private:
@@ -52,6 +57,10 @@ class LocalizerSelector : public Localizer {
   OdometryJumpFilter jump_filter_;                       // guarded by mutex_
   mutable std::mutex mutex_;
   size_t selected_ = 0;
+  // The whole-map search beside the selected localiser, if one runs. Its own mutex: feeding it a
+  // scan (100 000 particles at first) must not hold up the selection.
+  mutable std::mutex search_mutex_;
+  std::unique_ptr<Localizer> search_;
   std::unique_ptr<MethodArbiter> arbiter_;  // set while "auto" is selected
   double last_scan_stamp_ = -1e18, last_evaluation_ = -1e18;
   Localizer& Selected() const;

@@ -21,7 +21,21 @@ ParticleFilterLocalizer::MapModel::MapModel(const OccupancyGrid& grid, const Par
 }
 
 ParticleFilterLocalizer::ParticleFilterLocalizer(const OccupancyGrid& map, const ParticleFilterOptions& options)
-    : o_(options), model_(std::make_shared<const MapModel>(map, options)), rng_(options.seed) {}
+    : ParticleFilterLocalizer(std::make_shared<const MapModel>(map, options), options) {}
+
+ParticleFilterLocalizer::ParticleFilterLocalizer(std::shared_ptr<const MapModel> model, const ParticleFilterOptions& options)
+    : o_(options), model_(std::move(model)), rng_(options.seed) {}
+
+std::unique_ptr<Localizer> ParticleFilterLocalizer::Fresh() const {
+  std::shared_ptr<const MapModel> model;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    model = model_;
+  }
+  ParticleFilterOptions o = o_;
+  ++o.seed;  // another draw than this filter's
+  return std::unique_ptr<Localizer>(new ParticleFilterLocalizer(std::move(model), o));
+}
 
 bool ParticleFilterLocalizer::SetMap(const OccupancyGrid& map) {
   auto model = std::make_shared<const MapModel>(map, o_);  // the costly part, outside the lock

@@ -109,6 +109,8 @@ class ParticleFilterLocalizer : public Localizer {
     ScatterUniformly();
     return true;
   }
+  // Shares this filter's map model (the likelihood field is not built again).
+  std::unique_ptr<Localizer> Fresh() const override;
   size_t particle_count() const;
 
  private:
@@ -138,6 +140,7 @@ class ParticleFilterLocalizer : public Localizer {
     std::vector<int32_t> free_cells;
   };
   std::shared_ptr<const MapModel> model_;  // guarded by mutex_
+  ParticleFilterLocalizer(std::shared_ptr<const MapModel> model, const ParticleFilterOptions& options);
   // Sum over `beams` of the beam model's log-likelihood from `pose` (map frame).
   double BeamModelLogLikelihood(const Pose2& pose, const std::vector<ScanBeam>& beams, double range_max) const;
 

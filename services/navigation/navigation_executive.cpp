@@ -603,10 +603,27 @@ void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e,
 }
 
 void NavigationExecutive::Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
-                                double now) {
+                                uint64_t scans, double now) {
   if (!lost_) {
+    if (search_beside_) localizer_.EndSearch(false);  // found by the estimate itself
+    search_beside_ = false;
     search_ = SearchStage::kNone;
     return;
+  }
+  if (search_beside_) {
+    // The whole-map search replaces the estimate only once it fits as a found pose does, for
+    // lost_scans scans in a row.
+    const localization::PoseEstimate found = localizer_.SearchEstimate();
+    const double spread = std::sqrt(std::max(0.0, found.covariance(0, 0) + found.covariance(1, 1)));
+    if (scans == 0 || scans != search_scans_) {
+      search_scans_ = scans;
+      search_fits_ = found.valid && found.quality >= watch_.found_quality && spread <= watch_.max_spread ? search_fits_ + 1 : 0;
+    }
+    if (search_fits_ >= std::max(1, watch_.lost_scans)) {
+      localizer_.EndSearch(true);
+      search_beside_ = false;
+      return;
+    }
   }
   if (search_ == SearchStage::kNone) {
     if (!brain_.active(static_cast<size_t>(wake_up_))) return;
@@ -622,7 +639,9 @@ void NavigationExecutive::Search(const localization::PoseEstimate& estimate, con
   } else if (now < global_search_at_) {
     return;
   }
-  localizer_.GlobalRelocalize();
+  search_beside_ = localizer_.StartSearch();
+  search_fits_ = 0;
+  if (!search_beside_) localizer_.GlobalRelocalize();
   search_ = SearchStage::kGlobal;
   global_search_at_ = now + watch_.global_search_every;
 }
@@ -748,7 +767,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
   }
 
-  if (wake_up_ >= 0) Search(estimate, in.odometry, now);
+  if (wake_up_ >= 0) Search(estimate, in.odometry, in.scans, now);
 
   const bool fresh = in.sensors_fresh && estimate.valid;
   // Another behaviour taking the robot ends a recovery; the leg is replanned when navigation has it back.

@@ -167,6 +167,36 @@ TEST(ParticleFilter, OmniModelSlidesSidewaysWithoutSmearingHeadings) {
   EXPECT_NEAR(NormalizeAngle(omni_mean.theta - world.start.theta), 0.0, 0.05);
 }
 
+// The wake-up's whole-map search beside the estimate (Localizer::StartSearch): the estimate goes on
+// tracking what it had (here a pose 5.5 m off) while a second filter searches the whole map; the
+// search finds the robot (as RelocalisesGloballyWithoutAPrior does) and ending it either keeps the
+// estimate or moves it there.
+TEST(LocalizerSelector, AWholeMapSearchRunsBesideTheEstimate) {
+  const Pose2 truth(8.5, 8.4, M_PI), told(4.0, 5.0, 0.0);
+  for (const bool adopt : {false, true}) {
+    Scenario sc(truth, 300);
+    LocalizerSelector selector;
+    selector.Add(std::move(sc.pf));
+    selector.SetPose(told, Eigen::Matrix3d::Identity() * 1e-3);
+    EXPECT_FALSE(selector.SearchEstimate().valid);
+    ASSERT_TRUE(selector.StartSearch());
+    Drive(sc.sim, selector, 14.0, [](double t) { return Twist2{0.0, t < 12 ? 0.6 : 0.0}; }, 1.0);
+    const Pose2 at = sc.sim.robot().base().true_pose();
+    const PoseEstimate found = selector.SearchEstimate();
+    ASSERT_TRUE(found.valid);
+    EXPECT_LT(Distance(found.pose.translation(), at.translation()), 0.15) << "the search finds the robot";
+    EXPECT_GT(Distance(selector.Estimate().pose.translation(), at.translation()), 3.0) << "the estimate kept its own";
+    selector.EndSearch(adopt);
+    EXPECT_FALSE(selector.SearchEstimate().valid);
+    const double error = Distance(selector.Estimate().pose.translation(), at.translation());
+    if (adopt) {
+      EXPECT_LT(error, 0.15) << "adopted, the estimate is the search's";
+    } else {
+      EXPECT_GT(error, 3.0) << "ended without adopting, the estimate is as it was";
+    }
+  }
+}
+
 // "auto" (book chapter 10): the arbiter hands the pose to the particle filter while its scans fit
 // the map, to odometry ten evaluations (2 s) after the laser has been silent for a second, and back
 // when scans return.
