@@ -72,7 +72,11 @@ inline constexpr size_t kMaxDeliveryTasks = 25;
 // global_search_every seconds while still lost: most losses are short (walkers crowding the
 // laser, a door opened) and the pose is still near, and along a featureless street or corridor a
 // global search cannot tell places apart at all; a robot carried far away is found by the global
-// search after.
+// search after. Where the localiser can (Localizer::StartSearch), the whole-map search runs beside
+// the estimate, which goes on tracking, and replaces it only once it fits as a found pose does
+// (found_quality, max_spread) for lost_scans scans: on the Intel log the pose was declared lost
+// where the scans fitted poorly at a right pose, and a search in its place settled in the wrong
+// room (whole-log RMSE 6.7-6.9 m; beside, 0.13 m).
 struct LocalizationWatchOptions {
   double lost_quality = 0.45;
   double lost_after = 3.0;     // s
