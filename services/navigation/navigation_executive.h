@@ -76,7 +76,7 @@ inline constexpr size_t kMaxDeliveryTasks = 25;
 // the estimate, which goes on tracking, and replaces it only once it fits as a found pose does
 // (found_quality, max_spread) for lost_scans scans: on the Intel log the pose was declared lost
 // where the scans fitted poorly at a right pose, and a search in its place settled in the wrong
-// room (whole-log RMSE 6.7-6.9 m; beside, 0.13 m).
+// room (whole-log RMSE 6.7-6.9 m; beside, 0.08 m).
 struct LocalizationWatchOptions {
   double lost_quality = 0.45;
   double lost_after = 3.0;     // s
