@@ -167,7 +167,7 @@ void ControlLoop::Tick(uint64_t tick, double now) {
     const localization::PoseEstimate e = localizer_.Estimate();
     was_lost_ = executive_.localization_lost();
     spdlog::info("t={:.2f}s pose {}: the scans fit the map at {:.2f}, position spread {:.2f} m", now,
-                 was_lost_ ? "lost" : "found again", e.quality, std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1))));
+                 was_lost_ ? "lost" : "found again", e.quality, e.PositionSpread());
   }
   if (spdlog::should_log(spdlog::level::debug) && executive_.crowd().plans() != crowd_plans_seen_) LogCrowdPlan(wheels, now);
   was_searching_ = executive_.searching();

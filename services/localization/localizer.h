@@ -2,6 +2,8 @@
 // The interface of pose estimators: they consume odometry and laser scans and report the robot's
 // pose in the map frame with a covariance. Units: metres, radians, seconds.
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,6 +40,8 @@ struct PoseEstimate {
   bool valid = false;                                     // false until the first reading
   // How well the sensors agree with the map, 0 (lost) to 1; 1 for pure odometry, which cannot tell.
   double quality = 1.0;
+  // m: how widely the position is spread, sqrt(var x + var y).
+  double PositionSpread() const { return std::sqrt(std::max(0.0, covariance(0, 0) + covariance(1, 1))); }
 };
 
 class Localizer {

@@ -238,7 +238,7 @@ void ParticleFilterLocalizer::Reweigh(const std::vector<Point2>& ends, std::vect
   // best by chance, before the robot has seen enough to tell look-alike places apart. Tracking is
   // never tempered (a spread cloud after a long odometry step, or after random injection, must
   // still be pulled together by the scan).
-  const double spread = std::sqrt(std::max(0.0, estimate_.covariance(0, 0) + estimate_.covariance(1, 1)));
+  const double spread = estimate_.PositionSpread();
   if (global_mode_ && spread < o_.tempering_spread) global_mode_ = false;
   const double temper = global_mode_ ? o_.tempering : 1.0;
   double best = -std::numeric_limits<double>::infinity();

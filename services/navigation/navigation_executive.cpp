@@ -580,7 +580,7 @@ double NavigationExecutive::danger() const {
 
 void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e, const std::optional<Pose2>& odometry,
                                             uint64_t scans, double now) {
-  const double spread = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
+  const double spread = e.PositionSpread();
   const bool new_scan = scans != last_scans_;
   last_scans_ = scans;
   if (lost_) {
@@ -614,7 +614,7 @@ void NavigationExecutive::Search(const localization::PoseEstimate& estimate, con
     // The whole-map search replaces the estimate only once it fits as a found pose does, for
     // lost_scans scans in a row.
     const localization::PoseEstimate found = localizer_.SearchEstimate();
-    const double spread = std::sqrt(std::max(0.0, found.covariance(0, 0) + found.covariance(1, 1)));
+    const double spread = found.PositionSpread();
     if (scans == 0 || scans != search_scans_) {
       search_scans_ = scans;
       search_fits_ = found.valid && found.quality >= watch_.found_quality && spread <= watch_.max_spread ? search_fits_ + 1 : 0;
