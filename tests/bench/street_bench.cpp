@@ -60,7 +60,8 @@ enum class Knowledge { kTruth, kTruthAll, kLaser, kLaserTrueVelocity };
 
 using sim::WalkingVelocity;
 
-RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge, double distance, bool print_contacts, double speed) {
+RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge, double distance, bool print_contacts, double speed,
+               double approach_deceleration) {
   const bool truth_people = knowledge == Knowledge::kTruth || knowledge == Knowledge::kTruthAll;
   sim::SimulationOptions so;
   so.seed = seed;
@@ -77,6 +78,7 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
                     world.robot.max_angular_accel};
   control.planner.desired_speed = control.limits.max_speed;
   control.planner.robot_radius = world.robot.radius;
+  control.planner.approach_deceleration = approach_deceleration;
   navigation::CrowdController controller(control);
   navigation::MovingObstacleDetector segmenter(people.detection);
   segmenter.SetMap(std::make_shared<RayCaster>(world.map));
@@ -258,6 +260,10 @@ int main(int argc, char** argv) {
   app.add_option("--distance", distance, "metres down the street")->check(CLI::Range(1.0, 1000.0));
   double speed = 1.5;
   app.add_option("--speed", speed, "desired speed among people, m/s (navd --crowd-speed)")->check(CLI::Range(0.1, 5.0));
+  double approach = navigation::PeopleAwareOptions{}.control.planner.approach_deceleration;
+  app.add_option("--approach-deceleration", approach,
+                 "m/s²: plans too fast to stop short of someone ahead are pruned unless braking (0: off, navd's default)")
+      ->check(CLI::Range(0.0, 10.0));
   bool straight = false;
   app.add_flag("--straight-walkers", straight, "walkers keep one goal far down the street, no Brownian motion");
   bool print_contacts = false;
@@ -291,7 +297,7 @@ int main(int argc, char** argv) {
   std::vector<double> shares;
   for (int i = 0; i < runs; ++i) {
     const uint64_t seed = first + static_cast<uint64_t>(i);
-    const RunFigures f = Run(scenario, seed, knowledge, distance, print_contacts, speed);
+    const RunFigures f = Run(scenario, seed, knowledge, distance, print_contacts, speed, approach);
     std::printf("seed %lu: %s, %.1f s, collisions %u, close calls %u, outside personal %.3f, nearest %.2f m, escapes %u of %u plans\n",
                 static_cast<unsigned long>(seed), f.reached ? "reached" : "timed out", f.time, f.collisions,
                 f.close_calls, f.outside_personal / f.time, f.nearest, f.escapes, f.plans);
