@@ -63,21 +63,23 @@ void LocalizerSelector::AddOdometry(const OdometryReading& raw) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     reading = jump_filter_.Filter(raw);
+    last_odometry_ = reading;
   }
   for (auto& l : localizers_) l->AddOdometry(reading);
-  {
-    std::lock_guard<std::mutex> lock(search_mutex_);
-    if (search_) search_->AddOdometry(reading);
-  }
+  if (const std::shared_ptr<Localizer> search = RunningSearch()) search->AddOdometry(reading);
   Arbitrate(reading.stamp);
 }
 
 bool LocalizerSelector::AddScan(const ScanReading& scan) {
   bool used = false;
   for (auto& l : localizers_) used |= l->AddScan(scan);
-  {
+  // The search is fed outside the lock (100 000 particles at first); what it makes of each scan it
+  // uses is kept for SearchEstimate, stamped with the scan, so a caller counts scans, not calls.
+  if (const std::shared_ptr<Localizer> search = RunningSearch(); search && search->AddScan(scan)) {
+    PoseEstimate e = search->Estimate();
+    e.stamp = scan.stamp;
     std::lock_guard<std::mutex> lock(search_mutex_);
-    if (search_) search_->AddScan(scan);
+    if (search_ == search) search_estimate_ = e;
   }
   // The laser is there when scans arrive, used or not: a filter skips scans while the robot
   // stands still.
@@ -113,40 +115,72 @@ bool LocalizerSelector::SearchAround(const Pose2& pose, const Eigen::Matrix3d& c
 bool LocalizerSelector::SetMap(const OccupancyGrid& map) {
   bool any = false;
   for (auto& l : localizers_) any |= l->SetMap(map);
-  std::lock_guard<std::mutex> lock(search_mutex_);
-  if (search_) search_->SetMap(map);
+  {
+    std::lock_guard<std::mutex> lock(search_mutex_);
+    map_version_++;
+  }
+  if (const std::shared_ptr<Localizer> search = RunningSearch()) search->SetMap(map);
   return any;
 }
 
-bool LocalizerSelector::StartSearch() {
-  std::unique_ptr<Localizer> search = Selected().Fresh();
-  if (!search || !search->GlobalRelocalize()) return false;
+std::shared_ptr<Localizer> LocalizerSelector::RunningSearch() const {
   std::lock_guard<std::mutex> lock(search_mutex_);
-  search_ = std::move(search);
+  return search_;
+}
+
+bool LocalizerSelector::StartSearch() {
+  uint64_t version = 0;
+  {
+    std::lock_guard<std::mutex> lock(search_mutex_);
+    version = map_version_;
+  }
+  // The selected method's kind, or the first that can search (under "auto" odometry may answer
+  // while the scans fit poorly).
+  std::unique_ptr<Localizer> fresh = Selected().Fresh();
+  for (size_t i = 0; !fresh && i < localizers_.size(); ++i) fresh = localizers_[i]->Fresh();
+  if (!fresh) return false;
+  std::optional<OdometryReading> odometry;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    odometry = last_odometry_;
+  }
+  if (odometry) fresh->AddOdometry(*odometry);  // where the robot is in the odometry frame now
+  if (!fresh->GlobalRelocalize()) return false;
+  std::lock_guard<std::mutex> lock(search_mutex_);
+  if (map_version_ != version) return false;  // a new map came meanwhile: the caller searches again
+  search_estimate_ = fresh->Estimate();  // scattered over the map (valid once odometry came)
+  search_estimate_.valid = true;         // a search runs
+  search_ = std::move(fresh);
   return true;
 }
 
 PoseEstimate LocalizerSelector::SearchEstimate() const {
   std::lock_guard<std::mutex> lock(search_mutex_);
-  return search_ ? search_->Estimate() : PoseEstimate{};
+  return search_ ? search_estimate_ : PoseEstimate{};
 }
 
 void LocalizerSelector::EndSearch(bool adopt) {
-  std::unique_ptr<Localizer> search;
+  std::lock_guard<std::mutex> reset(reset_mutex_);
+  PoseEstimate found;
   {
     std::lock_guard<std::mutex> lock(search_mutex_);
-    search = std::move(search_);
+    if (!search_) return;
+    found = search_estimate_;
+    search_.reset();
   }
-  if (!adopt || !search) return;
-  const PoseEstimate found = search->Estimate();
-  if (found.valid) ResetPose(found.pose, 0.5 * (found.covariance + found.covariance.transpose()));
+  if (adopt && found.valid) ResetAll(found.pose, 0.5 * (found.covariance + found.covariance.transpose()));
 }
 
 void LocalizerSelector::ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
+  std::lock_guard<std::mutex> reset(reset_mutex_);
   {
     std::lock_guard<std::mutex> lock(search_mutex_);
     search_.reset();
   }
+  ResetAll(pose, covariance);
+}
+
+void LocalizerSelector::ResetAll(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   for (auto& l : localizers_) l->SetPose(pose, covariance);
 }
 

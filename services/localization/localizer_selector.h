@@ -4,6 +4,7 @@
 // context every 0.2 s of sensor time (the book's sampling), switching after ten wins in a row.
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,8 +40,9 @@ class LocalizerSelector : public Localizer {
   bool GlobalRelocalize() override;   // on every localiser that can; true if any did
   bool SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) override;  // likewise
   bool SetMap(const OccupancyGrid& map) override;  // every localiser's map (and the search's)
-  // The search runs beside the selected localiser, on a Fresh() one of its kind fed the same
-  // odometry and scans; adopting it re-anchors every localiser at the search's estimate.
+  // The search runs beside the selected localiser, on a Fresh() one of its kind (or of the first
+  // kind that can) fed the same odometry and scans; SearchEstimate is what it made of the last
+  // scan it used, stamped with that scan; adopting it re-anchors every localiser there.
   bool StartSearch() override;
   PoseEstimate SearchEstimate() const override;
   void EndSearch(bool adopt) override;
@@ -55,12 +57,20 @@ class LocalizerSelector : public Localizer {
 
   std::vector<std::unique_ptr<Localizer>> localizers_;  // fixed after start-up
   OdometryJumpFilter jump_filter_;                       // guarded by mutex_
+  std::optional<OdometryReading> last_odometry_;         // guarded by mutex_: a search starts from it
   mutable std::mutex mutex_;
   size_t selected_ = 0;
-  // The whole-map search beside the selected localiser, if one runs. Its own mutex: feeding it a
-  // scan (100 000 particles at first) must not hold up the selection.
+  // The whole-map search beside the selected localiser, if one runs. Fed outside any lock of
+  // ours (a scan on 100 000 particles must hold up neither the selection nor the control loop);
+  // shared so that ending it while it is fed is safe.
   mutable std::mutex search_mutex_;
-  std::unique_ptr<Localizer> search_;
+  std::shared_ptr<Localizer> search_;
+  PoseEstimate search_estimate_;  // after the last scan it used
+  uint64_t map_version_ = 0;      // SetMap calls: a search started on an older map is not kept
+  std::shared_ptr<Localizer> RunningSearch() const;
+  // Held through a re-anchoring (SetPose, adopting a search), so two never interleave.
+  std::mutex reset_mutex_;
+  void ResetAll(const Pose2& pose, const Eigen::Matrix3d& covariance);
   std::unique_ptr<MethodArbiter> arbiter_;  // set while "auto" is selected
   double last_scan_stamp_ = -1e18, last_evaluation_ = -1e18;
   Localizer& Selected() const;

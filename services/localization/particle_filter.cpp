@@ -33,7 +33,7 @@ std::unique_ptr<Localizer> ParticleFilterLocalizer::Fresh() const {
     model = model_;
   }
   ParticleFilterOptions o = o_;
-  ++o.seed;  // another draw than this filter's
+  o.seed += ++fresh_filters_;  // another draw than this filter's, and than the last search's
   return std::unique_ptr<Localizer>(new ParticleFilterLocalizer(std::move(model), o));
 }
 

@@ -12,6 +12,7 @@
 //    agreeing with the map (recovery from a wrong pose or a kidnapping).
 // Units: metres, radians; poses in the map frame; odometry in the odom frame.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -145,6 +146,7 @@ class ParticleFilterLocalizer : public Localizer {
   double BeamModelLogLikelihood(const Pose2& pose, const std::vector<ScanBeam>& beams, double range_max) const;
 
   mutable std::mutex mutex_;
+  mutable std::atomic<uint64_t> fresh_filters_{0};  // made by Fresh()
   std::mt19937_64 rng_;
   std::vector<Particle> particles_;
   bool have_odom_ = false;

@@ -603,27 +603,31 @@ void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e,
 }
 
 void NavigationExecutive::Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
-                                uint64_t scans, double now) {
+                                double now) {
   if (!lost_) {
     if (search_beside_) localizer_.EndSearch(false);  // found by the estimate itself
     search_beside_ = false;
     search_ = SearchStage::kNone;
     return;
   }
+  bool search_settling = false;
   if (search_beside_) {
     // The whole-map search replaces the estimate only once it fits as a found pose does, for
-    // lost_scans scans in a row.
+    // lost_scans scans in a row (scans it used: one stamp each).
     const localization::PoseEstimate found = localizer_.SearchEstimate();
-    const double spread = found.PositionSpread();
-    if (scans == 0 || scans != search_scans_) {
-      search_scans_ = scans;
-      search_fits_ = found.valid && found.quality >= watch_.found_quality && spread <= watch_.max_spread ? search_fits_ + 1 : 0;
+    const bool fits = found.quality >= watch_.found_quality && found.PositionSpread() <= watch_.max_spread;
+    if (!found.valid) {
+      search_beside_ = false;  // ended by someone else (a pose set, a new map)
+    } else if (found.stamp != search_stamp_) {
+      search_stamp_ = found.stamp;
+      search_fits_ = fits ? search_fits_ + 1 : 0;
     }
-    if (search_fits_ >= std::max(1, watch_.lost_scans)) {
+    if (search_beside_ && search_fits_ >= std::max(1, watch_.lost_scans)) {
       localizer_.EndSearch(true);
       search_beside_ = false;
       return;
     }
+    search_settling = search_beside_ && found.PositionSpread() > watch_.max_spread;
   }
   if (search_ == SearchStage::kNone) {
     if (!brain_.active(static_cast<size_t>(wake_up_))) return;
@@ -637,6 +641,10 @@ void NavigationExecutive::Search(const localization::PoseEstimate& estimate, con
       return;
     }
   } else if (now < global_search_at_) {
+    return;
+  } else if (search_settling) {
+    // Still spread over the map: let it settle rather than scatter it again.
+    global_search_at_ = now + watch_.global_search_every;
     return;
   }
   search_beside_ = localizer_.StartSearch();
@@ -767,7 +775,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
   }
 
-  if (wake_up_ >= 0) Search(estimate, in.odometry, in.scans, now);
+  if (wake_up_ >= 0) Search(estimate, in.odometry, now);
 
   const bool fresh = in.sensors_fresh && estimate.valid;
   // Another behaviour taking the robot ends a recovery; the leg is replanned when navigation has it back.

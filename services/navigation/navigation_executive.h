@@ -289,10 +289,9 @@ class NavigationExecutive {
   void WatchLocalization(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
                          uint64_t scans, double now);
   // The wake-up's search for a lost pose (LocalizationWatchOptions): begins once the wake-up has
-  // the robot, first nearby, then over the whole map (beside the estimate where the localiser
-  // can: `scans` counts the scans, to judge the search's fit scan by scan).
-  void Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry, uint64_t scans,
-              double now);
+  // the robot, first nearby, then over the whole map (beside the estimate where the localiser can;
+  // one still settling is left to settle, one settled where it does not fit starts again).
+  void Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry, double now);
 
   planning::PlanningEngine& planning_;
   localization::Localizer& localizer_;
@@ -359,10 +358,10 @@ class NavigationExecutive {
   SearchStage search_ = SearchStage::kNone;  // of the current loss
   double global_search_at_ = 0.0;            // when the next global search begins
   // The global search runs beside the estimate (Localizer::StartSearch), which goes on tracking:
-  // scans in a row in which it fitted as a found pose does.
+  // scans in a row in which it fitted as a found pose does, and the stamp of the last one.
   bool search_beside_ = false;
   int search_fits_ = 0;
-  uint64_t search_scans_ = 0;
+  double search_stamp_ = -1.0;
   uint64_t last_scans_ = 0;
   int poor_scans_ = 0;          // scans in a row that fitted poorly
   std::atomic<bool> lost_{false};  // read by gRPC threads

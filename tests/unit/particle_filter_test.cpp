@@ -197,6 +197,24 @@ TEST(LocalizerSelector, AWholeMapSearchRunsBesideTheEstimate) {
   }
 }
 
+// With odometry answering (as "auto" picks it while the scans fit poorly) the search is still a
+// particle filter's; a pose set by hand ends it.
+TEST(LocalizerSelector, ASearchRunsWhicheverMethodAnswersAndAPoseSetEndsIt) {
+  World world = DefaultWorld();
+  LocalizerSelector selector;
+  selector.Add(std::make_unique<OdometryLocalizer>(world.start));
+  selector.Add(std::make_unique<ParticleFilterLocalizer>(world.map));
+  selector.AddOdometry({Pose2(), Eigen::Matrix3d::Zero(), 0.0});
+  selector.Select("odometry");
+  ASSERT_TRUE(selector.StartSearch());
+  EXPECT_TRUE(selector.SearchEstimate().valid);
+  EXPECT_GT(selector.SearchEstimate().PositionSpread(), 1.0) << "scattered over the map";
+  selector.SetPose(world.start, Eigen::Matrix3d::Identity() * 1e-3);
+  EXPECT_FALSE(selector.SearchEstimate().valid);
+  selector.EndSearch(true);  // nothing to adopt
+  EXPECT_LT(Distance(selector.Estimate().pose.translation(), world.start.translation()), 1e-9);
+}
+
 // "auto" (book chapter 10): the arbiter hands the pose to the particle filter while its scans fit
 // the map, to odometry ten evaluations (2 s) after the laser has been silent for a second, and back
 // when scans return.
