@@ -60,8 +60,9 @@ enum class Knowledge { kTruth, kTruthAll, kLaser, kLaserTrueVelocity };
 
 using sim::WalkingVelocity;
 
+// `planner`: navd's crowd RRT options with the command line's changes; speed and radius are set here.
 RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge, double distance, bool print_contacts, double speed,
-               double approach_deceleration) {
+               const planning::CrowdRrtOptions& planner) {
   const bool truth_people = knowledge == Knowledge::kTruth || knowledge == Knowledge::kTruthAll;
   sim::SimulationOptions so;
   so.seed = seed;
@@ -74,11 +75,11 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
 
   const navigation::PeopleAwareOptions people;  // navd's defaults
   navigation::CrowdControllerOptions control = people.control;
+  control.planner = planner;
   control.limits = {std::min(speed, world.robot.max_speed), world.robot.max_angular_speed, world.robot.max_accel,
                     world.robot.max_angular_accel};
   control.planner.desired_speed = control.limits.max_speed;
   control.planner.robot_radius = world.robot.radius;
-  control.planner.approach_deceleration = approach_deceleration;
   navigation::CrowdController controller(control);
   navigation::MovingObstacleDetector segmenter(people.detection);
   segmenter.SetMap(std::make_shared<RayCaster>(world.map));
@@ -260,10 +261,13 @@ int main(int argc, char** argv) {
   app.add_option("--distance", distance, "metres down the street")->check(CLI::Range(1.0, 1000.0));
   double speed = 1.5;
   app.add_option("--speed", speed, "desired speed among people, m/s (navd --crowd-speed)")->check(CLI::Range(0.1, 5.0));
-  double approach = navigation::PeopleAwareOptions{}.control.planner.approach_deceleration;
-  app.add_option("--approach-deceleration", approach,
+  planning::CrowdRrtOptions planner = navigation::PeopleAwareOptions{}.control.planner;
+  app.add_option("--approach-deceleration", planner.approach_deceleration,
                  "m/s²: plans too fast to stop short of someone ahead are pruned unless braking (0: off, navd's default)")
       ->check(CLI::Range(0.0, 10.0));
+  app.add_option("--escape-time", planner.escape_time, "s: how long each escape manoeuvre is judged for")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 5.0));
   bool straight = false;
   app.add_flag("--straight-walkers", straight, "walkers keep one goal far down the street, no Brownian motion");
   bool print_contacts = false;
@@ -297,7 +301,7 @@ int main(int argc, char** argv) {
   std::vector<double> shares;
   for (int i = 0; i < runs; ++i) {
     const uint64_t seed = first + static_cast<uint64_t>(i);
-    const RunFigures f = Run(scenario, seed, knowledge, distance, print_contacts, speed, approach);
+    const RunFigures f = Run(scenario, seed, knowledge, distance, print_contacts, speed, planner);
     std::printf("seed %lu: %s, %.1f s, collisions %u, close calls %u, outside personal %.3f, nearest %.2f m, escapes %u of %u plans\n",
                 static_cast<unsigned long>(seed), f.reached ? "reached" : "timed out", f.time, f.collisions,
                 f.close_calls, f.outside_personal / f.time, f.nearest, f.escapes, f.plans);
