@@ -45,11 +45,19 @@ class CrowdField {
     const CellIndex start = costmap.grid().CellOf(r.start.position());
     if (costmap.grid().Contains(start) && costmap.IsLethal(start))
       least_wall_distance_ = std::max(0.5 * costmap.grid().resolution(), costmap.distance(costmap.grid().Flat(start)));
+    // The same for the map's edge, which is kept as far as a wall (below).
+    const double edge = EdgeDistance(r.start.position());
+    if (edge < costmap.options().inflation_radius) least_edge_distance_ = std::max(0.5 * costmap.grid().resolution(), edge);
   }
   // Whether the robot may be at `p` as far as the map goes.
   bool Allowed(const Point2& p) const {
     const CellIndex c = costmap_.grid().CellOf(p);
     if (!costmap_.grid().Contains(c)) return false;
+    // Nothing lies beyond the map's edge, and the simulator's bodies hit it as a wall; at the
+    // street's open ends nothing in the map inflates it, and escapes drove the robot's rim past it
+    // (navd's street runs, seed 330).
+    const double edge = EdgeDistance(p);
+    if (edge < costmap_.options().inflation_radius && edge < least_edge_distance_) return false;
     return !costmap_.IsLethal(c) || costmap_.distance(costmap_.grid().Flat(c)) >= least_wall_distance_;
   }
   // g1 + g2 at `p` and time `t`; infinity where the robot may not be (walls, a person's body).
@@ -103,11 +111,19 @@ class CrowdField {
     return best;
   }
 
+  // Metres from `p` to the nearest side of the map's rectangle (negative outside it).
+  double EdgeDistance(const Point2& p) const {
+    const OccupancyGrid& g = costmap_.grid();
+    const Point2 lo = g.origin(), hi = lo + g.resolution() * Point2(g.width(), g.height());
+    return std::min({p.x() - lo.x(), hi.x() - p.x(), p.y() - lo.y(), hi.y() - p.y()});
+  }
+
   const Costmap& costmap_;
   const CrowdRrtOptions& o_;
   const std::vector<Point2>& path_;
   std::vector<MovingBody> people_;
   double least_wall_distance_ = std::numeric_limits<double>::infinity();  // m; infinity: lethal is lethal
+  double least_edge_distance_ = std::numeric_limits<double>::infinity();  // m; likewise for the map's edge
 };
 
 // The vertices the tree may grow from, bucketed on a square grid round the start, so the nearest

@@ -239,6 +239,24 @@ TEST(CrowdRrt, ARobotPushedIntoTheInflationDrivesOut) {
   for (const auto& s : t.states) EXPECT_GT(s.y, 0.4) << s.t;
 }
 
+TEST(CrowdRrt, TheMapsOpenEndIsKeptAsFarAsAWall) {
+  // At the street's open end (x = 0: no wall in the map, but nothing beyond it, which the
+  // simulator's bodies hit as a wall) a robot that escapes had driven back up the street at
+  // 1.2 m/s, facing the end 1.3 m away, turns round or stops with its centre the inflation's
+  // 0.4 m inside the map, as from a wall. Before, plans used the last 0.4 m, and navd's street runs
+  // (seed 330) drove its rim past the end three times.
+  const planning::Costmap cm = Street();
+  for (int k = 0; k < 10; ++k) {
+    CrowdRrtRequest r = DownTheStreet(1.2);
+    r.seed = 1100 + k;
+    r.start.x = 1.3;
+    r.start.yaw = M_PI;
+    const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+    ASSERT_GE(t.states.size(), 2u);
+    for (const auto& s : t.states) EXPECT_GE(s.x, 0.4 - 1e-9) << "seed " << r.seed << " at " << s.t << " s";
+  }
+}
+
 TEST(CrowdRrt, ARobotLeftStandingFacingTheWallTurnsAndDrivesOn) {
   // Walkers pushed it against the wall and left it facing it, 64° off the way (seen in the street
   // bench: it stood there for the rest of the run). Every extension that sets off moves it nearer
