@@ -105,8 +105,7 @@ TEST(DeliveryE2E, PauseHoldsTheRobotResumeFinishesAndFeedbackExplains) {
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
     Client other({stack.address(), 5.0});
     other.Pause();
-    std::this_thread::sleep_for(std::chrono::milliseconds(600));
-    EXPECT_TRUE(RobotStandsStill(*telemetry, 0.4));
+    EXPECT_TRUE(RobotStandsStill(*telemetry, 0.4, 1.0));
     const auto s = other.GetStatus();
     EXPECT_TRUE(s.paused());
     EXPECT_EQ(s.state(), v1::PAUSED);

@@ -112,8 +112,7 @@ TEST(ExplorationE2E, BadRequestsAreRefusedAndStopEndsTheRunKeepingItsMap) {
   EXPECT_EQ(served.info().name(), "explored");
   EXPECT_EQ(served.info().width(), 600u);  // 30 m at 5 cm
   const auto telemetry = stack.MakeTelemetry();
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  EXPECT_TRUE(RobotStandsStill(*telemetry, 0.5));
+  EXPECT_TRUE(RobotStandsStill(*telemetry, 0.5, 1.0));
   ExpectError([&] { client.StopExploration(); }, grpc::StatusCode::FAILED_PRECONDITION, "not exploring");
 }
 

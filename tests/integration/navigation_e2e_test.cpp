@@ -160,8 +160,7 @@ TEST(NavigationE2E, StreamReportsProgressAndCancelStopsTheRobot) {
   EXPECT_EQ(result.outcome(), v1::CANCELED);
   ASSERT_FALSE(remaining.empty());
   // The robot stops: its true position no longer changes.
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  EXPECT_TRUE(RobotStandsStill(telemetry, 0.5));
+  EXPECT_TRUE(RobotStandsStill(telemetry, 0.5, 1.0));
   EXPECT_FALSE(stack.client().GetStatus().active());
 }
 

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "dds/conversions.h"
+
 namespace navd::testing {
 
 std::string NavdBinary() { return NAVD_BINARY; }
@@ -17,13 +19,28 @@ std::string NavdReplayBinary() { return NAVD_REPLAY_BINARY; }
 std::string NavdExploreBinary() { return NAVD_EXPLORE_BINARY; }
 std::string SourceDir() { return NAVD_SOURCE_DIR; }
 
-::testing::AssertionResult RobotStandsStill(const Telemetry& telemetry, double gap) {
-  const auto a = telemetry.WaitForSimStatus(5.0);
-  std::this_thread::sleep_for(std::chrono::duration<double>(gap));
-  const auto b = telemetry.WaitForSimStatus(5.0);
-  if (!a || !b) return ::testing::AssertionFailure() << "no simulator status over DDS";
+::testing::AssertionResult RobotStandsStill(const Telemetry& telemetry, double gap, double settle) {
+  // Simulated time, not the wall's: under navsim --lockstep the simulation waits for navd, and a
+  // loaded machine stalls it for longer than any wall-clock pause a test could afford.
+  const auto sample_after = [&](std::optional<double> since, double seconds) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (std::chrono::steady_clock::now() < end) {
+      auto s = telemetry.WaitForSimStatus(5.0);
+      if (!s) return s;
+      if (!since) since = dds::FromTime(s->header().stamp());
+      if (dds::FromTime(s->header().stamp()) >= *since + seconds) return s;
+    }
+    return std::optional<navsim_msgs::msg::dds_::SimStatus_>{};
+  };
+  const auto a = sample_after(std::nullopt, settle);
+  if (!a) return ::testing::AssertionFailure() << "no simulator status over DDS";
+  const double from = dds::FromTime(a->header().stamp());
+  const auto b = sample_after(from, gap);
+  if (!b) return ::testing::AssertionFailure() << "no simulator status over DDS " << gap << " s after t=" << from << " s";
   const double moved = std::hypot(a->x() - b->x(), a->y() - b->y());
-  if (moved >= 1e-3) return ::testing::AssertionFailure() << "the robot moved " << moved << " m in " << gap << " s";
+  if (moved >= 1e-3)
+    return ::testing::AssertionFailure() << "the robot moved " << moved << " m from t=" << from << " s to t="
+                                         << dds::FromTime(b->header().stamp()) << " s (simulated)";
   return ::testing::AssertionSuccess();
 }
 

@@ -48,9 +48,10 @@ class NavdStack {
   std::unique_ptr<Client> client_;
 };
 
-// Success when two simulator status samples `gap` seconds apart show the true position moved
-// less than a millimetre.
-::testing::AssertionResult RobotStandsStill(const Telemetry& telemetry, double gap = 0.3);
+// Success when two simulator status samples `gap` simulated seconds apart show the true position
+// moved less than a millimetre; the first is taken `settle` simulated seconds after the next
+// sample (time for a robot told to stop to brake).
+::testing::AssertionResult RobotStandsStill(const Telemetry& telemetry, double gap = 0.3, double settle = 0.0);
 
 // Paths of the built binaries and the source tree (set by CMake).
 std::string NavdBinary();
