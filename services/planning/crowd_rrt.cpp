@@ -40,11 +40,14 @@ class CrowdField {
     for (const MovingBody& b : r.people)
       if (Distance(b.position, r.start.position()) <= o.people_range) people_.push_back(b);
     // A robot that passing people pushed into the inflation (lethal for plans, not yet a wall)
-    // may move anywhere no nearer the wall than it is, so it can get out; elsewhere the
-    // inflation holds.
+    // may move anywhere no nearer the wall than it is, and never within escape_touch of it, so it
+    // can get out; elsewhere the inflation holds. Measured from the robot's centre to the walls'
+    // cell edges, as the simulator's discs meet walls: from cell centre to cell centre, "no
+    // nearer" let it move anywhere in its row of cells, down to touching the wall (the street
+    // bench without the tight retry below touched it twice in seed 19).
     const CellIndex start = costmap.grid().CellOf(r.start.position());
     if (costmap.grid().Contains(start) && costmap.IsLethal(start))
-      least_wall_distance_ = std::max(0.5 * costmap.grid().resolution(), costmap.distance(costmap.grid().Flat(start)));
+      least_wall_distance_ = std::min(WallDistance(r.start.position()), o.robot_radius + o.escape_touch);
     // The same for the map's edge, which is kept as far as a wall (below).
     const double edge = EdgeDistance(r.start.position());
     if (edge < costmap.options().inflation_radius) least_edge_distance_ = std::max(0.5 * costmap.grid().resolution(), edge);
@@ -58,7 +61,7 @@ class CrowdField {
     // (navd's street runs, seed 330).
     const double edge = EdgeDistance(p);
     if (edge < costmap_.options().inflation_radius && edge < least_edge_distance_) return false;
-    return !costmap_.IsLethal(c) || costmap_.distance(costmap_.grid().Flat(c)) >= least_wall_distance_;
+    return !costmap_.IsLethal(c) || WallDistance(p) >= least_wall_distance_;
   }
   // g1 + g2 at `p` and time `t`; infinity where the robot may not be (walls, a person's body).
   double operator()(const Point2& p, double t) const {
@@ -107,6 +110,22 @@ class CrowdField {
       const Point2 a = path_[i - 1], ab = path_[i] - a;
       const double f = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
       best = std::min(best, Distance(p, a + f * ab));
+    }
+    return best;
+  }
+
+  // Metres from `p` to the nearest edge of an obstacle cell; a lethal cell has one within the
+  // inflation radius of its centre, so the search stops a cell beyond that.
+  double WallDistance(const Point2& p) const {
+    const OccupancyGrid& g = costmap_.grid();
+    const int reach = static_cast<int>(std::ceil(costmap_.options().inflation_radius / g.resolution())) + 2;
+    const CellIndex c = g.CellOf(p);
+    double best = std::numeric_limits<double>::infinity();
+    for (int y = c.y - reach; y <= c.y + reach; ++y) {
+      for (int x = c.x - reach; x <= c.x + reach; ++x) {
+        const CellIndex q{x, y};
+        if (g.Contains(q) && costmap_.distance(g.Flat(q)) <= 0.0) best = std::min(best, g.DistanceToCell(p, q));
+      }
     }
     return best;
   }
