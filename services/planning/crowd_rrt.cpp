@@ -61,7 +61,8 @@ class CrowdField {
     // (navd's street runs, seed 330).
     const double edge = EdgeDistance(p);
     if (edge < costmap_.options().inflation_radius && edge < least_edge_distance_) return false;
-    return !costmap_.IsLethal(c) || WallDistance(p) >= least_wall_distance_;
+    if (!costmap_.IsLethal(c)) return true;
+    return std::isfinite(least_wall_distance_) && WallDistance(p) >= least_wall_distance_;
   }
   // g1 + g2 at `p` and time `t`; infinity where the robot may not be (walls, a person's body).
   double operator()(const Point2& p, double t) const {
