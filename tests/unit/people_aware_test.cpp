@@ -258,6 +258,39 @@ TEST(CrowdRrt, ARobotInTheInflationKeepsItsRimOffTheWall) {
   }
 }
 
+TEST(CrowdRrt, AnEscapeCanStillStopShortOfTheWall) {
+  // At 1.5 m/s heading across the street at the wall, with walkers coming up behind and beside the
+  // robot at its speed or faster, nothing is valid and the robot escapes. Keeping its speed keeps
+  // the most room from the walkers for the fan's second, and then it could no longer stop before
+  // the wall: whatever escape it takes, braking after it stops it outside the inflation.
+  const planning::Costmap cm = Street();
+  int escapes = 0;
+  for (const double y0 : {2.0, 2.2, 2.4, 2.6}) {
+    for (const double dx : {-0.3, 0.0, 0.3}) {
+      for (const double chase : {1.6, 1.8}) {
+        CrowdRrtRequest r = DownTheStreet(1.5);
+        r.start = {10.0, y0, -M_PI / 2, 1.5, 0.0, 0.0};
+        r.people = {{{10.0 + dx, y0 + 0.85}, {0.0, -chase}, 0.25, true},
+                    {{10.0 + 0.9, y0 + 0.3}, {0.0, -chase}, 0.25, true},
+                    {{10.0 - 0.9, y0 + 0.3}, {0.0, -chase}, 0.25, true}};
+        const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, Options());
+        ASSERT_GE(t.states.size(), 2u);
+        if (!t.escape) continue;
+        ++escapes;
+        planning::UnicycleState s = t.states.back();
+        while (s.v > 1e-9) {
+          s = planning::Propagate(s, {-r.limits.max_accel, -s.w / 0.25}, 0.05, r.limits);
+          EXPECT_FALSE(cm.IsLethal(cm.grid().CellOf(s.position())))
+              << "y0 " << y0 << ", dx " << dx << ", chase " << chase << ": braking after the escape reaches ("
+              << s.x << ", " << s.y << ")";
+          if (cm.IsLethal(cm.grid().CellOf(s.position()))) break;
+        }
+      }
+    }
+  }
+  EXPECT_GT(escapes, 0) << "the sweep never left the robot without a valid plan";
+}
+
 TEST(CrowdRrt, TheMapsOpenEndIsKeptAsFarAsAWall) {
   // At the street's open end (x = 0: no wall in the map, but nothing beyond it, which the
   // simulator's bodies hit as a wall) a robot that escapes had driven back up the street at
