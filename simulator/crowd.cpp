@@ -29,6 +29,7 @@ void Crowd::NewGoal(Person& p, double now) {
   }
   std::uniform_real_distribution<double> period(d_.goal_period_min, d_.goal_period_max);
   p.next_goal_change = now + period(rng_);
+  p.last_goal_change = now;
   ++goal_changes_;
 }
 
@@ -91,6 +92,7 @@ void Crowd::Step(double now, double dt, const OccupancyQuery& occupied, const Co
       const int h = occupied(next, d_.radius, p.id, false);
       if (turn == 0.0) hit = h;
       if (h == kFree) {
+        if (turn != 0.0 && hit >= kFirstPersonId) p.last_step_aside = now;
         p.velocity = (next - p.position) / dt;
         p.position = next;
         moved = true;

@@ -39,6 +39,8 @@ struct Person {
   double speed = 0.0;        // m/s, preferred
   int direction = 1;         // street: +1 walks towards +x, -1 towards -x
   double next_goal_change = 0.0;
+  double last_goal_change = 0.0;  // s: when they last took a new goal
+  double last_step_aside = -1e9;  // s: when another person in their way last made them step aside
 };
 
 // Where a person walks: towards their goal at their preferred speed (m/s). Their step's velocity

@@ -13,6 +13,12 @@ double OrientationBeta(double speed) {
   return 0.2;
 }
 
+double VelocityStd(const TrackedPerson& t) {
+  // The larger eigenvalue of the symmetric 2x2 velocity block.
+  const double a = t.covariance(2, 2), b = t.covariance(2, 3), d = t.covariance(3, 3);
+  return std::sqrt(std::max(0.0, 0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + b * b)));
+}
+
 void PersonTracker::Predict(TrackedPerson& t, double dt) const {
   if (dt <= 0.0) return;
   Eigen::Matrix4d f = Eigen::Matrix4d::Identity();

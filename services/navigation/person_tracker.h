@@ -52,6 +52,9 @@ struct TrackedPerson {
 // Eq. 6.
 double OrientationBeta(double speed);
 
+// The standard deviation of a track's velocity along its least certain direction, m/s.
+double VelocityStd(const TrackedPerson& t);
+
 class PersonTracker {
  public:
   explicit PersonTracker(const PersonTrackerOptions& options = {}) : o_(options) {}

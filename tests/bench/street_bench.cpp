@@ -16,7 +16,10 @@
 // escapes (nothing valid, or a short plan the escapes' fan replaced). With --collisions, each
 // collision with the plans of the 2.5 s before it (and, for each, what it made of the person
 // touched later: how far off and how fast it had them, and how close its way passed their
-// prediction) and the tracker's view of who was touched.
+// prediction) and the tracker's view of who was touched (and when that person last took a new goal
+// or stepped aside for someone). With laser people, also how good the tracking was near the robot
+// (within 8 m): how far each detection and track was from the person's centre, how far off each
+// track's velocity was from the velocity the person walks with, and the tracks' own velocity σ.
 //   build/tests/street_bench [--runs N] [--first-seed S] [--people MODE] [--speed V] [--straight-walkers] [--collisions]
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -26,6 +29,8 @@
 #include <deque>
 #include <limits>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "services/common/ray_caster.h"
 #include "services/navigation/crowd_controller.h"
@@ -53,16 +58,45 @@ struct RunFigures {
   uint32_t close_calls = 0;
   uint32_t plans = 0, escapes = 0;  // escapes: nothing valid, or a short plan the escapes' fan replaced
   bool reached = false;
+  // The tracker's errors (laser people only), for people within kTrackedRange of the robot: each
+  // detection's distance from the person's centre, and each confirmed track's position and
+  // velocity error (against the velocity the person walks with, towards their goal), every control period.
+  std::vector<double> detection_errors, position_errors, velocity_errors;
+  std::vector<double> velocity_stds;  // the tracks' own velocity σ (the larger axis), m/s
+  std::vector<double> coasting_errors, seen_velocity_errors;  // tracks unseen for a scan or more; the others' velocity
 };
+constexpr double kTrackedRange = 8.0;  // m
 constexpr double kCloseCall = 0.70, kCloseCallEnd = 0.90;  // m, centre to centre (contact: 0.55)
 
 enum class Knowledge { kTruth, kTruthAll, kLaser, kLaserTrueVelocity };
 
 using sim::WalkingVelocity;
 
+// The person nearest `at` within `within` metres, or none.
+const sim::Person* NearestPerson(const std::vector<sim::Person>& people, const Point2& at, double within) {
+  const sim::Person* nearest = nullptr;
+  for (const sim::Person& p : people) {
+    if (Distance(p.position, at) < within) {
+      within = Distance(p.position, at);
+      nearest = &p;
+    }
+  }
+  return nearest;
+}
+
+// The median, 90th and 99th percentiles of `values` (sorted here), or "none".
+std::string Quantiles(std::vector<double>& values) {
+  if (values.empty()) return "none";
+  std::sort(values.begin(), values.end());
+  char text[80];
+  std::snprintf(text, sizeof text, "median %.3f, 90%% %.3f, 99%% %.3f", values[values.size() / 2], values[values.size() * 9 / 10],
+                values[values.size() * 99 / 100]);
+  return text;
+}
+
 // `planner`: navd's crowd RRT options with the command line's changes; speed and radius are set here.
 RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge, double distance, bool print_contacts, double speed,
-               const planning::CrowdRrtOptions& planner) {
+               const planning::CrowdRrtOptions& planner, const navigation::PersonTrackerOptions& tracking) {
   const bool truth_people = knowledge == Knowledge::kTruth || knowledge == Knowledge::kTruthAll;
   sim::SimulationOptions so;
   so.seed = seed;
@@ -73,7 +107,8 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
   co.decay_radius = 0.5;
   const planning::Costmap costmap(std::make_shared<OccupancyGrid>(world.map), co);
 
-  const navigation::PeopleAwareOptions people;  // navd's defaults
+  navigation::PeopleAwareOptions people;  // navd's defaults
+  people.tracking = tracking;
   navigation::CrowdControllerOptions control = people.control;
   control.planner = planner;
   control.limits = {std::min(speed, world.robot.max_speed), world.robot.max_angular_speed, world.robot.max_accel,
@@ -125,15 +160,20 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
           Point2 velocity = t.velocity;
           if (knowledge == Knowledge::kLaserTrueVelocity) {
             // The person the track is on: the nearest within half a metre.
-            double nearest = 0.5;
-            for (const sim::Person& p : s.people()) {
-              if (Distance(p.position, t.position) < nearest) {
-                nearest = Distance(p.position, t.position);
-                velocity = WalkingVelocity(p);
-              }
-            }
+            if (const sim::Person* on = NearestPerson(s.people(), t.position, 0.5)) velocity = WalkingVelocity(*on);
           }
           bodies.push_back({t.position, velocity, people.person_radius, true});
+          if (Distance(t.position, pose.translation()) > kTrackedRange) continue;
+          const sim::Person* truth = NearestPerson(s.people(), t.position, 0.5);
+          if (!truth) continue;
+          f.position_errors.push_back(Distance(t.position, truth->position));
+          f.velocity_errors.push_back((t.velocity - WalkingVelocity(*truth)).norm());
+          f.velocity_stds.push_back(navigation::VelocityStd(t));
+          if (s.now() - t.last_seen > 0.15) {  // not in the last scan (10 Hz)
+            f.coasting_errors.push_back(Distance(t.position, truth->position));
+          } else {
+            f.seen_velocity_errors.push_back((t.velocity - WalkingVelocity(*truth)).norm());
+          }
         }
       }
       const uint64_t plans_before = controller.plans();
@@ -203,7 +243,8 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
         for (const sim::Person& p : s.people()) {
           if (Distance(p.position, rp.translation()) > 0.6) continue;
           const Point2 rel = rp.inverse() * p.position;
-          std::printf("    person %d at (%.2f, %.2f) in the robot's frame\n", p.id, rel.x(), rel.y());
+          std::printf("    person %d at (%.2f, %.2f) in the robot's frame; new goal %.2f s ago, stepped aside %.2f s ago\n", p.id,
+                      rel.x(), rel.y(), s.now() - p.last_goal_change, s.now() - p.last_step_aside);
           if (truth_people) continue;
           // What the tracker made of them: the nearest track, as the planner last saw it.
           const navigation::TrackedPerson* track = nullptr;
@@ -215,9 +256,10 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
             continue;
           }
           const Point2 v = WalkingVelocity(p);
-          std::printf("      track %d%s, %d hits, seen %.2f-%.2f s, %.2f m off; velocity (%.2f, %.2f), true (%.2f, %.2f)\n",
+          std::printf("      track %d%s, %d hits, seen %.2f-%.2f s, %.2f m off; velocity (%.2f, %.2f) sigma %.2f, true (%.2f, %.2f)\n",
                       track->id, track->confirmed ? "" : " (unconfirmed)", track->hits, track->first_seen, track->last_seen,
-                      Distance(track->position, p.position), track->velocity.x(), track->velocity.y(), v.x(), v.y());
+                      Distance(track->position, p.position), track->velocity.x(), track->velocity.y(),
+                      navigation::VelocityStd(*track), v.x(), v.y());
         }
       }
     }
@@ -225,7 +267,12 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
       const localization::ScanReading scan = localization::ToScan(s, *out.robots[0].scan);
       std::vector<Point2> seen;
       for (const navigation::DetectedObstacle& blob : segmenter.Segment(scan, s.robot().base().true_pose()))
-        if (blob.radius <= people.max_person_radius) seen.push_back(blob.position);
+        if (blob.radius <= people.max_person_radius) {
+          seen.push_back(blob.position);
+          if (Distance(blob.position, s.robot().base().true_pose().translation()) > kTrackedRange) continue;
+          if (const sim::Person* truth = NearestPerson(s.people(), blob.position, 0.5))
+            f.detection_errors.push_back(Distance(blob.position, truth->position));
+        }
       tracker.Update(seen, s.now());
     }
     double nearest = std::numeric_limits<double>::infinity();
@@ -268,6 +315,13 @@ int main(int argc, char** argv) {
   app.add_option("--escape-time", planner.escape_time, "s: how long each escape manoeuvre is judged for")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 5.0));
+  navigation::PersonTrackerOptions tracking = navigation::PeopleAwareOptions{}.tracking;
+  app.add_option("--track-measurement-std", tracking.measurement_std, "m: the person tracker's detection noise")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 1.0));
+  app.add_option("--track-acceleration-std", tracking.acceleration_std, "m/s²: the person tracker's walker acceleration noise")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 20.0));
   bool straight = false;
   app.add_flag("--straight-walkers", straight, "walkers keep one goal far down the street, no Brownian motion");
   bool print_contacts = false;
@@ -298,10 +352,10 @@ int main(int argc, char** argv) {
   double time = 0.0, outside = 0.0, turned = 0.0, nearest = std::numeric_limits<double>::infinity();
   uint32_t collisions = 0, close_calls = 0, plans = 0, escapes = 0;
   int reached = 0, clean = 0;
-  std::vector<double> shares;
+  std::vector<double> shares, detection_errors, position_errors, velocity_errors, coasting_errors, seen_velocity_errors, velocity_stds;
   for (int i = 0; i < runs; ++i) {
     const uint64_t seed = first + static_cast<uint64_t>(i);
-    const RunFigures f = Run(scenario, seed, knowledge, distance, print_contacts, speed, planner);
+    const RunFigures f = Run(scenario, seed, knowledge, distance, print_contacts, speed, planner, tracking);
     std::printf("seed %lu: %s, %.1f s, collisions %u, close calls %u, outside personal %.3f, nearest %.2f m, escapes %u of %u plans\n",
                 static_cast<unsigned long>(seed), f.reached ? "reached" : "timed out", f.time, f.collisions,
                 f.close_calls, f.outside_personal / f.time, f.nearest, f.escapes, f.plans);
@@ -317,6 +371,12 @@ int main(int argc, char** argv) {
     reached += f.reached;
     clean += f.collisions == 0;
     shares.push_back(f.outside_personal / f.time);
+    detection_errors.insert(detection_errors.end(), f.detection_errors.begin(), f.detection_errors.end());
+    position_errors.insert(position_errors.end(), f.position_errors.begin(), f.position_errors.end());
+    velocity_errors.insert(velocity_errors.end(), f.velocity_errors.begin(), f.velocity_errors.end());
+    velocity_stds.insert(velocity_stds.end(), f.velocity_stds.begin(), f.velocity_stds.end());
+    coasting_errors.insert(coasting_errors.end(), f.coasting_errors.begin(), f.coasting_errors.end());
+    seen_velocity_errors.insert(seen_velocity_errors.end(), f.seen_velocity_errors.begin(), f.seen_velocity_errors.end());
   }
   std::sort(shares.begin(), shares.end());
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -325,5 +385,12 @@ int main(int argc, char** argv) {
               "%.2f m; mean |yaw rate| %.2f rad/s; escapes %u of %u plans; %.0f s wall\n",
               people.c_str(), reached, runs, collisions, clean, close_calls, kCloseCall, time, 100.0 * outside / time, 100.0 * shares.front(),
               100.0 * shares[shares.size() / 2], nearest, turned / time, escapes, plans, wall);
+  if (!position_errors.empty()) {
+    std::printf("tracking within %.0f m: detections off by %s m; tracks off by %s m, their velocity by %s m/s\n", kTrackedRange,
+                Quantiles(detection_errors).c_str(), Quantiles(position_errors).c_str(), Quantiles(velocity_errors).c_str());
+    std::printf("  tracks seen in the last scan: velocity off by %s m/s; unseen (%zu of %zu): off by %s m\n",
+                Quantiles(seen_velocity_errors).c_str(), coasting_errors.size(), position_errors.size(), Quantiles(coasting_errors).c_str());
+    std::printf("  the tracks' own velocity sigma: %s m/s\n", Quantiles(velocity_stds).c_str());
+  }
   return 0;
 }
