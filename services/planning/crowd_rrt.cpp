@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 #include <utility>
@@ -257,6 +258,12 @@ CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const
   out.escape = true;
   const StopShortOptions stop_short{o.robot_radius, o.escape_touch, kSubStep};
   const auto allowed = [&field](const Point2& p) { return field.Allowed(p); };
+  // One manoeuvre rolled out and judged: stopping short of the walls counts as well as of people.
+  const auto judge = [&](const std::function<UnicycleInput(const UnicycleState&)>& input) {
+    StopShortRollout run = RollOutStopShort(root, input, o.escape_time, field.people(), r.limits, stop_short, allowed);
+    if (!StopsShortOfWalls(field, run.states.back(), r.limits, o.step)) run.touch = std::min(run.touch, o.escape_time);
+    return run;
+  };
   double best_touch = -1.0, best_room = -std::numeric_limits<double>::infinity();
   if (short_plan) {
     const auto follow = [&](const UnicycleState& s) -> UnicycleInput {
@@ -264,8 +271,7 @@ CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const
       if (i < short_plan->inputs.size()) return short_plan->inputs[i];
       return Braking(s, r.limits, o.step);
     };
-    StopShortRollout run = RollOutStopShort(root, follow, o.escape_time, field.people(), r.limits, stop_short, allowed);
-    if (!StopsShortOfWalls(field, run.states.back(), r.limits, o.step)) run.touch = std::min(run.touch, o.escape_time);
+    const StopShortRollout run = judge(follow);
     best_touch = run.touch;
     best_room = run.room;
     out = *short_plan;
@@ -273,9 +279,7 @@ CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const
   for (const double a : {-1.0, 0.0, 1.0}) {
     for (const double b : {-1.0, -0.5, 0.0, 0.5, 1.0}) {
       const UnicycleInput u{a * r.limits.max_accel, b * r.limits.max_yaw_accel};
-      StopShortRollout run = RollOutStopShort(
-          root, [&u](const UnicycleState&) { return u; }, o.escape_time, field.people(), r.limits, stop_short, allowed);
-      if (!StopsShortOfWalls(field, run.states.back(), r.limits, o.step)) run.touch = std::min(run.touch, o.escape_time);
+      const StopShortRollout run = judge([&u](const UnicycleState&) { return u; });
       // Two that never touch both have touch = inf: compare equal first (inf - inf is NaN).
       const bool same_touch = run.touch == best_touch || std::abs(run.touch - best_touch) <= 1e-9;
       const bool better = (!same_touch && run.touch > best_touch) || (same_touch && run.room > best_room);
