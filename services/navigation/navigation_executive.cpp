@@ -463,21 +463,38 @@ std::vector<SonarEcho> NavigationExecutive::Stimuli(const std::vector<SonarEcho>
     if (reflex_.GroupOf(e.angle) == SonarGroup::kNone || !(e.range < o.remember_within)) continue;
     const Point2 origin = rim * Point2(std::cos(e.angle), std::sin(e.angle));  // robot frame
     double known = std::numeric_limits<double>::infinity();
-    if (map) {
-      // The sensor's cone as the map would echo it (five rays across it).
-      for (int k = -2; k <= 2; ++k) {
-        known = std::min(known, map->CastOpenEdge(pose * origin, pose.theta + e.angle + k * o.sensor_cone / 4.0, horizon));
-      }
-    }
+    // What the cone would echo from the map and from what the laser sees: the nearest of either
+    // within it, widened by kConeSlack for the pose's error. Five rays across the cone missed a door
+    // jamb's 10 cm face that the sonar met, and its echoes became obstacles in the doorway.
+    constexpr double kConeSlack = 0.05;  // rad
+    const double half_cone = o.sensor_cone / 2.0 + kConeSlack;
+    if (map) known = NearestInCone(map->grid(), pose * origin, pose.theta + e.angle, half_cone, horizon);
     for (const Point2& p : local) {
       const Point2 d = p - origin;
-      if (d.norm() < known && std::abs(NormalizeAngle(std::atan2(d.y(), d.x()) - e.angle)) <= o.sensor_cone / 2.0 + 0.05) {
-        known = d.norm();
-      }
+      if (d.norm() < known && std::abs(NormalizeAngle(std::atan2(d.y(), d.x()) - e.angle)) <= half_cone) known = d.norm();
     }
     if (e.range < known - o.explained_tolerance) out.push_back(e);
   }
   return out;
+}
+
+double NavigationExecutive::NearestInCone(const OccupancyGrid& grid, const Point2& origin, double heading,
+                                          double half_angle, double horizon) {
+  double nearest = std::numeric_limits<double>::infinity();
+  const CellIndex lo = grid.CellOf(origin - Point2(horizon, horizon)), hi = grid.CellOf(origin + Point2(horizon, horizon));
+  for (int y = std::max(lo.y, 0); y <= std::min(hi.y, grid.height() - 1); ++y) {
+    for (int x = std::max(lo.x, 0); x <= std::min(hi.x, grid.width() - 1); ++x) {
+      const CellIndex c{x, y};
+      if (!grid.IsOccupied(c)) continue;
+      const double d = grid.DistanceToCell(origin, c);
+      if (d >= nearest || d > horizon) continue;
+      // A cell is in the cone when any of it is: its centre's bearing, widened by its half-diagonal.
+      const Point2 to = grid.CellCenter(c) - origin;
+      const double spread = to.norm() > 1e-9 ? std::asin(std::min(1.0, 0.71 * grid.resolution() / to.norm())) : M_PI;
+      if (std::abs(NormalizeAngle(std::atan2(to.y(), to.x()) - heading)) <= half_angle + spread) nearest = d;
+    }
+  }
+  return nearest;
 }
 
 void NavigationExecutive::RememberSonar(const std::vector<SonarEcho>& stimuli, const Pose2& pose, double now) {
@@ -925,7 +942,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
                       std::string("outside the navigation grid (") + reentry_why_ + "): " +
                           ReentryStateName(reentry_.state()),
                       fresh);
-      return ScanGuard(w, estimate.pose);
+      return ScanGuard(w, estimate.pose, in.rear_free, true);
     }
     reentry_.Stop();  // on the grid, or the mission ended
   }
@@ -965,21 +982,26 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       people_.enabled && fresh ? SteerAmongPeople(estimate.pose, now) : std::nullopt;
   WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);
   PlanLeg(now);  // a leg that ended this step gets its path now, not a control period later
-  if (among_people && navigator_.Status().feedback.state == NavigationState::kDriving) {
+  const bool crowd_steered = among_people && navigator_.Status().feedback.state == NavigationState::kDriving;
+  if (crowd_steered) {
     wheels = *among_people;
   } else if (fresh) {
     wheels = Reflex(wheels, in, estimate.pose);
   }
   if (detecting && !people_.enabled) wheels = GuardSpeed(wheels, estimate.pose);
-  return ScanGuard(wheels, estimate.pose);
+  return ScanGuard(wheels, estimate.pose, in.rear_free, !crowd_steered);
 }
 
-WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose2& pose) const {
+WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose2& pose, double rear_free,
+                                           bool manoeuvre) const {
   // Nav2's collision monitor (its approach model) on the laser: whatever the map says (one still
   // being built, a wall a few centimetres off, a box it lacks), never faster forward than the robot
   // can stop in before what the last scan saw ahead. The plans keep the rim 0.1 m from walls, so
   // on a planned path it binds only head-on. Nor does the robot turn with something at its rim
-  // ahead (turn_guard_gap).
+  // ahead (turn_guard_gap) unless it backs away as it turns (`rear_free`, m: the rear range
+  // sensor's). Without `manoeuvre` (the crowd controller steers: its plans decide among people,
+  // who may stand behind) it neither backs nor turns where the guard stopped it.
+  constexpr double kCreeping = 0.01;  // m/s: slower forward is standing
   const bool turning = wheels.left != wheels.right;
   if (!turning && wheels.left <= 0.0) return wheels;  // standing or backing straight: nothing to guard
   std::vector<Point2> local;
@@ -988,17 +1010,35 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
     local = LocalScanPointsLocked(pose);
   }
   if (local.empty()) return wheels;
-  WheelSpeeds guarded = wheels;
-  if (turning) {
-    const double rim = moving_.detection.robot_radius;
-    double gap = std::numeric_limits<double>::infinity();
-    for (const Point2& p : local)
-      if (p.x() > 0.5 * p.norm()) gap = std::min(gap, p.norm() - rim);  // within 60 degrees of the heading
-    const double v = 0.5 * (wheels.left + wheels.right);
-    if (gap < moving_.turn_guard_gap) guarded = {v, v};
+  const double rim = moving_.detection.robot_radius;
+  double gap = std::numeric_limits<double>::infinity(), side_gap = gap;  // m from the rim ahead, and beside
+  for (const Point2& p : local) {
+    if (p.x() > 0.5 * p.norm()) gap = std::min(gap, p.norm() - rim);  // within 60 degrees of the heading
+    if (p.x() > 0.0) side_gap = std::min(side_gap, p.norm() - rim);
   }
-  if (0.5 * (guarded.left + guarded.right) <= 0.0) return guarded;
-  return CapApproach(guarded, std::move(local), moving_.scan_guard_margin);
+  if (turning) {
+    if (gap < moving_.turn_guard_gap) {
+      // The straight part alone, if it can go on; a robot that can neither would stand there for
+      // good (its rim beside a door jamb ahead, office_glass in session 33's CI: stuck after every
+      // recovery), so it turns while backing away instead, which no creep brings nearer.
+      const double v = 0.5 * (wheels.left + wheels.right);
+      const WheelSpeeds straight = v > 0.0 ? CapApproach({v, v}, local, moving_.scan_guard_margin) : WheelSpeeds{v, v};
+      if (!manoeuvre || straight.left > kCreeping) return straight;
+      if (Sensing(pose, rear_free).rear_free < moving_.turn_guard_backing_room) return straight;
+      const double back = std::min(v, -moving_.turn_guard_backing), half_turn = 0.5 * (wheels.right - wheels.left);
+      return {back - half_turn, back + half_turn};
+    }
+  }
+  if (0.5 * (wheels.left + wheels.right) <= 0.0) return wheels;
+  const WheelSpeeds capped = CapApproach(wheels, std::move(local), moving_.scan_guard_margin);
+  if (!turning || !manoeuvre || side_gap < moving_.turn_guard_gap || 0.5 * (capped.left + capped.right) > kCreeping)
+    return capped;
+  // Stopped short of what is ahead, with nothing at the rim in front of it (a cart waiting at its
+  // side-front was touched by the creep of such a turn, Run 2): it still turns as it was told.
+  // Scaled down with the forward speed, the turn stopped too, and a robot whose heading grazed the
+  // wall beside it (its rim 8 cm off, office_glass) stood there until the recoveries.
+  const double v = 0.5 * (capped.left + capped.right), half_turn = 0.5 * (wheels.right - wheels.left);
+  return {v - half_turn, v + half_turn};
 }
 
 std::vector<Point2> NavigationExecutive::LocalScanPointsLocked(const Pose2& pose) const {

@@ -113,8 +113,11 @@ struct MovingObstacleOptions {
   // creeps along the heading. With something this near the rim ahead (within 60 degrees of the
   // heading: a cart that came up to the robot and waits there), that creep touches it; the robot
   // keeps only the straight part of its command then, as the avoidance behaviour waits rather
-  // than turn (its turn_clearance).
+  // than turn (its turn_clearance). When the straight part cannot go on either, it turns while
+  // backing at turn_guard_backing, if the way back is free for turn_guard_backing_room.
   double turn_guard_gap = 0.05;      // m
+  double turn_guard_backing = 0.03;  // m/s
+  double turn_guard_backing_room = 0.05;  // m
 };
 
 // What the emergency stop does when a bumper stays pressed: something pushed into the robot (an
@@ -257,6 +260,10 @@ class NavigationExecutive {
   // The echoes the reflex answers, within remember_within: with only_unexplained, those nearer than
   // both the map and the laser's last scan say anything is along the sensor's cone.
   std::vector<SonarEcho> Stimuli(const std::vector<SonarEcho>& echoes, const Pose2& pose) const;
+  // Metres from `origin` to the nearest occupied cell of `grid` within `half_angle` (rad) of
+  // `heading` (map frame) and `horizon` metres; infinity when there is none.
+  static double NearestInCone(const OccupancyGrid& grid, const Point2& origin, double heading, double half_angle,
+                              double horizon);
   // Keeps `stimuli` as obstacle discs for the plans (map frame), forgetting old ones.
   void RememberSonar(const std::vector<SonarEcho>& stimuli, const Pose2& pose, double now);
   // Keeps a disc of `radius` at `at` (map frame) for the plans; a nearer look at a place replaces
@@ -266,7 +273,7 @@ class NavigationExecutive {
   AvoidanceSensing Sensing(const Pose2& pose, double rear_free) const;
   planning::PlanningScene Scene(const Pose2& pose) const;
   WheelSpeeds GuardSpeed(const WheelSpeeds& wheels, const Pose2& pose) const;
-  WheelSpeeds ScanGuard(const WheelSpeeds& wheels, const Pose2& pose) const;
+  WheelSpeeds ScanGuard(const WheelSpeeds& wheels, const Pose2& pose, double rear_free, bool manoeuvre) const;
   // The last scan's returns in the frame of a robot at `pose`. Caller holds detector_mutex_.
   std::vector<Point2> LocalScanPointsLocked(const Pose2& pose) const;
   // The forward speed capped to stop `margin` short of the nearest of `local` (robot frame) ahead,

@@ -461,9 +461,10 @@ TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
 
 // Turning in place next to something at the front rim: the wheels never turn quite in place, and
 // the creep along the heading touches it. The robot faces +x with a box the map lacks 2 cm ahead;
-// its goal lies to its left. It does not turn while the box is there; once it is gone, it turns
-// and arrives.
-TEST(NavigationExecutive, DoesNotTurnWithSomethingAtItsRimAhead) {
+// its goal lies to its left. While the box is there it turns only as it backs away, never nearer
+// (standing there for good, as it once did, left a robot stuck beside a door jamb); once the box
+// is gone, it arrives.
+TEST(NavigationExecutive, TurnsWithSomethingAtItsRimAheadOnlyAsItBacksAway) {
   OpenFloor floor;
   auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
   Pose2 odom(0.0, 0.0, 0.0);
@@ -486,11 +487,14 @@ TEST(NavigationExecutive, DoesNotTurnWithSomethingAtItsRimAhead) {
   step();
   executive.Navigate({Pose2(1.0, 4.0, M_PI / 2), false, "", false});
   for (int i = 0; i < 60; ++i) {
+    const double gap = box_x - localizer.Estimate().pose.x - rim;
     const WheelSpeeds w = step();
-    EXPECT_DOUBLE_EQ(w.left, w.right) << "turned at t = " << t;
-    EXPECT_LE(w.left + w.right, 0.0) << "drove at the box at t = " << t;
+    if (w.left != w.right && gap < MovingObstacleOptions().turn_guard_gap) {
+      EXPECT_LT(w.left + w.right, 0.0) << "turned without backing at t = " << t;
+    }
+    EXPECT_LE(localizer.Estimate().pose.x, 1.0 + 1e-6) << "came nearer the box at t = " << t;
   }
-  EXPECT_NEAR(localizer.Estimate().pose.theta, 0.0, 1e-9);
+  EXPECT_GT(localizer.Estimate().pose.theta, 0.3) << "never turned towards the goal";
   box = false;
   for (int i = 0; i < 400 && executive.navigator().Status().active; ++i) step();
   EXPECT_FALSE(executive.navigator().Status().active);
