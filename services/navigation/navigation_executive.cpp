@@ -557,11 +557,14 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
       rear_free = std::min(rear_free, wall);
     }
     // The laser is blind behind, but the obstacles it tracked are still known for a few scans:
-    // one whose disc lies across the way back closes it.
+    // one whose disc lies across the way back, now or within the next second, closes it (a cart
+    // crossing behind a robot backing up enters its way beside the rear sensor's one ray, Run 2).
     for (const DetectedObstacle& o : detector_.candidates()) {
-      const Point2 p = pose.inverse() * o.position;
-      if (p.x() < 0.0 && std::abs(p.y()) < o.radius + radius) {
-        rear_free = std::min(rear_free, std::max(0.0, -p.x() - o.radius - radius));
+      for (const double t : {0.0, 0.5, 1.0}) {
+        const Point2 p = pose.inverse() * (o.position + t * o.velocity);
+        if (p.x() < 0.0 && std::abs(p.y()) < o.radius + radius) {
+          rear_free = std::min(rear_free, std::max(0.0, -p.x() - o.radius - radius));
+        }
       }
     }
   }
