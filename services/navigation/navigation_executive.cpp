@@ -945,7 +945,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
                       std::string("outside the navigation grid (") + reentry_why_ + "): " +
                           ReentryStateName(reentry_.state()),
                       fresh);
-      return ScanGuard(w, estimate.pose, in.rear_free, true);
+      return ScanGuard(w, estimate.pose, in.rear_free, !people_.enabled);
     }
     reentry_.Stop();  // on the grid, or the mission ended
   }
@@ -985,14 +985,15 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       people_.enabled && fresh ? SteerAmongPeople(estimate.pose, now) : std::nullopt;
   WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);
   PlanLeg(now);  // a leg that ended this step gets its path now, not a control period later
-  const bool crowd_steered = among_people && navigator_.Status().feedback.state == NavigationState::kDriving;
-  if (crowd_steered) {
+  if (among_people && navigator_.Status().feedback.state == NavigationState::kDriving) {
     wheels = *among_people;
   } else if (fresh) {
     wheels = Reflex(wheels, in, estimate.pose);
   }
   if (detecting && !people_.enabled) wheels = GuardSpeed(wheels, estimate.pose);
-  return ScanGuard(wheels, estimate.pose, in.rear_free, !crowd_steered);
+  // Among people the guard's manoeuvres are off: the rear check knows nothing of someone standing
+  // behind, and the crowd controller's plans decide.
+  return ScanGuard(wheels, estimate.pose, in.rear_free, !people_.enabled);
 }
 
 WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose2& pose, double rear_free,
@@ -1002,8 +1003,8 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
   // can stop in before what the last scan saw ahead. The plans keep the rim 0.1 m from walls, so
   // on a planned path it binds only head-on. Nor does the robot turn with something at its rim
   // ahead (turn_guard_gap) unless it backs away as it turns (`rear_free`, m: the rear range
-  // sensor's). Without `manoeuvre` (the crowd controller steers: its plans decide among people,
-  // who may stand behind) it neither backs nor turns where the guard stopped it.
+  // sensor's). Without `manoeuvre` (among people, who may stand behind) it neither backs nor turns
+  // where the guard stopped it.
   constexpr double kCreeping = 0.01;  // m/s: slower forward is standing
   const bool turning = wheels.left != wheels.right;
   if (!turning && wheels.left <= 0.0) return wheels;  // standing or backing straight: nothing to guard
