@@ -1020,8 +1020,10 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
     if (p.x() > 0.5 * p.norm()) gap = std::min(gap, p.norm() - rim);  // within 60 degrees of the heading
     if (p.x() > 0.0) side_gap = std::min(side_gap, p.norm() - rim);
   }
+  // Away from people, anything at the rim in the front half counts: navigation turning towards a
+  // cart waiting beside it (70 degrees off its heading) swept its rim into it (Run 2, session 33).
   if (turning) {
-    if (gap < moving_.turn_guard_gap) {
+    if ((manoeuvre ? side_gap : gap) < moving_.turn_guard_gap) {
       // The straight part alone, if it can go on; a robot that can neither would stand there for
       // good (its rim beside a door jamb ahead, office_glass in session 32's CI: stuck after every
       // recovery), so it turns while backing away instead, which no creep brings nearer.
@@ -1035,8 +1037,7 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
   }
   if (0.5 * (wheels.left + wheels.right) <= 0.0) return wheels;
   const WheelSpeeds capped = CapApproach(wheels, std::move(local), moving_.scan_guard_margin);
-  if (!turning || !manoeuvre || side_gap < moving_.turn_guard_gap || 0.5 * (capped.left + capped.right) > kCreeping)
-    return capped;
+  if (!turning || !manoeuvre || 0.5 * (capped.left + capped.right) > kCreeping) return capped;
   // Stopped short of what is ahead, with nothing at the rim in front of it (a cart waiting at its
   // side-front was touched by the creep of such a turn, Run 2): it still turns as it was told.
   // Scaled down with the forward speed, the turn stopped too, and a robot whose heading grazed the
