@@ -1014,16 +1014,15 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
     local = LocalScanPointsLocked(pose);
   }
   if (local.empty()) return wheels;
-  const double rim = moving_.detection.robot_radius;
-  double gap = std::numeric_limits<double>::infinity(), side_gap = gap;  // m from the rim ahead, and beside
-  for (const Point2& p : local) {
-    if (p.x() > 0.5 * p.norm()) gap = std::min(gap, p.norm() - rim);  // within 60 degrees of the heading
-    if (p.x() > 0.0) side_gap = std::min(side_gap, p.norm() - rim);
-  }
-  // Away from people, anything at the rim in the front half counts: navigation turning towards a
-  // cart waiting beside it (70 degrees off its heading) swept its rim into it (Run 2, session 33).
+  // m from the rim to the nearest return in front: away from people, anywhere in the front half
+  // (navigation turning towards a cart waiting 70 degrees off its heading swept its rim into it,
+  // Run 2); among people, within 60 degrees of the heading.
+  const double rim = moving_.detection.robot_radius, front = manoeuvre ? 0.0 : 0.5;  // cos of the half-angle
+  double gap = std::numeric_limits<double>::infinity();
+  for (const Point2& p : local)
+    if (p.x() > front * p.norm()) gap = std::min(gap, p.norm() - rim);
   if (turning) {
-    if ((manoeuvre ? side_gap : gap) < moving_.turn_guard_gap) {
+    if (gap < moving_.turn_guard_gap) {
       // The straight part alone, if it can go on; a robot that can neither would stand there for
       // good (its rim beside a door jamb ahead, office_glass in session 32's CI: stuck after every
       // recovery), so it turns while backing away instead, which no creep brings nearer.

@@ -110,8 +110,9 @@ struct MovingObstacleOptions {
   // ... and never faster than it could stop scan_guard_margin short of what the laser sees ahead.
   double scan_guard_margin = 0.05;   // m
   // Turning in place is never quite in place: each wheel misses its speed a little, so the centre
-  // creeps along the heading. With something this near the rim ahead (within 60 degrees of the
-  // heading: a cart that came up to the robot and waits there), that creep touches it; the robot
+  // creeps along the heading. With something this near the rim in front (a cart that came up to
+  // the robot and waits there; in the front half, or among people within 60 degrees of the
+  // heading), that creep touches it; the robot
   // keeps only the straight part of its command then, as the avoidance behaviour waits rather
   // than turn (its turn_clearance). When the straight part cannot go on either, it turns while
   // backing at turn_guard_backing, if the way back is free for turn_guard_backing_room.
