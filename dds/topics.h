@@ -19,6 +19,7 @@ inline constexpr const char* kSonar = "sonar";           // sensor_msgs/Range, f
 inline constexpr const char* kIr = "ir";                 // sensor_msgs/Range, frame_id ir_<i>
 inline constexpr const char* kJointStates = "joint_states";  // sensor_msgs/JointState, wheel encoders
 inline constexpr const char* kBumper = "bumper";         // navsim_msgs/BumperState
+inline constexpr const char* kPeople = "people";         // people_msgs/People: a people detector's, frame base_link
 inline constexpr const char* kWorldState = "rt/sim/world_state";  // navsim_msgs/WorldState, global
 inline constexpr const char* kCollisions = "rt/sim/collisions";   // navsim_msgs/CollisionEvent, global
 inline constexpr const char* kDoorCommand = "rt/sim/door_command";  // navsim_msgs/DoorCommand, global

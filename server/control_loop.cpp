@@ -130,9 +130,16 @@ void ControlLoop::Tick(uint64_t tick, double now) {
       map_builder_.Submit(*odom_at_scan, localised, r);
     }
   }
-  // A laser that has spoken and then gone silent is stale too; a robot without one is not.
-  const bool laser_fresh = !bridge_.scan_seen() || now - bridge_.last_scan_arrival() <= options_.sensor_timeout;
-  const bool fresh = laser_fresh && now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
+  std::optional<navigation::PeopleReport> people;  // the report that arrived since the last tick
+  if (bridge_.people_count() != people_seen_) {
+    people_seen_ = bridge_.people_count();
+    people = bridge_.LatestPeople();
+  }
+  // A laser (or people detector) that has spoken and then gone silent is stale too; a robot
+  // without one is not.
+  const auto silent = [&](double last_arrival) { return last_arrival > -1e8 && now - last_arrival > options_.sensor_timeout; };
+  const bool fresh = !silent(bridge_.last_scan_arrival()) && !silent(bridge_.last_people_arrival()) &&
+                     now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
   const bool was_active = executive_.navigator().Status().active || was_searching_;
   navigation::ExecutiveInputs inputs;
   inputs.sensors_fresh = fresh;
@@ -145,6 +152,8 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   inputs.rear_free = bridge_.RearFree(options_.sensor_timeout);
   const std::vector<navigation::SonarEcho> sonar = bridge_.SonarEchoes(options_.sensor_timeout);
   inputs.sonar = &sonar;
+  inputs.people = people ? &*people : nullptr;
+  inputs.people_odometry = people ? bridge_.OdometryAt(people->stamp) : std::nullopt;
   const WheelSpeeds wheels = executive_.Step(inputs, now);
   const navigation::NavigationStatus status = executive_.navigator().Status();
   if (spdlog::should_log(spdlog::level::trace)) {

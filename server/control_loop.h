@@ -51,6 +51,7 @@ class ControlLoop {
   std::thread thread_;
   int zero_commands_left_ = 0;
   uint64_t scans_seen_ = 0;
+  uint64_t people_seen_ = 0;
   std::string behaviour_, hold_reason_;  // at the last tick, to log changes
   uint64_t crowd_plans_seen_ = 0;        // the crowd controller's plans already in the debug log
 };

@@ -114,6 +114,8 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   moving.avoidance.wheel_base = robot.wheel_base;
   navigation::PeopleAwareOptions people;
   people.enabled = o.people_aware;
+  people.source = o.people_source == "topic" ? navigation::PeopleAwareOptions::Source::kReports
+                                              : navigation::PeopleAwareOptions::Source::kLaser;
   planning::UnicycleLimits& limits = people.control.limits;
   if (robot.drive == DriveType::kUnicycle) {
     limits = {robot.max_speed, robot.max_angular_speed, robot.max_accel, robot.max_angular_accel};
@@ -128,8 +130,9 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   people.control.planner.robot_radius = robot.radius;
   navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain, {}, moving, people);
   if (o.people_aware) {
-    spdlog::info("navd: people-aware: crowd RRT at {} m/s, {} vertices per plan every {} s", people.control.planner.desired_speed,
-                 people.control.planner.max_nodes, people.control.replan_period);
+    spdlog::info("navd: people-aware: crowd RRT at {} m/s, {} vertices per plan every {} s; people from {}",
+                 people.control.planner.desired_speed, people.control.planner.max_nodes, people.control.replan_period,
+                 o.people_source == "topic" ? "rt/<ns>/people" : "the laser");
   }
   for (const SpeedZone& z : speed_zones) spdlog::info("navd: speed zone '{}': at most {} m/s", z.name, z.max_speed);
   executive.SetSpeedZones(navigation::SpeedZones(std::move(speed_zones)));
@@ -138,7 +141,8 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr,
                    o.rear_range_frame, !o.sonar_reflexes             ? std::vector<double>{}
                    : o.sonar_angles.empty() ? PioneerSonarAngles()
-                                            : o.sonar_angles);
+                                            : o.sonar_angles,
+                   o.people_aware && o.people_source == "topic");
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
                    map_builder);
   MapPublisher map_publisher(bridge, maps, map_builder, *clock);

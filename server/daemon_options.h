@@ -24,6 +24,7 @@ struct DaemonOptions {
   std::vector<double> sonar_angles; // rad, mounting angle of sonar_<i>; empty: a Pioneer ring
   bool people_aware = false;        // book chapter 7: track people, steer legs with the crowd RRT
   double crowd_speed = 1.5;         // m/s, the crowd RRT's desired speed (capped by the robot's)
+  std::string people_source = "laser";  // laser: navd's tracker; topic: a detector's rt/<ns>/people
   double control_rate = 20.0;       // Hz, in the daemon's clock
   double sensor_timeout = 0.3;      // s without odometry or laser before the robot is stopped (3 scans)
   double inflation_margin = 0.10;   // m added to the robot radius for planning

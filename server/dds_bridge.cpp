@@ -17,7 +17,7 @@ using dds::Reliability;
 
 DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& ns, SimClock* sim_clock,
                      const Clock& arrival_clock, const RobotDescription* encoders,
-                     const std::string& rear_range_frame, const std::vector<double>& sonar_angles)
+                     const std::string& rear_range_frame, const std::vector<double>& sonar_angles, bool people)
     : participant_(options), arrival_clock_(arrival_clock) {
   if (encoders) {
     wheel_odometry_ = std::make_unique<localization::WheelOdometry>(*encoders);
@@ -100,6 +100,11 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
         },
         static_cast<int>(2 * sonar_angles.size()));
   }
+  if (people) {
+    people_reader_ = std::make_unique<dds::Reader<people_msgs::msg::dds_::People_PubSubType>>(
+        participant_, dds::TopicName(ns, dds::kPeople), Reliability::kBestEffort,
+        [this](const people_msgs::msg::dds_::People_&) { last_people_arrival_ = arrival_clock_.Now(); }, 2);
+  }
   scan_topic_ = dds::TopicName(ns, dds::kScan);
   scan_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
       participant_, scan_topic_, Reliability::kBestEffort,
@@ -147,6 +152,24 @@ std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
   s.range_max = m->range_max();
   s.stamp = dds::FromTime(m->header().stamp());
   return s;
+}
+
+std::optional<navigation::PeopleReport> DdsBridge::LatestPeople() const {
+  if (!people_reader_) return std::nullopt;
+  const auto m = people_reader_->Latest();
+  if (!m) return std::nullopt;
+  const std::string& frame = m->header().frame_id();
+  if (frame != "base_link" && !frame.ends_with("/base_link")) {
+    const int n = ++bad_people_;
+    if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
+      spdlog::warn("people report ignored ({} so far): frame_id '{}' is not base_link", n, frame);
+    return std::nullopt;
+  }
+  navigation::PeopleReport r;
+  r.stamp = dds::FromTime(m->header().stamp());
+  for (const people_msgs::msg::dds_::Person_& p : m->people())
+    r.people.push_back({p.name(), {p.position().x(), p.position().y()}, {p.velocity().x(), p.velocity().y()}});
+  return r;
 }
 
 void DdsBridge::Remember(const localization::OdometryReading& reading) {

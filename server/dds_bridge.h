@@ -13,6 +13,7 @@
 #include "nav_msgsPubSubTypes.h"
 #include "navd_msgsPubSubTypes.h"
 #include "navsim_msgsPubSubTypes.h"
+#include "people_msgsPubSubTypes.h"
 #include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
 #include "services/common/clock.h"
@@ -22,6 +23,7 @@
 #include "services/localization/odometry_jump_filter.h"
 #include "services/localization/wheel_odometry.h"
 #include "services/navigation/navigator.h"
+#include "services/navigation/reported_people.h"
 #include "services/navigation/sonar_reflex.h"
 
 namespace navd::server {
@@ -33,10 +35,12 @@ class DdsBridge {
   // encoders (rt/<ns>/joint_states, with this robot's kinematics) instead of read from rt/<ns>/odom.
   // rear_range_frame: the frame_id of the rear-facing range sensor on rt/<ns>/ir (seed 000's rear
   // Sharp IR, ir_2 on navsim's robots); empty: none. sonar_angles: the mounting angle (rad, robot
-  // frame) of sensor sonar_<i> on rt/<ns>/sonar; empty: the sonar is not read.
+  // frame) of sensor sonar_<i> on rt/<ns>/sonar; empty: the sonar is not read. people: read a
+  // people detector's reports on rt/<ns>/people (people_msgs/People in base_link).
   DdsBridge(const dds::ParticipantOptions& options, const std::string& robot_namespace, SimClock* sim_clock,
             const Clock& arrival_clock, const RobotDescription* encoders = nullptr,
-            const std::string& rear_range_frame = "", const std::vector<double>& sonar_angles = {});
+            const std::string& rear_range_frame = "", const std::vector<double>& sonar_angles = {},
+            bool people = false);
 
   // The newest odometry reading, if any, and when (arrival clock) it arrived.
   std::optional<localization::OdometryReading> LatestOdometry() const;
@@ -64,6 +68,13 @@ class DdsBridge {
   // The sonar ring's echoes that arrived within the last `within` seconds, sensors that heard
   // nothing (max_range or beyond) left out; empty without a sonar.
   std::vector<navigation::SonarEcho> SonarEchoes(double within = 0.5) const;
+
+  // The newest people report and how many have arrived; nullopt without one (or when not read).
+  // Reports in another frame than base_link are dropped with a warning.
+  std::optional<navigation::PeopleReport> LatestPeople() const;
+  uint64_t people_count() const { return people_reader_ ? people_reader_->count() : 0; }
+  // Arrival clock time of the newest people report; very negative before the first.
+  double last_people_arrival() const { return last_people_arrival_.load(); }
 
   void PublishCommand(const Twist2& twist);
   // Sends a zero command and waits (bounded) until the robot side acknowledged it; for shutdown.
@@ -113,6 +124,9 @@ class DdsBridge {
   };
   mutable std::mutex sonar_mutex_;
   std::vector<SonarSlot> sonar_;
+  std::unique_ptr<dds::Reader<people_msgs::msg::dds_::People_PubSubType>> people_reader_;
+  std::atomic<double> last_people_arrival_{-1e9};
+  mutable std::atomic<int> bad_people_{0};
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_writer_;

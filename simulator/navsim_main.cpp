@@ -1,6 +1,6 @@
 // navsim: the simulator process. Loads a scenario (or a world file: one robot), steps it at --rate
 // times real time, and talks ROS 2-layout DDS: rt/clock and the world's truth globally; per robot
-// (rt/<robot>/...) scan, sonar, ir, odom, joint_states, bumper, ground_truth and sim/status out,
+// (rt/<robot>/...) scan, sonar, ir, odom, joint_states, bumper, people, ground_truth and sim/status out,
 // cmd_vel and cmd_accel in. Optionally records one robot as a CARMEN log. With --lockstep it steps
 // no further than each robot's navd has been given (rt/<robot>/navd/next_tick).
 #include <spdlog/cfg/env.h>
@@ -20,6 +20,7 @@
 #include "geometry_msgsPubSubTypes.h"
 #include "nav_msgsPubSubTypes.h"
 #include "navsim_msgsPubSubTypes.h"
+#include "people_msgsPubSubTypes.h"
 #include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
 #include "services/common/error.h"
@@ -94,6 +95,10 @@ class RobotTopics {
       scan_msg_.range_min(static_cast<float>(l->description().range_min));
       scan_msg_.range_max(static_cast<float>(l->description().range_max));
     }
+    if (robot.spec().people) {
+      people_ = std::make_unique<navd::dds::Writer<people_msgs::msg::dds_::People_PubSubType>>(
+          p, TopicName(ns_, navd::dds::kPeople), Reliability::kBestEffort, 2);
+    }
     if (gate) {
       next_tick_ = std::make_unique<navd::dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
           p, TopicName(ns_, navd::dds::kNextTick), Reliability::kReliable,
@@ -120,6 +125,21 @@ class RobotTopics {
     }
     if (in.sonar) PublishRanges(t, "sonar", 0, *robot.sonar(), *in.sonar, sonar_);
     if (in.ir) PublishRanges(t, "ir", 1, *robot.ir(), *in.ir, ir_);
+    if (in.people && people_) {
+      people_msgs::msg::dds_::People_ m;
+      m.header(MakeHeader(t, "base_link"));
+      for (const sim::PersonReading& r : *in.people) {
+        people_msgs::msg::dds_::Person_ person;
+        person.name("person " + std::to_string(r.id));
+        person.position().x(r.position.x());
+        person.position().y(r.position.y());
+        person.velocity().x(r.velocity.x());
+        person.velocity().y(r.velocity.y());
+        person.reliability(1.0);
+        m.people().push_back(std::move(person));
+      }
+      people_->Write(m);
+    }
     if (in.odom) odom_.Write(MakeOdometry(t, base.odom_pose(), base.odom_twist(), base.odom_covariance(), "odom"));
     if (in.encoders) {
       msgs_sensor::JointState_ j;
@@ -181,6 +201,7 @@ class RobotTopics {
   navd::dds::Writer<msgs_sim::BumperState_PubSubType> bumper_;
   navd::dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> truth_;
   navd::dds::Writer<msgs_sim::SimStatus_PubSubType> status_;
+  std::unique_ptr<navd::dds::Writer<people_msgs::msg::dds_::People_PubSubType>> people_;  // with a people sensor
   std::mutex mutex_;
   std::optional<sim::BodyTwist> velocity_;
   std::optional<std::pair<double, double>> accel_;

@@ -44,8 +44,9 @@ void ReadRangeArray(const YamlFields& f, const YAML::Node& n, const std::string&
 
 void ReadSensors(const YamlFields& f, const YAML::Node& list, const std::string& prefix, const World& world,
                  RobotSpec& r) {
-  f.ExpectSequence(list, prefix + "sensors", "sensors ({type: laser|sonar|ir|bumper|encoders, ...})");
+  f.ExpectSequence(list, prefix + "sensors", "sensors ({type: laser|sonar|ir|bumper|encoders|people, ...})");
   r.laser.reset();
+  r.people.reset();
   r.sonar.reset();
   r.ir.reset();
   r.bumper = r.encoders = false;
@@ -74,8 +75,20 @@ void ReadSensors(const YamlFields& f, const YAML::Node& list, const std::string&
       f.CheckKeys(s, field, {"type", "rate_hz"});
       r.encoders = true;
       f.Read(s, "rate_hz", field + ".", r.encoder_rate, &YamlFields::Positive);
+    } else if (type == "people") {
+      f.CheckKeys(s, field, {"type", "range_max", "fov_deg", "rate_hz", "position_noise", "velocity_noise"});
+      PeopleSensorDescription d;
+      double fov_deg = d.fov * 180.0 / M_PI;
+      f.Read(s, "range_max", field + ".", d.range_max, &YamlFields::Positive);
+      f.Read(s, "fov_deg", field + ".", fov_deg, &YamlFields::Positive);
+      if (fov_deg > 360.0) f.Fail(field + ".fov_deg", "must be at most 360", s["fov_deg"]);
+      d.fov = fov_deg * M_PI / 180.0;
+      f.Read(s, "rate_hz", field + ".", d.rate, &YamlFields::Positive);
+      f.Read(s, "position_noise", field + ".", d.position_noise, &YamlFields::NonNegative);
+      f.Read(s, "velocity_noise", field + ".", d.velocity_noise, &YamlFields::NonNegative);
+      r.people = d;
     } else {
-      f.Fail(field + ".type", "is not a known sensor type '" + type + "' (expected laser, sonar, ir, bumper, encoders)",
+      f.Fail(field + ".type", "is not a known sensor type '" + type + "' (expected laser, sonar, ir, bumper, encoders, people)",
              s["type"]);
     }
   }

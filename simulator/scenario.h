@@ -3,6 +3,7 @@
 // robots' map does not show, scripted moving obstacles, pedestrians, target points and the random
 // seed. `navsim --scenario FILE` runs one; see worlds/scenarios/ and the README for the format.
 // Metres, radians, seconds, map frame.
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +15,18 @@
 
 namespace navd::sim {
 
+// A people detector, as a tracker on a real robot reports (people_msgs/People): every person within
+// range_max and the field of view, seen through one another, with the velocity they walk with
+// (book chapter 7's simulations: "the robot will only know the current position and velocity of
+// each of the persons within a range of 45 m in front"). Gaussian noise on request.
+struct PeopleSensorDescription {
+  double range_max = 45.0;       // m, centre to centre
+  double fov = 2.0 * M_PI;       // rad, centred on the heading
+  double rate = 10.0;            // Hz
+  double position_noise = 0.0;   // m, standard deviation per axis
+  double velocity_noise = 0.0;   // m/s, standard deviation per axis
+};
+
 struct RobotSpec {
   std::string name;                  // topic namespace (rt/<name>/scan ...); empty: rt/scan ...
   Pose2 start;
@@ -21,6 +34,7 @@ struct RobotSpec {
   std::optional<LaserDescription> laser;
   std::optional<RangeArrayDescription> sonar;
   std::optional<RangeArrayDescription> ir;
+  std::optional<PeopleSensorDescription> people;
   bool bumper = false;
   bool encoders = false;
   double encoder_rate = 50.0;        // Hz

@@ -149,6 +149,24 @@ void Simulation::CommandAcceleration(size_t index, double linear, double angular
   r.watchdog_stopped_ = false;
 }
 
+std::vector<PersonReading> Simulation::SensePeople(SimulatedRobot& r) const {
+  const PeopleSensorDescription& d = *r.spec_.people;
+  const Pose2 to_robot = r.base_.true_pose().inverse();
+  const double c = std::cos(to_robot.theta), s = std::sin(to_robot.theta);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::vector<PersonReading> seen;
+  for (const Person& p : people()) {
+    const Point2 at = to_robot * p.position;
+    if (at.norm() > d.range_max || std::abs(std::atan2(at.y(), at.x())) > 0.5 * d.fov) continue;
+    const Point2 v = WalkingVelocity(p);
+    PersonReading reading{p.id, at, Point2(c * v.x() - s * v.y(), s * v.x() + c * v.y())};
+    if (d.position_noise > 0.0) reading.position += d.position_noise * Point2(unit(r.sensor_rng_), unit(r.sensor_rng_));
+    if (d.velocity_noise > 0.0) reading.velocity += d.velocity_noise * Point2(unit(r.sensor_rng_), unit(r.sensor_rng_));
+    seen.push_back(reading);
+  }
+  return seen;
+}
+
 bool Simulation::Due(double rate, double& last) const {
   const double period = 1.0 / rate;
   // A small tolerance keeps float steps from skipping a sample.
@@ -273,6 +291,7 @@ StepOutputs Simulation::Step() {
     o.odom = Due(options_.odom_rate, r.last_odom_);
     o.encoders = r.spec_.encoders && Due(r.spec_.encoder_rate, r.last_encoders_);
     o.bumper = r.spec_.bumper && Due(r.spec_.bumper_rate, r.last_bumper_);
+    if (r.spec_.people && Due(r.spec_.people->rate, r.last_people_)) o.people = SensePeople(r);
   }
   out.truth = Due(options_.truth_rate, last_truth_);
   out.status = Due(options_.status_rate, last_status_);

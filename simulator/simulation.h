@@ -87,7 +87,15 @@ class SimulatedRobot {
   BumperState bumper_;
   uint32_t collisions_ = 0;
   double last_scan_ = -1e9, last_sonar_ = -1e9, last_ir_ = -1e9, last_odom_ = -1e9, last_encoders_ = -1e9,
-         last_bumper_ = -1e9;
+         last_bumper_ = -1e9, last_people_ = -1e9;
+};
+
+// A person the people sensor reports: robot frame (metres), velocity over the ground in the robot
+// frame's axes (m/s, the velocity they walk with).
+struct PersonReading {
+  int id = 0;
+  Point2 position = Point2::Zero();
+  Point2 velocity = Point2::Zero();
 };
 
 // What became due for one robot during one step.
@@ -95,6 +103,7 @@ struct RobotReadings {
   std::optional<std::vector<float>> scan;
   std::optional<std::vector<float>> sonar;
   std::optional<std::vector<float>> ir;
+  std::optional<std::vector<PersonReading>> people;
   bool odom = false;
   bool encoders = false;
   bool bumper = false;
@@ -151,6 +160,8 @@ class Simulation {
   // Where body `id` (not a wall) is and how fast it goes (map frame, m/s; a person's walking
   // velocity); nullopt for an id that is no body.
   std::optional<std::pair<Point2, Point2>> BodyMotion(int id) const;
+  // What robot `r`'s people sensor reports now.
+  std::vector<PersonReading> SensePeople(SimulatedRobot& r) const;
 
   Scenario scenario_;
   SimulationOptions options_;

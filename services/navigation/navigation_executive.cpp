@@ -59,6 +59,7 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       people_(people),
       people_segmenter_(people.detection),
       tracker_(people.tracking),
+      reported_(people.tracking),
       crowd_(people.control),
       reflex_(options.reflex),
       avoider_(moving.avoidance),
@@ -385,7 +386,8 @@ void NavigationExecutive::TrackPeople(const localization::ScanReading& scan, con
 }
 
 std::vector<TrackedPerson> NavigationExecutive::PeopleLocked(double now) const {
-  std::vector<TrackedPerson> people = tracker_.People(now);
+  std::vector<TrackedPerson> people =
+      people_.source == PeopleAwareOptions::Source::kReports ? reported_.People(now) : tracker_.People(now);
   const Pose2& to_map = map_from_odometry_;
   const double c = std::cos(to_map.theta), s = std::sin(to_map.theta);
   for (TrackedPerson& p : people) {
@@ -398,7 +400,7 @@ std::vector<TrackedPerson> NavigationExecutive::PeopleLocked(double now) const {
 
 std::vector<TrackedPerson> NavigationExecutive::people() const {
   std::lock_guard<std::mutex> lock(detector_mutex_);
-  return PeopleLocked(tracker_.tracks().empty() ? 0.0 : clock_.Now());
+  return PeopleLocked(tracker_.tracks().empty() && reported_.empty() ? 0.0 : clock_.Now());
 }
 
 std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& pose, double now) {
@@ -722,7 +724,12 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     scan_points_ = std::move(points);
   }
   if (in.scan && estimate.valid && detecting && !lost_) DetectMovingObstacles(*in.scan, scan_pose, now);
-  if (people_.enabled && in.scan && estimate.valid && !lost_) TrackPeople(*in.scan, scan_pose, now);
+  const bool reports = people_.source == PeopleAwareOptions::Source::kReports;
+  if (people_.enabled && !reports && in.scan && estimate.valid && !lost_) TrackPeople(*in.scan, scan_pose, now);
+  if (people_.enabled && reports && in.people && estimate.valid && !lost_) {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    reported_.Update(*in.people, in.people_odometry ? *in.people_odometry : map_from_odometry_.inverse() * estimate.pose);
+  }
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     std::erase_if(sensed_obstacles_,
@@ -741,6 +748,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   if (lost_) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     tracker_.Reset();
+    reported_.Reset();
   }
 
   // Seed 000 section 7: the emergency stop is for stationary things; a bumper pressed by a moving

@@ -23,6 +23,7 @@
 #include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
 #include "services/navigation/person_tracker.h"
+#include "services/navigation/reported_people.h"
 #include "services/navigation/recovery_behaviour.h"
 #include "services/navigation/sonar_reflex.h"
 #include "services/navigation/speed_zones.h"
@@ -144,6 +145,11 @@ struct EmergencyStopOptions {
 // leave people to it (the laser's stopping guard stays). Off by default: navd --people-aware.
 struct PeopleAwareOptions {
   bool enabled = false;
+  // Where the people come from: the laser's blobs through the person tracker, or the reports of a
+  // people detector or tracker (ExecutiveInputs::people; book chapter 7's simulations give the
+  // robot every person's position and velocity so).
+  enum class Source { kLaser, kReports };
+  Source source = Source::kLaser;
   // Which blobs are people: Segment() of the moving-obstacle detector, out to max_distance, with
   // no margin; wider ones are something else.
   MovingObstacleDetectorOptions detection = [] {
@@ -178,6 +184,10 @@ struct ExecutiveInputs {
   double rear_free = std::numeric_limits<double>::infinity();
   // The sonar ring's recent echoes (sensors that heard nothing left out); null: no sonar.
   const std::vector<SonarEcho>* sonar = nullptr;
+  // The people report that arrived since the last step, if one did (PeopleAwareOptions::kReports),
+  // and the robot's odometry pose at its stamp (without it, the estimate's pose).
+  const PeopleReport* people = nullptr;
+  std::optional<Pose2> people_odometry = std::nullopt;
 };
 
 class NavigationExecutive {
@@ -321,6 +331,7 @@ class NavigationExecutive {
   PeopleAwareOptions people_;
   MovingObstacleDetector people_segmenter_;
   PersonTracker tracker_;           // guarded by detector_mutex_; in the odometry frame
+  ReportedPeople reported_;         // guarded by detector_mutex_; in the odometry frame
   Pose2 map_from_odometry_;         // guarded by detector_mutex_; identity without odometry
   CrowdController crowd_;
   bool crowd_steering_ = false;     // the crowd controller drove the last step

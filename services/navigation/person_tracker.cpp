@@ -7,6 +7,13 @@
 
 namespace navd::navigation {
 
+double FilteredOrientation(double orientation, const Point2& velocity, double min_direction_speed) {
+  const double speed = velocity.norm();
+  if (speed <= min_direction_speed) return orientation;
+  const double heading = std::atan2(velocity.y(), velocity.x());
+  return NormalizeAngle(orientation + (1.0 - OrientationBeta(speed)) * NormalizeAngle(heading - orientation));
+}
+
 double OrientationBeta(double speed) {
   if (speed < 0.1) return 0.9;
   if (speed <= 0.6) return 1.04 - 1.4 * speed;
@@ -67,12 +74,7 @@ void PersonTracker::Update(const std::vector<Point2>& detections, double now) {
     const double speed = t.velocity.norm();
     if (speed > o_.max_speed) t.velocity *= o_.max_speed / speed;
     t.covariance = (Eigen::Matrix4d::Identity() - k * Eigen::Matrix<double, 2, 4>::Identity()) * t.covariance;
-    // Eqs. 5-6, on the circle.
-    const double beta = OrientationBeta(t.velocity.norm());
-    if (t.velocity.norm() > o_.min_direction_speed) {
-      const double heading = std::atan2(t.velocity.y(), t.velocity.x());
-      t.orientation = NormalizeAngle(t.orientation + (1.0 - beta) * NormalizeAngle(heading - t.orientation));
-    }
+    t.orientation = FilteredOrientation(t.orientation, t.velocity, o_.min_direction_speed);
     ++t.hits;
     t.last_seen = now;
     if (t.hits >= o_.confirm_hits) t.confirmed = true;

@@ -51,6 +51,9 @@ struct TrackedPerson {
 
 // Eq. 6.
 double OrientationBeta(double speed);
+// Eq. 5 on the circle: `orientation` (rad) turned towards `velocity`'s heading by 1 − β; kept as
+// it was below `min_direction_speed` (m/s).
+double FilteredOrientation(double orientation, const Point2& velocity, double min_direction_speed);
 
 // The standard deviation of a track's velocity along its least certain direction, m/s.
 double VelocityStd(const TrackedPerson& t);

@@ -7,6 +7,7 @@
 #include "services/common/error.h"
 #include "services/navigation/crowd_controller.h"
 #include "services/navigation/person_tracker.h"
+#include "services/navigation/reported_people.h"
 #include "services/planning/crowd_route.h"
 #include "services/planning/crowd_rrt.h"
 #include "services/planning/stop_short_rollout.h"
@@ -625,6 +626,47 @@ TEST(PersonTracker, AStandingPersonKeepsTheOrientationTheyWalkedIn) {
   ASSERT_EQ(people.size(), 1u);
   EXPECT_LT(people[0].velocity.norm(), 0.3);
   EXPECT_NEAR(people[0].orientation, M_PI / 2.0, 0.35);
+}
+
+// A people detector's report (robot frame at its stamp) is kept in the frame of the robot's pose:
+// positions and velocities turned into it, predicted on at constant velocity, the same name the
+// same id with its orientation filtered on (Eqs. 5-6), everyone forgotten when reports stop.
+TEST(ReportedPeople, KeptInTheRobotsFramePredictedOnAndForgotten) {
+  navigation::PersonTrackerOptions o;
+  o.forget_after = 2.0;
+  navigation::ReportedPeople people(o);
+  EXPECT_TRUE(people.People(0.0).empty());
+  const Pose2 robot{1.0, 2.0, M_PI / 2};  // facing +y
+  navigation::PeopleReport report;
+  report.stamp = 10.0;
+  report.people = {{"ann", {2.0, 0.0}, {1.0, 0.0}},  // 2 m ahead, walking ahead
+                   {"bob", {0.0, -1.0}, {0.0, 0.0}},  // 1 m to the right, standing
+                   {"nan", {std::nan(""), 0.0}, {0.0, 0.0}}};
+  people.Update(report, robot);
+  std::vector<navigation::TrackedPerson> now = people.People(10.5);
+  ASSERT_EQ(now.size(), 2u);
+  EXPECT_NEAR(now[0].position.x(), 1.0, 1e-9);
+  EXPECT_NEAR(now[0].position.y(), 4.0 + 0.5, 1e-9);  // predicted on by 0.5 s at 1 m/s along +y
+  EXPECT_NEAR(now[0].velocity.x(), 0.0, 1e-9);
+  EXPECT_NEAR(now[0].velocity.y(), 1.0, 1e-9);
+  EXPECT_NEAR(now[0].orientation, M_PI / 2, 1e-9);
+  EXPECT_NEAR(now[1].position.x(), 2.0, 1e-9);
+  EXPECT_NEAR(now[1].position.y(), 2.0, 1e-9);
+  EXPECT_TRUE(now[0].confirmed && now[1].confirmed);
+  EXPECT_NE(now[0].id, now[1].id);
+  const int ann = now[0].id;
+  // Ann turns to walk along -x (robot frame: +y): her orientation follows by 1 - β = 0.8 of the turn.
+  report.stamp = 10.1;
+  report.people = {{"ann", {2.1, 0.0}, {0.0, 1.0}}};
+  people.Update(report, robot);
+  now = people.People(10.1);
+  ASSERT_EQ(now.size(), 1u);
+  EXPECT_EQ(now[0].id, ann);
+  EXPECT_NEAR(now[0].orientation, M_PI / 2 + 0.8 * M_PI / 2, 1e-9);
+  EXPECT_EQ(people.People(12.05).size(), 1u);
+  EXPECT_TRUE(people.People(12.2).empty());  // no report for longer than forget_after
+  people.Reset();
+  EXPECT_TRUE(people.empty());
 }
 
 }  // namespace

@@ -645,6 +645,44 @@ TEST(Pedestrians, StopShortOfRobotsAndAreSeenByTheLaser) {
   EXPECT_EQ(sim.robot().collisions(), 0u);  // the robot never moved
 }
 
+// The people sensor reports each person in the robot's frame with the velocity they walk with,
+// within its range and field of view, at its rate; a robot without one reports none.
+TEST(Pedestrians, ThePeopleSensorReportsEveryoneInRangeInTheRobotsFrame) {
+  const Scenario s = ScenarioText(
+      "robots:\n"
+      "  - {name: a, start: [2.0, 2.0, 1.0], sensors: [{type: people, range_max: 1.2, fov_deg: 180, rate_hz: 5}]}\n"
+      "  - {name: b, start: [3.0, 3.0, 0.0], sensors: [{type: laser}]}\n"
+      "people: {area: [0.5, 0.5, 3.5, 3.5], mode: room, initial: [8, 8], max: 8, arrival_rate: 0, brownian: 0.05, "
+      "spawn_clearance: 0.3}\n");
+  Simulation sim(s, {});
+  int readings = 0, reported = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const auto out = sim.Step();
+    EXPECT_FALSE(out.robots[1].people);
+    if (!out.robots[0].people) continue;
+    ++readings;
+    const Pose2 robot = sim.robot(0).base().true_pose();
+    size_t expected = 0;
+    for (const Person& p : sim.people()) {
+      const Point2 at = robot.inverse() * p.position;
+      if (at.norm() <= 1.2 && at.x() >= 0.0) ++expected;
+    }
+    ASSERT_EQ(out.robots[0].people->size(), expected) << "at t=" << sim.now();
+    for (const PersonReading& r : *out.robots[0].people) {
+      const auto truth = std::find_if(sim.people().begin(), sim.people().end(), [&](const Person& p) { return p.id == r.id; });
+      ASSERT_NE(truth, sim.people().end());
+      EXPECT_LT(Distance(robot * r.position, truth->position), 1e-9);
+      const Point2 v = WalkingVelocity(*truth), back = Point2(std::cos(robot.theta) * r.velocity.x() - std::sin(robot.theta) * r.velocity.y(),
+                                                              std::sin(robot.theta) * r.velocity.x() + std::cos(robot.theta) * r.velocity.y());
+      EXPECT_LT((back - v).norm(), 1e-9);
+      ++reported;
+    }
+  }
+  EXPECT_NEAR(readings, 50, 1);  // 5 Hz for 10 s
+  EXPECT_GT(reported, 0);
+  EXPECT_THROW(ScenarioText("robots: [{start: [2, 2, 0], sensors: [{type: people, fov_deg: 400}]}]\n"), Error);
+}
+
 TEST(Scenarios, ShippedScenariosLoad) {
   for (const char* name : {"warehouse_run1", "warehouse_run2", "office", "street", "warehouse_fleet"}) {
     SCOPED_TRACE(name);
