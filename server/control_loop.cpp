@@ -134,12 +134,15 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   if (bridge_.people_count() != people_seen_) {
     people_seen_ = bridge_.people_count();
     people = bridge_.LatestPeople();
+    // The count and the sample are read apart: a tick may find the one it took already.
+    if (people && people->stamp == people_stamp_) people.reset();
+    if (people) people_stamp_ = people->stamp;
   }
-  // A laser (or people detector) that has spoken and then gone silent is stale too; a robot
-  // without one is not.
-  const auto silent = [&](double last_arrival) { return last_arrival > -1e8 && now - last_arrival > options_.sensor_timeout; };
-  const bool fresh = !silent(bridge_.last_scan_arrival()) && !silent(bridge_.last_people_arrival()) &&
-                     now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
+  // A laser that has spoken and then gone silent is stale too; a robot without one is not. People
+  // read from a detector are needed: silent, or never heard, the sensors are stale.
+  const bool laser_fresh = !bridge_.scan_seen() || now - bridge_.last_scan_arrival() <= options_.sensor_timeout;
+  const bool people_fresh = !bridge_.reads_people() || now - bridge_.last_people_arrival() <= options_.sensor_timeout;
+  const bool fresh = laser_fresh && people_fresh && now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
   const bool was_active = executive_.navigator().Status().active || was_searching_;
   navigation::ExecutiveInputs inputs;
   inputs.sensors_fresh = fresh;
@@ -154,6 +157,10 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   inputs.sonar = &sonar;
   inputs.people = people ? &*people : nullptr;
   inputs.people_odometry = people ? bridge_.OdometryAt(people->stamp) : std::nullopt;
+  if (people) {
+    const auto odometry = bridge_.LatestOdometry();
+    inputs.people_age = odometry ? std::clamp(odometry->stamp - people->stamp, 0.0, 1.0) : 0.0;
+  }
   const WheelSpeeds wheels = executive_.Step(inputs, now);
   const navigation::NavigationStatus status = executive_.navigator().Status();
   if (spdlog::should_log(spdlog::level::trace)) {

@@ -114,6 +114,8 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   moving.avoidance.wheel_base = robot.wheel_base;
   navigation::PeopleAwareOptions people;
   people.enabled = o.people_aware;
+  if (o.people_source == "topic" && !o.people_aware)
+    spdlog::warn("navd: --people-source topic has no effect without --people-aware");
   people.source = o.people_source == "topic" ? navigation::PeopleAwareOptions::Source::kReports
                                               : navigation::PeopleAwareOptions::Source::kLaser;
   planning::UnicycleLimits& limits = people.control.limits;

@@ -103,7 +103,10 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
   if (people) {
     people_reader_ = std::make_unique<dds::Reader<people_msgs::msg::dds_::People_PubSubType>>(
         participant_, dds::TopicName(ns, dds::kPeople), Reliability::kBestEffort,
-        [this](const people_msgs::msg::dds_::People_&) { last_people_arrival_ = arrival_clock_.Now(); }, 2);
+        [this](const people_msgs::msg::dds_::People_& m) {
+          if (InBaseLink(m)) last_people_arrival_ = arrival_clock_.Now();
+        },
+        2);
   }
   scan_topic_ = dds::TopicName(ns, dds::kScan);
   scan_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
@@ -154,17 +157,21 @@ std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
   return s;
 }
 
+bool DdsBridge::InBaseLink(const people_msgs::msg::dds_::People_& m) const {
+  const std::string& frame = m.header().frame_id();
+  if (frame == "base_link" || frame.ends_with("/base_link")) return true;
+  // Said on the first and every tenfold after; the sensors are stale meanwhile.
+  const int n = ++bad_people_;
+  if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
+    spdlog::warn("people report ignored ({} so far): frame_id '{}' is not base_link", n, frame);
+  return false;
+}
+
 std::optional<navigation::PeopleReport> DdsBridge::LatestPeople() const {
   if (!people_reader_) return std::nullopt;
   const auto m = people_reader_->Latest();
   if (!m) return std::nullopt;
-  const std::string& frame = m->header().frame_id();
-  if (frame != "base_link" && !frame.ends_with("/base_link")) {
-    const int n = ++bad_people_;
-    if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
-      spdlog::warn("people report ignored ({} so far): frame_id '{}' is not base_link", n, frame);
-    return std::nullopt;
-  }
+  if (!InBaseLink(*m)) return std::nullopt;
   navigation::PeopleReport r;
   r.stamp = dds::FromTime(m->header().stamp());
   for (const people_msgs::msg::dds_::Person_& p : m->people())

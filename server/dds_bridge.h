@@ -69,11 +69,13 @@ class DdsBridge {
   // nothing (max_range or beyond) left out; empty without a sonar.
   std::vector<navigation::SonarEcho> SonarEchoes(double within = 0.5) const;
 
+  // Whether people reports are read (the constructor's `people`).
+  bool reads_people() const { return people_reader_ != nullptr; }
   // The newest people report and how many have arrived; nullopt without one (or when not read).
   // Reports in another frame than base_link are dropped with a warning.
   std::optional<navigation::PeopleReport> LatestPeople() const;
   uint64_t people_count() const { return people_reader_ ? people_reader_->count() : 0; }
-  // Arrival clock time of the newest people report; very negative before the first.
+  // Arrival clock time of the newest people report in base_link; very negative before the first.
   double last_people_arrival() const { return last_people_arrival_.load(); }
 
   void PublishCommand(const Twist2& twist);
@@ -100,6 +102,8 @@ class DdsBridge {
   mutable std::mutex wheel_mutex_;
   std::optional<localization::OdometryReading> wheel_reading_;
   void Remember(const localization::OdometryReading& reading);
+  // Whether a people report is in base_link (or <ns>/base_link); warns when not.
+  bool InBaseLink(const people_msgs::msg::dds_::People_& m) const;
   mutable std::mutex history_mutex_;
   localization::OdometryHistory history_{256};
   localization::OdometryJumpFilter history_filter_;
@@ -124,9 +128,10 @@ class DdsBridge {
   };
   mutable std::mutex sonar_mutex_;
   std::vector<SonarSlot> sonar_;
-  std::unique_ptr<dds::Reader<people_msgs::msg::dds_::People_PubSubType>> people_reader_;
+  // Declared before the reader, whose callback writes them: destroyed after it.
   std::atomic<double> last_people_arrival_{-1e9};
   mutable std::atomic<int> bad_people_{0};
+  std::unique_ptr<dds::Reader<people_msgs::msg::dds_::People_PubSubType>> people_reader_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_writer_;

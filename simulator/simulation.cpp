@@ -23,7 +23,11 @@ const std::vector<Person> kNobody;
 }  // namespace
 
 SimulatedRobot::SimulatedRobot(const RobotSpec& spec, int id, uint64_t seed)
-    : spec_(spec), id_(id), sensor_rng_(StreamSeed(seed, 2 * id + 1)), base_(spec.body, spec.start, StreamSeed(seed, 2 * id)) {
+    : spec_(spec),
+      id_(id),
+      sensor_rng_(StreamSeed(seed, 2 * id + 1)),
+      people_rng_(StreamSeed(seed, (1u << 21) + id)),
+      base_(spec.body, spec.start, StreamSeed(seed, 2 * id)) {
   if (spec.laser) laser_.emplace(*spec.laser);
   if (spec.sonar) sonar_.emplace(*spec.sonar);
   if (spec.ir) ir_.emplace(*spec.ir);
@@ -149,19 +153,20 @@ void Simulation::CommandAcceleration(size_t index, double linear, double angular
   r.watchdog_stopped_ = false;
 }
 
-std::vector<PersonReading> Simulation::SensePeople(SimulatedRobot& r) const {
+std::vector<PersonReading> Simulation::SensePeople(SimulatedRobot& r) {
   const PeopleSensorDescription& d = *r.spec_.people;
   const Pose2 to_robot = r.base_.true_pose().inverse();
-  const double c = std::cos(to_robot.theta), s = std::sin(to_robot.theta);
   std::normal_distribution<double> unit(0.0, 1.0);
   std::vector<PersonReading> seen;
   for (const Person& p : people()) {
     const Point2 at = to_robot * p.position;
     if (at.norm() > d.range_max || std::abs(std::atan2(at.y(), at.x())) > 0.5 * d.fov) continue;
-    const Point2 v = WalkingVelocity(p);
-    PersonReading reading{p.id, at, Point2(c * v.x() - s * v.y(), s * v.x() + c * v.y())};
-    if (d.position_noise > 0.0) reading.position += d.position_noise * Point2(unit(r.sensor_rng_), unit(r.sensor_rng_));
-    if (d.velocity_noise > 0.0) reading.velocity += d.velocity_noise * Point2(unit(r.sensor_rng_), unit(r.sensor_rng_));
+    // The velocity they walk with (a tracker's smoothed one, not the Brownian step's); none while
+    // something stops them (a walker waiting at the robot's rim does not walk into it).
+    const Point2 v = p.velocity.isZero() ? Point2::Zero() : WalkingVelocity(p);
+    PersonReading reading{p.id, at, Rotate(v, to_robot.theta)};
+    if (d.position_noise > 0.0) reading.position += d.position_noise * Point2(unit(r.people_rng_), unit(r.people_rng_));
+    if (d.velocity_noise > 0.0) reading.velocity += d.velocity_noise * Point2(unit(r.people_rng_), unit(r.people_rng_));
     seen.push_back(reading);
   }
   return seen;

@@ -72,6 +72,7 @@ class SimulatedRobot {
   RobotSpec spec_;
   int id_;
   std::mt19937_64 sensor_rng_;
+  std::mt19937_64 people_rng_;  // the people sensor's noise, apart: turning it on leaves the others' draws
   MobileBase base_;
   std::optional<LaserScanner> laser_;
   std::optional<RangeSensorArray> sonar_, ir_;
@@ -161,7 +162,7 @@ class Simulation {
   // velocity); nullopt for an id that is no body.
   std::optional<std::pair<Point2, Point2>> BodyMotion(int id) const;
   // What robot `r`'s people sensor reports now.
-  std::vector<PersonReading> SensePeople(SimulatedRobot& r) const;
+  std::vector<PersonReading> SensePeople(SimulatedRobot& r);
 
   Scenario scenario_;
   SimulationOptions options_;

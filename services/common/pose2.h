@@ -41,6 +41,12 @@ struct Pose2 {
 
 inline double Distance(const Point2& a, const Point2& b) { return (a - b).norm(); }
 
+// `v` turned counter-clockwise by `angle` (rad): a vector's components in a frame turned so.
+inline Point2 Rotate(const Point2& v, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
+
 // "(x, y)" with centimetre precision, for error messages.
 std::string FormatPoint(const Point2& p);
 

@@ -389,10 +389,9 @@ std::vector<TrackedPerson> NavigationExecutive::PeopleLocked(double now) const {
   std::vector<TrackedPerson> people =
       people_.source == PeopleAwareOptions::Source::kReports ? reported_.People(now) : tracker_.People(now);
   const Pose2& to_map = map_from_odometry_;
-  const double c = std::cos(to_map.theta), s = std::sin(to_map.theta);
   for (TrackedPerson& p : people) {
     p.position = to_map * p.position;
-    p.velocity = Point2(c * p.velocity.x() - s * p.velocity.y(), s * p.velocity.x() + c * p.velocity.y());
+    p.velocity = Rotate(p.velocity, to_map.theta);
     p.orientation = NormalizeAngle(p.orientation + to_map.theta);
   }
   return people;
@@ -728,7 +727,10 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   if (people_.enabled && !reports && in.scan && estimate.valid && !lost_) TrackPeople(*in.scan, scan_pose, now);
   if (people_.enabled && reports && in.people && estimate.valid && !lost_) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
-    reported_.Update(*in.people, in.people_odometry ? *in.people_odometry : map_from_odometry_.inverse() * estimate.pose);
+    // Without a laser nothing else keeps the map's place in the odometry frame.
+    if (in.odometry) map_from_odometry_ = estimate.pose * in.odometry->inverse();
+    reported_.Update(*in.people, in.people_odometry ? *in.people_odometry : map_from_odometry_.inverse() * estimate.pose,
+                     now - in.people_age);
   }
   {
     std::lock_guard<std::mutex> lock(detector_mutex_);

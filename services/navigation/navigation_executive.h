@@ -185,9 +185,11 @@ struct ExecutiveInputs {
   // The sonar ring's recent echoes (sensors that heard nothing left out); null: no sonar.
   const std::vector<SonarEcho>* sonar = nullptr;
   // The people report that arrived since the last step, if one did (PeopleAwareOptions::kReports),
-  // and the robot's odometry pose at its stamp (without it, the estimate's pose).
+  // the robot's odometry pose at its stamp (without it, the estimate's pose), and how old it was
+  // (s, by the robot's clock: the newest odometry's stamp less the report's).
   const PeopleReport* people = nullptr;
   std::optional<Pose2> people_odometry = std::nullopt;
+  double people_age = 0.0;
 };
 
 class NavigationExecutive {

@@ -9,7 +9,7 @@ namespace navd::navigation {
 
 double FilteredOrientation(double orientation, const Point2& velocity, double min_direction_speed) {
   const double speed = velocity.norm();
-  if (speed <= min_direction_speed) return orientation;
+  if (!(speed > min_direction_speed)) return orientation;
   const double heading = std::atan2(velocity.y(), velocity.x());
   return NormalizeAngle(orientation + (1.0 - OrientationBeta(speed)) * NormalizeAngle(heading - orientation));
 }

@@ -1,26 +1,27 @@
 #include "services/navigation/reported_people.h"
 
 #include <cmath>
+#include <utility>
 
 namespace navd::navigation {
 
-void ReportedPeople::Update(const PeopleReport& report, const Pose2& robot) {
-  const double c = std::cos(robot.theta), s = std::sin(robot.theta);
+void ReportedPeople::Update(const PeopleReport& report, const Pose2& robot, double seen_at) {
   std::vector<TrackedPerson> people;
   std::map<std::string, int> ids;
   for (const ReportedPerson& r : report.people) {
     if (!r.position.allFinite() || !r.velocity.allFinite()) continue;
     TrackedPerson p;
     const auto known = ids_.find(r.name);
-    p.id = known != ids_.end() ? known->second : next_id_++;
-    ids[r.name] = p.id;
+    const bool named = !r.name.empty() && !ids.contains(r.name);
+    p.id = named && known != ids_.end() ? known->second : next_id_++;
+    if (named) ids[r.name] = p.id;
     p.position = robot * r.position;
-    p.velocity = Point2(c * r.velocity.x() - s * r.velocity.y(), s * r.velocity.x() + c * r.velocity.y());
+    p.velocity = Rotate(r.velocity, robot.theta);
     const double speed = p.velocity.norm();
     if (speed > o_.max_speed) p.velocity *= o_.max_speed / speed;
     // The orientation the same person had, filtered on by their velocity now (Eqs. 5-6).
     p.orientation = std::atan2(p.velocity.y(), p.velocity.x());
-    p.first_seen = report.stamp;
+    p.first_seen = seen_at;
     for (const TrackedPerson& before : people_) {
       if (before.id != p.id) continue;
       p.orientation = FilteredOrientation(before.orientation, p.velocity, o_.min_direction_speed);
@@ -28,7 +29,7 @@ void ReportedPeople::Update(const PeopleReport& report, const Pose2& robot) {
     }
     p.covariance = Eigen::Matrix4d::Zero();  // the reporter's own; none is given
     p.hits = 1;
-    p.last_seen = report.stamp;
+    p.last_seen = seen_at;
     p.confirmed = true;
     people.push_back(p);
   }

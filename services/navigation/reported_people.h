@@ -31,8 +31,10 @@ class ReportedPeople {
   explicit ReportedPeople(const PersonTrackerOptions& options = {}) : o_(options) {}
 
   // Replaces the people with those of `report`; `robot` is the robot's pose at report.stamp in the
-  // frame they are kept in. People with non-finite values are left out.
-  void Update(const PeopleReport& report, const Pose2& robot);
+  // frame they are kept in, `seen_at` the report's stamp on the caller's clock (the clock of
+  // People()'s `now`, which need not be the reporter's). People with non-finite values are left
+  // out; a person without a name, or with one already taken in the report, is someone new.
+  void Update(const PeopleReport& report, const Pose2& robot, double seen_at);
   void Reset();
   bool empty() const { return people_.empty(); }
 

@@ -315,6 +315,13 @@ int main(int argc, char** argv) {
   app.add_option("--escape-time", planner.escape_time, "s: how long each escape manoeuvre is judged for")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 5.0));
+  app.add_option("--clearance-growth", planner.clearance_growth,
+                 "the clearance from a walker grows by this share of the distance they are predicted to walk")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 2.0));
+  app.add_option("--walking-clearance", planner.walking_clearance, "m kept from walkers beyond the clearance")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   navigation::PersonTrackerOptions tracking = navigation::PeopleAwareOptions{}.tracking;
   app.add_option("--track-measurement-std", tracking.measurement_std, "m: the person tracker's detection noise")
       ->capture_default_str()

@@ -274,6 +274,45 @@ struct OpenFloor {
   NavigationExecutive executive{planning, localizer, clock, options, brain};
 };
 
+// People from a detector (navd --people-source topic) on a robot without a laser: a report in the
+// robot's frame lands in the map where the estimate puts the robot, through the odometry of the
+// report's stamp (the odometry frame is not the map frame here), and is predicted on from when it
+// was seen by the robot's clock.
+TEST(NavigationExecutive, PeopleReportedByADetectorLandWhereTheEstimatePutsTheRobot) {
+  MapStore maps;
+  maps.Set(OccupancyGrid(120, 100, 0.05, Point2(0.0, 0.0)), "open");
+  planning::PlanningEngine planning{maps, {}};
+  planning::RegisterDefaultPlanners(planning);
+  localization::OdometryLocalizer localizer{Pose2(1.0, 2.5, M_PI / 2)};
+  SimClock clock;
+  PeopleAwareOptions people;
+  people.enabled = true;
+  people.source = PeopleAwareOptions::Source::kReports;
+  NavigationExecutive executive{planning, localizer, clock, NavigatorOptions{}, DefaultBrainOptions(), {}, {}, people};
+  const Pose2 odometry(5.0, 5.0, 0.0);
+  clock.Set(1.0);
+  localizer.AddOdometry({odometry, Eigen::Matrix3d::Zero(), 1.0});
+  executive.Step(ExecutiveInputs{}, 1.0);
+  EXPECT_TRUE(executive.people().empty());
+  PeopleReport report;
+  report.stamp = 0.9;
+  report.people = {{"ann", {2.0, 0.0}, {1.0, 0.0}}};  // 2 m ahead, walking ahead at 1 m/s
+  ExecutiveInputs in;
+  in.people = &report;
+  in.people_odometry = odometry;
+  in.odometry = odometry;
+  in.people_age = 0.1;
+  clock.Set(1.05);
+  executive.Step(in, 1.05);
+  const std::vector<TrackedPerson> seen = executive.people();
+  ASSERT_EQ(seen.size(), 1u);
+  // The robot stands at (1, 2.5) facing +y: ann was at (1, 4.5) at t = 0.95, walking along +y.
+  EXPECT_NEAR(seen[0].position.x(), 1.0, 1e-9);
+  EXPECT_NEAR(seen[0].position.y(), 4.5 + 0.1, 1e-9);
+  EXPECT_NEAR(seen[0].velocity.x(), 0.0, 1e-9);
+  EXPECT_NEAR(seen[0].velocity.y(), 1.0, 1e-9);
+}
+
 // The open floor's robot drives towards (5, 2.5), its bumper is pressed for half a second and
 // lets go. `while_pressed`, given the robot's map pose, may change the map meanwhile.
 struct ReleaseRun {

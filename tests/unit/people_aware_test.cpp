@@ -642,7 +642,7 @@ TEST(ReportedPeople, KeptInTheRobotsFramePredictedOnAndForgotten) {
   report.people = {{"ann", {2.0, 0.0}, {1.0, 0.0}},  // 2 m ahead, walking ahead
                    {"bob", {0.0, -1.0}, {0.0, 0.0}},  // 1 m to the right, standing
                    {"nan", {std::nan(""), 0.0}, {0.0, 0.0}}};
-  people.Update(report, robot);
+  people.Update(report, robot, report.stamp);
   std::vector<navigation::TrackedPerson> now = people.People(10.5);
   ASSERT_EQ(now.size(), 2u);
   EXPECT_NEAR(now[0].position.x(), 1.0, 1e-9);
@@ -657,13 +657,15 @@ TEST(ReportedPeople, KeptInTheRobotsFramePredictedOnAndForgotten) {
   const int ann = now[0].id;
   // Ann turns to walk along -x (robot frame: +y): her orientation follows by 1 - β = 0.8 of the turn.
   report.stamp = 10.1;
-  report.people = {{"ann", {2.1, 0.0}, {0.0, 1.0}}};
-  people.Update(report, robot);
+  report.people = {{"ann", {2.1, 0.0}, {0.0, 1.0}}, {"", {3.0, 0.0}, {0.0, 0.0}}, {"", {4.0, 0.0}, {0.0, 0.0}}};
+  people.Update(report, robot, report.stamp);
   now = people.People(10.1);
-  ASSERT_EQ(now.size(), 1u);
+  ASSERT_EQ(now.size(), 3u);
   EXPECT_EQ(now[0].id, ann);
   EXPECT_NEAR(now[0].orientation, M_PI / 2 + 0.8 * M_PI / 2, 1e-9);
-  EXPECT_EQ(people.People(12.05).size(), 1u);
+  EXPECT_NE(now[1].id, now[2].id);  // people without names are each someone new
+  EXPECT_NE(now[1].id, ann);
+  EXPECT_EQ(people.People(12.05).size(), 3u);
   EXPECT_TRUE(people.People(12.2).empty());  // no report for longer than forget_after
   people.Reset();
   EXPECT_TRUE(people.empty());

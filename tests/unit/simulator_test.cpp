@@ -672,9 +672,8 @@ TEST(Pedestrians, ThePeopleSensorReportsEveryoneInRangeInTheRobotsFrame) {
       const auto truth = std::find_if(sim.people().begin(), sim.people().end(), [&](const Person& p) { return p.id == r.id; });
       ASSERT_NE(truth, sim.people().end());
       EXPECT_LT(Distance(robot * r.position, truth->position), 1e-9);
-      const Point2 v = WalkingVelocity(*truth), back = Point2(std::cos(robot.theta) * r.velocity.x() - std::sin(robot.theta) * r.velocity.y(),
-                                                              std::sin(robot.theta) * r.velocity.x() + std::cos(robot.theta) * r.velocity.y());
-      EXPECT_LT((back - v).norm(), 1e-9);
+      const Point2 v = truth->velocity.isZero() ? Point2::Zero() : WalkingVelocity(*truth);
+      EXPECT_LT((Rotate(r.velocity, robot.theta) - v).norm(), 1e-9);
       ++reported;
     }
   }
