@@ -21,6 +21,7 @@
 // (within 8 m): how far each detection and track was from the person's centre, how far off each
 // track's velocity was from the velocity the person walks with, and the tracks' own velocity σ.
 //   build/tests/street_bench [--runs N] [--first-seed S] [--people MODE] [--speed V] [--straight-walkers] [--collisions]
+//     [--approach-deceleration A] [--escape-time T] [--clearance-growth G] [--walking-clearance M] (the crowd RRT options)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
