@@ -104,7 +104,14 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
     people_reader_ = std::make_unique<dds::Reader<people_msgs::msg::dds_::People_PubSubType>>(
         participant_, dds::TopicName(ns, dds::kPeople), Reliability::kBestEffort,
         [this](const people_msgs::msg::dds_::People_& m) {
-          if (InBaseLink(m)) last_people_arrival_ = arrival_clock_.Now();
+          if (InBaseLink(m)) {
+            last_people_arrival_ = arrival_clock_.Now();
+            return;
+          }
+          // Said on the first and every tenfold after; the sensors are stale meanwhile.
+          const int n = ++bad_people_;
+          if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
+            spdlog::warn("people report ignored ({} so far): frame_id '{}' is not base_link", n, m.header().frame_id());
         },
         2);
   }
@@ -157,14 +164,9 @@ std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
   return s;
 }
 
-bool DdsBridge::InBaseLink(const people_msgs::msg::dds_::People_& m) const {
+bool DdsBridge::InBaseLink(const people_msgs::msg::dds_::People_& m) {
   const std::string& frame = m.header().frame_id();
-  if (frame == "base_link" || frame.ends_with("/base_link")) return true;
-  // Said on the first and every tenfold after; the sensors are stale meanwhile.
-  const int n = ++bad_people_;
-  if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
-    spdlog::warn("people report ignored ({} so far): frame_id '{}' is not base_link", n, frame);
-  return false;
+  return frame == "base_link" || frame.ends_with("/base_link");
 }
 
 std::optional<navigation::PeopleReport> DdsBridge::LatestPeople() const {

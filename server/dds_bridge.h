@@ -102,8 +102,8 @@ class DdsBridge {
   mutable std::mutex wheel_mutex_;
   std::optional<localization::OdometryReading> wheel_reading_;
   void Remember(const localization::OdometryReading& reading);
-  // Whether a people report is in base_link (or <ns>/base_link); warns when not.
-  bool InBaseLink(const people_msgs::msg::dds_::People_& m) const;
+  // Whether a people report is in base_link (or <ns>/base_link).
+  static bool InBaseLink(const people_msgs::msg::dds_::People_& m);
   mutable std::mutex history_mutex_;
   localization::OdometryHistory history_{256};
   localization::OdometryJumpFilter history_filter_;
@@ -130,7 +130,7 @@ class DdsBridge {
   std::vector<SonarSlot> sonar_;
   // Declared before the reader, whose callback writes them: destroyed after it.
   std::atomic<double> last_people_arrival_{-1e9};
-  mutable std::atomic<int> bad_people_{0};
+  std::atomic<int> bad_people_{0};
   std::unique_ptr<dds::Reader<people_msgs::msg::dds_::People_PubSubType>> people_reader_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;

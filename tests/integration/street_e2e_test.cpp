@@ -13,6 +13,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 
+#include "dds/conversions.h"
 #include "tests/support/navd_fixture.h"
 
 namespace navd::testing {
@@ -73,7 +74,7 @@ TEST(StreetE2E, PeopleFromAPeopleDetectorTopicAreWhereTheSimulatorHasThem) {
   std::deque<navsim_msgs::msg::dds_::WorldState_> truths;  // the last second's
   std::vector<double> errors;  // m, each true person within 4 m to the nearest of navd's, robot frame
   int statuses = 0, missed = 0;
-  const auto stamp = [](const builtin_interfaces::msg::dds_::Time_& t) { return t.sec() + 1e-9 * t.nanosec(); };
+  const auto stamp = [](const builtin_interfaces::msg::dds_::Time_& t) { return dds::FromTime(t); };
   const auto on_world = [&](const navsim_msgs::msg::dds_::WorldState_& w) {
     std::lock_guard<std::mutex> lock(mutex);
     truths.push_back(w);
