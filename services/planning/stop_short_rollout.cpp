@@ -26,7 +26,7 @@ StopShortRollout RollOutStopShort(const UnicycleState& start, const std::functio
       if (moved && gap < o.touch && gap < Distance(from, at[i]) - reach - 1e-9) out.touch = std::min(out.touch, s.t);
       const Point2 next = at[i] + o.step * people[i].velocity;
       if (Distance(s.position(), next) - reach > 0.0) at[i] = next;  // else they stop short
-      out.room = std::min(out.room, Distance(s.position(), at[i]) - reach);
+      if (t <= o.room_until + 1e-9) out.room = std::min(out.room, Distance(s.position(), at[i]) - reach);
     }
     out.states.push_back(s);
   }

@@ -17,6 +17,9 @@ struct StopShortOptions {
   double robot_radius = 0.3;  // m
   double touch = 0.05;        // m: motion of the robot that brings its rim this near someone touches them
   double step = 0.05;         // s: the rollout's integration step
+  // s after the start: the room is measured up to then, touches all the way (an escape's room is
+  // judged while it is driven; the braking after it only has to stop short of everyone).
+  double room_until = std::numeric_limits<double>::infinity();
 };
 
 struct StopShortRollout {
@@ -24,8 +27,8 @@ struct StopShortRollout {
   // s (the states' clock): when the robot's own motion first touched someone or left `allowed`;
   // infinity if it never did.
   double touch = std::numeric_limits<double>::infinity();
-  // m: the least gap between the robot's rim and anyone's over the rollout (as the people walked
-  // and stood); minus infinity if the robot left `allowed`.
+  // m: the least gap between the robot's rim and anyone's over the rollout up to room_until (as the
+  // people walked and stood); minus infinity if the robot left `allowed`.
   double room = std::numeric_limits<double>::infinity();
 };
 

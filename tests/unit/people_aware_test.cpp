@@ -190,7 +190,9 @@ TEST(CrowdRrt, AnEscapeThatTouchesNoOneKeepsTheMostRoom) {
 // as the escapes are (people stop short of the robot; what touches is its own motion into them),
 // and the escapes' fan replaces it when it touches someone. A sweep of pairs of walkers coming at
 // a robot driving down the street: whatever it is given to drive when nothing lives
-// min_select_time moves it into no one within escape_time. (Before: 6 short plans, all touching.)
+// min_select_time moves it into no one within escape_time (before: 6 short plans, all touching),
+// nor when it brakes to a stop after that (before: escapes kept 1.5 m/s towards walkers ahead,
+// judged over escape_time alone).
 TEST(CrowdRrt, WhenNothingLivesLongTheRobotDrivesIntoNoOne) {
   const planning::Costmap cm = Street();
   const CrowdRrtOptions o = Options();
@@ -211,10 +213,11 @@ TEST(CrowdRrt, WhenNothingLivesLongTheRobotDrivesIntoNoOne) {
           ++cornered;
           const auto follow = [&](const planning::UnicycleState& s) -> planning::UnicycleInput {
             const size_t i = static_cast<size_t>(std::floor(s.t / o.step + 1e-9));
-            if (i < t.inputs.size()) return t.inputs[i];
+            if (i < t.inputs.size() && s.t < o.escape_time - 1e-9) return t.inputs[i];
             return {-r.limits.max_accel, -s.w / o.step};
           };
-          const auto run = planning::RollOutStopShort(r.start, follow, o.escape_time, r.people, r.limits, stop_short);
+          const double stopped = o.escape_time + r.limits.max_speed / r.limits.max_accel + o.step;
+          const auto run = planning::RollOutStopShort(r.start, follow, stopped, r.people, r.limits, stop_short);
           EXPECT_FALSE(std::isfinite(run.touch)) << "speed " << speed << ", " << ahead << " m ahead, offset " << offset
                                                  << ", slant " << slant << (t.escape ? ", escape" : ", plan")
                                                  << ": touches at " << run.touch << " s";
@@ -223,6 +226,31 @@ TEST(CrowdRrt, WhenNothingLivesLongTheRobotDrivesIntoNoOne) {
     }
   }
   EXPECT_GT(cornered, 0) << "the sweep never left the robot without a plan that lives min_select_time";
+}
+
+// Two walkers 2 m ahead coming at a robot driving at 1.5 m/s, 0.7 m either side of its line:
+// nothing lives min_select_time. Judged over escape_time alone, the escape that kept the most room
+// drove on at 1.5 m/s between them and could not stop when they came on (the street bench's
+// seed 218). The escape must leave the robot able to brake to a stop short of them.
+TEST(CrowdRrt, AnEscapeLeavesTheRobotAbleToStopShortOfEveryone) {
+  const planning::Costmap cm = Street();
+  const CrowdRrtOptions o = Options();
+  for (const double side : {-1.0, 1.0}) {
+    CrowdRrtRequest r = DownTheStreet(1.5);
+    r.people = {{{r.start.x + 2.0, r.start.y + 0.7 * side}, {-1.3, 0.0}, 0.25, true},
+                {{r.start.x + 2.8, r.start.y - 0.7 * side}, {-1.3, 0.0}, 0.25, true}};
+    const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, o);
+    ASSERT_TRUE(t.escape) << side;
+    const auto then_brake = [&](const planning::UnicycleState& s) -> planning::UnicycleInput {
+      const size_t i = static_cast<size_t>(std::floor(s.t / o.step + 1e-9));
+      if (i < t.inputs.size() && s.t < o.escape_time - 1e-9) return t.inputs[i];
+      return {-r.limits.max_accel, -s.w / o.step};
+    };
+    const auto run = planning::RollOutStopShort(r.start, then_brake, o.escape_time + 2.0, r.people, r.limits,
+                                                {o.robot_radius, o.escape_touch, 0.05});
+    EXPECT_FALSE(std::isfinite(run.touch)) << "side " << side << ": touches at " << run.touch << " s";
+    EXPECT_LT(run.states.back().v, 1e-9);
+  }
 }
 
 TEST(CrowdRrt, ARobotPushedIntoTheInflationDrivesOut) {
@@ -396,17 +424,17 @@ TEST(CrowdRrt, PassesSomeoneCloseAheadNoFasterThanItCouldStopShortOfThem) {
 }
 
 TEST(CrowdRrt, WhenTheGrownClearanceClosesEveryWayItPlansAgainWithoutTheGrowth) {
-  // A walker 3 m ahead coming straight at a robot doing 1.5 m/s: with the clearance grown by
+  // A walker 3.5 m ahead coming straight at a robot doing 1.5 m/s: with the clearance grown by
   // 0.3 of how far they are predicted to walk, no way round them and no stop stays clear, so the
   // plan would be whatever lives longest. Planned again with the clearance not grown, a way
-  // round lives the whole min_select_time and keeps 0.1 m (and 0.1 m more for a walker) from
+  // round lives the whole min_select_time and keeps 0.1 m (and 0.25 m more for a walker) from
   // their predicted disc.
   const planning::Costmap cm = Street();
   const CrowdRrtOptions o = Options();
   for (int k = 0; k < 10; ++k) {
     CrowdRrtRequest r = DownTheStreet(1.5);
     r.seed = 500 + k;
-    const MovingBody walker{{5.0, 4.0}, {-1.3, 0.0}, 0.25, true};
+    const MovingBody walker{{5.5, 4.0}, {-1.3, 0.0}, 0.25, true};
     r.people = {walker};
     const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, o);
     ExpectFeasible(cm, r, t);
