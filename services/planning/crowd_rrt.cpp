@@ -219,7 +219,7 @@ class NearestVertexIndex {
 };
 
 // Full braking, the yaw rate damped to nought within one step: the braking chain's input, and
-// what follows a short plan when it is judged against the escapes.
+// what follows each manoeuvre (and a short plan) when the escapes are judged.
 UnicycleInput Braking(const UnicycleState& s, const UnicycleLimits& limits, double step) {
   return {-limits.max_accel, -s.w / step};
 }
@@ -251,7 +251,11 @@ CrowdTrajectory Escape(const CrowdField& field, const UnicycleState& root, const
   // must stop short of the walls and of the people as they walk on and stand. Judged over the
   // manoeuvre alone, escapes kept 1.5 m/s towards walkers 1-2 m ahead and could not stop when
   // they came on (street bench, truth-all: seeds 218 and 258).
-  const double stop_time = r.limits.max_speed / r.limits.max_accel + o.step;
+  // Long enough to stop from the fastest the robot can be after escape_time (not max_speed alone:
+  // a limit of 1000 m/s would roll out for minutes).
+  const double stop_time =
+      std::min(r.limits.max_speed, std::max(root.v, 0.0) + r.limits.max_accel * o.escape_time) / r.limits.max_accel +
+      kSubStep;
   const auto judge = [&](const std::function<UnicycleInput(const UnicycleState&)>& input) {
     const auto then_brake = [&](const UnicycleState& s) {
       return s.t - root.t < o.escape_time - 1e-9 ? input(s) : Braking(s, r.limits, o.step);

@@ -25,7 +25,8 @@
 //      people who do not stop); when nothing at all is valid (someone walks into the robot), the
 //      escape among a fan of constant inputs (ours: judged with the people walking on until
 //      they would touch the robot and standing there; one that moves the robot into someone,
-//      or leaves it unable to brake to a stop short of them, loses, then the most room kept wins). Ours: when the chosen vertex
+//      or leaves it unable to brake to a stop short of them, loses, then the most room kept
+//      wins). Ours: when the chosen vertex
 //      does not live min_select_time, or it is the escape, the tree is grown again with the
 //      clearance not grown, and its plan taken if that one lives min_select_time; a plan that
 //      still does not is judged, with braking after it, against the escapes' fan by their rule.
@@ -118,7 +119,8 @@ struct CrowdRrtOptions {
   // time; but navd's street runs (seeds 51-100) from 2 contacts to 4 and 98.38% to 97.97%, with
   // twice the escapes in seeds 76-100. Neither difference is beyond chance; navd's runs decide.
   double approach_deceleration = 0.0;  // m/s²; 0: off
-  double escape_time = 1.0;      // s: when nothing is valid, each escape is held this long, then brakes
+  // s: when nothing is valid, each escape is held this long (and judged with full braking after it)
+  double escape_time = 1.0;
   double escape_touch = 0.05;    // m: an escape that brings the robot's rim this near someone touches them
   double people_range = 40.0;    // m: people farther than this from the robot are left out
 };

@@ -28,7 +28,8 @@ struct StopShortRollout {
   // infinity if it never did.
   double touch = std::numeric_limits<double>::infinity();
   // m: the least gap between the robot's rim and anyone's over the rollout up to room_until (as the
-  // people walked and stood); minus infinity if the robot left `allowed`.
+  // people walked and stood); minus infinity if the robot left `allowed` at any time (walls are
+  // known exactly: leaving the map's allowed part is worse than any room).
   double room = std::numeric_limits<double>::infinity();
 };
 
