@@ -26,10 +26,10 @@
 //      escape among a fan of constant inputs (ours: judged with the people walking on until
 //      they would touch the robot and standing there; one that moves the robot into someone,
 //      or leaves it unable to brake to a stop short of them, loses, then the most room kept
-//      wins). Ours: when the chosen vertex
-//      does not live min_select_time, or it is the escape, the tree is grown again with the
-//      clearance not grown, and its plan taken if that one lives min_select_time; a plan that
-//      still does not is judged, with braking after it, against the escapes' fan by their rule.
+//      wins). Ours: when the chosen vertex does not live min_select_time, or it is the escape,
+//      the tree is grown again with the clearance not grown, and its plan taken if that one
+//      lives min_select_time; a plan that still does not is judged, with braking after it,
+//      against the escapes' fan by their rule.
 // g1 is the environment's valley: c_y·d² with d the distance from the request's path (the
 // chapter's c_y·y² for a street's centre line), plus the costmap's decaying cost near walls. g2 is
 // PersonCostModel per person, each predicted at constant velocity. The speed shortfall (ours) is

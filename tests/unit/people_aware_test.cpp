@@ -184,6 +184,19 @@ TEST(CrowdRrt, AnEscapeThatTouchesNoOneKeepsTheMostRoom) {
   EXPECT_GT(t.states.back().x, r.start.x + 0.3) << "it stood while they walked up to it";
 }
 
+// `t` as an escape is judged: its inputs for escape_time, then full braking until the robot stands,
+// with the people walking on until they would touch it and standing there.
+planning::StopShortRollout DrivenThenBraked(const CrowdTrajectory& t, const CrowdRrtRequest& r, const CrowdRrtOptions& o) {
+  const auto then_brake = [&](const planning::UnicycleState& s) -> planning::UnicycleInput {
+    const size_t i = static_cast<size_t>(std::floor(s.t / o.step + 1e-9));
+    if (i < t.inputs.size() && s.t < o.escape_time - 1e-9) return t.inputs[i];
+    return {-r.limits.max_accel, -s.w / o.step};
+  };
+  const double stopped = o.escape_time + r.limits.max_speed / r.limits.max_accel + o.step;
+  return planning::RollOutStopShort(r.start, then_brake, stopped, r.people, r.limits,
+                                    {o.robot_radius, o.escape_touch, 0.05});
+}
+
 // Where the street bench's contacts began: nothing lives min_select_time (everyone's predicted way
 // crosses every plan), and the robot drove the plan that lived longest, a fraction of a second, on
 // at full speed until the escape came, too late. Such a plan is now judged with braking after it,
@@ -196,7 +209,6 @@ TEST(CrowdRrt, AnEscapeThatTouchesNoOneKeepsTheMostRoom) {
 TEST(CrowdRrt, WhenNothingLivesLongTheRobotDrivesIntoNoOne) {
   const planning::Costmap cm = Street();
   const CrowdRrtOptions o = Options();
-  const planning::StopShortOptions stop_short{o.robot_radius, o.escape_touch, 0.05};
   int cornered = 0;
   for (const double speed : {1.0, 1.5}) {
     for (const double ahead : {2.5, 3.5, 4.5, 5.5}) {
@@ -211,13 +223,7 @@ TEST(CrowdRrt, WhenNothingLivesLongTheRobotDrivesIntoNoOne) {
           ASSERT_GE(t.states.size(), 2u);
           if (t.states.back().t >= o.min_select_time - 1e-6) continue;
           ++cornered;
-          const auto follow = [&](const planning::UnicycleState& s) -> planning::UnicycleInput {
-            const size_t i = static_cast<size_t>(std::floor(s.t / o.step + 1e-9));
-            if (i < t.inputs.size() && s.t < o.escape_time - 1e-9) return t.inputs[i];
-            return {-r.limits.max_accel, -s.w / o.step};
-          };
-          const double stopped = o.escape_time + r.limits.max_speed / r.limits.max_accel + o.step;
-          const auto run = planning::RollOutStopShort(r.start, follow, stopped, r.people, r.limits, stop_short);
+          const auto run = DrivenThenBraked(t, r, o);
           EXPECT_FALSE(std::isfinite(run.touch)) << "speed " << speed << ", " << ahead << " m ahead, offset " << offset
                                                  << ", slant " << slant << (t.escape ? ", escape" : ", plan")
                                                  << ": touches at " << run.touch << " s";
@@ -240,13 +246,7 @@ TEST(CrowdRrt, AnEscapeLeavesTheRobotAbleToStopShortOfEveryone) {
     r.people = {{{r.start.x + 2.0, r.start.y + 0.7 * side}, {-1.3, 0.0}, 0.25, true},
                 {{r.start.x + 2.8, r.start.y - 0.7 * side}, {-1.3, 0.0}, 0.25, true}};
     const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, o);
-    const auto then_brake = [&](const planning::UnicycleState& s) -> planning::UnicycleInput {
-      const size_t i = static_cast<size_t>(std::floor(s.t / o.step + 1e-9));
-      if (i < t.inputs.size() && s.t < o.escape_time - 1e-9) return t.inputs[i];
-      return {-r.limits.max_accel, -s.w / o.step};
-    };
-    const auto run = planning::RollOutStopShort(r.start, then_brake, o.escape_time + 2.0, r.people, r.limits,
-                                                {o.robot_radius, o.escape_touch, 0.05});
+    const auto run = DrivenThenBraked(t, r, o);
     EXPECT_FALSE(std::isfinite(run.touch)) << "side " << side << (t.escape ? ", escape" : ", plan") << ": touches at "
                                            << run.touch << " s";
   }
@@ -372,8 +372,9 @@ TEST(CrowdRrt, WhenEverythingRunsIntoSomeoneThePlanStaysClearTheLongest) {
 
 TEST(CrowdRrt, TheRoomKeptFromAWalkerGrowsWithHowFarTheyArePredictedToWalk) {
   // With the comfort costs off, only the hard clearance keeps the plan from the walker coming
-  // down the path: 0.1 m, walking_clearance more for someone walking, and 0.3 m more for every metre they are
-  // predicted to walk, up to 2 s ahead (predictions stray from walkers who change their minds).
+  // down the path: 0.1 m, walking_clearance more for someone walking, and 0.3 m more for every
+  // metre they are predicted to walk, up to 2 s ahead (predictions stray from walkers who change
+  // their minds).
   const planning::Costmap cm = Street();
   CrowdRrtOptions o = Options();
   o.people.parallel_weight = o.people.perpendicular_weight = o.people.rear_weight = 0.0;
