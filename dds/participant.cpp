@@ -87,13 +87,18 @@ Topic* Participant::TopicFor(const std::string& name, TypeSupport& type) {
   return topic;
 }
 
-// Reader and writer QoS share these fields: keep-last history of `depth`, volatile durability.
+// Reader and writer QoS share these fields: keep-last history of `depth`, volatile durability, and
+// no data sharing. Fast DDS turns data sharing on by itself for fixed-size types between processes
+// on one host; in 2.9 its reader side can segfault in the shared history (a navd died that way in
+// CI, inside libfastrtps's DataSharing code, and stale segments pile up in /dev/shm when a process
+// is killed). Our samples are small and few, so the transport's copy costs nothing that matters.
 template <typename Qos>
 Qos EndpointQos(Qos qos, Reliability reliability, int depth) {
   qos.reliability().kind = reliability == Reliability::kReliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
   qos.history().kind = KEEP_LAST_HISTORY_QOS;
   qos.history().depth = depth;
   qos.durability().kind = VOLATILE_DURABILITY_QOS;
+  qos.data_sharing().off();
   return qos;
 }
 

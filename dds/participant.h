@@ -26,7 +26,8 @@ enum class Network {
   // Default: UDPv4 on 127.0.0.1 only, unicast discovery to 127.0.0.1 peers, no multicast and no
   // shared memory, so nothing leaves the host and parallel test domains stay apart.
   kLoopback,
-  // Fast DDS defaults: every interface, multicast discovery, shared memory. For deployment.
+  // Fast DDS's default transports: every interface, multicast discovery, the shared-memory
+  // transport. For deployment. Data sharing stays off in both (see EndpointQos).
   kAll,
 };
 

@@ -1,5 +1,6 @@
 // navd's DDS policy: participants in loopback mode discover each other and exchange ROS 2-layout
-// samples, and the kernel shows every socket of a running navd and navsim bound to 127.0.0.1.
+// samples, and the kernel shows every socket of a running navd and navsim bound to 127.0.0.1 and
+// no shared memory mapped (no shared-memory transport, no data sharing).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -60,6 +61,18 @@ std::vector<std::string> SocketAddresses(pid_t pid, const std::string& table) {
   return out;
 }
 
+// The files under /dev/shm process `pid` has mapped: Fast DDS's shared-memory transport and its
+// data sharing both live there.
+std::vector<std::string> SharedMemoryMappings(pid_t pid) {
+  std::vector<std::string> out;
+  std::ifstream in("/proc/" + std::to_string(pid) + "/maps");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (const auto at = line.find("/dev/shm/"); at != std::string::npos) out.push_back(line.substr(at));
+  }
+  return out;
+}
+
 TEST(DdsLoopback, NavdAndNavsimSocketsAreBoundToLoopbackOnly) {
   NavdStack stack;
   ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
@@ -71,6 +84,8 @@ TEST(DdsLoopback, NavdAndNavsimSocketsAreBoundToLoopbackOnly) {
     for (const auto& a : SocketAddresses(p->pid(), "tcp")) EXPECT_EQ(a, "0100007F");
     // gRPC listens on an IPv4-mapped IPv6 socket: ::ffff:127.0.0.1.
     for (const auto& a : SocketAddresses(p->pid(), "tcp6")) EXPECT_EQ(a, "0000000000000000FFFF00000100007F");
+    // Fast DDS 2.9's data sharing segfaulted navd in its shared history: it stays off.
+    for (const auto& m : SharedMemoryMappings(p->pid())) ADD_FAILURE() << "maps shared memory " << m;
   }
 }
 

@@ -101,8 +101,8 @@ bool NavdStack::WaitForPose(double timeout) {
 }
 
 std::string NavdStack::Logs() const {
-  std::string s = "--- navd log ---\n" + navd_->Log();
-  if (sim_) s += "--- navsim log ---\n" + sim_->Log();
+  std::string s = "--- navd log (" + navd_->Status() + ") ---\n" + navd_->Log();
+  if (sim_) s += "--- navsim log (" + sim_->Status() + ") ---\n" + sim_->Log();
   return s;
 }
 

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -64,6 +65,15 @@ int Process::Wait(double timeout) {
 int Process::Stop(int signal, double timeout) {
   if (running()) kill(pid_, signal);
   return Wait(timeout);
+}
+
+std::string Process::Status() {
+  if (running()) return "running";
+  if (WIFEXITED(status_)) return "exited with code " + std::to_string(WEXITSTATUS(status_));
+  if (WIFSIGNALED(status_)) {
+    return "killed by signal " + std::to_string(WTERMSIG(status_)) + " (" + strsignal(WTERMSIG(status_)) + ")";
+  }
+  return "stopped";
 }
 
 std::string Process::Log() const {

@@ -24,6 +24,8 @@ class Process {
   // Waits up to `timeout` seconds for a natural exit; -1 when still running.
   int Wait(double timeout);
   std::string Log() const;
+  // "running", "exited with code N" or "killed by signal N (name)": why a test lost its server.
+  std::string Status();
 
  private:
   pid_t pid_ = -1;
