@@ -218,12 +218,6 @@ class NearestVertexIndex {
   std::vector<int> all_;
 };
 
-// Full braking, the yaw rate damped to nought within one step: the braking chain's input, and
-// what follows each manoeuvre (and a short plan) when the escapes are judged.
-UnicycleInput Braking(const UnicycleState& s, const UnicycleLimits& limits, double step) {
-  return {-limits.max_accel, -s.w / step};
-}
-
 void Check(bool ok, const std::string& what) {
   if (!ok) throw Error(ErrorCode::kInvalidArgument, what);
 }

@@ -15,6 +15,10 @@ UnicycleInput ClampInput(const UnicycleInput& u, const UnicycleLimits& l) {
   return {std::clamp(u.accel, -l.max_accel, l.max_accel), std::clamp(u.yaw_accel, -l.max_yaw_accel, l.max_yaw_accel)};
 }
 
+UnicycleInput Braking(const UnicycleState& s, const UnicycleLimits& limits, double step) {
+  return {-limits.max_accel, -s.w / step};
+}
+
 UnicycleState Propagate(const UnicycleState& s, const UnicycleInput& input, double dt, const UnicycleLimits& l) {
   const UnicycleInput u = ClampInput(input, l);
   UnicycleState n = s;

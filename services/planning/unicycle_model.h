@@ -40,6 +40,9 @@ struct SteeringGains {
 // Eq. 16 without noise: towards `desired_speed` and towards the bearing of `target`.
 UnicycleInput SteerTowards(const UnicycleState& s, const Point2& target, double desired_speed, const SteeringGains& gains);
 UnicycleInput ClampInput(const UnicycleInput& u, const UnicycleLimits& limits);
+// Full braking, the yaw rate damped to nought within `step` seconds: the crowd planner's braking
+// chain, and what follows each escape (and a short plan) when the escapes are judged.
+UnicycleInput Braking(const UnicycleState& s, const UnicycleLimits& limits, double step);
 // One Euler step of Eq. 10 of `dt` seconds; the input is clamped to the limits, the speed to
 // [0, max_speed] and the yaw rate to ±max_yaw_rate.
 UnicycleState Propagate(const UnicycleState& s, const UnicycleInput& u, double dt, const UnicycleLimits& limits);

@@ -190,7 +190,7 @@ planning::StopShortRollout DrivenThenBraked(const CrowdTrajectory& t, const Crow
   const auto then_brake = [&](const planning::UnicycleState& s) -> planning::UnicycleInput {
     const size_t i = static_cast<size_t>(std::floor(s.t / o.step + 1e-9));
     if (i < t.inputs.size() && s.t < o.escape_time - 1e-9) return t.inputs[i];
-    return {-r.limits.max_accel, -s.w / o.step};
+    return planning::Braking(s, r.limits, o.step);
   };
   const double stopped = o.escape_time + r.limits.max_speed / r.limits.max_accel + o.step;
   return planning::RollOutStopShort(r.start, then_brake, stopped, r.people, r.limits,
@@ -307,7 +307,7 @@ TEST(CrowdRrt, AnEscapeCanStillStopShortOfTheWall) {
         ++escapes;
         planning::UnicycleState s = t.states.back();
         while (s.v > 1e-9) {
-          s = planning::Propagate(s, {-r.limits.max_accel, -s.w / 0.25}, 0.05, r.limits);
+          s = planning::Propagate(s, planning::Braking(s, r.limits, 0.25), 0.05, r.limits);
           EXPECT_FALSE(cm.IsLethal(cm.grid().CellOf(s.position())))
               << "y0 " << y0 << ", dx " << dx << ", chase " << chase << ": braking after the escape reaches ("
               << s.x << ", " << s.y << ")";
