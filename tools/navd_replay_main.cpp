@@ -1,22 +1,25 @@
 // navd-replay: runs navd's library code over a recorded CARMEN log, as fast as it can.
 //   navd-replay --log FILE[.gz] --mode map --out MAP.yaml [--resolution 0.05]
-//   navd-replay --log FILE[.gz] --mode localize --out EST.tum [--map MAP.yaml] [--odom-noise T,R]
-//               [--seed N] [--localizer amcl|ekf|calibration]
+//   navd-replay --log FILE[.gz] --mode localize|slam --out EST.tum [--odometry noisy|log]
+//               [--map MAP.yaml] [--odom-noise T,R] [--seed N] [--localizer amcl|ekf|calibration]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
-// with scan-to-map matching) on the log's scans with
+// with scan-to-map matching) on the log's scans with, by default,
 // odometry made from the corrected poses and corrupted by the seeded noise model of
 // services/common/odometry_noise.h (per step between scans: translation scaled by 1 + N(0, T);
 // heading error N(0, R * distance) plus N(0, T * |turn|)),
 // writes one TUM line (t x y z qx qy qz qw) per scan and prints the error against the corrected
-// poses. Without --map it first builds the map from those poses.
+// poses. Without --map it first builds the map from those poses. `--odometry log` takes the
+// odometry the log itself holds instead (carmen_odometry.h): how raw robot logs run.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 
 #include "services/common/carmen_log.h"
+#include "services/common/carmen_odometry.h"
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
 #include "services/common/odometry_noise.h"
@@ -33,13 +36,12 @@
 
 namespace {
 
-// Graph SLAM over the log's scans with corrupted odometry: the TUM trajectory of every scan (the
+// Graph SLAM over the log's scans with the given odometry (one pose per scan): the TUM trajectory of every scan (the
 // final, optimised poses), judged against the log's corrected poses after SE(2) alignment; each
 // accepted loop closure judged against the corrected relative pose.
-int Slam(const navd::CarmenLog& log, const std::string& out, const std::string& map_out, const std::string& png,
-         double resolution, const navd::OdometryNoise& noise, uint64_t seed) {
+int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, const std::string& out,
+         const std::string& map_out, const std::string& png, double resolution) {
   using namespace navd;
-  OdometryCorruptor odometry(noise, seed);
   // The map frame starts at the log's first pose, so the map lines up with the log's own.
   mapping::GraphSlamOptions options;
   options.first_pose = log.scans.front().pose;
@@ -47,7 +49,7 @@ int Slam(const navd::CarmenLog& log, const std::string& out, const std::string& 
   double busy = 0.0;
   for (size_t k = 0; k < log.scans.size(); ++k) {
     const CarmenScan& s = log.scans[k];
-    const Pose2 odom = odometry.Next(s.pose);
+    const Pose2& odom = odometry[k];
     mapping::RangeScan scan{s.ranges, s.angle_min, s.angle_increment, s.timestamp};
     if (s.range_max > 0) scan.range_max = s.range_max;
     const auto t0 = std::chrono::steady_clock::now();
@@ -99,6 +101,14 @@ int Slam(const navd::CarmenLog& log, const std::string& out, const std::string& 
 
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution);
 
+// The evaluation protocol's odometry: the log's laser poses, corrupted step by step.
+std::vector<navd::Pose2> NoisyOdometry(const navd::CarmenLog& log, const navd::OdometryNoise& noise, uint64_t seed) {
+  navd::OdometryCorruptor corruptor(noise, seed);
+  std::vector<navd::Pose2> out;
+  for (const navd::CarmenScan& s : log.scans) out.push_back(corruptor.Next(s.pose));
+  return out;
+}
+
 int BuildMap(const navd::CarmenLog& log, const std::string& out, double resolution, const std::string& png) {
   const navd::OccupancyGrid grid = MapFromLog(log, resolution);
   navd::SaveMapServerMap(grid, out);
@@ -108,10 +118,10 @@ int BuildMap(const navd::CarmenLog& log, const std::string& out, double resoluti
   return 0;
 }
 
-int Localize(const navd::CarmenLog& log, const std::string& out, const navd::OccupancyGrid& map,
-             const navd::OdometryNoise& noise, uint64_t seed, double motion_noise, const std::string& method) {
+int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, const std::string& out,
+             const navd::OccupancyGrid& map, const navd::OdometryNoise& noise, uint64_t seed, double motion_noise,
+             const std::string& method) {
   using namespace navd;
-  OdometryCorruptor odometry(noise, seed);
   std::unique_ptr<localization::Localizer> localizer;
   if (method == "calibration") {
     localization::OdometricCalibrationOptions o;
@@ -133,13 +143,13 @@ int Localize(const navd::CarmenLog& log, const std::string& out, const navd::Occ
     localizer = std::make_unique<localization::ParticleFilterLocalizer>(map, o);
   }
   localization::Localizer& pf = *localizer;
-  pf.AddOdometry({odometry.Next(log.scans.front().pose), Eigen::Matrix3d::Zero(), log.scans.front().timestamp});
+  pf.AddOdometry({odometry.front(), Eigen::Matrix3d::Zero(), log.scans.front().timestamp});
   pf.SetPose(log.scans.front().pose, Eigen::Matrix3d::Zero());
   std::string tum;
   double sq_pos = 0.0, sq_head = 0.0, worst = 0.0;
   for (size_t k = 0; k < log.scans.size(); ++k) {
     const CarmenScan& s = log.scans[k];
-    if (k > 0) pf.AddOdometry({odometry.Next(s.pose), Eigen::Matrix3d::Zero(), s.timestamp});
+    if (k > 0) pf.AddOdometry({odometry[k], Eigen::Matrix3d::Zero(), s.timestamp});
     localization::ScanReading scan;
     scan.ranges = s.ranges;
     scan.angle_min = s.angle_min;
@@ -178,7 +188,8 @@ navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   navd::Point2 lo(1e18, 1e18), hi(-1e18, -1e18);
   for (const auto& s : log.scans) {
     for (size_t i = 0; i < s.ranges.size(); ++i) {
-      const double r = std::min<double>(s.ranges[i], o.usable_range);
+      const bool no_return = s.range_max > 0 && s.ranges[i] >= s.range_max;
+      const double r = std::min<double>(no_return ? o.missing_data_ray_length : s.ranges[i], o.usable_range);
       const double a = s.pose.theta + s.angle_min + i * s.angle_increment;
       const navd::Point2 p = s.pose.translation() + r * navd::Point2(std::cos(a), std::sin(a));
       lo = lo.cwiseMin(p);
@@ -190,7 +201,8 @@ navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   navd::mapping::OccupancyGridMapper mapper(lo, hi, o);
   for (size_t k = 0; k < log.scans.size(); ++k) {
     const auto& s = log.scans[k];
-    mapper.AddScan(s.pose, s.ranges, s.angle_min, s.angle_increment);
+    mapper.AddScan(s.pose, s.ranges, s.angle_min, s.angle_increment,
+                   s.range_max > 0 ? s.range_max : std::numeric_limits<double>::infinity());
     if ((k + 1) % 100 == 0 || k + 1 == log.scans.size()) {
       std::fprintf(stderr, "\r  mapped %zu/%zu scans", k + 1, log.scans.size());
     }
@@ -219,6 +231,12 @@ int main(int argc, char** argv) {
   app.add_option("--map", map_path, "localize: map to localise on (default: built from the log's poses)");
   app.add_option("--odom-noise", odom_noise,
                  "localize, slam: T,R = relative translation noise, rad of heading noise per metre");
+  std::string odometry_source = "noisy";
+  app.add_option("--odometry", odometry_source,
+                 "localize, slam: noisy (the log's laser poses corrupted by --odom-noise, seeded: the evaluation "
+                 "protocol for corrected logs) or log (the odometry the log holds: ODOM lines interpolated to each "
+                 "scan, else FLASER's odometry fields: raw logs)")
+      ->check(CLI::IsMember({"noisy", "log"}));
   app.add_option("--seed", seed, "localize, slam: seed of the odometry noise (and the filter)");
   std::string method = "amcl";
   app.add_option("--localizer", method,
@@ -245,15 +263,17 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     const navd::CarmenLog log = navd::ReadCarmenLog(log_path, strict);
     if (log.skipped_lines > 0) std::fprintf(stderr, "navd-replay: skipped %d malformed lines\n", log.skipped_lines);
+    const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
+    const std::vector<navd::Pose2> odometry =
+        odometry_source == "log" ? navd::OdometryAtScans(log) : NoisyOdometry(log, noise, seed);
     int rc;
     if (mode == "map") {
       rc = BuildMap(log, out, resolution, png);
     } else if (mode == "slam") {
-      rc = Slam(log, out, map_out, png, resolution, navd::ParseOdometryNoise(odom_noise), seed);
+      rc = Slam(log, odometry, out, map_out, png, resolution);
     } else {
-      const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
-      rc = Localize(log, out, map, noise, seed, motion_noise, method);
+      rc = Localize(log, odometry, out, map, noise, seed, motion_noise, method);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double span = log.scans.back().timestamp - log.scans.front().timestamp;

@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -99,12 +100,33 @@ bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::string
   return true;
 }
 
-void Finish(const CarmenLog& log, const std::string& source) {
+void Finish(CarmenLog& log, const std::string& source) {
   if (log.scans.empty()) throw Error(ErrorCode::kInvalidArgument, source + ": no FLASER or ROBOTLASER1 scans");
+  const double no_return = InferNoReturnRange(log);
+  for (CarmenScan& s : log.scans)
+    if (s.range_max <= 0.0) s.range_max = no_return;
 }
 
 
 }  // namespace
+
+double InferNoReturnRange(const CarmenLog& log) {
+  float longest = 0.0f;
+  size_t readings = 0;
+  for (const CarmenScan& s : log.scans) {
+    if (s.range_max > 0.0) continue;
+    readings += s.ranges.size();
+    for (float r : s.ranges) longest = std::max(longest, r);
+  }
+  if (readings == 0 || longest <= 0.0f) return 0.0;
+  const double threshold = kNoReturnBand * longest;
+  size_t at_the_top = 0;
+  for (const CarmenScan& s : log.scans)
+    if (s.range_max <= 0.0)
+      for (float r : s.ranges) at_the_top += r >= threshold;
+  const size_t needed = std::max<size_t>(kNoReturnMinCount, static_cast<size_t>(kNoReturnMinShare * readings));
+  return at_the_top >= needed ? threshold : 0.0;
+}
 
 CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
   std::error_code ec;

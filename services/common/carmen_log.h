@@ -5,6 +5,7 @@
 // ground truth (simulators). Plain or gzip-compressed. FLASER front lasers are assumed to span 180
 // degrees, centred on the heading, as the CARMEN logs of SICK LMS scanners do. Metres, radians,
 // seconds.
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -17,7 +18,7 @@ struct CarmenScan {
   std::vector<float> ranges;
   double angle_min = 0.0;        // rad, laser frame, beam 0
   double angle_increment = 0.0;  // rad between beams
-  double range_max = 0.0;        // m; 0 when the log does not say (FLASER)
+  double range_max = 0.0;        // m: readings here or beyond are no-returns; 0: none known
   Pose2 pose;        // laser pose (corrected poses in corrected logs)
   Pose2 odometry;    // odometry pose at the scan
   double timestamp = 0.0;
@@ -44,7 +45,18 @@ struct CarmenLog {
   int skipped_lines = 0;   // malformed lines skipped (when not strict)
 };
 
-// Reads `path` (".gz" or plain). Malformed FLASER/ODOM lines throw navd::Error naming the file and
+// FLASER lines do not say the scanner's maximum range, and each scanner writes its no-return
+// reading differently (81.83, 81.91, 50, 51.1-51.16 in the public logs). The reader infers it: when
+// the log's longest reading, within kNoReturnBand of it, repeats in at least kNoReturnMinShare of
+// all readings (and kNoReturnMinCount times), readings at or above kNoReturnBand x the longest are
+// no-returns. Real echoes never pile up at one far range; saturated ones do. 0 when no such pile
+// exists (every reading is then an echo). Scans that carry their own range_max keep it.
+constexpr double kNoReturnBand = 0.99;
+constexpr double kNoReturnMinShare = 0.0005;
+constexpr size_t kNoReturnMinCount = 5;
+double InferNoReturnRange(const CarmenLog& log);
+
+// Reads `path` (".gz" or plain). FLASER scans get the inferred no-return range as range_max. Malformed FLASER/ODOM lines throw navd::Error naming the file and
 // line when `strict`, else are skipped and counted. Unknown message types are ignored.
 CarmenLog ReadCarmenLog(const std::string& path, bool strict = false);
 // The same from text already in memory (`source` names it in errors).

@@ -41,8 +41,10 @@ void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& r
   for (size_t i = 0; i < ranges.size(); ++i) {
     const double r = ranges[i];
     if (!std::isfinite(r) || r <= 0.0) continue;
-    const bool hit = r < no_return && r <= o_.usable_range;
-    const double length = std::min(r, o_.usable_range);
+    const bool no_return_reading = r >= no_return;
+    const bool hit = !no_return_reading && r <= o_.usable_range;
+    const double length = std::min(no_return_reading ? o_.missing_data_ray_length : r, o_.usable_range);
+    if (length <= 0.0) continue;
     const double a = pose.theta + angle_min + i * increment;
     const Point2 from = pose.translation();
     const Point2 dir(std::cos(a), std::sin(a));
@@ -123,7 +125,7 @@ void OccupancyGridMapper::AddSonar(const Pose2& sensor, double range, double hal
       if (hit && std::abs(rho - range) <= tolerance) {
         Update(geometry_.Flat({x, y}), weight * o_.l_occupied, 0);
       } else if (rho < reach - tolerance) {
-        Update(geometry_.Flat({x, y}), weight * o_.l_free * (1.0 - rho / (reach + tolerance)), 0);
+        Update(geometry_.Flat({x, y}), weight * o_.l_free_sonar * (1.0 - rho / (reach + tolerance)), 0);
       }
     }
   }

@@ -1,8 +1,12 @@
 #pragma once
 // Occupancy grid mapping with known poses. Two update rules:
 //  - Bayesian log-odds (seed 002 section 2.2, Elfes): each laser beam lowers the log-odds of the
-//    cells it crosses (free) and raises the cell it ends in (occupied); beams at maximum range
-//    only clear;
+//    cells it crosses (free) and raises the cell it ends in (occupied). A hit weighs about three
+//    misses (as gmapping's and ROS map_server's 0.25 hit-rate threshold, Cartographer's hit/miss
+//    probabilities): real scanners graze walls at shallow angles, and beams that pass a wall
+//    cell by a hair must not erase what direct hits found. A no-return reading (at or beyond the
+//    scanner's maximum) marks nothing and clears only missing_data_ray_length (Cartographer's
+//    idea): the beam left the scanner but nothing says how far the free space reaches;
 //  - HIMM (Borenstein's Histogramic In-Motion Mapping, book chapter 4): an integer certainty
 //    0..15 per cell, +3 where a reading ends, -1 where it passed.
 // Sonar readings use a cone inverse sensor model (Moravec and Elfes 1985, as seed 002's robots):
@@ -24,11 +28,13 @@ enum class MapUpdateRule { kLogOdds, kHimm };
 struct MapperOptions {
   MapUpdateRule rule = MapUpdateRule::kLogOdds;
   double resolution = 0.05;    // m
-  double l_occupied = 0.85;    // log-odds added at a hit
-  double l_free = -0.4;        // log-odds added along a beam
+  double l_occupied = 0.85;    // log-odds added at a hit (p 0.70: one hit marks a cell occupied)
+  double l_free = -0.28;       // log-odds added along a beam (p 0.43: about three misses undo a hit)
   double l_min = -4.0, l_max = 4.0;  // clamps keep the map responsive to change
   double max_range = 50.0;     // m: longer readings are no-returns
-  double usable_range = 15.0;  // m: beams are cut here (long beams are mostly noise)
+  double usable_range = 15.0;  // m: beams are cut here (long beams are mostly noise); marks nothing
+  double missing_data_ray_length = 5.0;  // m cleared along a no-return reading
+  double l_free_sonar = -0.4;  // log-odds along a sonar cone's axis, weighted down off it (Elfes)
 };
 
 class OccupancyGridMapper {
@@ -38,7 +44,7 @@ class OccupancyGridMapper {
   // The same size, origin and resolution as `geometry` (its cells are not read).
   OccupancyGridMapper(const OccupancyGrid& geometry, const MapperOptions& options);
   // Integrates a scan taken from `laser_pose`; beam i at angle_min + i * increment. Readings at or
-  // beyond `range_max` (the scanner's own, when it reports one) are no-returns: they only clear.
+  // beyond `range_max` (the scanner's own, when it reports one) are no-returns: they clear missing_data_ray_length.
   void AddScan(const Pose2& laser_pose, const std::vector<float>& ranges, double angle_min, double increment,
                double range_max = std::numeric_limits<double>::infinity());
   // Integrates one sonar reading from `sensor_pose` (axis along its heading) with a cone of

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "services/common/carmen_log.h"
+#include "services/common/carmen_odometry.h"
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
 #include "services/common/world.h"
@@ -103,6 +104,57 @@ TEST(CarmenLog, ReadsScansAndOdometryFromGzipAndReportsBadLines) {
   EXPECT_NEAR(CarmenBeamAngle(179, 180), M_PI / 2 - M_PI / 180, 1e-12);  // 1 degree steps
 }
 
+// A scanner's no-return reading (81.83 on the Intel log's SICK) piles up at one far range; the
+// reader makes it the scans' range_max. A log without such a pile has none.
+TEST(CarmenLog, InfersTheNoReturnReadingFromWhereReadingsPileUp) {
+  std::string text;
+  for (int k = 0; k < 4; ++k)
+    text += "FLASER 4 1.0 81.83 2.5 81.83 0 0 0 0 0 0 " + std::to_string(k) + " host 0\n";
+  CarmenLog log = ParseCarmenLog(text, "piles");
+  EXPECT_NEAR(log.scans[0].range_max, 0.99 * 81.83, 1e-4);
+  text = "FLASER 4 1.0 30.5 2.5 7.0 0 0 0 0 0 0 1 host 0\n";
+  log = ParseCarmenLog(text, "no pile");
+  EXPECT_EQ(log.scans[0].range_max, 0.0);
+}
+
+// Raw logs: each scan's odometry from the ODOM lines next to it in the file, interpolated by stamp
+// when the stamps allow; ODOM lines stamped 0 (corrected logs echo the corrected pose so) are not
+// odometry; repeated stamps follow the file; without ODOM lines, FLASER's own odometry fields.
+TEST(CarmenOdometry, InterpolatesOdomLinesToEachScanAndFollowsTheFileWhenStampsRepeat) {
+  const std::string text =
+      "ODOM 7 7 1 0 0 0 9.0 h 9.0\n"
+      "ODOM 0 0 0 0 0 0 10.0 h 10.0\n"
+      "FLASER 1 1.0 9 9 1 5 5 0.5 11.5 h 11.5\n"     // between its neighbours by stamp: 3/4 of the way
+      "ODOM 9 9 1 0 0 0 0 h 0\n"                     // an echo of the corrected pose: not odometry
+      "ODOM 2 0 0.2 0 0 0 12.0 h 12.0\n"
+      "ODOM 4 0 0.4 0 0 0 13.0 h 13.0\n"
+      "ODOM 5 0 0.4 0 0 0 13.0 h 13.0\n"
+      "FLASER 1 1.0 9 9 1 5 5 0.5 13.0 h 13.0\n"     // repeated stamps: the line before it
+      "ODOM 6 0 0.4 0 0 0 13.0 h 13.0\n";
+  const CarmenLog log = ParseCarmenLog(text, "raw");
+  const std::vector<Pose2> odometry = OdometryAtScans(log);
+  ASSERT_EQ(odometry.size(), 2u);
+  EXPECT_NEAR(odometry[0].x, 1.5, 1e-9);
+  EXPECT_NEAR(odometry[0].theta, 0.15, 1e-9);
+  EXPECT_NEAR(odometry[1].x, 5.0, 1e-9);
+  const CarmenLog fields = ParseCarmenLog("FLASER 1 1.0 9 9 1 5 6 0.5 11.5 h 11.5\n", "fields");
+  const Pose2 own = OdometryAtScans(fields).at(0);
+  EXPECT_NEAR(own.x, 5.0, 1e-9);
+  EXPECT_NEAR(own.y, 6.0, 1e-9);
+  EXPECT_NEAR(own.theta, 0.5, 1e-9);
+}
+
+// Scans keep their place in the file whatever their stamps say (logs with fake, repeated stamps).
+TEST(CarmenLog, KeepsScansInFileOrderWhenStampsRepeatOrGoBack) {
+  const std::string text =
+      "FLASER 1 1.0 0 0 0 0 0 0 5.0 h 5.0\n"
+      "FLASER 1 2.0 0 0 0 0 0 0 5.0 h 5.0\n"
+      "FLASER 1 3.0 0 0 0 0 0 0 4.0 h 4.0\n";
+  const CarmenLog log = ParseCarmenLog(text, "stamps");
+  ASSERT_EQ(log.scans.size(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(log.scans[k].ranges[0], 1.0f + k);
+}
+
 }  // namespace
 }  // namespace navd
 
@@ -170,6 +222,33 @@ TEST(MapperRules, LocalMapsFuseIntoTheGlobalMapByInterpolation) {
   himm.rule = MapUpdateRule::kHimm;
   OccupancyGridMapper h({0.0, 0.0}, {6.0, 6.0}, himm);
   EXPECT_THROW(h.FuseLocalMap(local, where), Error);
+}
+
+// A no-return reading (at the scanner's maximum) marks nothing and clears only
+// missing_data_ray_length along its beam, however far the scanner could see.
+TEST(MapperRules, NoReturnReadingsMarkNothingAndClearOnlyTheMissingDataRayLength) {
+  MapperOptions o;
+  o.missing_data_ray_length = 3.0;
+  OccupancyGridMapper mapper({0.0, 0.0}, {20.0, 4.0}, o);
+  const Pose2 pose{0.5, 2.0, 0.0};
+  mapper.AddScan(pose, {81.83f}, 0.0, 0.01, 81.0);
+  const OccupancyGrid g = mapper.ToGrid();
+  EXPECT_LT(g.at(g.CellOf({2.0, 2.0})), 50);                        // cleared within 3 m
+  EXPECT_EQ(g.at(g.CellOf({4.0, 2.0})), OccupancyGrid::kUnknown);  // nothing said beyond
+  for (int x = 0; x < g.width(); ++x) EXPECT_FALSE(g.IsOccupied({x, g.CellOf({0, 2.0}).y}));
+}
+
+// A wall seen head-on twice stays a wall when three beams graze through its cell on their way
+// elsewhere (a shallow view along the wall from down a corridor).
+TEST(MapperRules, AFewGrazingBeamsDoNotEraseAWall) {
+  OccupancyGridMapper mapper({0.0, 0.0}, {10.0, 4.0});
+  const Point2 wall_cell{5.025, 2.025};
+  for (int k = 0; k < 2; ++k) mapper.AddScan({5.025, 0.5, M_PI / 2}, {1.5f}, 0.0, 0.01);  // ends in the cell
+  // Beams along the wall's row that pass through the cell and end beyond it.
+  for (int k = 0; k < 3; ++k) mapper.AddScan({1.0, 2.025, 0.0}, {7.0f}, 0.0, 0.01);
+  const OccupancyGrid g = mapper.ToGrid();
+  EXPECT_TRUE(g.IsOccupied(g.CellOf(wall_cell))) << static_cast<int>(g.at(g.CellOf(wall_cell)));
+  EXPECT_FALSE(g.IsOccupied(g.CellOf({3.0, 2.025})));
 }
 
 }  // namespace

@@ -1,0 +1,18 @@
+#pragma once
+// The odometry a CARMEN log holds, at each of its scans: what a robot's own wheels said, for SLAM
+// and localisation on raw logs (no corrected poses). Metres, radians, the odometry's own frame.
+#include <vector>
+
+#include "services/common/carmen_log.h"
+
+namespace navd {
+
+// One odometry pose per scan, in the log's scan order (file order). With ODOM lines, each scan
+// takes the ODOM lines next to it in the file (the last before it and the first after it):
+// interpolated by stamp when their stamps bracket the scan's, else the one nearer in stamp (the
+// one before on a tie, so logs with repeated or fake stamps follow the file). ODOM lines stamped
+// 0 or less carry no time and are left out (corrected logs echo their corrected pose that way).
+// Without ODOM lines, each scan's own odometry fields (FLASER odom_x odom_y odom_theta).
+std::vector<Pose2> OdometryAtScans(const CarmenLog& log);
+
+}  // namespace navd
