@@ -124,12 +124,15 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
     coarse_best = coarse[(static_cast<size_t>(std::lround((top.front().theta - prior.theta) / o.angle_step) + n_theta) * side +
                           (top.front().dy + n_xy)) * side + (top.front().dx + n_xy)];
     const double min_cells = o.distinct_xy / res;
+    const int best_a = static_cast<int>(std::lround((top.front().theta - prior.theta) / o.angle_step)) + n_theta;
+    const double min_steps = o.distinct_theta > 0.0 ? o.distinct_theta / o.angle_step : 1e18;
     for (int a = 0; a < 2 * n_theta + 1; ++a) {
+      const bool turned = std::abs(a - best_a) >= min_steps;
       for (int dy = -n_xy; dy <= n_xy; ++dy) {
         for (int dx = -n_xy; dx <= n_xy; ++dx) {
           const double score = coarse[(static_cast<size_t>(a) * side + (dy + n_xy)) * side + (dx + n_xy)];
           const double cells = std::hypot(dx - top.front().dx, dy - top.front().dy);
-          if (cells >= min_cells) coarse_elsewhere = std::max(coarse_elsewhere, score);
+          if (cells >= min_cells || turned) coarse_elsewhere = std::max(coarse_elsewhere, score);
           if (score >= 0.95 * coarse_best) coarse_spread = std::max(coarse_spread, cells * res);
         }
       }

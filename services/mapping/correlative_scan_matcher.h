@@ -27,6 +27,9 @@ struct ScanMatchOptions {
   // Poses at least this far (m) from the best count as another place: the best coarse score among
   // them is reported, so callers can refuse ambiguous matches (corridors). 0: not computed.
   double distinct_xy = 0.0;
+  // Likewise poses turned at least this far (rad) from the best: a room seen from its middle can
+  // fit nearly as well turned by a few degrees. 0: headings are not judged apart.
+  double distinct_theta = 0.0;
 };
 
 struct ScanMatch {

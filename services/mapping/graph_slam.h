@@ -48,6 +48,7 @@ struct GraphSlamOptions {
   // Loop closing.
   double loop_search_radius = 4.0;   // m between the new node and a candidate
   int loop_min_node_gap = 30;        // nodes back along the chain, at least
+  int loop_candidates = 1;           // stretches of the old chain tried per new node, nearest first
   int loop_neighbourhood = 5;        // candidate's neighbours either side forming its map
   double loop_window_xy = 1.5, loop_window_theta = 0.4;
   double loop_min_score = 0.65;      // mean lookup value of the scan on the candidate's map
@@ -61,6 +62,7 @@ struct GraphSlamOptions {
   // Refused as ambiguous when a pose at least loop_distinct_xy away scores within this fraction
   // of the best (corridors, rows of identical rooms).
   double loop_distinct_xy = 0.5;
+  double loop_distinct_theta = 0.1;  // rad: turned this far is another pose too
   double loop_max_ambiguity = 0.9;
   double loop_sigma_xy = 0.05, loop_sigma_theta = 0.02;
   PoseGraphOptions optimizer;
@@ -100,7 +102,10 @@ class GraphSlam {
  private:
   std::vector<Point2> Returns(const RangeScan& scan) const;  // robot frame, no-returns dropped
   std::vector<Point2> NodePointsInMap(int first, int last) const;
-  void TryLoopClosure(int node);
+  std::vector<int> LoopCandidates(int node) const;
+  // Matches `node`'s scan against `candidate`'s neighbourhood; adds the edge when it is accepted.
+  bool TryLoopClosure(int node, int candidate);
+  void CloseLoops(int node);
 
   GraphSlamOptions o_;
   PoseGraph graph_;
