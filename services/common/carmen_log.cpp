@@ -118,7 +118,7 @@ double InferNoReturnRange(const CarmenLog& log) {
     readings += s.ranges.size();
     for (float r : s.ranges) longest = std::max(longest, r);
   }
-  if (readings == 0 || longest <= 0.0f) return 0.0;
+  if (readings == 0 || longest < kNoReturnShortest) return 0.0;
   const double threshold = kNoReturnBand * longest;
   size_t at_the_top = 0;
   for (const CarmenScan& s : log.scans)

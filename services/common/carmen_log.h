@@ -50,8 +50,11 @@ struct CarmenLog {
 // the log's longest reading, within kNoReturnBand of it, repeats in at least kNoReturnMinShare of
 // all readings (and kNoReturnMinCount times), readings at or above kNoReturnBand x the longest are
 // no-returns. Real echoes never pile up at one far range; saturated ones do. 0 when no such pile
-// exists (every reading is then an echo). Scans that carry their own range_max keep it.
+// exists (every reading is then an echo), or when the longest reading is under kNoReturnShortest
+// (no 2-D scanner's maximum is that short: such a pile is a wall). Scans that carry their own
+// range_max keep it.
 constexpr double kNoReturnBand = 0.99;
+constexpr double kNoReturnShortest = 4.0;  // m
 constexpr double kNoReturnMinShare = 0.0005;
 constexpr size_t kNoReturnMinCount = 5;
 double InferNoReturnRange(const CarmenLog& log);

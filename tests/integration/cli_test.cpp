@@ -160,6 +160,65 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   EXPECT_EQ(Lines(missing.output), 1) << missing.output;
 }
 
+// A raw robot log: no corrected poses, odometry in ODOM lines, stamps that repeat. SLAM runs on
+// the log's own odometry and writes one TUM line per FLASER line, in file order.
+TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
+  const std::string dir = MakeTempDir();
+  {
+    std::ofstream log(dir + "/raw.log");
+    for (int k = 0; k < 12; ++k) {
+      const double heading = k * M_PI / 6, stamp = 100.0 + (k / 4);  // four scans share each stamp
+      log << "ODOM 0 0 " << heading << " 0 0 0 " << stamp << " host " << stamp << "\n";
+      log << "FLASER 181";
+      for (int i = 0; i <= 180; ++i) {
+        const double a = heading - M_PI / 2 + i * M_PI / 180;
+        log << " " << 2.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
+      }
+      log << " 9 9 0 9 9 0 " << stamp << " host " << stamp << "\n";  // pose fields say nothing true here
+    }
+  }
+  const auto r = RunCommand({NavdReplayBinary(), "--log", dir + "/raw.log", "--mode", "slam", "--odometry", "log", "--out",
+                             dir + "/raw.tum"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream tum(dir + "/raw.tum");
+  std::vector<double> headings;
+  double x0 = 0, y0 = 0;
+  for (std::string line; std::getline(tum, line);) {
+    double t, x, y, z, qx, qy, qz, qw;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x, &y, &z, &qx, &qy, &qz, &qw), 8) << line;
+    if (headings.empty()) x0 = x, y0 = y;
+    EXPECT_NEAR(std::hypot(x - x0, y - y0), 0.0, 0.05) << line;  // turning on the spot, as the ODOM lines say
+    headings.push_back(2 * std::atan2(qz, qw));
+  }
+  ASSERT_EQ(headings.size(), 12u);
+  for (size_t k = 1; k < headings.size(); ++k)
+    EXPECT_NEAR(NormalizeAngle(headings[k] - headings[k - 1]), M_PI / 6, 0.05) << "scan " << k;
+  const auto bad = RunCommand({NavdReplayBinary(), "--log", dir + "/raw.log", "--mode", "slam", "--odometry", "wheels",
+                               "--out", dir + "/x.tum"});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--odometry"), std::string::npos) << bad.output;
+}
+
+// scripts/realdata, the evaluation over real logs, on CI's bounded subset: two logs, one seed,
+// offline (SLAM, localisation) and online (the log over DDS to a running navd). Thresholds guard
+// against regressions of the figures in docs/results.md; a wrong loop closure or a lost pose fails.
+TEST(Realdata, TwoLogsOneSeedOfflineAndOnlineWithinTheirThresholds) {
+  const std::string data = SourceDir() + "/../shared/data/carmen";
+  if (!std::filesystem::exists(data + "/intel-corrected.log.gz")) GTEST_SKIP() << "shared data not beside the checkout";
+  const std::string dir = MakeTempDir();
+  const std::string replay = NavdReplayBinary();
+  const std::string build_dir = replay.substr(0, replay.rfind("/tools/"));
+  const auto r = RunCommand({"/usr/bin/env", "NAVD_REALDATA_DOMAIN=" + std::to_string(ReserveDomain()),
+                             "NAVD_BUILD_DIR=" + build_dir, SourceDir() + "/scripts/realdata",
+                             data, "--logs", "intel,freiburg-101", "--seeds", "1-1", "--online", "--jobs", "1", "--out", dir,
+                             "--max-slam-ate", "0.10", "--max-localize-rmse", "0.06", "--max-online-rmse", "0.15"},
+                            280.0);
+  std::printf("%s\n", r.output.substr(r.output.find("\nlog ") == std::string::npos ? 0 : r.output.find("\nlog ")).c_str());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("intel-corrected             910 |"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("freiburg-101-corrected      292 |"), std::string::npos) << r.output;
+}
+
 // Real laser data: the Intel Research Lab log in ../shared/data (present wherever CI runs). The
 // map is built from the log's corrected poses; the odometry is corrupted (5%, 2 deg/m, seeded).
 // The particle filter, seed 002's EKF and seed 000's odometric calibration all localise on it.
