@@ -94,7 +94,7 @@ int RunReplay(const ReplayOptions& o) {
     msg.angle_increment(static_cast<float>(s.angle_increment));
     msg.angle_max(static_cast<float>(s.angle_min + (s.ranges.size() - 1) * s.angle_increment));
     msg.range_min(0.05f);
-    msg.range_max(static_cast<float>(s.range_max > 0 ? std::min(s.range_max, o.range_max) : o.range_max));
+    msg.range_max(static_cast<float>(std::min(s.no_return_range(), o.range_max)));
     msg.ranges(s.ranges);
     scan.Write(msg);
   };

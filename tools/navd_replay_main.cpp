@@ -15,7 +15,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <memory>
 
 #include "services/common/carmen_log.h"
@@ -51,7 +50,7 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
     const CarmenScan& s = log.scans[k];
     const Pose2& odom = odometry[k];
     mapping::RangeScan scan{s.ranges, s.angle_min, s.angle_increment, s.timestamp};
-    if (s.range_max > 0) scan.range_max = s.range_max;
+    scan.range_max = s.no_return_range();
     const auto t0 = std::chrono::steady_clock::now();
     slam.AddScan(odom, scan);
     busy += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -157,8 +156,7 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
     scan.range_min = 0.05;
     // Beams beyond the mapper's usable range found no walls in the map: judging them would pull the
     // estimate away from the truth.
-    scan.range_max = s.range_max > 0 ? std::min(s.range_max, navd::mapping::MapperOptions().usable_range)
-                                     : navd::mapping::MapperOptions().usable_range;
+    scan.range_max = std::min(s.no_return_range(), navd::mapping::MapperOptions().usable_range);
     scan.stamp = s.timestamp;
     pf.AddScan(scan);
     const Pose2 e = pf.Estimate().pose;
@@ -188,8 +186,7 @@ navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   navd::Point2 lo(1e18, 1e18), hi(-1e18, -1e18);
   for (const auto& s : log.scans) {
     for (size_t i = 0; i < s.ranges.size(); ++i) {
-      const bool no_return = s.range_max > 0 && s.ranges[i] >= s.range_max;
-      const double r = std::min<double>(no_return ? o.missing_data_ray_length : s.ranges[i], o.usable_range);
+      const double r = navd::mapping::TracedLength(o, s.ranges[i], s.no_return_range());
       const double a = s.pose.theta + s.angle_min + i * s.angle_increment;
       const navd::Point2 p = s.pose.translation() + r * navd::Point2(std::cos(a), std::sin(a));
       lo = lo.cwiseMin(p);
@@ -201,8 +198,7 @@ navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   navd::mapping::OccupancyGridMapper mapper(lo, hi, o);
   for (size_t k = 0; k < log.scans.size(); ++k) {
     const auto& s = log.scans[k];
-    mapper.AddScan(s.pose, s.ranges, s.angle_min, s.angle_increment,
-                   s.range_max > 0 ? s.range_max : std::numeric_limits<double>::infinity());
+    mapper.AddScan(s.pose, s.ranges, s.angle_min, s.angle_increment, s.no_return_range());
     if ((k + 1) % 100 == 0 || k + 1 == log.scans.size()) {
       std::fprintf(stderr, "\r  mapped %zu/%zu scans", k + 1, log.scans.size());
     }

@@ -7,6 +7,7 @@
 // seconds.
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@ struct CarmenScan {
   Pose2 odometry;    // odometry pose at the scan
   double timestamp = 0.0;
   int line = 0;
+  // range_max as a threshold: infinity when no no-return reading is known.
+  double no_return_range() const { return range_max > 0.0 ? range_max : std::numeric_limits<double>::infinity(); }
 };
 
 struct CarmenOdometry {
@@ -59,8 +62,9 @@ constexpr double kNoReturnMinShare = 0.0005;
 constexpr size_t kNoReturnMinCount = 5;
 double InferNoReturnRange(const CarmenLog& log);
 
-// Reads `path` (".gz" or plain). FLASER scans get the inferred no-return range as range_max. Malformed FLASER/ODOM lines throw navd::Error naming the file and
-// line when `strict`, else are skipped and counted. Unknown message types are ignored.
+// Reads `path` (".gz" or plain). FLASER scans get the inferred no-return range as range_max.
+// Malformed FLASER/ODOM lines throw navd::Error naming the file and line when `strict`, else are
+// skipped and counted. Unknown message types are ignored.
 CarmenLog ReadCarmenLog(const std::string& path, bool strict = false);
 // The same from text already in memory (`source` names it in errors).
 CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, bool strict = false);

@@ -121,10 +121,9 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
 
   double coarse_best = 0.0, coarse_elsewhere = 0.0, coarse_spread = 0.0;
   if (!coarse.empty() && !top.empty()) {
-    coarse_best = coarse[(static_cast<size_t>(std::lround((top.front().theta - prior.theta) / o.angle_step) + n_theta) * side +
-                          (top.front().dy + n_xy)) * side + (top.front().dx + n_xy)];
-    const double min_cells = o.distinct_xy / res;
     const int best_a = static_cast<int>(std::lround((top.front().theta - prior.theta) / o.angle_step)) + n_theta;
+    coarse_best = coarse[(static_cast<size_t>(best_a) * side + (top.front().dy + n_xy)) * side + (top.front().dx + n_xy)];
+    const double min_cells = o.distinct_xy / res;
     const double min_steps = o.distinct_theta > 0.0 ? o.distinct_theta / o.angle_step : 1e18;
     for (int a = 0; a < 2 * n_theta + 1; ++a) {
       const bool turned = std::abs(a - best_a) >= min_steps;

@@ -79,34 +79,24 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   node_scan_.push_back(static_cast<int>(scan_node_.size()));
   scan_node_.push_back(node);
   scan_offset_.push_back(Pose2{});
-  CloseLoops(node);
+  TryLoopClosure(node);
   return graph_.nodes()[node];
 }
 
-std::vector<int> GraphSlam::LoopCandidates(int node) const {
-  // Every old node in reach, nearest first; one per stretch of the chain (candidates closer along
-  // the chain than a neighbourhood share their local map).
+void GraphSlam::TryLoopClosure(int node) {
   const Pose2 here = graph_.nodes()[node];
-  std::vector<std::pair<double, int>> near;
+  int candidate = -1;
+  double nearest = o_.loop_search_radius;
   for (int j = 0; j + o_.loop_min_node_gap <= node; ++j) {
     const double d = Distance(graph_.nodes()[j].translation(), here.translation());
-    if (d < o_.loop_search_radius) near.emplace_back(d, j);
+    if (d < nearest) {
+      nearest = d;
+      candidate = j;
+    }
   }
-  std::sort(near.begin(), near.end());
-  std::vector<int> picked;
-  for (const auto& [d, j] : near) {
-    if (static_cast<int>(picked.size()) >= o_.loop_candidates) break;
-    bool separate = true;
-    for (int p : picked) separate = separate && std::abs(p - j) > 2 * o_.loop_neighbourhood;
-    if (separate) picked.push_back(j);
-  }
-  return picked;
-}
-
-bool GraphSlam::TryLoopClosure(int node, int candidate) {
-  const Pose2 here = graph_.nodes()[node];
+  if (candidate < 0) return;
   const std::vector<Point2> scan = ThinPoints(node_points_[node], o_.match_point_spacing);
-  if (static_cast<int>(scan.size()) < o_.loop_min_points) return false;
+  if (static_cast<int>(scan.size()) < o_.loop_min_points) return;
   ++loop_attempts_;
   const std::vector<Point2> reference =
       NodePointsInMap(candidate - o_.loop_neighbourhood, std::min(node - o_.loop_min_node_gap, candidate + o_.loop_neighbourhood));
@@ -129,20 +119,13 @@ bool GraphSlam::TryLoopClosure(int node, int candidate) {
   fine.window_xy = 2.0 * coarse.resolution;
   fine.window_theta = 2.0 * coarse.angle_step;
   const ScanMatch match = MatchScan(CorrelationGrid(reference, fine.resolution, fine.sigma), scan, rough.pose, fine);
-  if (match.score < o_.loop_min_score) return false;
-  if (rough.coarse_elsewhere > o_.loop_max_ambiguity * rough.coarse_best) return false;
-  if (Distance(match.pose.translation(), here.translation()) > allowance) return false;
+  if (match.score < o_.loop_min_score) return;
+  if (rough.coarse_elsewhere > o_.loop_max_ambiguity * rough.coarse_best) return;
+  if (Distance(match.pose.translation(), here.translation()) > allowance) return;
 
   const Pose2 relative = graph_.nodes()[candidate].inverse() * match.pose;
   graph_.AddEdge({candidate, node, relative, Information(o_.loop_sigma_xy, o_.loop_sigma_theta), true});
   closures_.push_back({node_scan_[candidate], node_scan_[node], relative, match.score});
-  return true;
-}
-
-void GraphSlam::CloseLoops(int node) {
-  bool closed = false;
-  for (int candidate : LoopCandidates(node)) closed = TryLoopClosure(node, candidate) || closed;
-  if (!closed) return;
   travel_since_closure_ = 0.0;
   graph_.Optimize(o_.optimizer);
 }

@@ -48,7 +48,6 @@ struct GraphSlamOptions {
   // Loop closing.
   double loop_search_radius = 4.0;   // m between the new node and a candidate
   int loop_min_node_gap = 30;        // nodes back along the chain, at least
-  int loop_candidates = 1;           // stretches of the old chain tried per new node, nearest first
   int loop_neighbourhood = 5;        // candidate's neighbours either side forming its map
   double loop_window_xy = 1.5, loop_window_theta = 0.4;
   double loop_min_score = 0.65;      // mean lookup value of the scan on the candidate's map
@@ -102,10 +101,7 @@ class GraphSlam {
  private:
   std::vector<Point2> Returns(const RangeScan& scan) const;  // robot frame, no-returns dropped
   std::vector<Point2> NodePointsInMap(int first, int last) const;
-  std::vector<int> LoopCandidates(int node) const;
-  // Matches `node`'s scan against `candidate`'s neighbourhood; adds the edge when it is accepted.
-  bool TryLoopClosure(int node, int candidate);
-  void CloseLoops(int node);
+  void TryLoopClosure(int node);
 
   GraphSlamOptions o_;
   PoseGraph graph_;

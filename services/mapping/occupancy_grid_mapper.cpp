@@ -9,6 +9,11 @@
 
 namespace navd::mapping {
 
+double TracedLength(const MapperOptions& o, double range, double range_max) {
+  const bool no_return = range >= std::min(o.max_range, range_max);
+  return std::min(no_return ? o.missing_data_ray_length : range, o.usable_range);
+}
+
 OccupancyGridMapper::OccupancyGridMapper(const Point2& min, const Point2& max, const MapperOptions& options)
     : o_(options) {
   const long long w = static_cast<long long>(std::ceil((max.x() - min.x()) / options.resolution));
@@ -41,9 +46,8 @@ void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& r
   for (size_t i = 0; i < ranges.size(); ++i) {
     const double r = ranges[i];
     if (!std::isfinite(r) || r <= 0.0) continue;
-    const bool no_return_reading = r >= no_return;
-    const bool hit = !no_return_reading && r <= o_.usable_range;
-    const double length = std::min(no_return_reading ? o_.missing_data_ray_length : r, o_.usable_range);
+    const bool hit = r < no_return && r <= o_.usable_range;
+    const double length = TracedLength(o_, r, no_return);
     if (length <= 0.0) continue;
     const double a = pose.theta + angle_min + i * increment;
     const Point2 from = pose.translation();

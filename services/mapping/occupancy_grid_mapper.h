@@ -37,6 +37,10 @@ struct MapperOptions {
   double l_free_sonar = -0.4;  // log-odds along a sonar cone's axis, weighted down off it (Elfes)
 };
 
+// How far along its beam a reading is traced (m): a no-return (at or beyond range_max)
+// missing_data_ray_length, an echo its range; either cut at usable_range.
+double TracedLength(const MapperOptions& options, double range, double range_max);
+
 class OccupancyGridMapper {
  public:
   // `min`/`max`: the map-frame extent to cover (e.g. the poses' bounding box plus the range).
@@ -44,7 +48,8 @@ class OccupancyGridMapper {
   // The same size, origin and resolution as `geometry` (its cells are not read).
   OccupancyGridMapper(const OccupancyGrid& geometry, const MapperOptions& options);
   // Integrates a scan taken from `laser_pose`; beam i at angle_min + i * increment. Readings at or
-  // beyond `range_max` (the scanner's own, when it reports one) are no-returns: they clear missing_data_ray_length.
+  // beyond `range_max` (the scanner's own, when it reports one) or max_range are no-returns: they
+  // mark nothing and clear missing_data_ray_length.
   void AddScan(const Pose2& laser_pose, const std::vector<float>& ranges, double angle_min, double increment,
                double range_max = std::numeric_limits<double>::infinity());
   // Integrates one sonar reading from `sensor_pose` (axis along its heading) with a cone of
