@@ -1034,8 +1034,8 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
   if (turning) {
     if (gap < moving_.turn_guard_gap) {
       // The straight part alone, if it can go on; a robot that can neither would stand there for
-      // good (its rim beside a door jamb ahead, office_glass in session 32's CI: stuck after every
-      // recovery), so it turns while backing away instead, which no creep brings nearer.
+      // good (its rim beside a door jamb ahead, after every recovery), so it turns while backing
+      // away instead, which no creep brings nearer.
       const double v = 0.5 * (wheels.left + wheels.right);
       const WheelSpeeds straight = v > 0.0 ? CapApproach({v, v}, local, moving_.scan_guard_margin) : WheelSpeeds{v, v};
       if (!manoeuvre || straight.left > kCreeping) return straight;

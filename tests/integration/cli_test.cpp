@@ -283,9 +283,9 @@ TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
 
 // Exploration of the warehouse from an empty map (simulator, SLAM, exploration goals and path
 // following in one process): each method maps at least 95% of the reachable free space, without
-// a collision. Frontier and greedy stop by themselves when no reachable frontier is left; VFM
-// once kept chasing specks of unknown that loop-closure redraws leave (99.1% mapped at 900 s, in
-// CI), so for it the time limit may end the run (exit 3) as long as the map is there.
+// a collision. Frontier and greedy stop by themselves when no reachable frontier is left; VFM can
+// keep chasing specks of unknown that loop-closure redraws leave, so for it the time limit may end
+// the run (exit 3) as long as the map is there.
 class NavdExplore : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(NavdExplore, MapsTheWarehouseFromNothing) {

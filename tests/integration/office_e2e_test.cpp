@@ -82,10 +82,9 @@ OfficeRun RunOffice(const std::string& name, int count, const std::vector<std::s
   return out;
 }
 
-// Once flaky (5/20 in one clean-clone CI run, 20/20 here): navd fell behind navsim's 10x on a
-// loaded machine, jitter in the boxes' estimated discs made standing boxes look like moving
-// obstacles, the avoidance manoeuvres among them lost the pose. In lockstep (navsim --lockstep, as
-// every test) it reached 20/20 in three runs in a row, one of them beside two busy loops.
+// Runs in lockstep (navsim --lockstep, as every test): a navd that falls behind navsim on a loaded
+// machine sees jitter in the boxes' estimated discs, standing boxes look like moving obstacles,
+// and the avoidance manoeuvres among them can lose the pose.
 TEST(OfficeE2E, TwentyRandomGoalsAmongUnknownObstaclesAreAllReached) {
   const OfficeRun run = RunOffice("office", 20);
   EXPECT_EQ(run.reached, run.goals);
