@@ -2,7 +2,7 @@
 // localises from the SLAM poses and drives the robot to the exploration goals through its
 // executive until no frontier is left. Judged by navsim's ground truth (collisions, distance) and
 // by the world's own map (the share of the reachable free space the served map shows), through
-// `navctl explore start --wait --measure`, the README's command.
+// `navctl explore start --wait --measure`, the command docs/usage.md gives.
 #include <gtest/gtest.h>
 
 #include <chrono>
