@@ -57,6 +57,11 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
     if ((k + 1) % 50 == 0 || k + 1 == log.scans.size())
       std::fprintf(stderr, "\r  slam %zu/%zu scans, %d loop closures", k + 1, log.scans.size(), slam.loop_closures());
   }
+  {
+    const auto t0 = std::chrono::steady_clock::now();
+    slam.Refine();
+    busy += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
   std::fprintf(stderr, "\n");
   const std::vector<Pose2> estimate = slam.Trajectory();
   std::vector<Pose2> truth;
@@ -72,19 +77,25 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   }
   WriteFileAtomically(out, tum);
   // A closure is wrong when it disagrees with the corrected poses by more than 0.3 m or 0.1 rad.
-  int wrong = 0;
-  for (const auto& c : slam.closures()) {
-    const Pose2 true_relative = truth[c.from_scan].inverse() * truth[c.to_scan];
-    const Pose2 diff = true_relative.inverse() * c.measurement;
-    if (std::hypot(diff.x, diff.y) > 0.3 || std::abs(diff.theta) > 0.1) {
-      ++wrong;
-      std::fprintf(stderr, "wrong loop closure: scan %d to scan %d (score %.3f) is %.3f m, %.3f rad off the corrected poses\n",
-                   c.from_scan, c.to_scan, c.score, std::hypot(diff.x, diff.y), diff.theta);
+  auto count_wrong = [&](const std::vector<mapping::LoopClosure>& closures, const char* kind) {
+    int wrong = 0;
+    for (const auto& c : closures) {
+      const Pose2 true_relative = truth[c.from_scan].inverse() * truth[c.to_scan];
+      const Pose2 diff = true_relative.inverse() * c.measurement;
+      if (std::hypot(diff.x, diff.y) > 0.3 || std::abs(diff.theta) > 0.1) {
+        ++wrong;
+        std::fprintf(stderr, "wrong %s: scan %d to scan %d (score %.3f) is %.3f m, %.3f rad off the corrected poses\n", kind,
+                     c.from_scan, c.to_scan, c.score, std::hypot(diff.x, diff.y), diff.theta);
+      }
     }
-  }
-  std::printf("slam: %zu scans, %d nodes, %d loop closures (%d wrong) of %d attempts, ATE RMSE %.4f m after SE(2) "
-              "alignment, heading RMSE %.4f rad, worst %.3f m, %.2f ms per scan -> %s\n",
-              estimate.size(), slam.nodes(), slam.loop_closures(), wrong, slam.loop_attempts(), error.position_rmse,
+    return wrong;
+  };
+  const int wrong = count_wrong(slam.closures(), "loop closure");
+  const int wrong_refinements = count_wrong(slam.refinements(), "refinement match");
+  std::printf("slam: %zu scans, %d nodes, %d loop closures (%d wrong) of %d attempts, %zu refinement matches (%d wrong), "
+              "ATE RMSE %.4f m after SE(2) alignment, heading RMSE %.4f rad, worst %.3f m, %.2f ms per scan -> %s\n",
+              estimate.size(), slam.nodes(), slam.loop_closures(), wrong, slam.loop_attempts(), slam.refinements().size(),
+              wrong_refinements, error.position_rmse,
               error.heading_rmse, error.worst, 1e3 * busy / static_cast<double>(estimate.size()), out.c_str());
   if (!map_out.empty() || !png.empty()) {
     mapping::MapperOptions o;

@@ -1,6 +1,7 @@
 #include "services/mapping/graph_slam.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -128,6 +129,59 @@ void GraphSlam::TryLoopClosure(int node) {
   closures_.push_back({node_scan_[candidate], node_scan_[node], relative, match.score});
   travel_since_closure_ = 0.0;
   graph_.Optimize(o_.optimizer);
+}
+
+bool GraphSlam::MatchAgainst(int node, int first, int last, const Pose2& guess, const ScanMatchOptions& window,
+                             ScanMatch* match) const {
+  const std::vector<Point2> scan = ThinPoints(node_points_[node], o_.match_point_spacing);
+  if (static_cast<int>(scan.size()) < o_.loop_min_points) return false;
+  const CorrelationGrid reference(NodePointsInMap(first, last), window.resolution, window.sigma);
+  *match = MatchScan(reference, scan, guess, window);
+  return match->score >= o_.loop_min_score && match->coarse_spread <= o_.refine_max_spread;
+}
+
+void GraphSlam::Refine() {
+  const size_t kept = graph_.edges().size();
+  ScanMatchOptions window = o_.sequential;
+  window.window_xy = o_.refine_window_xy;
+  window.window_theta = o_.refine_window_theta;
+  window.prior_sigma_xy = window.prior_sigma_theta = 0.0;
+  window.distinct_xy = 1e-9;  // computes coarse_spread
+  const Eigen::Matrix3d information = Information(o_.loop_sigma_xy, o_.loop_sigma_theta);
+  for (int pass = 0; pass < o_.refine_passes; ++pass) {
+    graph_.TruncateEdges(kept);
+    refinements_.clear();
+    for (int i = 0; i < nodes(); ++i) {
+      const Pose2 here = graph_.nodes()[i];
+      auto distance = [&](int j) { return Distance(graph_.nodes()[j].translation(), here.translation()); };
+      // Stretches: runs of consecutive nodes within the radius, each as (its nearest node, first, last).
+      std::vector<std::array<int, 3>> stretches;
+      const int last_j = i - o_.local_map_nodes;
+      for (int j = 0; j < last_j;) {
+        if (distance(j) >= o_.refine_radius) {
+          ++j;
+          continue;
+        }
+        int nearest = j, k = j;
+        for (; k < last_j && distance(k) < o_.refine_radius; ++k)
+          if (distance(k) < distance(nearest)) nearest = k;
+        stretches.push_back({nearest, std::max(j, nearest - o_.loop_neighbourhood), std::min(k - 1, nearest + o_.loop_neighbourhood)});
+        j = k;
+      }
+      // The nearest stretches only: a node the robot passed many times is held well by a few.
+      std::sort(stretches.begin(), stretches.end(),
+                [&](const std::array<int, 3>& a, const std::array<int, 3>& b) { return distance(a[0]) < distance(b[0]); });
+      if (static_cast<int>(stretches.size()) > o_.refine_max_stretches) stretches.resize(o_.refine_max_stretches);
+      for (const auto& [nearest, first, last] : stretches) {
+        ScanMatch match;
+        if (!MatchAgainst(i, first, last, here, window, &match)) continue;
+        const Pose2 relative = graph_.nodes()[nearest].inverse() * match.pose;
+        graph_.AddEdge({nearest, i, relative, information, true});
+        refinements_.push_back({node_scan_[nearest], node_scan_[i], relative, match.score});
+      }
+    }
+    graph_.Optimize(o_.optimizer);
+  }
 }
 
 std::vector<Pose2> GraphSlam::Trajectory() const {

@@ -64,6 +64,16 @@ struct GraphSlamOptions {
   double loop_distinct_theta = 0.1;  // rad: turned this far is another pose too
   double loop_max_ambiguity = 0.9;
   double loop_sigma_xy = 0.05, loop_sigma_theta = 0.02;
+  // Refinement (Refine()): once the graph is consistent, every node is matched again against
+  // each stretch of the chain passing near it, in a narrow window around where the graph puts it.
+  // The many small constraints average out the front end's per-step errors the way Cartographer's
+  // constraints to every nearby submap do.
+  double refine_radius = 3.0;        // m between the node and the nearest node of a stretch
+  double refine_window_xy = 0.2;     // m
+  double refine_window_theta = 0.08; // rad
+  int refine_passes = 2;
+  int refine_max_stretches = 3;     // the nearest stretches matched per node
+  double refine_max_spread = 0.1;    // m: a match that slides farther along a corridor is dropped
   PoseGraphOptions optimizer;
 };
 
@@ -83,12 +93,19 @@ class GraphSlam {
   // the map frame as estimated now.
   Pose2 AddScan(const Pose2& odometry, const RangeScan& scan);
 
+  // Matches every node against the other stretches of the chain near it, adds each good match as
+  // a robust edge and re-optimises (refine_passes times, each from the poses the last one left).
+  // For the end of a run: it costs about a loop-closure match per node and stretch.
+  void Refine();
+
   // Every scan's pose as the graph stands now (nodes optimised, scans between nodes carried by
   // their odometry from the node before), in the order added.
   std::vector<Pose2> Trajectory() const;
   int loop_closures() const { return static_cast<int>(closures_.size()); }
   const std::vector<LoopClosure>& closures() const { return closures_; }
   int loop_attempts() const { return loop_attempts_; }
+  // The matches the last Refine() pass added, as closures.
+  const std::vector<LoopClosure>& refinements() const { return refinements_; }
   int nodes() const { return static_cast<int>(graph_.nodes().size()); }
   // The occupancy grid of every node's scan at its optimised pose.
   OccupancyGrid RenderMap(const MapperOptions& options) const;
@@ -102,6 +119,10 @@ class GraphSlam {
   std::vector<Point2> Returns(const RangeScan& scan) const;  // robot frame, no-returns dropped
   std::vector<Point2> NodePointsInMap(int first, int last) const;
   void TryLoopClosure(int node);
+  // The node's match against the map of nodes [first, last] around `guess`; false when the match
+  // is weak or ambiguous.
+  bool MatchAgainst(int node, int first, int last, const Pose2& guess, const ScanMatchOptions& window,
+                    ScanMatch* match) const;
 
   GraphSlamOptions o_;
   PoseGraph graph_;
@@ -113,6 +134,7 @@ class GraphSlam {
   std::vector<int> scan_node_;
   std::vector<Pose2> scan_offset_;
   std::vector<LoopClosure> closures_;
+  std::vector<LoopClosure> refinements_;
   double travel_since_closure_ = 0.0;  // m
   int loop_attempts_ = 0;
 };

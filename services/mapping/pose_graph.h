@@ -35,6 +35,10 @@ class PoseGraph {
   const std::vector<Pose2>& nodes() const { return nodes_; }
   const std::vector<PoseGraphEdge>& edges() const { return edges_; }
   void SetNode(int i, const Pose2& pose) { nodes_[i] = pose; }
+  // Keeps the first `count` edges (drops those added since).
+  void TruncateEdges(size_t count) {
+    if (count < edges_.size()) edges_.resize(count);
+  }
 
  private:
   std::vector<Pose2> nodes_;
