@@ -318,6 +318,10 @@ int main(int argc, char** argv) {
   replay->add_option("--out", replay_options.out, "Write navd's poses as TUM (t x y z qx qy qz qw)");
   replay->add_flag("--strict", replay_options.strict, "Stop at the first malformed log line");
   replay->add_option("--wait", replay_options.wait, "Seconds to wait for navd on DDS")->check(seconds);
+  std::string kidnap;
+  replay->add_option("--kidnap", kidnap,
+                     "T,DX,DY: at T s of log time the odometry slips DX,DY metres (over 1 s), as if the robot were "
+                     "carried; reports when navd declared itself lost and when it was back within 0.1 m");
 
   try {
     app.parse(argc, argv);
@@ -326,7 +330,10 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (replay->parsed()) return navd::navctl::RunReplay(replay_options);
+    if (replay->parsed()) {
+      if (!kidnap.empty()) navd::navctl::ParseKidnap(kidnap, &replay_options);
+      return navd::navctl::RunReplay(replay_options);
+    }
     if (door->parsed()) {
       door_options.close = door_action == "close";
       return navd::navctl::RunDoor(door_options);

@@ -1,9 +1,11 @@
 #include "client_lib/replay_command.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -35,12 +37,75 @@ Pose2 Interpolate(const Pose2& a, const Pose2& b, double s) {
   return {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), NormalizeAngle(a.theta + s * NormalizeAngle(b.theta - a.theta))};
 }
 
+std::string Seconds(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", s);
+  return text;
+}
+
 struct StampedPose {
   double stamp;
   Pose2 pose;
 };
 
+// The odometry slip of a kidnap at log time t (s since the first scan): a translation in the
+// odom frame growing linearly to (dx, dy) over the ramp.
+Pose2 KidnapSlip(const ReplayOptions& o, double since_start) {
+  if (o.kidnap_at < 0.0 || since_start <= o.kidnap_at) return Pose2{};
+  const double f = o.kidnap_ramp > 0.0 ? std::min(1.0, (since_start - o.kidnap_at) / o.kidnap_ramp) : 1.0;
+  return {f * o.kidnap_dx, f * o.kidnap_dy, 0.0};
+}
+
+// Polls navd's GetStatus while the log plays and keeps the first log time at or after `from` at
+// which navd said its pose was lost.
+class LostWatch {
+ public:
+  LostWatch(const std::string& server, double from, const std::atomic<double>& log_time)
+      : from_(from), log_time_(log_time) {
+    ClientOptions copts;
+    copts.server = server;
+    client_ = std::make_unique<Client>(copts);
+    thread_ = std::thread([this] { Run(); });
+  }
+  ~LostWatch() {
+    stop_ = true;
+    thread_.join();
+  }
+  double first_lost() const { return first_lost_; }  // log time, or -1
+
+ private:
+  void Run() {
+    while (!stop_) {
+      const double now = log_time_.load();
+      try {
+        if (now >= from_ && first_lost_ < 0.0 && client_->GetStatus().localization_lost()) first_lost_ = now;
+      } catch (const std::exception&) {
+        // navd busy or gone for a moment: the next poll tells.
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  double from_;
+  const std::atomic<double>& log_time_;
+  std::unique_ptr<Client> client_;
+  std::atomic<bool> stop_{false};
+  std::atomic<double> first_lost_{-1.0};
+  std::thread thread_;
+};
+
 }  // namespace
+
+void ParseKidnap(const std::string& text, ReplayOptions* options) {
+  double t = 0, dx = 0, dy = 0;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &t, &dx, &dy, &tail) != 3 || !std::isfinite(t) || !std::isfinite(dx) ||
+      !std::isfinite(dy) || t < 0.0)
+    throw std::runtime_error("--kidnap must be T,DX,DY: seconds of log time (>= 0) and the odometry's slip in metres, got '" +
+                             text + "'");
+  options->kidnap_at = t;
+  options->kidnap_dx = dx;
+  options->kidnap_dy = dy;
+}
 
 int RunReplay(const ReplayOptions& o) {
   if (!(o.rate > 0.0) || !std::isfinite(o.rate)) throw std::runtime_error("--rate must be a positive number");
@@ -81,11 +146,18 @@ int RunReplay(const ReplayOptions& o) {
   }
 
   const double t0 = log.scans.front().timestamp, t_end = log.scans.back().timestamp;
+  if (o.kidnap_at >= 0.0 && o.kidnap_at >= t_end - t0)
+    throw std::runtime_error("--kidnap at " + std::to_string(o.kidnap_at) + " s is past the log's end (" +
+                             std::to_string(t_end - t0) + " s)");
+  std::atomic<double> log_time{t0};
   auto publish_odometry = [&](double t, const Pose2& p) {
     rosgraph_msgs::msg::dds_::Clock_ c;
     c.clock(dds::ToTime(t));
     clock.Write(c);
-    odom.Write(dds::MakeOdometry(t, p, 0.0, 0.0, 0.0, Eigen::Matrix3d::Zero(), "odom"));
+    const Pose2 slip = KidnapSlip(o, t - t0);
+    const Pose2 slipped{p.x + slip.x, p.y + slip.y, p.theta};
+    odom.Write(dds::MakeOdometry(t, slipped, 0.0, 0.0, 0.0, Eigen::Matrix3d::Zero(), "odom"));
+    log_time = t;
   };
   sensor_msgs::msg::dds_::LaserScan_ msg;
   auto publish_scan = [&](const CarmenScan& s) {
@@ -120,6 +192,11 @@ int RunReplay(const ReplayOptions& o) {
     }
   }
 
+  std::unique_ptr<LostWatch> lost_watch;
+  if (o.kidnap_at >= 0.0) {
+    if (o.server.empty()) throw std::runtime_error("--kidnap needs --server to ask navd whether it knows it is lost");
+    lost_watch = std::make_unique<LostWatch>(o.server, t0 + o.kidnap_at, log_time);
+  }
   const double tick = std::max(1.0 / kTicksPerLogSecond, o.rate / kMaxTicksPerWallSecond);
   const auto wall0 = Clock::now();
   auto pace = [&](double t) { std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((t - t0) / o.rate)); };
@@ -158,6 +235,7 @@ int RunReplay(const ReplayOptions& o) {
   // Each pose against the corrected trajectory at its stamp.
   double sq_pos = 0, sq_head = 0, worst = 0;
   int judged = 0;
+  std::vector<std::pair<double, double>> errors;  // (stamp, position error)
   std::string tum;
   size_t k = 1;
   std::sort(got.begin(), got.end(), [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
@@ -173,6 +251,7 @@ int RunReplay(const ReplayOptions& o) {
     sq_pos += ep * ep;
     sq_head += eh * eh;
     worst = std::max(worst, ep);
+    errors.emplace_back(p.stamp, ep);
     ++judged;
     char line[160];
     std::snprintf(line, sizeof line, "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n", p.stamp, p.pose.x, p.pose.y,
@@ -189,6 +268,24 @@ int RunReplay(const ReplayOptions& o) {
   std::printf("navd: %d poses, position RMSE %.4f m, heading RMSE %.4f rad, worst %.3f m%s\n", judged,
               std::sqrt(sq_pos / judged), std::sqrt(sq_head / judged), worst,
               worst > 0.5 ? " (lost at times)" : ", never lost");
+  if (lost_watch) {
+    // Back: the first pose after the kidnap's worst error (within a minute of it) within 0.1 m
+    // of the truth.
+    const double kidnap = t0 + o.kidnap_at;
+    double peak = 0.0, peak_at = kidnap, back = -1.0;
+    for (const auto& [stamp, error] : errors)
+      if (stamp >= kidnap && stamp <= kidnap + 60.0 && error > peak) peak = error, peak_at = stamp;
+    for (const auto& [stamp, error] : errors)
+      if (stamp >= peak_at && error <= 0.1) {
+        back = stamp;
+        break;
+      }
+    const double lost = lost_watch->first_lost();
+    std::printf("kidnap: odometry slipped %.2f m at %.1f s; navd %s; worst error after %.2f m; %s\n",
+                std::hypot(o.kidnap_dx, o.kidnap_dy), o.kidnap_at,
+                lost >= 0.0 ? ("declared the pose lost " + Seconds(lost - kidnap) + " s later").c_str() : "never declared the pose lost",
+                peak, back >= 0.0 ? ("back within 0.1 m " + Seconds(back - kidnap) + " s after it").c_str() : "never back within 0.1 m");
+  }
   return 0;
 }
 
