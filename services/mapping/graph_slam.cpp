@@ -140,6 +140,12 @@ bool GraphSlam::MatchAgainst(int node, int first, int last, const Pose2& guess, 
   return match->score >= o_.loop_min_score && match->coarse_spread <= o_.refine_max_spread;
 }
 
+bool GraphSlam::TurnedOnTheSpot(int node) const {
+  if (node == 0) return false;
+  const Pose2 moved = node_odometry_[node - 1].inverse() * node_odometry_[node];
+  return std::abs(moved.theta) >= o_.refine_spot_turn && std::hypot(moved.x, moved.y) <= o_.refine_spot_travel;
+}
+
 void GraphSlam::Refine() {
   const size_t kept = graph_.edges().size();
   ScanMatchOptions window = o_.sequential;
@@ -152,6 +158,7 @@ void GraphSlam::Refine() {
     graph_.TruncateEdges(kept);
     refinements_.clear();
     for (int i = 0; i < nodes(); ++i) {
+      if (TurnedOnTheSpot(i)) continue;
       const Pose2 here = graph_.nodes()[i];
       auto distance = [&](int j) { return Distance(graph_.nodes()[j].translation(), here.translation()); };
       // Stretches: runs of consecutive nodes within the radius, each as (its nearest node, first, last).
@@ -173,6 +180,7 @@ void GraphSlam::Refine() {
                 [&](const std::array<int, 3>& a, const std::array<int, 3>& b) { return distance(a[0]) < distance(b[0]); });
       if (static_cast<int>(stretches.size()) > o_.refine_max_stretches) stretches.resize(o_.refine_max_stretches);
       for (const auto& [nearest, first, last] : stretches) {
+        if (TurnedOnTheSpot(nearest)) continue;
         ScanMatch match;
         if (!MatchAgainst(i, first, last, here, window, &match)) continue;
         const Pose2 relative = graph_.nodes()[nearest].inverse() * match.pose;

@@ -73,6 +73,11 @@ struct GraphSlamOptions {
   double refine_window_theta = 0.08; // rad
   int refine_passes = 2;
   int refine_max_stretches = 3;     // the nearest stretches matched per node
+  // Nodes where the robot turned on the spot (this far in rad, over at most refine_spot_travel m
+  // since the previous node) are left out of refinement: a scan swept while turning fast is
+  // skewed, and fits the other pass best at a wrong heading.
+  double refine_spot_turn = 0.5;
+  double refine_spot_travel = 0.35;
   double refine_max_spread = 0.1;    // m: a match that slides farther along a corridor is dropped
   PoseGraphOptions optimizer;
 };
@@ -119,6 +124,7 @@ class GraphSlam {
   std::vector<Point2> Returns(const RangeScan& scan) const;  // robot frame, no-returns dropped
   std::vector<Point2> NodePointsInMap(int first, int last) const;
   void TryLoopClosure(int node);
+  bool TurnedOnTheSpot(int node) const;
   // The node's match against the map of nodes [first, last] around `guess`; false when the match
   // is weak or ambiguous.
   bool MatchAgainst(int node, int first, int last, const Pose2& guess, const ScanMatchOptions& window,
