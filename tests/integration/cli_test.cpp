@@ -203,7 +203,8 @@ TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
 // offline (SLAM, localisation) and online (the log over DDS to a running navd). Thresholds guard
 // against regressions of the figures in docs/results.md; a wrong loop closure or an offline loss
 // fails. navd declaring the pose lost online is reported, not failed: it still happens on Intel
-// under load.
+// under load. Online runs at 25x here: beside the rest of the suite on 2 cores, navd at 50x can fall
+// far enough behind the replay to lose the Intel pose for good.
 TEST(Realdata, TwoLogsOneSeedOfflineAndOnlineWithinTheirThresholds) {
   const std::string data = SourceDir() + "/../shared/data/carmen";
   if (!std::filesystem::exists(data + "/intel-corrected.log.gz")) GTEST_SKIP() << "shared data not beside the checkout";
@@ -212,7 +213,7 @@ TEST(Realdata, TwoLogsOneSeedOfflineAndOnlineWithinTheirThresholds) {
   const std::string build_dir = replay.substr(0, replay.rfind("/tools/"));
   const auto r = RunCommand({"/usr/bin/env", "NAVD_REALDATA_DOMAIN=" + std::to_string(ReserveDomain()),
                              "NAVD_BUILD_DIR=" + build_dir, SourceDir() + "/scripts/realdata",
-                             data, "--logs", "intel,freiburg-101", "--seeds", "1-1", "--online", "--jobs", "1", "--out", dir,
+                             data, "--logs", "intel,freiburg-101", "--seeds", "1-1", "--online", "--online-rate", "25", "--jobs", "1", "--out", dir,
                              "--max-slam-ate", "0.10", "--max-localize-rmse", "0.06", "--max-online-rmse", "0.15"},
                             280.0);
   std::printf("%s\n", r.output.substr(r.output.find("\nlog ") == std::string::npos ? 0 : r.output.find("\nlog ")).c_str());
