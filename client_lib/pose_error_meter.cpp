@@ -52,7 +52,7 @@ void PoseErrorMeter::MatchLocked() {
       const auto& [ta, a] = truth_[i - 1];
       const auto& [tb, b] = truth_[i];
       const double s = tb > ta ? (stamp - ta) / (tb - ta) : 1.0;
-      truth = {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), a.theta + s * NormalizeAngle(b.theta - a.theta)};
+      truth = Interpolate(a, b, s);
     }
     errors_.push_back({stamp, Distance(est.translation(), truth.translation()),
                        std::abs(NormalizeAngle(est.theta - truth.theta))});

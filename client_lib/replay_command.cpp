@@ -20,6 +20,7 @@
 #include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
 #include "services/common/carmen_log.h"
+#include "services/common/carmen_odometry.h"
 #include "services/common/odometry_noise.h"
 #include "services/common/text_file.h"
 
@@ -31,11 +32,6 @@ using Clock = std::chrono::steady_clock;
 // clock) to see fresh odometry, capped in wall terms so fast replays do not flood DDS.
 constexpr double kTicksPerLogSecond = 20.0;
 constexpr double kMaxTicksPerWallSecond = 400.0;
-
-// a + s (b - a) on poses, the heading the short way round.
-Pose2 Interpolate(const Pose2& a, const Pose2& b, double s) {
-  return {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), NormalizeAngle(a.theta + s * NormalizeAngle(b.theta - a.theta))};
-}
 
 std::string Seconds(double s) {
   char text[32];
@@ -114,9 +110,7 @@ int RunReplay(const ReplayOptions& o) {
   if (log.skipped_lines > 0) std::fprintf(stderr, "navctl replay: skipped %d malformed lines\n", log.skipped_lines);
   if (o.max_scans > 0 && log.scans.size() > static_cast<size_t>(o.max_scans)) log.scans.resize(o.max_scans);
   if (log.scans.size() < 2) throw std::runtime_error(o.log + ": fewer than two laser scans to replay");
-  std::vector<Pose2> odometry;
-  OdometryCorruptor corruptor(noise, o.seed);
-  for (const auto& s : log.scans) odometry.push_back(corruptor.Next(s.pose));
+  const std::vector<Pose2> odometry = NoisyOdometryAtScans(log, noise, o.seed);
 
   dds::ParticipantOptions popts;
   popts.domain = o.domain;

@@ -1,9 +1,10 @@
 #pragma once
 // navctl replay: plays a CARMEN log over DDS like a robot (rt/clock in log time, rt/<ns>/odom,
 // rt/<ns>/scan) while navd localises with --use-sim-time, and judges navd's published poses
-// (rt/<ns>/pose) against the log's corrected poses. With a kidnap it also reports when navd
-// declared the pose lost (its GetStatus, polled) and when its pose was back within 0.1 m. The odometry is made from the corrected poses
-// with the seeded noise model navd-replay uses (services/common/odometry_noise.h).
+// (rt/<ns>/pose) against the log's corrected poses. The odometry is made from the corrected poses
+// with the seeded noise model navd-replay uses (services/common/odometry_noise.h). With a kidnap
+// it also reports when navd declared the pose lost (its GetStatus, polled) and when its pose was
+// back within 0.1 m.
 #include <cstdint>
 #include <string>
 

@@ -111,14 +111,6 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
 
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution);
 
-// The evaluation protocol's odometry: the log's laser poses, corrupted step by step.
-std::vector<navd::Pose2> NoisyOdometry(const navd::CarmenLog& log, const navd::OdometryNoise& noise, uint64_t seed) {
-  navd::OdometryCorruptor corruptor(noise, seed);
-  std::vector<navd::Pose2> out;
-  for (const navd::CarmenScan& s : log.scans) out.push_back(corruptor.Next(s.pose));
-  return out;
-}
-
 int BuildMap(const navd::CarmenLog& log, const std::string& out, double resolution, const std::string& png) {
   const navd::OccupancyGrid grid = MapFromLog(log, resolution);
   navd::SaveMapServerMap(grid, out);
@@ -272,7 +264,7 @@ int main(int argc, char** argv) {
     if (log.skipped_lines > 0) std::fprintf(stderr, "navd-replay: skipped %d malformed lines\n", log.skipped_lines);
     const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
     const std::vector<navd::Pose2> odometry =
-        odometry_source == "log" ? navd::OdometryAtScans(log) : NoisyOdometry(log, noise, seed);
+        odometry_source == "log" ? navd::OdometryAtScans(log) : navd::NoisyOdometryAtScans(log, noise, seed);
     int rc;
     if (mode == "map") {
       rc = BuildMap(log, out, resolution, png);

@@ -4,13 +4,6 @@
 #include <cmath>
 
 namespace navd {
-namespace {
-
-Pose2 Interpolate(const Pose2& a, const Pose2& b, double f) {
-  return {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), NormalizeAngle(a.theta + f * NormalizeAngle(b.theta - a.theta))};
-}
-
-}  // namespace
 
 std::vector<Pose2> OdometryAtScans(const CarmenLog& log) {
   std::vector<const CarmenOdometry*> stamped;
@@ -38,6 +31,14 @@ std::vector<Pose2> OdometryAtScans(const CarmenLog& log) {
       out.push_back(after->pose);
     }
   }
+  return out;
+}
+
+std::vector<Pose2> NoisyOdometryAtScans(const CarmenLog& log, const OdometryNoise& noise, uint64_t seed) {
+  OdometryCorruptor corruptor(noise, seed);
+  std::vector<Pose2> out;
+  out.reserve(log.scans.size());
+  for (const CarmenScan& s : log.scans) out.push_back(corruptor.Next(s.pose));
   return out;
 }
 

@@ -3,7 +3,10 @@
 // and localisation on raw logs (no corrected poses). Metres, radians, the odometry's own frame.
 #include <vector>
 
+#include <cstdint>
+
 #include "services/common/carmen_log.h"
+#include "services/common/odometry_noise.h"
 
 namespace navd {
 
@@ -14,5 +17,9 @@ namespace navd {
 // 0 or less carry no time and are left out (corrected logs echo their corrected pose that way).
 // Without ODOM lines, each scan's own odometry fields (FLASER odom_x odom_y odom_theta).
 std::vector<Pose2> OdometryAtScans(const CarmenLog& log);
+
+// The evaluation protocol for corrected logs: each scan's corrected pose, corrupted step by step
+// by the seeded noise model of odometry_noise.h. One pose per scan, in scan order.
+std::vector<Pose2> NoisyOdometryAtScans(const CarmenLog& log, const OdometryNoise& noise, uint64_t seed);
 
 }  // namespace navd

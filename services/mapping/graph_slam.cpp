@@ -131,10 +131,8 @@ void GraphSlam::TryLoopClosure(int node) {
   graph_.Optimize(o_.optimizer);
 }
 
-bool GraphSlam::MatchAgainst(int node, int first, int last, const Pose2& guess, const ScanMatchOptions& window,
-                             ScanMatch* match) const {
-  const std::vector<Point2> scan = ThinPoints(node_points_[node], o_.match_point_spacing);
-  if (static_cast<int>(scan.size()) < o_.loop_min_points) return false;
+bool GraphSlam::MatchAgainst(const std::vector<Point2>& scan, int first, int last, const Pose2& guess,
+                             const ScanMatchOptions& window, ScanMatch* match) const {
   const CorrelationGrid reference(NodePointsInMap(first, last), window.resolution, window.sigma);
   *match = MatchScan(reference, scan, guess, window);
   return match->score >= o_.loop_min_score && match->coarse_spread <= o_.refine_max_spread;
@@ -152,13 +150,16 @@ void GraphSlam::Refine() {
   window.window_xy = o_.refine_window_xy;
   window.window_theta = o_.refine_window_theta;
   window.prior_sigma_xy = window.prior_sigma_theta = 0.0;
-  window.distinct_xy = 1e-9;  // computes coarse_spread
+  // The matcher measures coarse_spread while it judges ambiguity; nothing else of that is used here.
+  window.distinct_xy = o_.loop_distinct_xy;
   const Eigen::Matrix3d information = Information(o_.loop_sigma_xy, o_.loop_sigma_theta);
   for (int pass = 0; pass < o_.refine_passes; ++pass) {
     graph_.TruncateEdges(kept);
     refinements_.clear();
     for (int i = 0; i < nodes(); ++i) {
       if (TurnedOnTheSpot(i)) continue;
+      const std::vector<Point2> scan = ThinPoints(node_points_[i], o_.match_point_spacing);
+      if (static_cast<int>(scan.size()) < o_.loop_min_points) continue;
       const Pose2 here = graph_.nodes()[i];
       auto distance = [&](int j) { return Distance(graph_.nodes()[j].translation(), here.translation()); };
       // Stretches: runs of consecutive nodes within the radius, each as (its nearest node, first, last).
@@ -182,7 +183,7 @@ void GraphSlam::Refine() {
       for (const auto& [nearest, first, last] : stretches) {
         if (TurnedOnTheSpot(nearest)) continue;
         ScanMatch match;
-        if (!MatchAgainst(i, first, last, here, window, &match)) continue;
+        if (!MatchAgainst(scan, first, last, here, window, &match)) continue;
         const Pose2 relative = graph_.nodes()[nearest].inverse() * match.pose;
         graph_.AddEdge({nearest, i, relative, information, true});
         refinements_.push_back({node_scan_[nearest], node_scan_[i], relative, match.score});

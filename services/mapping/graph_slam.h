@@ -125,10 +125,10 @@ class GraphSlam {
   std::vector<Point2> NodePointsInMap(int first, int last) const;
   void TryLoopClosure(int node);
   bool TurnedOnTheSpot(int node) const;
-  // The node's match against the map of nodes [first, last] around `guess`; false when the match
-  // is weak or ambiguous.
-  bool MatchAgainst(int node, int first, int last, const Pose2& guess, const ScanMatchOptions& window,
-                    ScanMatch* match) const;
+  // A scan's points (robot frame, thinned) matched against the map of nodes [first, last] around
+  // `guess`; false when the match is weak or slides along a corridor.
+  bool MatchAgainst(const std::vector<Point2>& scan, int first, int last, const Pose2& guess,
+                    const ScanMatchOptions& window, ScanMatch* match) const;
 
   GraphSlamOptions o_;
   PoseGraph graph_;

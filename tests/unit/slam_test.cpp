@@ -163,10 +163,10 @@ TEST(GraphSlam, RefineMatchesEachNodeAgainstTheLapBeforeAndKeepsTheTrajectory) {
   GraphSlam slam(RoomSlamOptions());
   const std::vector<Pose2> truth = DriveTwoLaps(map, slam);
   const double before = PositionRmse(slam.Trajectory(), truth);
-  const size_t edges = slam.nodes();
+  const size_t nodes = slam.nodes();
   slam.Refine();
   // The second lap passes the first everywhere: most of its nodes get a match, each one true.
-  EXPECT_GE(slam.refinements().size(), edges / 4);
+  EXPECT_GE(slam.refinements().size(), nodes / 4);
   for (const LoopClosure& c : slam.refinements()) {
     const Pose2 diff = (truth[c.from_scan].inverse() * truth[c.to_scan]).inverse() * c.measurement;
     EXPECT_LT(std::hypot(diff.x, diff.y), 0.1) << c.from_scan << " -> " << c.to_scan;
