@@ -318,10 +318,14 @@ int main(int argc, char** argv) {
   replay->add_option("--out", replay_options.out, "Write navd's poses as TUM (t x y z qx qy qz qw)");
   replay->add_flag("--strict", replay_options.strict, "Stop at the first malformed log line");
   replay->add_option("--wait", replay_options.wait, "Seconds to wait for navd on DDS")->check(seconds);
-  std::string kidnap;
+  std::string kidnap, slip;
   replay->add_option("--kidnap", kidnap,
-                     "T,DX,DY: at T s of log time the odometry slips DX,DY metres (over 1 s), as if the robot were "
-                     "carried; reports when navd declared itself lost and when it was back within 0.1 m");
+                     "T,DX,DY: at T s of log time the robot is carried DX,DY metres (its frame): the scans skip to "
+                     "where the log has it nearest that point, its odometry stands still; reports when navd declared "
+                     "itself lost and when it was back within 0.1 m");
+  replay->add_option("--slip", slip,
+                     "T,DX,DY: at T s of log time the odometry slips DX,DY metres (its frame) over 1 s while the scans "
+                     "go on; reports as --kidnap does");
 
   try {
     app.parse(argc, argv);
@@ -331,7 +335,9 @@ int main(int argc, char** argv) {
 
   try {
     if (replay->parsed()) {
-      if (!kidnap.empty()) navd::navctl::ParseKidnap(kidnap, &replay_options);
+      if (!kidnap.empty())
+        navd::navctl::ParseDisturbance("--kidnap", kidnap, navd::navctl::Disturbance::kKidnap, &replay_options);
+      if (!slip.empty()) navd::navctl::ParseDisturbance("--slip", slip, navd::navctl::Disturbance::kSlip, &replay_options);
       return navd::navctl::RunReplay(replay_options);
     }
     if (door->parsed()) {

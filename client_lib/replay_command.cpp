@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -33,23 +34,79 @@ using Clock = std::chrono::steady_clock;
 constexpr double kTicksPerLogSecond = 20.0;
 constexpr double kMaxTicksPerWallSecond = 400.0;
 
-std::string Seconds(double s) {
+std::string Format(const char* format, double value) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.1f", s);
+  std::snprintf(text, sizeof text, format, value);
   return text;
 }
+
+std::string Seconds(double s) { return Format("%.1f", s); }
 
 struct StampedPose {
   double stamp;
   Pose2 pose;
 };
 
-// The odometry slip of a kidnap at log time t (s since the first scan): a translation in the
-// odom frame growing linearly to (dx, dy) over the ramp.
-Pose2 KidnapSlip(const ReplayOptions& o, double since_start) {
-  if (o.kidnap_at < 0.0 || since_start <= o.kidnap_at) return Pose2{};
-  const double f = o.kidnap_ramp > 0.0 ? std::min(1.0, (since_start - o.kidnap_at) / o.kidnap_ramp) : 1.0;
-  return {f * o.kidnap_dx, f * o.kidnap_dy, 0.0};
+// The odometry slip at log time t (s since the first scan): a translation in the odom frame
+// growing linearly to (dx, dy) over the ramp.
+Pose2 SlipAt(const ReplayOptions& o, double since_start) {
+  if (o.disturbance != Disturbance::kSlip || since_start <= o.disturb_at) return Pose2{};
+  const double f = o.slip_ramp > 0.0 ? std::min(1.0, (since_start - o.disturb_at) / o.slip_ramp) : 1.0;
+  return {f * o.disturb_dx, f * o.disturb_dy, 0.0};
+}
+
+// When a disturbance happens, in log time: `shown` is when the scans first show it (the drop-off
+// of a kidnap, the start of a slip), `over` when it is complete. A kidnap skips the scans after
+// `pick` up to `drop`.
+struct DisturbancePlan {
+  size_t pick = 0, drop = 0;
+  double shown = 0.0, over = 0.0;
+  double moved = 0.0;  // m the robot or its odometry was moved
+};
+
+DisturbancePlan PlanDisturbance(const CarmenLog& log, const ReplayOptions& o) {
+  const double t0 = log.scans.front().timestamp;
+  DisturbancePlan plan;
+  plan.shown = plan.over = t0 + o.disturb_at;
+  plan.moved = std::hypot(o.disturb_dx, o.disturb_dy);
+  if (o.disturbance == Disturbance::kSlip) plan.over += o.slip_ramp;
+  if (o.disturbance != Disturbance::kKidnap) return plan;
+  while (plan.pick + 1 < log.scans.size() && log.scans[plan.pick].timestamp < t0 + o.disturb_at) ++plan.pick;
+  const Pose2& picked = log.scans[plan.pick].pose;
+  const Point2 target = picked * Point2(o.disturb_dx, o.disturb_dy);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (size_t j = plan.pick + 1; j < log.scans.size(); ++j) {
+    const double d = std::hypot(log.scans[j].pose.x - target.x(), log.scans[j].pose.y - target.y());
+    if (d < nearest) nearest = d, plan.drop = j;
+  }
+  if (!(nearest <= o.carry_tolerance))
+    throw std::runtime_error("--kidnap " + Seconds(o.disturb_at) + ",...: the log has the robot nowhere within " +
+                             Seconds(o.carry_tolerance) + " m of the drop-off point later on; pick another T or DX,DY");
+  plan.shown = plan.over = log.scans[plan.drop].timestamp;
+  plan.moved = std::hypot(log.scans[plan.drop].pose.x - picked.x, log.scans[plan.drop].pose.y - picked.y);
+  return plan;
+}
+
+// The odometry of a kidnap: standing still from the pick-up to the drop-off, then going on from
+// there as the robot moves.
+void HoldOdometryWhileCarried(const DisturbancePlan& plan, std::vector<Pose2>* odometry) {
+  const Pose2 held = (*odometry)[plan.pick];
+  const Pose2 from_drop = (*odometry)[plan.drop].inverse();
+  for (size_t j = plan.pick + 1; j < odometry->size(); ++j)
+    (*odometry)[j] = j < plan.drop ? held : held * (from_drop * (*odometry)[j]);
+}
+
+// The first log time at or after `from` when navd's error is back within `within` m to stay: the
+// median error of the next `hold` s of poses within it. -1 if never.
+double BackWithin(const std::vector<std::pair<double, double>>& errors, double from, double within, double hold) {
+  for (size_t i = 0; i < errors.size(); ++i) {
+    if (errors[i].first < from || errors[i].second > within) continue;
+    std::vector<double> next;
+    for (size_t j = i; j < errors.size() && errors[j].first <= errors[i].first + hold; ++j) next.push_back(errors[j].second);
+    std::nth_element(next.begin(), next.begin() + next.size() / 2, next.end());
+    if (next[next.size() / 2] <= within) return errors[i].first;
+  }
+  return -1.0;
 }
 
 // Polls navd's GetStatus while the log plays and keeps the first log time at or after `from` at
@@ -91,16 +148,18 @@ class LostWatch {
 
 }  // namespace
 
-void ParseKidnap(const std::string& text, ReplayOptions* options) {
+void ParseDisturbance(const std::string& flag, const std::string& text, Disturbance kind, ReplayOptions* options) {
   double t = 0, dx = 0, dy = 0;
   char tail = 0;
   if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &t, &dx, &dy, &tail) != 3 || !std::isfinite(t) || !std::isfinite(dx) ||
       !std::isfinite(dy) || t < 0.0)
-    throw std::runtime_error("--kidnap must be T,DX,DY: seconds of log time (>= 0) and the odometry's slip in metres, got '" +
+    throw std::runtime_error(flag + " must be T,DX,DY: seconds of log time (>= 0) and metres in the robot's frame, got '" +
                              text + "'");
-  options->kidnap_at = t;
-  options->kidnap_dx = dx;
-  options->kidnap_dy = dy;
+  if (options->disturbance != Disturbance::kNone) throw std::runtime_error(flag + ": one of --kidnap and --slip at a time");
+  options->disturbance = kind;
+  options->disturb_at = t;
+  options->disturb_dx = dx;
+  options->disturb_dy = dy;
 }
 
 int RunReplay(const ReplayOptions& o) {
@@ -110,7 +169,15 @@ int RunReplay(const ReplayOptions& o) {
   if (log.skipped_lines > 0) std::fprintf(stderr, "navctl replay: skipped %d malformed lines\n", log.skipped_lines);
   if (o.max_scans > 0 && log.scans.size() > static_cast<size_t>(o.max_scans)) log.scans.resize(o.max_scans);
   if (log.scans.size() < 2) throw std::runtime_error(o.log + ": fewer than two laser scans to replay");
-  const std::vector<Pose2> odometry = NoisyOdometryAtScans(log, noise, o.seed);
+  std::vector<Pose2> odometry = NoisyOdometryAtScans(log, noise, o.seed);
+  const bool disturbed = o.disturbance != Disturbance::kNone;
+  if (disturbed && o.disturb_at >= log.scans.back().timestamp - log.scans.front().timestamp)
+    throw std::runtime_error("--kidnap/--slip at " + Seconds(o.disturb_at) + " s is past the log's end (" +
+                             Seconds(log.scans.back().timestamp - log.scans.front().timestamp) + " s)");
+  if (disturbed && o.server.empty())
+    throw std::runtime_error("--kidnap/--slip needs --server to ask navd whether it knows it is lost");
+  const DisturbancePlan plan = disturbed ? PlanDisturbance(log, o) : DisturbancePlan{};
+  if (o.disturbance == Disturbance::kKidnap) HoldOdometryWhileCarried(plan, &odometry);
 
   dds::ParticipantOptions popts;
   popts.domain = o.domain;
@@ -140,15 +207,12 @@ int RunReplay(const ReplayOptions& o) {
   }
 
   const double t0 = log.scans.front().timestamp, t_end = log.scans.back().timestamp;
-  if (o.kidnap_at >= 0.0 && o.kidnap_at >= t_end - t0)
-    throw std::runtime_error("--kidnap at " + std::to_string(o.kidnap_at) + " s is past the log's end (" +
-                             std::to_string(t_end - t0) + " s)");
   std::atomic<double> log_time{t0};
   auto publish_odometry = [&](double t, const Pose2& p) {
     rosgraph_msgs::msg::dds_::Clock_ c;
     c.clock(dds::ToTime(t));
     clock.Write(c);
-    const Pose2 slip = KidnapSlip(o, t - t0);
+    const Pose2 slip = SlipAt(o, t - t0);
     const Pose2 slipped{p.x + slip.x, p.y + slip.y, p.theta};
     odom.Write(dds::MakeOdometry(t, slipped, 0.0, 0.0, 0.0, Eigen::Matrix3d::Zero(), "odom"));
     log_time = t;
@@ -187,10 +251,7 @@ int RunReplay(const ReplayOptions& o) {
   }
 
   std::unique_ptr<LostWatch> lost_watch;
-  if (o.kidnap_at >= 0.0) {
-    if (o.server.empty()) throw std::runtime_error("--kidnap needs --server to ask navd whether it knows it is lost");
-    lost_watch = std::make_unique<LostWatch>(o.server, t0 + o.kidnap_at, log_time);
-  }
+  if (disturbed) lost_watch = std::make_unique<LostWatch>(o.server, t0 + o.disturb_at, log_time);
   const double tick = std::max(1.0 / kTicksPerLogSecond, o.rate / kMaxTicksPerWallSecond);
   const auto wall0 = Clock::now();
   auto pace = [&](double t) { std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((t - t0) / o.rate)); };
@@ -202,7 +263,8 @@ int RunReplay(const ReplayOptions& o) {
       // The scan at its own time, the odometry of that instant just before it.
       pace(s.timestamp);
       publish_odometry(s.timestamp, odometry[next]);
-      publish_scan(s);
+      const bool carried = o.disturbance == Disturbance::kKidnap && next > plan.pick && next < plan.drop;
+      if (!carried) publish_scan(s);
       ++next;
       if (next % 100 == 0 || next == log.scans.size()) {
         std::fprintf(stderr, "\r  replayed %zu/%zu scans", next, log.scans.size());
@@ -263,22 +325,23 @@ int RunReplay(const ReplayOptions& o) {
               std::sqrt(sq_pos / judged), std::sqrt(sq_head / judged), worst,
               worst > 0.5 ? " (lost at times)" : ", never lost");
   if (lost_watch) {
-    // Back: the first pose after the kidnap's worst error (within a minute of it) within 0.1 m
-    // of the truth.
-    const double kidnap = t0 + o.kidnap_at;
-    double peak = 0.0, peak_at = kidnap, back = -1.0;
+    double peak = 0.0;
     for (const auto& [stamp, error] : errors)
-      if (stamp >= kidnap && stamp <= kidnap + 60.0 && error > peak) peak = error, peak_at = stamp;
-    for (const auto& [stamp, error] : errors)
-      if (stamp >= peak_at && error <= 0.1) {
-        back = stamp;
-        break;
-      }
+      if (stamp >= plan.shown && stamp <= plan.shown + 60.0) peak = std::max(peak, error);
+    const double back = BackWithin(errors, plan.over, 0.1, 2.0);
     const double lost = lost_watch->first_lost();
-    std::printf("kidnap: odometry slipped %.2f m at %.1f s; navd %s; worst error after %.2f m; %s\n",
-                std::hypot(o.kidnap_dx, o.kidnap_dy), o.kidnap_at,
-                lost >= 0.0 ? ("declared the pose lost " + Seconds(lost - kidnap) + " s later").c_str() : "never declared the pose lost",
-                peak, back >= 0.0 ? ("back within 0.1 m " + Seconds(back - kidnap) + " s after it").c_str() : "never back within 0.1 m");
+    const std::string what =
+        o.disturbance == Disturbance::kKidnap
+            ? "carried " + Format("%.2f", plan.moved) + " m at " + Seconds(log.scans[plan.pick].timestamp - t0) + " s (" +
+                  std::to_string(plan.drop - plan.pick - 1) + " scans over " +
+                  Seconds(log.scans[plan.drop].timestamp - log.scans[plan.pick].timestamp) + " s unseen, odometry still)"
+            : "odometry slipped " + Format("%.2f", plan.moved) + " m at " + Seconds(o.disturb_at) + " s";
+    std::printf("%s: %s; navd %s; worst error after %.2f m; %s\n",
+                o.disturbance == Disturbance::kKidnap ? "kidnap" : "slip", what.c_str(),
+                lost >= 0.0 ? ("declared the pose lost " + Seconds(lost - plan.shown) + " s later").c_str()
+                            : "never declared the pose lost",
+                peak, back >= 0.0 ? ("back within 0.1 m " + Seconds(back - plan.shown) + " s after it").c_str()
+                                  : "never back within 0.1 m");
   }
   return 0;
 }

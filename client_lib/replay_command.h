@@ -3,12 +3,23 @@
 // rt/<ns>/scan) while navd localises with --use-sim-time, and judges navd's published poses
 // (rt/<ns>/pose) against the log's corrected poses. The odometry is made from the corrected poses
 // with the seeded noise model navd-replay uses (services/common/odometry_noise.h). With a kidnap
-// it also reports when navd declared the pose lost (its GetStatus, polled) and when its pose was
-// back within 0.1 m.
+// or a slip it also reports when navd declared the pose lost (its GetStatus, polled) and when its
+// pose was back within 0.1 m.
 #include <cstdint>
 #include <string>
 
 namespace navd::navctl {
+
+// What happens to the robot mid-log, to see whether navd tells a real loss from a disagreement
+// it can absorb:
+//  - kKidnap: the robot is carried (dx, dy) m, in its own frame, from where it is at that moment.
+//    The scans skip to the place later in the log nearest that point, and the
+//    odometry stands still meanwhile: navd's estimate is left where the robot was picked up, and
+//    only the scans tell it otherwise. navd must declare the pose lost and find itself again.
+//  - kSlip: the odometry slips (dx, dy) m in its own frame over slip_ramp s while the scans go on,
+//    as wheels spinning on a slippery floor. Each step is small enough that navd's odometry jump
+//    filter takes it as motion; the scans say the robot did not move, and navd should follow them.
+enum class Disturbance { kNone, kKidnap, kSlip };
 
 struct ReplayOptions {
   std::string log;                      // CARMEN log, plain or .gz
@@ -23,18 +34,17 @@ struct ReplayOptions {
   double wait = 10.0;                   // s for navd's DDS readers to appear
   std::string out;                      // TUM file of navd's poses ("" for none)
   bool strict = false;                  // stop at the first malformed log line
-  // A kidnap: from `kidnap_at` s of log time after the first scan, the odometry slips by
-  // (kidnap_dx, kidnap_dy) m in its own frame over kidnap_ramp s, as if the robot were carried
-  // while its wheels turned: the scans disagree with it from then on, and navd must notice and
-  // find itself again. The slip is spread over ticks small enough that navd's odometry jump
-  // filter does not take it for a glitch. Negative kidnap_at: none.
-  double kidnap_at = -1.0;
-  double kidnap_dx = 0.0, kidnap_dy = 0.0;
-  double kidnap_ramp = 1.0;
+  // A disturbance `disturb_at` s of log time after the first scan (see Disturbance).
+  Disturbance disturbance = Disturbance::kNone;
+  double disturb_at = 0.0;                  // s
+  double disturb_dx = 0.0, disturb_dy = 0.0;  // m
+  double slip_ramp = 1.0;                   // s
+  double carry_tolerance = 0.5;             // m: the farthest a drop-off place may be from (dx, dy)
 };
 
-// "T,DX,DY" into the options' kidnap fields; throws std::runtime_error naming --kidnap.
-void ParseKidnap(const std::string& text, ReplayOptions* options);
+// "T,DX,DY" (the value of `flag`) into the options' disturbance fields as `kind`; throws
+// std::runtime_error naming the flag.
+void ParseDisturbance(const std::string& flag, const std::string& text, Disturbance kind, ReplayOptions* options);
 
 // Returns the exit code (0 when the log played through). Throws std::runtime_error or
 // navd::Error with one readable line for a missing or malformed log, no navd on DDS, or a navd

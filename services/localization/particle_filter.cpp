@@ -20,6 +20,11 @@ ParticleFilterLocalizer::MapModel::MapModel(const OccupancyGrid& grid, const Par
     if (map.cells()[i] == OccupancyGrid::kFree) free_cells.push_back(static_cast<int32_t>(i));
 }
 
+const GlobalScanSearch& ParticleFilterLocalizer::MapModel::scan_search(const GlobalScanSearchOptions& options) const {
+  std::call_once(scan_search_once, [&] { scan_search_ = std::make_unique<GlobalScanSearch>(map, field, options); });
+  return *scan_search_;
+}
+
 ParticleFilterLocalizer::ParticleFilterLocalizer(const OccupancyGrid& map, const ParticleFilterOptions& options)
     : ParticleFilterLocalizer(std::make_shared<const MapModel>(map, options), options) {}
 
@@ -75,7 +80,29 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   w_slow_ = w_fast_ = 0.0;
   initialised_ = true;
   global_mode_ = false;
+  scan_search_due_ = false;
   UpdateEstimate();
+}
+
+void ParticleFilterLocalizer::DrawAroundScanSearch(const ScanReading& scan) {
+  scan_search_due_ = false;
+  const std::vector<PoseCandidate> candidates = model_->scan_search(o_.scan_search_options).Search(ScanEndPoints(scan, 0));
+  double total = 0.0;
+  for (const PoseCandidate& c : candidates) total += c.score;
+  if (!(total > 0.0)) return;  // nothing fits anywhere: the uniform particles stay
+  const ZigguratNormal n;
+  std::vector<Particle> drawn;
+  drawn.reserve(o_.max_particles);
+  for (const PoseCandidate& c : candidates) {
+    const int count = std::max(1, static_cast<int>(std::lround(o_.max_particles * c.score / total)));
+    for (int i = 0; i < count; ++i) {
+      drawn.push_back({{c.pose.x + o_.scan_search_sigma_xy * n(rng_), c.pose.y + o_.scan_search_sigma_xy * n(rng_),
+                        NormalizeAngle(c.pose.theta + o_.scan_search_sigma_theta * n(rng_))},
+                       0.0});
+    }
+  }
+  for (auto& p : drawn) p.weight = 1.0 / drawn.size();
+  particles_.swap(drawn);
 }
 
 void ParticleFilterLocalizer::ScatterUniformly() {
@@ -83,6 +110,7 @@ void ParticleFilterLocalizer::ScatterUniformly() {
   particles_.assign(o_.global_particles, {});
   for (auto& p : particles_) p = {RandomFreePose(), 1.0 / o_.global_particles};
   global_mode_ = true;
+  scan_search_due_ = o_.scan_search;
   last_odom_ = latest_odom_;
   moved_since_scan_ = true;
   w_slow_ = w_fast_ = 0.0;
@@ -163,6 +191,7 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   const Pose2 at_scan = odom_history_.At(scan.stamp);
   MoveParticles(last_odom_, at_scan);
   last_odom_ = at_scan;
+  if (scan_search_due_) DrawAroundScanSearch(scan);
   const std::vector<Point2> ends = ScanEndPoints(scan, o_.beams);
   if (ends.size() < 5) return false;  // too little to judge by
   std::vector<double> sensor(particles_.size());

@@ -22,6 +22,7 @@
 
 #include "services/common/occupancy_grid.h"
 #include "services/common/ray_caster.h"
+#include "services/localization/global_scan_search.h"
 #include "services/localization/likelihood_field.h"
 #include "services/localization/localizer.h"
 #include "services/localization/odometry_history.h"
@@ -84,6 +85,12 @@ struct ParticleFilterOptions {
   // enough that injection pulls a well-localised estimate away (Intel log: 0.21 m RMSE with
   // 0.001/0.1, 0.05-0.08 m without). Global relocalisation does not depend on it.
   double alpha_slow = 0.0, alpha_fast = 0.0;
+  // Global relocalisation draws its particles around the candidates of a whole-map search of the
+  // first scan (GlobalScanSearch) rather than leaving them uniform: on real logs with a scan every
+  // few metres, uniform particles take many scans to gather. Spread of the draws around each.
+  bool scan_search = true;
+  GlobalScanSearchOptions scan_search_options;
+  double scan_search_sigma_xy = 0.1, scan_search_sigma_theta = 0.05;
   // Initial spread around a SetPose without covariance.
   double initial_sigma_xy = 0.1, initial_sigma_theta = 0.1;
   uint64_t seed = 1;
@@ -127,6 +134,9 @@ class ParticleFilterLocalizer : public Localizer {
   void UpdateEstimate();
   // Sensor log-likelihood of each particle by the likelihood field, into `sensor`.
   void WeighByLikelihoodField(const std::vector<Point2>& ends, std::vector<double>& sensor) const;
+  // Replaces the particles by draws around the whole-map search's candidates for the scan, when it
+  // has any; with the mutex held.
+  void DrawAroundScanSearch(const ScanReading& scan);
   // Posterior weights from the sensor log-likelihoods (summed over `beams` beams), resampling,
   // estimate; with the mutex held.
   void Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams);
@@ -139,6 +149,11 @@ class ParticleFilterLocalizer : public Localizer {
     LikelihoodField field;
     std::optional<RayCaster> caster;  // the beam model's ray casts, built only when it is chosen
     std::vector<int32_t> free_cells;
+    const GlobalScanSearch& scan_search(const GlobalScanSearchOptions& options) const;  // built on first use
+
+   private:
+    mutable std::once_flag scan_search_once;
+    mutable std::unique_ptr<GlobalScanSearch> scan_search_;
   };
   std::shared_ptr<const MapModel> model_;  // guarded by mutex_
   ParticleFilterLocalizer(std::shared_ptr<const MapModel> model, const ParticleFilterOptions& options);
@@ -158,6 +173,7 @@ class ParticleFilterLocalizer : public Localizer {
   PoseEstimate estimate_;
   bool initialised_ = false;
   bool global_mode_ = false;            // relocalising globally: likelihood tempered
+  bool scan_search_due_ = false;        // scattered for a global relocalisation; no scan searched yet
 };
 
 }  // namespace navd::localization

@@ -659,6 +659,9 @@ void NavigationExecutive::Search(const localization::PoseEstimate& estimate, con
         localizer_.SearchAround(centre, Eigen::Vector3d(sxy * sxy, sxy * sxy, st * st).asDiagonal())) {
       search_ = SearchStage::kNearby;
       global_search_at_ = now + watch_.local_search_for;
+      // A robot carried away is not near: the whole map is searched beside from the start.
+      search_beside_ = localizer_.StartSearch();
+      search_fits_ = 0;
       return;
     }
   } else if (now < global_search_at_) {

@@ -343,25 +343,31 @@ TEST(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
   EXPECT_LE(rmse, 0.15) << stack.Logs();
   EXPECT_LE(heading, 0.06);
   EXPECT_TRUE(std::filesystem::exists(dir + "/online.tum"));
-  // A kidnap: 100 s into the log the odometry slips 3 m over a second; navd's pose is back within
-  // 0.1 m of the truth within 20 s of log time.
+  // A slip: 100 s into the log the odometry slips 3 m over a second while the scans go on; navd
+  // follows the scans and is back within 0.1 m of the truth within 20 s of log time.
   const auto k = RunCommand({NavctlBinary(), "replay", "--log", log, "--rate", "50", "--max-scans", "200", "--domain",
-                             std::to_string(stack.domain()), "--server", stack.address(), "--kidnap", "100,3,0"},
+                             std::to_string(stack.domain()), "--server", stack.address(), "--slip", "100,3,0"},
                             120.0);
   ASSERT_EQ(k.exit_code, 0) << k.output << stack.Logs();
-  const size_t kidnap = k.output.find("kidnap: ");
-  ASSERT_NE(kidnap, std::string::npos) << k.output;
-  const size_t back = k.output.find("back within 0.1 m ", kidnap);
+  const size_t slip = k.output.find("slip: ");
+  ASSERT_NE(slip, std::string::npos) << k.output;
+  const size_t back = k.output.find("back within 0.1 m ", slip);
   ASSERT_NE(back, std::string::npos) << k.output;
   double back_after = -1;
   ASSERT_EQ(std::sscanf(k.output.c_str() + back, "back within 0.1 m %lf s", &back_after), 1) << k.output;
-  std::printf("%s", k.output.substr(kidnap).c_str());
+  std::printf("%s", k.output.substr(slip).c_str());
   EXPECT_LE(back_after, 20.0) << k.output;
-  const auto bad_kidnap = RunCommand({NavctlBinary(), "replay", "--log", log, "--kidnap", "100,3", "--server", stack.address(),
-                                      "--domain", std::to_string(stack.domain())}, 30.0);
-  EXPECT_NE(bad_kidnap.exit_code, 0);
-  EXPECT_EQ(Lines(bad_kidnap.output), 1) << bad_kidnap.output;
-  EXPECT_NE(bad_kidnap.output.find("--kidnap"), std::string::npos) << bad_kidnap.output;
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"--kidnap", "100,3"},
+                                              std::vector<std::string>{"--slip", "100,3,0", "--kidnap", "100,3,0"},
+                                              std::vector<std::string>{"--kidnap", "100,300,0"}}) {
+    std::vector<std::string> argv = {NavctlBinary(), "replay", "--log", log, "--server", stack.address(), "--domain",
+                                      std::to_string(stack.domain()), "--max-scans", "200"};
+    argv.insert(argv.end(), bad.begin(), bad.end());
+    const auto refused = RunCommand(argv, 30.0);
+    EXPECT_NE(refused.exit_code, 0) << bad[1];
+    EXPECT_EQ(Lines(refused.output), 1) << refused.output;
+    EXPECT_NE(refused.output.find(bad[0]), std::string::npos) << refused.output;
+  }
   // No navd on the domain: one line, non-zero.
   const auto lonely = RunCommand({NavctlBinary(), "replay", "--log", log, "--domain", std::to_string(ReserveDomain()),
                                   "--server", "", "--max-scans", "5", "--wait", "1"}, 60.0);
