@@ -76,14 +76,14 @@ DisturbancePlan PlanDisturbance(const CarmenLog& log, const ReplayOptions& o) {
   const Point2 target = picked * Point2(o.disturb_dx, o.disturb_dy);
   double nearest = std::numeric_limits<double>::infinity();
   for (size_t j = plan.pick + 1; j < log.scans.size(); ++j) {
-    const double d = std::hypot(log.scans[j].pose.x - target.x(), log.scans[j].pose.y - target.y());
+    const double d = Distance(log.scans[j].pose.translation(), target);
     if (d < nearest) nearest = d, plan.drop = j;
   }
   if (!(nearest <= o.carry_tolerance))
     throw std::runtime_error("--kidnap " + Seconds(o.disturb_at) + ",...: the log has the robot nowhere within " +
                              Seconds(o.carry_tolerance) + " m of the drop-off point later on; pick another T or DX,DY");
   plan.shown = plan.over = log.scans[plan.drop].timestamp;
-  plan.moved = std::hypot(log.scans[plan.drop].pose.x - picked.x, log.scans[plan.drop].pose.y - picked.y);
+  plan.moved = Distance(log.scans[plan.drop].pose.translation(), picked.translation());
   return plan;
 }
 

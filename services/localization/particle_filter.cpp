@@ -84,9 +84,8 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   UpdateEstimate();
 }
 
-void ParticleFilterLocalizer::DrawAroundScanSearch(const ScanReading& scan) {
+void ParticleFilterLocalizer::DrawAround(const std::vector<PoseCandidate>& candidates) {
   scan_search_due_ = false;
-  const std::vector<PoseCandidate> candidates = model_->scan_search(o_.scan_search_options).Search(ScanEndPoints(scan, 0));
   double total = 0.0;
   for (const PoseCandidate& c : candidates) total += c.score;
   if (!(total > 0.0)) return;  // nothing fits anywhere: the uniform particles stay
@@ -186,12 +185,23 @@ void ParticleFilterLocalizer::MoveParticles(const Pose2& from, const Pose2& to) 
 
 bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   if (!ScanHeaderIsUsable(scan)) return false;
+  // The whole-map search takes a tenth of a second or more: outside the lock, so the estimate
+  // stays readable meanwhile; its candidates count only if the map is still the one searched.
+  std::optional<std::vector<PoseCandidate>> candidates;
+  std::shared_ptr<const MapModel> searched;
+  if (scan_search_due_) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      searched = model_;
+    }
+    candidates = searched->scan_search(o_.scan_search_options).Search(ScanEndPoints(scan, 0));
+  }
   std::lock_guard<std::mutex> lock(mutex_);
   if (!initialised_ || !have_odom_ || !moved_since_scan_) return false;
   const Pose2 at_scan = odom_history_.At(scan.stamp);
   MoveParticles(last_odom_, at_scan);
   last_odom_ = at_scan;
-  if (scan_search_due_) DrawAroundScanSearch(scan);
+  if (candidates && scan_search_due_ && searched == model_) DrawAround(*candidates);
   const std::vector<Point2> ends = ScanEndPoints(scan, o_.beams);
   if (ends.size() < 5) return false;  // too little to judge by
   std::vector<double> sensor(particles_.size());

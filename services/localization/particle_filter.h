@@ -134,9 +134,9 @@ class ParticleFilterLocalizer : public Localizer {
   void UpdateEstimate();
   // Sensor log-likelihood of each particle by the likelihood field, into `sensor`.
   void WeighByLikelihoodField(const std::vector<Point2>& ends, std::vector<double>& sensor) const;
-  // Replaces the particles by draws around the whole-map search's candidates for the scan, when it
-  // has any; with the mutex held.
-  void DrawAroundScanSearch(const ScanReading& scan);
+  // Replaces the particles by draws around a whole-map search's candidates, when there are any;
+  // with the mutex held.
+  void DrawAround(const std::vector<PoseCandidate>& candidates);
   // Posterior weights from the sensor log-likelihoods (summed over `beams` beams), resampling,
   // estimate; with the mutex held.
   void Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams);
@@ -173,7 +173,8 @@ class ParticleFilterLocalizer : public Localizer {
   PoseEstimate estimate_;
   bool initialised_ = false;
   bool global_mode_ = false;            // relocalising globally: likelihood tempered
-  bool scan_search_due_ = false;        // scattered for a global relocalisation; no scan searched yet
+  // Scattered for a global relocalisation, no scan searched yet; read outside the lock by AddScan.
+  std::atomic<bool> scan_search_due_{false};
 };
 
 }  // namespace navd::localization
