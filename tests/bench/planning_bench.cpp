@@ -1,12 +1,15 @@
-// Planning speed on the embedded warehouse world: costmap inflation, and A* vs Dijkstra between
-// the demo's start and goals. Run: build/tests/planning_bench
+// Planning speed: costmap inflation and planners on the embedded warehouse world, per-query
+// times over a MovingAI-style corridor maze and arena, D* Lite's repairs, Fast Marching.
+// Run: build/tests/planning_bench (--benchmark_filter=Queries for the per-query batches)
 #include <benchmark/benchmark.h>
 
-#include "services/common/map_store.h"
-#include "services/common/world.h"
 #include <random>
 
 #include "services/common/distance_field.h"
+#include "services/common/map_store.h"
+#include "services/common/movingai_format.h"
+#include "services/common/world.h"
+#include "tests/support/corridor_maze.h"
 
 #include "services/planning/dstar_lite.h"
 #include "services/planning/grid_astar_planner.h"
@@ -14,6 +17,7 @@
 #include "services/planning/theta_star_planner.h"
 #include "services/planning/voronoi_fast_marching_planner.h"
 #include "services/planning/planning_engine.h"
+#include "services/planning/scenario_benchmark.h"
 
 namespace {
 
@@ -102,6 +106,76 @@ void BM_MazeSearch(benchmark::State& state, const std::string& name) {
 BENCHMARK_CAPTURE(BM_MazeSearch, astar, std::string("astar"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MazeSearch, dijkstra, std::string("dijkstra"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MazeSearch, thetastar, std::string("thetastar"))->Unit(benchmark::kMillisecond);
+
+// Per-query batches, as `navctl plan --map --scen` runs them (through the planning engine, no
+// smoothing): each planner plans every query once; counters give the median and p99 per query in
+// ms and, on maps without a cost layer, how many paths matched the optimal length (dijkstra's on
+// the maze, the file's on arena).
+struct QueryBatch {
+  MapStore maps;
+  std::shared_ptr<const MapSnapshot> snapshot;
+  std::vector<MovingAiScenario> scenarios;
+  planning::CostmapOptions costmap;
+};
+
+// MovingAI's maze512-32 family: 512 x 512, 32-cell corridors; 1,000 random pairs of free cells.
+// `decay`: plan on the costmap navd plans on by default, with inflation and a decaying cost beside
+// walls (1 m lethal, 3 m of decay on these 1 m cells), where only the cost-aware planners apply.
+QueryBatch& Maze32(bool decay) {
+  static QueryBatch batches[2];
+  QueryBatch& b = batches[decay];
+  if (b.snapshot) return b;
+  b.snapshot = b.maps.Set(testing::CorridorMaze(512, 32, 1), "maze512-32");
+  b.costmap = decay ? planning::CostmapOptions{1.0, true, 3.0, 1.0} : planning::CostmapOptions{0.0, true};
+  const planning::Costmap costmap(std::shared_ptr<const OccupancyGrid>(b.snapshot, &b.snapshot->grid), b.costmap);
+  const OccupancyGrid& g = b.snapshot->grid;
+  std::mt19937 rng(32);
+  std::uniform_int_distribution<int> coord(0, 511);
+  planning::PlanningEngine engine(b.maps, {.costmap = b.costmap, .default_planner = "dijkstra", .start_recovery_radius = 0.0, .velocity = {}});
+  planning::RegisterDefaultPlanners(engine);
+  while (b.scenarios.size() < 1000) {
+    MovingAiScenario s;
+    s.start_x = coord(rng), s.start_row = coord(rng), s.goal_x = coord(rng), s.goal_row = coord(rng);
+    const CellIndex a{s.start_x, g.height() - 1 - s.start_row}, z{s.goal_x, g.height() - 1 - s.goal_row};
+    if (costmap.IsLethal(a) || costmap.IsLethal(z)) continue;
+    if (!decay) s.optimal_length = engine.ComputePath(g.CellCenter(a), g.CellCenter(z), "dijkstra", {{"smooth", 0.0}}).length;
+    s.decimals = 8;
+    b.scenarios.push_back(s);
+  }
+  return b;
+}
+
+QueryBatch& Arena() {
+  static QueryBatch b;
+  if (b.snapshot) return b;
+  const std::string map = std::string(NAVD_SOURCE_DIR) + "/tests/data/movingai/arena.map";
+  b.snapshot = b.maps.Set(LoadMovingAiMap(map), "arena");
+  b.scenarios = LoadMovingAiScenarios(map + ".scen");
+  b.costmap = {0.0, true};
+  return b;
+}
+
+void RunBatch(benchmark::State& state, QueryBatch& batch, const std::string& planner) {
+  planning::PlanningEngine engine(batch.maps, {.costmap = batch.costmap, .default_planner = planner, .start_recovery_radius = 0.0, .velocity = {}});
+  planning::RegisterDefaultPlanners(engine);
+  engine.CurrentCostmap();
+  planning::ScenarioReport report;
+  for (auto _ : state) report = planning::RunScenarios(engine, batch.snapshot->grid, batch.scenarios, planner);
+  state.counters["median_ms"] = report.median_ms;
+  state.counters["p99_ms"] = report.p99_ms;
+  if (!batch.costmap.decay_radius) state.counters["optimal"] = static_cast<double>(report.passed);
+  state.counters["queries"] = static_cast<double>(report.total);
+}
+
+void BM_Maze32Queries(benchmark::State& state, const std::string& planner) { RunBatch(state, Maze32(false), planner); }
+void BM_Maze32DecayQueries(benchmark::State& state, const std::string& planner) { RunBatch(state, Maze32(true), planner); }
+void BM_ArenaQueries(benchmark::State& state, const std::string& planner) { RunBatch(state, Arena(), planner); }
+BENCHMARK_CAPTURE(BM_Maze32Queries, astar, std::string("astar"))->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Maze32Queries, dijkstra, std::string("dijkstra"))->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Maze32DecayQueries, astar, std::string("astar"))->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Maze32DecayQueries, dijkstra, std::string("dijkstra"))->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_ArenaQueries, astar, std::string("astar"))->Iterations(20)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ArenaQueries, dijkstra, std::string("dijkstra"))->Iterations(20)->Unit(benchmark::kMillisecond);
 
 // Seed 002's comparison of A* and D*: plan on a 512 x 512 map with 20% random obstacles, then 1%
 // of the cells change and the plan is repaired. Reports time and states processed (expansions,
