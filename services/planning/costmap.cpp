@@ -6,6 +6,7 @@
 
 #include "services/common/distance_field.h"
 #include "services/common/grid_traversal.h"
+#include "services/planning/grid_moves.h"
 
 namespace navd::planning {
 
@@ -27,6 +28,20 @@ Costmap::Costmap(std::shared_ptr<const OccupancyGrid> grid_ptr, const CostmapOpt
           std::lround(kMaxCost * std::exp(-options.cost_scaling * (d - options.inflation_radius))));
     }
   }
+  const int w = grid_->width(), h = grid_->height();
+  moves_.assign(lethal_.size(), 0);
+  auto free = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && !lethal_[static_cast<size_t>(y) * w + x]; };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = static_cast<size_t>(y) * w + x;
+      if (lethal_[i]) continue;
+      uint8_t mask = 0;
+      for (int k = 0; k < 8; ++k) {
+        const GridMove& m = kGridMoves[k];
+        if (free(x + m.dx, y + m.dy) && (!m.diagonal || (free(x + m.dx, y) && free(x, y + m.dy)))) mask |= 1 << k;
+      }
+      moves_[i] = mask;
+    }
 }
 
 bool Costmap::SegmentFree(const Point2& a, const Point2& b) const {

@@ -22,30 +22,36 @@ std::vector<PlannerOptionSpec> GridAStarPlanner::options() const {
           {"cost_weight", 1.0, "step cost = length * (1 + cost_weight * cost / 252) on the costmap's decay layer (>= 0)"}};
 }
 
-CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
-                                const PlannerOptions& options, const StopRequested& stop) const {
-  const double diagonal_option = options.at("diagonal");
-  if (diagonal_option != 0.0 && diagonal_option != 1.0) {
-    throw Error(ErrorCode::kInvalidArgument, "options: 'diagonal' must be 0 or 1");
-  }
-  const bool diagonal = diagonal_option != 0.0;
-  const double cost_weight = options.at("cost_weight");
-  if (!(cost_weight >= 0.0)) throw Error(ErrorCode::kInvalidArgument, "options: 'cost_weight' must be >= 0");
-  const uint8_t* cost = cost_weight > 0.0 ? costmap.cost_data() : nullptr;
-  const double per_cost = cost_weight / Costmap::kMaxCost;
-  const int w = costmap.width(), h = costmap.height();
-  const size_t n = static_cast<size_t>(w) * h;
+namespace {
+
+// The search loop, compiled once per combination so the inner loop carries no branches on them:
+// kHeuristic (A*; Dijkstra without), kCost (steps weighed by the decay layer).
+template <bool kHeuristic, bool kCost>
+CellPath Search(const Costmap& costmap, const CellIndex& start, const CellIndex& goal, bool diagonal,
+                double cost_weight, const StopRequested& stop) {
+  const int w = costmap.width();
+  const size_t n = static_cast<size_t>(w) * costmap.height();
   // Doubles: distinct 8-connected path lengths a + b*sqrt(2) can differ by ~1e-5 on large maps,
   // below float resolution.
   SearchWorkspace& ws = SearchWorkspace::ForThisThread(n);
-  const uint8_t* lethal = costmap.lethal_data();
+  const uint8_t* moves = costmap.move_data();
+  const uint8_t* cost = costmap.cost_data();
+  // Step cost = length * (1 + cost_weight * mean cost of the two cells / kMaxCost).
+  const double per_cost = 0.5 * cost_weight / Costmap::kMaxCost;
+  const unsigned allowed = diagonal ? 0xFFu : 0x0Fu;
+  int32_t offset[8];
+  double length[8];
+  for (int k = 0; k < 8; ++k) {
+    offset[k] = kGridMoves[k].dy * w + kGridMoves[k].dx;
+    length[k] = kGridMoves[k].diagonal ? M_SQRT2 : 1.0;
+  }
 
   // Inflating h by 1e-9 breaks the vast ties of octile distance towards the goal (far fewer
   // expansions in open space) without costing optimality: for paths under ~1e4 cells, 1e-9 of the
   // length is below the smallest gap between two distinct path lengths.
   constexpr double kTieBreak = 1.0 + 1e-9;
   auto heuristic = [&](int x, int y) -> double {
-    if (dijkstra_) return 0.0;
+    if constexpr (!kHeuristic) return 0.0;
     const double dx = std::abs(x - goal.x), dy = std::abs(y - goal.y);
     return kTieBreak * (diagonal ? (dx + dy) + (M_SQRT2 - 2.0) * std::min(dx, dy) : dx + dy);
   };
@@ -56,10 +62,6 @@ CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
   const int32_t t = static_cast<int32_t>(goal.y) * w + goal.x;
   ws.Set(s, 0.0, -1);
   open.push(heuristic(start.x, start.y), s);
-
-  auto free = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < w && y < h && !lethal[static_cast<size_t>(y) * w + x];
-  };
 
   CellPath result;
   while (!open.empty()) {
@@ -74,25 +76,45 @@ CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
     if (current == t) break;
     const int x = current % w, y = current / w;
     const double g_current = ws.g(current);
-    const auto relax = [&](int nx, int ny, bool diagonal) {
-      const int32_t ni = ny * w + nx;
-      if (ws.closed(ni)) return;
-      double step = diagonal ? M_SQRT2 : 1.0;
-      // Lengths stay the heuristic's lower bound: penalties only add.
-      if (cost) step *= 1.0 + per_cost * 0.5 * (cost[current] + cost[ni]);
+    // Lengths stay the heuristic's lower bound: penalties only add.
+    [[maybe_unused]] const double from_cost = kCost ? 1.0 + per_cost * cost[current] : 1.0;
+    for (unsigned m = moves[current] & allowed; m != 0; m &= m - 1) {
+      const int k = __builtin_ctz(m);
+      const int32_t ni = current + offset[k];
+      if (ws.closed(ni)) continue;
+      double step = length[k];
+      if constexpr (kCost) step *= from_cost + per_cost * cost[ni];
       const double ng = g_current + step;
       if (ng < ws.g(ni)) {
         ws.Set(ni, ng, current);
-        open.push(ng + heuristic(nx, ny), ni);
+        open.push(ng + heuristic(x + kGridMoves[k].dx, y + kGridMoves[k].dy), ni);
       }
-    };
-    if (diagonal) ForEachMove<8>(x, y, free, relax);
-    else ForEachMove<4>(x, y, free, relax);
+    }
   }
   if (!ws.closed(t)) return result;
   for (int32_t i = t; i != -1; i = ws.parent(i)) result.cells.push_back({i % w, i / w});
   std::reverse(result.cells.begin(), result.cells.end());
   return result;
+}
+
+}  // namespace
+
+CellPath GridAStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, const CellIndex& goal,
+                                const PlannerOptions& options, const StopRequested& stop) const {
+  const double diagonal_option = options.at("diagonal");
+  if (diagonal_option != 0.0 && diagonal_option != 1.0) {
+    throw Error(ErrorCode::kInvalidArgument, "options: 'diagonal' must be 0 or 1");
+  }
+  const bool diagonal = diagonal_option != 0.0;
+  const double cost_weight = options.at("cost_weight");
+  if (!(cost_weight >= 0.0)) throw Error(ErrorCode::kInvalidArgument, "options: 'cost_weight' must be >= 0");
+  const bool weigh_cost = cost_weight > 0.0 && costmap.cost_data() != nullptr;
+  if (dijkstra_) {
+    return weigh_cost ? Search<false, true>(costmap, start, goal, diagonal, cost_weight, stop)
+                      : Search<false, false>(costmap, start, goal, diagonal, cost_weight, stop);
+  }
+  return weigh_cost ? Search<true, true>(costmap, start, goal, diagonal, cost_weight, stop)
+                    : Search<true, false>(costmap, start, goal, diagonal, cost_weight, stop);
 }
 
 }  // namespace navd::planning

@@ -45,9 +45,19 @@ class QuaternaryHeap {
       const size_t first = 4 * i + 1;
       if (first >= n) break;
       size_t best = first;
-      const size_t end = first + 4 < n ? first + 4 : n;
-      for (size_t c = first + 1; c < end; ++c)
-        if (heap_[c].key < heap_[best].key) best = c;
+      if (first + 4 <= n) {
+        // All four children: pick the least without branches (conditional moves), since which
+        // child wins is a coin toss the branch predictor would lose.
+        Key best_key = heap_[first].key;
+        for (size_t c = first + 1; c < first + 4; ++c) {
+          const bool less = heap_[c].key < best_key;
+          best = less ? c : best;
+          best_key = less ? heap_[c].key : best_key;
+        }
+      } else {
+        for (size_t c = first + 1; c < n; ++c)
+          if (heap_[c].key < heap_[best].key) best = c;
+      }
       if (!(heap_[best].key < last.key)) break;
       heap_[i] = heap_[best];
       i = best;

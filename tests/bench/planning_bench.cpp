@@ -34,10 +34,12 @@ void BM_CostmapInflation(benchmark::State& state) {
 }
 BENCHMARK(BM_CostmapInflation)->Unit(benchmark::kMicrosecond);
 
-void BM_Plan(benchmark::State& state, const std::string& planner) {
+// decay: the daemon's default costmap (0.5 m of decaying cost beyond the inflation), which the
+// cost-aware planners weigh; without it every step costs its length.
+void BM_Plan(benchmark::State& state, const std::string& planner, double decay) {
   MapStore maps;
   maps.Set(Warehouse().map, "warehouse");
-  planning::PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  planning::PlanningEngine engine(maps, {.costmap = {0.30, true, decay}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   planning::RegisterDefaultPlanners(engine);
   engine.CurrentCostmap();
   const Point2 start = Warehouse().start.translation();
@@ -52,9 +54,11 @@ void BM_Plan(benchmark::State& state, const std::string& planner) {
   }
   state.counters["expansions"] = static_cast<double>(expansions);
 }
-BENCHMARK_CAPTURE(BM_Plan, astar, std::string("astar"))->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_Plan, astar_unsmoothed, std::string("astar:raw"))->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_Plan, dijkstra, std::string("dijkstra"))->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Plan, astar, std::string("astar"), 0.0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Plan, astar_unsmoothed, std::string("astar:raw"), 0.0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Plan, dijkstra, std::string("dijkstra"), 0.0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Plan, astar_decay, std::string("astar"), 0.5)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Plan, dijkstra_decay, std::string("dijkstra"), 0.5)->Unit(benchmark::kMicrosecond);
 
 // A 512 x 512 maze of 1-cell corridors (depth-first carving, fixed seed): the hardest kind of map
 // for grid search, as in the MovingAI maze set.
