@@ -3,6 +3,7 @@
 #include "services/planning/convex_grid_planner.h"
 #include "services/planning/dstar_lite.h"
 #include "services/planning/grid_astar_planner.h"
+#include "services/planning/jump_point_planner.h"
 #include "services/planning/kinodynamic_planner.h"
 #include "services/planning/meadow_map_planner.h"
 #include "services/planning/ompl_planner.h"
@@ -16,6 +17,7 @@ namespace navd::planning {
 void RegisterDefaultPlanners(PlanningEngine& engine) {
   engine.Register(std::make_unique<GridAStarPlanner>(false));
   engine.Register(std::make_unique<GridAStarPlanner>(true));
+  engine.Register(std::make_unique<JumpPointPlanner>());
   engine.Register(std::make_unique<ThetaStarPlanner>());
   engine.Register(std::make_unique<DStarLitePlanner>());
   engine.Register(std::make_unique<PathTransformPlanner>(true));

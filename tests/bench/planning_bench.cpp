@@ -176,10 +176,12 @@ void BM_Maze32DecayQueries(benchmark::State& state, const std::string& planner) 
 void BM_ArenaQueries(benchmark::State& state, const std::string& planner) { RunBatch(state, Arena(), planner); }
 BENCHMARK_CAPTURE(BM_Maze32Queries, astar, std::string("astar"))->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_Maze32Queries, dijkstra, std::string("dijkstra"))->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Maze32Queries, jps, std::string("jps"))->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_Maze32DecayQueries, astar, std::string("astar"))->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_Maze32DecayQueries, dijkstra, std::string("dijkstra"))->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_ArenaQueries, astar, std::string("astar"))->Iterations(20)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_ArenaQueries, dijkstra, std::string("dijkstra"))->Iterations(20)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ArenaQueries, jps, std::string("jps"))->Iterations(20)->Unit(benchmark::kMillisecond);
 
 // Seed 002's comparison of A* and D*: plan on a 512 x 512 map with 20% random obstacles, then 1%
 // of the cells change and the plan is repaired. Reports time and states processed (expansions,

@@ -13,10 +13,12 @@
 #include "services/common/world.h"
 #include "services/planning/dstar_lite.h"
 #include "services/planning/grid_astar_planner.h"
+#include "services/planning/jump_point_planner.h"
 #include "services/planning/planner_catalog.h"
 #include "services/planning/scenario_benchmark.h"
 #include "services/planning/theta_star_planner.h"
 #include "services/planning/voronoi_fast_marching_planner.h"
+#include "tests/support/corridor_maze.h"
 
 namespace navd::planning {
 namespace {
@@ -60,7 +62,7 @@ TEST_P(ScenarioTest, ArenaScenariosAreSolvedOptimally) {
   EXPECT_EQ(r.total, 160u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Planners, ScenarioTest, ::testing::Values("astar", "dijkstra", "thetastar", "dstar_lite",
+INSTANTIATE_TEST_SUITE_P(Planners, ScenarioTest, ::testing::Values("astar", "dijkstra", "jps", "thetastar", "dstar_lite",
                                                               "distance_transform", "path_transform"));
 
 // Random maps: obstacles as random rectangles on a 60 x 60 grid of 0.1 m cells.
@@ -112,7 +114,7 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
       if (cm->IsLethal(sc) || cm->IsLethal(gc)) continue;
       const bool reachable = Reachable(*cm, sc)[cm->grid().Flat(gc)] != 0;
       double astar_length = -1;
-      for (const std::string planner : {"astar", "dijkstra", "thetastar", "dstar_lite", "distance_transform",
+      for (const std::string planner : {"astar", "dijkstra", "jps", "thetastar", "dstar_lite", "distance_transform",
                                         "path_transform", "convex_grid", "meadow_map", "topological"}) {
         for (const double smooth : {0.0, 1.0}) {
           std::map<std::string, double> options{{"smooth", smooth}};
@@ -167,6 +169,79 @@ double CellPathCost(const std::vector<CellIndex>& cells) {
   for (size_t i = 1; i < cells.size(); ++i)
     c += (cells[i].x != cells[i - 1].x && cells[i].y != cells[i - 1].y) ? M_SQRT2 : 1.0;
   return c;
+}
+
+std::string FormatCell(const CellIndex& c) { return "(" + std::to_string(c.x) + ", " + std::to_string(c.y) + ")"; }
+
+// A cell path is a chain of allowed grid moves: each step to a non-lethal 8-neighbour, a diagonal
+// only when both side cells are free too. Returns its length in cells, or -1 when a step is not.
+double GridPathLength(const Costmap& cm, const std::vector<CellIndex>& cells) {
+  auto free = [&](int x, int y) { return cm.grid().Contains({x, y}) && !cm.IsLethal({x, y}); };
+  double length = 0.0;
+  for (size_t i = 1; i < cells.size(); ++i) {
+    const int dx = cells[i].x - cells[i - 1].x, dy = cells[i].y - cells[i - 1].y;
+    if (std::abs(dx) > 1 || std::abs(dy) > 1 || (dx == 0 && dy == 0) || !free(cells[i].x, cells[i].y)) return -1;
+    if (dx != 0 && dy != 0 && (!free(cells[i - 1].x + dx, cells[i - 1].y) || !free(cells[i - 1].x, cells[i - 1].y + dy)))
+      return -1;
+    length += dx != 0 && dy != 0 ? M_SQRT2 : 1.0;
+  }
+  return length;
+}
+
+// Jump Point Search is exact: on random grids of every density (scattered cells and boxes), and
+// on wide-corridor mazes, it finds a path exactly when A* does, a valid chain of grid moves from
+// start to goal, exactly as long as A*'s, with fewer expansions.
+TEST(JumpPointSearch, MatchesAStarOnRandomGridsAndMazes) {
+  std::mt19937 rng(47);
+  const PlannerOptions astar_options{{"diagonal", 1.0}, {"cost_weight", 0.0}};
+  int compared = 0, unreachable = 0;
+  uint64_t jps_expansions = 0, astar_expansions = 0;
+  auto compare = [&](const Costmap& cm, const CellIndex& a, const CellIndex& b) {
+    const CellPath reference = GridAStarPlanner(false).Plan(cm, a, b, astar_options, {});
+    const CellPath jps = JumpPointPlanner().Plan(cm, a, b, {}, {});
+    ASSERT_EQ(jps.cells.empty(), reference.cells.empty()) << FormatCell(a) << " -> " << FormatCell(b);
+    if (reference.cells.empty()) {
+      ++unreachable;
+      return;
+    }
+    ASSERT_EQ(jps.cells.front(), a);
+    ASSERT_EQ(jps.cells.back(), b);
+    const double length = GridPathLength(cm, jps.cells);
+    ASSERT_GE(length, 0.0) << "not a chain of allowed moves: " << FormatCell(a) << " -> " << FormatCell(b);
+    ASSERT_NEAR(length, GridPathLength(cm, reference.cells), 1e-9) << FormatCell(a) << " -> " << FormatCell(b);
+    jps_expansions += jps.expansions;
+    astar_expansions += reference.expansions;
+    ++compared;
+  };
+  for (int m = 0; m < 80; ++m) {
+    const int w = std::uniform_int_distribution<int>(8, 70)(rng), h = std::uniform_int_distribution<int>(8, 70)(rng);
+    auto grid = std::make_shared<OccupancyGrid>(w, h, 1.0, Point2::Zero());
+    const double density = std::uniform_real_distribution<double>(0.0, 0.45)(rng);
+    std::uniform_int_distribution<int> x(0, w - 1), y(0, h - 1);
+    for (int i = 0; i < density * w * h; ++i) grid->set({x(rng), y(rng)}, OccupancyGrid::kOccupied);
+    for (int i = 0; i < m % 6; ++i) {
+      const Point2 c(x(rng), y(rng));
+      grid->FillBox(c, c + Point2(std::uniform_int_distribution<int>(1, 12)(rng), std::uniform_int_distribution<int>(1, 12)(rng)));
+    }
+    const Costmap cm(grid, {0.0, true});
+    for (int q = 0; q < 40; ++q) {
+      const CellIndex a{x(rng), y(rng)}, b{x(rng), y(rng)};
+      if (!cm.IsLethal(a) && !cm.IsLethal(b)) compare(cm, a, b);
+    }
+  }
+  for (const int corridor : {1, 4, 32}) {
+    const Costmap cm(std::make_shared<OccupancyGrid>(testing::CorridorMaze(128, corridor, corridor)), {0.0, true});
+    std::uniform_int_distribution<int> c(0, 127);
+    for (int q = 0; q < 60;) {
+      const CellIndex a{c(rng), c(rng)}, b{c(rng), c(rng)};
+      if (cm.IsLethal(a) || cm.IsLethal(b)) continue;
+      compare(cm, a, b);
+      ++q;
+    }
+  }
+  EXPECT_GT(compared, 1500);
+  EXPECT_GT(unreachable, 50);
+  EXPECT_LT(jps_expansions, astar_expansions / 4);
 }
 
 // After random cell changes and robot moves, D* Lite's repaired plan costs exactly what a fresh A*

@@ -234,7 +234,7 @@ TEST_F(EngineTest, PlansThroughWaypointsAndNamesTheBadOne) {
 
 TEST_F(EngineTest, ListsPlannersWithOptions) {
   const auto planners = engine.Planners();
-  ASSERT_EQ(planners.size(), 16u);
+  ASSERT_EQ(planners.size(), 17u);
   EXPECT_EQ(planners[0].name, "astar");
   EXPECT_TRUE(planners[0].is_default);
   EXPECT_EQ(planners[1].name, "dijkstra");
