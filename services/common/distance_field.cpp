@@ -1,5 +1,6 @@
 #include "services/common/distance_field.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -43,20 +44,28 @@ DistanceField::DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle
   const int n = std::max(w, h);
   std::vector<double> f(n), d(n), z(n + 1);
   std::vector<int> v(n);
-  std::vector<double> squared(distance_.size());
-  for (int y = 0; y < h; ++y)
+  // Along columns the input is binary (obstacle or not), so the 1-D transform is the squared
+  // distance to the nearest obstacle cell in the column: two sweeps over whole rows (Meijster's
+  // first phase), in memory order, instead of a parabola envelope per column.
+  constexpr int kNone = std::numeric_limits<int>::max() / 2;
+  std::vector<int> gap(distance_.size());
+  for (int y = 0; y < h; ++y) {
+    const int* below = y > 0 ? &gap[static_cast<size_t>(y - 1) * w] : nullptr;
+    int* row = &gap[static_cast<size_t>(y) * w];
     for (int x = 0; x < w; ++x) {
       const int8_t c = grid.at({x, y});
       const bool obstacle = c >= OccupancyGrid::kOccupiedThreshold || (unknown_is_obstacle && c < 0);
-      squared[static_cast<size_t>(y) * w + x] = obstacle ? 0.0 : kFar;
+      row[x] = obstacle ? 0 : below ? std::min(kNone, below[x] + 1) : kNone;
     }
-  for (int x = 0; x < w; ++x) {  // columns
-    for (int y = 0; y < h; ++y) f[y] = squared[static_cast<size_t>(y) * w + x];
-    Transform1d(f, h, d, v, z);
-    for (int y = 0; y < h; ++y) squared[static_cast<size_t>(y) * w + x] = d[y];
   }
-  for (int y = 0; y < h; ++y) {  // rows
-    for (int x = 0; x < w; ++x) f[x] = squared[static_cast<size_t>(y) * w + x];
+  for (int y = h - 2; y >= 0; --y) {
+    const int* above = &gap[static_cast<size_t>(y + 1) * w];
+    int* row = &gap[static_cast<size_t>(y) * w];
+    for (int x = 0; x < w; ++x) row[x] = std::min(row[x], above[x] + 1);
+  }
+  for (int y = 0; y < h; ++y) {  // rows: the parabola envelope over the columns' squared distances
+    const int* row = &gap[static_cast<size_t>(y) * w];
+    for (int x = 0; x < w; ++x) f[x] = row[x] >= kNone ? kFar : static_cast<double>(row[x]) * row[x];
     Transform1d(f, w, d, v, z);
     for (int x = 0; x < w; ++x) {
       distance_[static_cast<size_t>(y) * w + x] =

@@ -6,7 +6,6 @@
 
 #include "services/common/distance_field.h"
 #include "services/common/grid_traversal.h"
-#include "services/planning/grid_moves.h"
 
 namespace navd::planning {
 
@@ -28,20 +27,46 @@ Costmap::Costmap(std::shared_ptr<const OccupancyGrid> grid_ptr, const CostmapOpt
           std::lround(kMaxCost * std::exp(-options.cost_scaling * (d - options.inflation_radius))));
     }
   }
+  BuildMoveMasks();
+}
+
+void Costmap::BuildMoveMasks() {
   const int w = grid_->width(), h = grid_->height();
   moves_.assign(lethal_.size(), 0);
-  auto free = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && !lethal_[static_cast<size_t>(y) * w + x]; };
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t i = static_cast<size_t>(y) * w + x;
-      if (lethal_[i]) continue;
-      uint8_t mask = 0;
-      for (int k = 0; k < 8; ++k) {
-        const GridMove& m = kGridMoves[k];
-        if (free(x + m.dx, y + m.dy) && (!m.diagonal || (free(x + m.dx, y) && free(x, y + m.dy)))) mask |= 1 << k;
-      }
-      moves_[i] = mask;
+  // Bits in kGridMoves order: E, W, N, S, NE, SE, NW, SW; a diagonal needs both its sides.
+  auto mask = [](unsigned here, unsigned e, unsigned west, unsigned n, unsigned s, unsigned ne, unsigned se,
+                 unsigned nw, unsigned sw) {
+    const unsigned m = e | west << 1 | n << 2 | s << 3 | (e & n & ne) << 4 | (e & s & se) << 5 |
+                       (west & n & nw) << 6 | (west & s & sw) << 7;
+    return static_cast<uint8_t>(here ? m : 0);
+  };
+  // Inner cells read their neighbours' flags directly (free = 1 - lethal), with no bounds tests.
+  for (int y = 1; y + 1 < h; ++y) {
+    const uint8_t* below = &lethal_[static_cast<size_t>(y - 1) * w];
+    const uint8_t* here = below + w;
+    const uint8_t* above = here + w;
+    uint8_t* out = &moves_[static_cast<size_t>(y) * w];
+    for (int x = 1; x + 1 < w; ++x) {
+      out[x] = mask(here[x] ^ 1u, here[x + 1] ^ 1u, here[x - 1] ^ 1u, above[x] ^ 1u, below[x] ^ 1u, above[x + 1] ^ 1u,
+                    below[x + 1] ^ 1u, above[x - 1] ^ 1u, below[x - 1] ^ 1u);
     }
+  }
+  // The map's edge cells, whose outside neighbours count as lethal.
+  auto free = [&](int x, int y) -> unsigned {
+    return x >= 0 && y >= 0 && x < w && y < h && !lethal_[static_cast<size_t>(y) * w + x];
+  };
+  auto edge = [&](int x, int y) {
+    moves_[static_cast<size_t>(y) * w + x] = mask(free(x, y), free(x + 1, y), free(x - 1, y), free(x, y + 1), free(x, y - 1),
+                                               free(x + 1, y + 1), free(x + 1, y - 1), free(x - 1, y + 1), free(x - 1, y - 1));
+  };
+  for (int x = 0; x < w; ++x) {
+    edge(x, 0);
+    edge(x, h - 1);
+  }
+  for (int y = 0; y < h; ++y) {
+    edge(0, y);
+    edge(w - 1, y);
+  }
 }
 
 bool Costmap::SegmentFree(const Point2& a, const Point2& b) const {

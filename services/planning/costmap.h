@@ -61,6 +61,8 @@ class Costmap {
   std::optional<CellIndex> NearestFree(const CellIndex& from, int max_cells, bool through_obstacles) const;
 
  private:
+  void BuildMoveMasks();
+
   std::shared_ptr<const OccupancyGrid> grid_;
   CostmapOptions options_;
   std::vector<uint8_t> lethal_;
