@@ -1,30 +1,35 @@
 #pragma once
-// A 4-ary min-heap of (key, node) pairs for grid searches. Against std::priority_queue's binary
-// heap it halves the depth and keeps a node's children in one cache line; pops of stale entries
-// (nodes already closed) are left to the caller, as in lazy-deletion A*.
+// A 4-ary min-heap of entries ordered by their `key` member, for grid searches: (key, node)
+// pairs by default, or any entry type with a `key` (searches that pack the node into the key's
+// low bits use 8-byte entries, twice as many per cache line). Against std::priority_queue's
+// binary heap it halves the depth; pops of stale entries (nodes already closed) are left to the
+// caller, as in lazy-deletion A*.
 #include <cstdint>
 #include <utility>
 #include <vector>
 
 namespace navd::planning {
 
-template <typename Key = double>
+template <typename Key>
+struct KeyedNode {
+  Key key;
+  int32_t node;
+};
+
+template <typename Key = double, typename EntryType = KeyedNode<Key>>
 class QuaternaryHeap {
  public:
-  struct Entry {
-    Key key;
-    int32_t node;
-  };
+  using Entry = EntryType;
 
   bool empty() const { return heap_.empty(); }
   size_t size() const { return heap_.size(); }
   void clear() { heap_.clear(); }
   const Entry& top() const { return heap_.front(); }
 
-  void push(Key key, int32_t node) {
+  void push(Key key, int32_t node) { push(Entry{key, node}); }
+  void push(const Entry& e) {
     size_t i = heap_.size();
-    heap_.push_back({key, node});
-    const Entry e = heap_[i];
+    heap_.push_back(e);
     while (i > 0) {
       const size_t parent = (i - 1) / 4;
       if (!(e.key < heap_[parent].key)) break;

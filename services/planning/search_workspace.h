@@ -31,16 +31,29 @@ class SearchWorkspace {
   // Only for cells already Set in this search.
   void Close(size_t i) { nodes_[i].mark = 2 * generation_ + 1; }
 
+  // The same for searches that count costs in fixed-point integers, kept in g's slot.
+  static constexpr int64_t kInfiniteCost = std::numeric_limits<int64_t>::max();
+  int64_t cost(size_t i) const { return (nodes_[i].mark >> 1) == generation_ ? nodes_[i].cost : kInfiniteCost; }
+  void SetCost(size_t i, int64_t cost, int32_t parent) {
+    Node& n = nodes_[i];
+    if ((n.mark >> 1) != generation_) n.mark = 2 * generation_;
+    n.cost = cost;
+    n.parent = parent;
+  }
+
  private:
   // One 16-byte record per cell: a neighbour's whole state is one cache access.
   struct Node {
-    double g;
+    union {
+      double g;
+      int64_t cost;
+    };
     int32_t parent;
     uint32_t mark;  // 2 * generation when touched in that search, + 1 once closed
   };
 
   void Begin(size_t cells) {
-    if (nodes_.size() < cells) nodes_.resize(cells, Node{0.0, -1, 0});
+    if (nodes_.size() < cells) nodes_.resize(cells, Node{{0.0}, -1, 0});
     if (++generation_ >= (1u << 31)) {  // marks would overflow: start afresh
       for (auto& n : nodes_) n.mark = 0;
       generation_ = 1;
