@@ -36,7 +36,7 @@ void ToProto(double seconds, v1::Stamp* out) {
   out->set_nanosec(static_cast<uint32_t>(std::min(999'999'999.0, (seconds - s) * 1e9)));
 }
 
-std::function<bool()> StopWhenDone(const grpc::ServerContext* context) {
+std::function<bool()> StopWhenDone(const grpc::ServerContextBase* context) {
   return [context] {
     return context->IsCancelled() || context->deadline() < std::chrono::system_clock::now();
   };

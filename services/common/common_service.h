@@ -30,6 +30,6 @@ inline void ToProto(const Point2& p, v1::Point2D* out) {
 void ToProto(double seconds, v1::Stamp* out);
 
 // A planner stop condition for a call: true once the client cancels or the deadline passes.
-std::function<bool()> StopWhenDone(const grpc::ServerContext* context);
+std::function<bool()> StopWhenDone(const grpc::ServerContextBase* context);
 
 }  // namespace navd

@@ -80,6 +80,13 @@ std::vector<PlannerInfo> PlanningEngine::Planners() const {
   return out;
 }
 
+bool PlanningEngine::PlansBriefly(const std::string& name) const {
+  const std::string& wanted = name.empty() ? options_.default_planner : name;
+  for (const auto& p : planners_)
+    if (p->name() == wanted) return !p->time_budgeted();
+  return true;
+}
+
 const GlobalPlanner& PlanningEngine::Find(const std::string& name) const {
   const std::string wanted = name.empty() ? options_.default_planner : name;
   std::string known;

@@ -55,6 +55,10 @@ class PlanningEngine {
 
   void Register(std::unique_ptr<GlobalPlanner> planner);
   std::vector<PlannerInfo> Planners() const;
+  // False when the named planner (the default for "") spends a time budget per request, so a
+  // caller may want it off a thread that serves others; true otherwise, unknown names included
+  // (ComputePath rejects those at once).
+  bool PlansBriefly(const std::string& planner) const;
   const PlanningEngineOptions& options() const { return options_; }
   const MapStore& maps() const { return maps_; }
 

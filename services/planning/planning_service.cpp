@@ -1,5 +1,7 @@
 #include "services/planning/planning_service.h"
 
+#include <thread>
+
 #include "services/common/common_service.h"
 
 namespace navd::planning {
@@ -18,8 +20,23 @@ void ToProto(const PathPlan& plan, v1::ComputePathResponse* response) {
 }
 }  // namespace
 
-grpc::Status PlanningService::ComputePath(grpc::ServerContext* context, const v1::ComputePathRequest* request,
-                                          v1::ComputePathResponse* response) {
+grpc::ServerUnaryReactor* PlanningService::ComputePath(grpc::CallbackServerContext* context,
+                                                       const v1::ComputePathRequest* request,
+                                                       v1::ComputePathResponse* response) {
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  if (engine_.PlansBriefly(request->planner())) {
+    reactor->Finish(Plan(context, request, response));
+  } else {
+    // The call, its messages and this service outlive the thread: gRPC keeps them until Finish,
+    // and server shutdown cancels the call (the plan polls for that) and waits for it.
+    std::thread([this, context, request, response, reactor] { reactor->Finish(Plan(context, request, response)); })
+        .detach();
+  }
+  return reactor;
+}
+
+grpc::Status PlanningService::Plan(grpc::CallbackServerContext* context, const v1::ComputePathRequest* request,
+                                   v1::ComputePathResponse* response) {
   return GuardedCall([&] {
     if (!request->has_start()) throw Error(ErrorCode::kInvalidArgument, "start is missing");
     if (!request->has_goal()) throw Error(ErrorCode::kInvalidArgument, "goal is missing");
