@@ -2,8 +2,11 @@
 // a message that names the problem. navd keeps serving afterwards.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <fstream>
+#include <thread>
 
 #include "services/common/map_server_format.h"
 #include "tests/support/navd_fixture.h"
@@ -148,6 +151,43 @@ TEST_F(BadInput, DeliveryTasksAreCheckedAndNamed) {
   EXPECT_TRUE(schedule.stops(0).pickup());
   EXPECT_EQ(schedule.stops(0).name(), "task 1");
   EXPECT_GT(schedule.length(), 10.0);
+}
+
+// Time-budgeted plans end at the caller's deadline with DEADLINE_EXCEEDED, and brief plans are
+// served while several of them run (they hold up no thread that serves others).
+TEST_F(BadInput, LongPlansEndAtTheDeadlineWhileBriefPlansGoOn) {
+  constexpr int kLong = 4;
+  std::atomic<int> long_done{0};
+  std::vector<std::string> errors(kLong);
+  std::vector<double> seconds(kLong, 0.0);
+  std::vector<std::thread> long_plans;
+  for (int i = 0; i < kLong; ++i) {
+    long_plans.emplace_back([&, i] {
+      Client impatient({stack_->address(), 1.5});
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        impatient.ComputePath(0.8, 1, 8.8, 8.8, "rrt_star", {{"time_limit", 20.0}});
+        errors[i] = "no error";
+      } catch (const ClientError& e) {
+        errors[i] = grpc::StatusCode::DEADLINE_EXCEEDED == e.code() ? "" : e.what();
+      }
+      seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      ++long_done;
+    });
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the long plans are under way
+  int brief = 0;
+  while (long_done == 0 && brief < 200) {
+    EXPECT_EQ(client().ComputePath(0.8, 1, 8.8, 8.8, "astar").planner(), "astar");
+    ++brief;
+  }
+  for (auto& t : long_plans) t.join();
+  for (int i = 0; i < kLong; ++i) {
+    EXPECT_EQ(errors[i], "") << "long plan " << i;
+    EXPECT_LT(seconds[i], 6.0) << "long plan " << i;
+  }
+  EXPECT_GE(brief, 5) << "brief plans were not served during the long ones";
+  EXPECT_NO_THROW(client().ComputePath(0.8, 1, 8.8, 8.8, "rrt_star", {{"time_limit", 0.2}}));
 }
 
 // Moving bodies reach the planners that use them: the kinodynamic planner's trajectory misses a
