@@ -16,11 +16,16 @@ constexpr unsigned Bit(int k) { return 1u << k; }
 constexpr int kEast = 0, kWest = 1, kNorth = 2, kSouth = 3;
 constexpr unsigned kEastWest = Bit(kEast) | Bit(kWest), kNorthSouth = Bit(kNorth) | Bit(kSouth);
 
-int MoveIndex(int dx, int dy) {
-  for (int k = 0; k < 8; ++k)
-    if (kGridMoves[k].dx == dx && kGridMoves[k].dy == dy) return k;
-  return -1;
+// The kGridMoves index of the move (dx, dy), each -1, 0 or 1, not both 0.
+constexpr int MoveIndex(int dx, int dy) {
+  constexpr int kByDelta[9] = {7, 1, 6, 3, -1, 2, 5, 0, 4};  // [(dx + 1) * 3 + (dy + 1)]
+  return kByDelta[(dx + 1) * 3 + (dy + 1)];
 }
+static_assert([] {
+  for (int k = 0; k < 8; ++k)
+    if (MoveIndex(kGridMoves[k].dx, kGridMoves[k].dy) != k) return false;
+  return true;
+}());
 
 // The runs of one search, on flat cell indices and the costmap's move masks.
 class Runs {
