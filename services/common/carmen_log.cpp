@@ -128,6 +128,18 @@ double InferNoReturnRange(const CarmenLog& log) {
   return at_the_top >= needed ? threshold : 0.0;
 }
 
+bool PaceScansWhenStampsAreCoarse(CarmenLog& log, double speed, double turn_rate, double min_gap) {
+  size_t later = 0;
+  for (size_t i = 1; i < log.scans.size(); ++i) later += log.scans[i].timestamp > log.scans[i - 1].timestamp;
+  if (log.scans.size() < 2 || 2 * later >= log.scans.size() - 1) return false;
+  for (size_t i = 1; i < log.scans.size(); ++i) {
+    const Pose2 step = log.scans[i - 1].odometry.inverse() * log.scans[i].odometry;
+    const double gap = std::max({min_gap, std::hypot(step.x, step.y) / speed, std::abs(step.theta) / turn_rate});
+    log.scans[i].timestamp = log.scans[i - 1].timestamp + gap;
+  }
+  return true;
+}
+
 CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw Error(ErrorCode::kNotFound, "log file '" + path + "' does not exist");

@@ -69,6 +69,14 @@ CarmenLog ReadCarmenLog(const std::string& path, bool strict = false);
 // The same from text already in memory (`source` names it in errors).
 CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, bool strict = false);
 
+// Some logs print their stamps too coarsely to time anything by (csail-corrected.log writes them
+// with six significant digits: two distinct values over 406 scans). When fewer than half of the
+// scans come later than the scan before, this replaces the scan stamps by times paced from the
+// log's own odometry, from the first scan's stamp on: each scan follows the one before after the
+// time its motion takes at `speed` m/s or `turn_rate` rad/s, whichever is longer, and at least
+// `min_gap` s. Returns whether it did. Scans only: ODOM and TRUEPOS lines keep their stamps.
+bool PaceScansWhenStampsAreCoarse(CarmenLog& log, double speed = 0.5, double turn_rate = 0.5, double min_gap = 0.2);
+
 // Beam i of an n-beam CARMEN front scan points at -pi/2 + i * increment in the laser frame. The
 // SICK scanners of these logs step by 1, 0.5 or 0.25 degrees from -90: 180 or 181 beams are
 // 1 degree apart, 360 or 361 beams half a degree.

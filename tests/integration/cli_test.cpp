@@ -375,6 +375,32 @@ TEST(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
   EXPECT_EQ(Lines(lonely.output), 1) << lonely.output;
 }
 
+// csail's stamps are too coarse to time its scans by: the replay paces them from the log's
+// odometry, says so, and navd localises it online.
+TEST(NavctlReplay, PacesTheCsailLogsCoarseStampsAndNavdLocalisesIt) {
+  const std::string log = SourceDir() + "/../shared/data/carmen/csail-corrected.log.gz";
+  if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
+  const std::string dir = MakeTempDir();
+  ASSERT_EQ(RunCommand({NavdReplayBinary(), "--log", log, "--mode", "map", "--out", dir + "/csail.yaml"}, 60.0).exit_code, 0);
+  StackOptions o;
+  o.start_sim = false;
+  o.navd_args = {"--map", dir + "/csail.yaml"};
+  NavdStack stack(o);
+  const auto r = RunCommand({NavctlBinary(), "replay", "--log", log, "--rate", "25", "--max-scans", "120", "--domain",
+                             std::to_string(stack.domain()), "--server", stack.address()},
+                            120.0);
+  ASSERT_EQ(r.exit_code, 0) << r.output << stack.Logs();
+  EXPECT_NE(r.output.find("paced from its odometry"), std::string::npos) << r.output;
+  double rmse = -1;
+  int poses = 0;
+  const size_t at = r.output.find("navd: ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + at, "navd: %d poses, position RMSE %lf m", &poses, &rmse), 2) << r.output;
+  std::printf("online csail replay: %d poses, position RMSE %.4f m\n", poses, rmse);
+  EXPECT_GT(poses, 500);
+  EXPECT_LE(rmse, 0.2) << r.output << stack.Logs();
+}
+
 TEST(Daemons, BadWorldAndMapFilesExitNonZeroWithOneLine) {
   const std::string dir = MakeTempDir();
   std::ofstream(dir + "/broken.yaml") << "map: {size: [10, 10]\n";

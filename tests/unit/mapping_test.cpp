@@ -144,6 +144,29 @@ TEST(CarmenOdometry, InterpolatesOdomLinesToEachScanAndFollowsTheFileWhenStampsR
   EXPECT_NEAR(own.theta, 0.5, 1e-9);
 }
 
+// A log whose stamps cannot time its scans (most repeat) gets them paced from its odometry; a log
+// with usable stamps keeps them.
+TEST(CarmenLogStamps, CoarseStampsArePacedFromOdometry) {
+  const std::string text =
+      "FLASER 1 1.0 0 0 0 0 0 0 1.13486e+09 h 1.13486e+09\n"
+      "FLASER 1 1.0 1 0 0 1 0 0 1.13486e+09 h 1.13486e+09\n"       // 1 m: 2 s at 0.5 m/s
+      "FLASER 1 1.0 1 0 1 1 0 1 1.13486e+09 h 1.13486e+09\n"       // 1 rad: 2 s at 0.5 rad/s
+      "FLASER 1 1.0 1 0 1 1 0 1 1.13487e+09 h 1.13487e+09\n"       // still: the least gap
+      "FLASER 1 1.0 1 0.05 1 1 0.05 1 1.13487e+09 h 1.13487e+09\n";  // 5 cm: 0.1 s, raised to the least gap
+  CarmenLog log = ParseCarmenLog(text, "coarse");
+  ASSERT_TRUE(PaceScansWhenStampsAreCoarse(log));
+  const double t0 = 1.13486e+09;
+  EXPECT_DOUBLE_EQ(log.scans[0].timestamp, t0);
+  EXPECT_NEAR(log.scans[1].timestamp - t0, 2.0, 1e-6);
+  EXPECT_NEAR(log.scans[2].timestamp - t0, 4.0, 1e-6);
+  EXPECT_NEAR(log.scans[3].timestamp - t0, 4.2, 1e-6);
+  EXPECT_NEAR(log.scans[4].timestamp - t0, 4.4, 1e-6);
+  CarmenLog fine = ParseCarmenLog("FLASER 1 1.0 0 0 0 0 0 0 10.0 h 10.0\nFLASER 1 1.0 1 0 0 1 0 0 10.5 h 10.5\n"
+                                  "FLASER 1 1.0 2 0 0 2 0 0 10.5 h 10.5\n", "fine");
+  EXPECT_FALSE(PaceScansWhenStampsAreCoarse(fine));
+  EXPECT_DOUBLE_EQ(fine.scans[2].timestamp, 10.5);
+}
+
 // Scans keep their place in the file whatever their stamps say (logs with fake, repeated stamps).
 TEST(CarmenLog, KeepsScansInFileOrderWhenStampsRepeatOrGoBack) {
   const std::string text =
