@@ -76,10 +76,7 @@ bool DStarLite::ComputeShortestPath(const StopRequested& stop) {
     }
     // Stop once nothing queued can lower the start's cost (exact comparison: see OctileCost).
     if (!(top.key < CalculateKey(s_start)) && node_[s_start].rhs == node_[s_start].g) break;
-    if ((++expansions_ & 1023) == 1 && stop && stop()) {
-      throw Error(ErrorCode::kDeadlineExceeded, "planning stopped after " + std::to_string(expansions_) +
-                                                    " expansions: deadline exceeded or cancelled");
-    }
+    CountExpansion(expansions_, stop);
     const int32_t u = top.node;
     const int ux = u % width_, uy = u / width_;
     const Key k_new = CalculateKey(u, ux, uy);

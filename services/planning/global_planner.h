@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "services/common/error.h"
 #include "services/planning/costmap.h"
 
 namespace navd::planning {
@@ -23,6 +24,15 @@ using PlannerOptions = std::map<std::string, double>;
 
 // Polled during search; returns true when the caller's deadline passed or it cancelled.
 using StopRequested = std::function<bool()>;
+
+// For search loops: counts an expansion and polls stop() on the first and every 1024th (cheap, and
+// prompt); throws navd::Error(kDeadlineExceeded) with the count when it is true.
+inline void CountExpansion(uint64_t& expansions, const StopRequested& stop) {
+  if ((++expansions & 1023) == 1 && stop && stop()) {
+    throw Error(ErrorCode::kDeadlineExceeded, "planning stopped after " + std::to_string(expansions) +
+                                                  " expansions: deadline exceeded or cancelled");
+  }
+}
 
 struct CellPath {
   std::vector<CellIndex> cells;  // start first, goal last; empty when no path exists

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
 
 #include "services/common/error.h"
 #include "services/planning/grid_moves.h"
@@ -38,14 +37,7 @@ class LengthCosts {
   static void Push(Heap& heap, Value key, int32_t node) { heap.push(key, node); }
   static int32_t Pop(Heap& heap) { return heap.pop().node; }
   Value Step(int k, int32_t, int32_t) const { return kGridMoves[k].diagonal ? M_SQRT2 : 1.0; }
-  // Octile (or Manhattan) distance to the goal, inflated by 1e-9: that breaks the vast ties of
-  // octile distance towards the goal (far fewer expansions in open space) without costing
-  // optimality, since for paths under ~1e4 cells 1e-9 of the length is below the smallest gap
-  // between two distinct path lengths.
-  Value Heuristic(int x, int y) const {
-    const double dx = std::abs(x - goal_.x), dy = std::abs(y - goal_.y);
-    return (1.0 + 1e-9) * (diagonal_ ? (dx + dy) + (M_SQRT2 - 2.0) * std::min(dx, dy) : dx + dy);
-  }
+  Value Heuristic(int x, int y) const { return TieBreakingDistance(x - goal_.x, y - goal_.y, diagonal_); }
 
  private:
   CellIndex goal_;
@@ -135,11 +127,7 @@ CellPath Search(const Costmap& costmap, const CellIndex& start, const CellIndex&
     const int32_t current = Costs::Pop(open);
     if (ws.closed(current)) continue;  // a stale duplicate
     ws.Close(current);
-    // Checked on the first expansion and every 1024 after: cheap, and prompt.
-    if ((++result.expansions & 1023) == 1 && stop && stop()) {
-      throw Error(ErrorCode::kDeadlineExceeded, "planning stopped after " + std::to_string(result.expansions) +
-                                                    " expansions: deadline exceeded or cancelled");
-    }
+    CountExpansion(result.expansions, stop);
     if (current == t) break;
     const int x = current % w, y = current / w;
     const auto g_current = Costs::Get(ws, current);

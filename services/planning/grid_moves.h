@@ -13,6 +13,15 @@ struct GridMove {
 inline constexpr GridMove kGridMoves[8] = {{1, 0, false}, {-1, 0, false}, {0, 1, false},  {0, -1, false},
                                            {1, 1, true},  {1, -1, true},  {-1, 1, true}, {-1, -1, true}};
 
+// The grid distance in cells between cells dx, dy apart (octile, or Manhattan for 4-connected
+// moves), inflated by 1e-9: as an A* heuristic it breaks the vast ties of octile distance towards
+// the goal (far fewer expansions in open space) without costing optimality, since for paths under
+// ~1e4 cells 1e-9 of the length is below the smallest gap between two distinct path lengths.
+inline double TieBreakingDistance(int dx, int dy, bool diagonal) {
+  const double ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
+  return (1.0 + 1e-9) * (diagonal ? (ax + ay) + (1.4142135623730951 - 2.0) * (ax < ay ? ax : ay) : ax + ay);
+}
+
 // Calls visit(nx, ny, diagonal) for each of the first `Moves` (4 or 8) moves from (x, y) that
 // `free(x, y)` allows. A compile-time count lets the compiler unroll the loop in search hot paths.
 template <int Moves = 8, typename Free, typename Visit>

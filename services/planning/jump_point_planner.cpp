@@ -87,11 +87,7 @@ CellPath JumpPointPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
   SearchWorkspace& ws = SearchWorkspace::ForThisThread(static_cast<size_t>(w) * costmap.height());
   const int32_t s = start.y * w + start.x, t = goal.y * w + goal.x;
   const Runs runs(costmap, t);
-  // As in A*: h inflated by 1e-9 breaks ties towards the goal without costing optimality.
-  auto heuristic = [&](int x, int y) {
-    const double dx = std::abs(x - goal.x), dy = std::abs(y - goal.y);
-    return (1.0 + 1e-9) * ((dx + dy) + (M_SQRT2 - 2.0) * std::min(dx, dy));
-  };
+  auto heuristic = [&](int x, int y) { return TieBreakingDistance(x - goal.x, y - goal.y, true); };
   thread_local QuaternaryHeap<> open;
   open.clear();
   ws.Set(s, 0.0, -1);
@@ -102,10 +98,7 @@ CellPath JumpPointPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
     const int32_t current = open.pop().node;
     if (ws.closed(current)) continue;
     ws.Close(current);
-    if ((++result.expansions & 1023) == 1 && stop && stop()) {
-      throw Error(ErrorCode::kDeadlineExceeded, "planning stopped after " + std::to_string(result.expansions) +
-                                                    " expansions: deadline exceeded or cancelled");
-    }
+    CountExpansion(result.expansions, stop);
     if (current == t) break;
     const int x = current % w, y = current / w;
     // The directions worth running from here: all from the start; else the way we came, and from

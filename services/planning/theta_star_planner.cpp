@@ -44,10 +44,7 @@ CellPath ThetaStarPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
     open.pop();
     if (closed[e.index]) continue;
     closed[e.index] = 1;
-    if ((++result.expansions & 1023) == 1 && stop && stop()) {
-      throw Error(ErrorCode::kDeadlineExceeded, "planning stopped after " + std::to_string(result.expansions) +
-                                                    " expansions: deadline exceeded or cancelled");
-    }
+    CountExpansion(result.expansions, stop);
     if (e.index == t) break;
     const CellIndex c = cell(e.index);
     const CellIndex p = cell(parent[e.index]);
