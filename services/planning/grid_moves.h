@@ -2,6 +2,8 @@
 // The moves of navd's grid planners, in one place: 4 straight moves (cost 1 cell) and 4 diagonal
 // ones (cost sqrt 2), where a diagonal move needs both side cells free, so no path squeezes
 // between two obstacles that touch at a corner (MovingAI's "no corner cutting").
+#include <cmath>
+
 namespace navd::planning {
 
 struct GridMove {
@@ -19,7 +21,7 @@ inline constexpr GridMove kGridMoves[8] = {{1, 0, false}, {-1, 0, false}, {0, 1,
 // ~1e4 cells 1e-9 of the length is below the smallest gap between two distinct path lengths.
 inline double TieBreakingDistance(int dx, int dy, bool diagonal) {
   const double ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
-  return (1.0 + 1e-9) * (diagonal ? (ax + ay) + (1.4142135623730951 - 2.0) * (ax < ay ? ax : ay) : ax + ay);
+  return (1.0 + 1e-9) * (diagonal ? (ax + ay) + (M_SQRT2 - 2.0) * (ax < ay ? ax : ay) : ax + ay);
 }
 
 // Calls visit(nx, ny, diagonal) for each of the first `Moves` (4 or 8) moves from (x, y) that

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <memory>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -315,39 +316,69 @@ TEST_P(NavdExplore, MapsTheWarehouseFromNothing) {
 INSTANTIATE_TEST_SUITE_P(Methods, NavdExplore, ::testing::Values("greedy", "frontier", "vfm"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
+// Online replays: a real navd on the map navd-replay builds from one of the shared CARMEN logs,
+// and navctl replay playing that log to it over DDS like a robot.
+class NavctlReplay : public ::testing::Test {
+ protected:
+  // The shared log `name`-corrected.log.gz; empty when the shared data is not beside the checkout.
+  static std::string SharedLog(const std::string& name) {
+    const std::string log = SourceDir() + "/../shared/data/carmen/" + name + "-corrected.log.gz";
+    return std::filesystem::exists(log) ? log : "";
+  }
+  // Builds the log's map and starts navd on it.
+  void StartNavdOnMapOf(const std::string& log) {
+    log_ = log;
+    ASSERT_EQ(RunCommand({NavdReplayBinary(), "--log", log, "--mode", "map", "--out", dir_ + "/map.yaml"}, 60.0).exit_code, 0);
+    StackOptions o;
+    o.start_sim = false;
+    o.navd_args = {"--map", dir_ + "/map.yaml"};
+    stack_ = std::make_unique<NavdStack>(o);
+  }
+  // navctl replay of the log to navd, with `args` after the log, domain and server.
+  CommandResult Replay(const std::vector<std::string>& args, double timeout = 120.0) const {
+    std::vector<std::string> argv = {NavctlBinary(), "replay", "--log", log_, "--domain", std::to_string(stack_->domain()),
+                                     "--server", stack_->address()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return RunCommand(argv, timeout);
+  }
+  // The replay's verdict line, "navd: N poses, position RMSE X m, heading RMSE Y rad".
+  struct Verdict {
+    int poses = 0;
+    double rmse = -1, heading = -1;
+  };
+  static void ReadVerdict(const std::string& output, Verdict* v) {
+    const size_t at = output.find("navd: ");
+    ASSERT_NE(at, std::string::npos) << output;
+    ASSERT_EQ(std::sscanf(output.c_str() + at, "navd: %d poses, position RMSE %lf m, heading RMSE %lf rad", &v->poses,
+                          &v->rmse, &v->heading), 3) << output;
+  }
+
+  const std::string dir_ = MakeTempDir();
+  std::string log_;
+  std::unique_ptr<NavdStack> stack_;
+};
+
 // Online: navctl replay plays the Intel log over DDS like a robot (log-time clock, corrupted
 // odometry, scans) while a real navd localises on the map built from the log, and judges navd's
 // published poses (between scans too) against the corrected poses. The first 200 scans (11
 // minutes of log) at 50x; the whole log is in the issue note.
-TEST(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
-  const std::string log = SourceDir() + "/../shared/data/carmen/intel-corrected.log.gz";
-  if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
-  const std::string dir = MakeTempDir();
-  ASSERT_EQ(RunCommand({NavdReplayBinary(), "--log", log, "--mode", "map", "--out", dir + "/intel.yaml"}, 60.0).exit_code, 0);
-  StackOptions o;
-  o.start_sim = false;
-  o.navd_args = {"--map", dir + "/intel.yaml"};
-  NavdStack stack(o);
-  const auto r = RunCommand({NavctlBinary(), "replay", "--log", log, "--rate", "50", "--max-scans", "200", "--domain",
-                             std::to_string(stack.domain()), "--server", stack.address(), "--out", dir + "/online.tum"},
-                            120.0);
+TEST_F(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
+  const std::string log = SharedLog("intel");
+  if (log.empty()) GTEST_SKIP() << "shared data not beside the checkout";
+  ASSERT_NO_FATAL_FAILURE(StartNavdOnMapOf(log));
+  const NavdStack& stack = *stack_;
+  const auto r = Replay({"--rate", "50", "--max-scans", "200", "--out", dir_ + "/online.tum"});
   ASSERT_EQ(r.exit_code, 0) << r.output << stack.Logs();
-  double rmse = -1, heading = -1;
-  int poses = 0;
-  const size_t at = r.output.find("navd: ");
-  ASSERT_NE(at, std::string::npos) << r.output;
-  ASSERT_EQ(std::sscanf(r.output.c_str() + at, "navd: %d poses, position RMSE %lf m, heading RMSE %lf rad", &poses, &rmse,
-                        &heading), 3) << r.output;
-  std::printf("online Intel replay: %d poses, position RMSE %.4f m, heading RMSE %.4f rad\n", poses, rmse, heading);
-  EXPECT_GT(poses, 200);
-  EXPECT_LE(rmse, 0.15) << stack.Logs();
-  EXPECT_LE(heading, 0.06);
-  EXPECT_TRUE(std::filesystem::exists(dir + "/online.tum"));
+  Verdict v;
+  ASSERT_NO_FATAL_FAILURE(ReadVerdict(r.output, &v));
+  std::printf("online Intel replay: %d poses, position RMSE %.4f m, heading RMSE %.4f rad\n", v.poses, v.rmse, v.heading);
+  EXPECT_GT(v.poses, 200);
+  EXPECT_LE(v.rmse, 0.15) << stack.Logs();
+  EXPECT_LE(v.heading, 0.06);
+  EXPECT_TRUE(std::filesystem::exists(dir_ + "/online.tum"));
   // A slip: 100 s into the log the odometry slips 3 m over a second while the scans go on; navd
   // follows the scans and is back within 0.1 m of the truth within 20 s of log time.
-  const auto k = RunCommand({NavctlBinary(), "replay", "--log", log, "--rate", "50", "--max-scans", "200", "--domain",
-                             std::to_string(stack.domain()), "--server", stack.address(), "--slip", "100,3,0"},
-                            120.0);
+  const auto k = Replay({"--rate", "50", "--max-scans", "200", "--slip", "100,3,0"});
   ASSERT_EQ(k.exit_code, 0) << k.output << stack.Logs();
   const size_t slip = k.output.find("slip: ");
   ASSERT_NE(slip, std::string::npos) << k.output;
@@ -360,10 +391,9 @@ TEST(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
   for (const std::vector<std::string>& bad : {std::vector<std::string>{"--kidnap", "100,3"},
                                               std::vector<std::string>{"--slip", "100,3,0", "--kidnap", "100,3,0"},
                                               std::vector<std::string>{"--kidnap", "100,300,0"}}) {
-    std::vector<std::string> argv = {NavctlBinary(), "replay", "--log", log, "--server", stack.address(), "--domain",
-                                      std::to_string(stack.domain()), "--max-scans", "200"};
-    argv.insert(argv.end(), bad.begin(), bad.end());
-    const auto refused = RunCommand(argv, 30.0);
+    std::vector<std::string> args = {"--max-scans", "200"};
+    args.insert(args.end(), bad.begin(), bad.end());
+    const auto refused = Replay(args, 30.0);
     EXPECT_NE(refused.exit_code, 0) << bad[1];
     EXPECT_EQ(Lines(refused.output), 1) << refused.output;
     EXPECT_NE(refused.output.find(bad[0]), std::string::npos) << refused.output;
@@ -377,28 +407,18 @@ TEST(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
 
 // csail's stamps are too coarse to time its scans by: the replay paces them from the log's
 // odometry, says so, and navd localises it online.
-TEST(NavctlReplay, PacesTheCsailLogsCoarseStampsAndNavdLocalisesIt) {
-  const std::string log = SourceDir() + "/../shared/data/carmen/csail-corrected.log.gz";
-  if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
-  const std::string dir = MakeTempDir();
-  ASSERT_EQ(RunCommand({NavdReplayBinary(), "--log", log, "--mode", "map", "--out", dir + "/csail.yaml"}, 60.0).exit_code, 0);
-  StackOptions o;
-  o.start_sim = false;
-  o.navd_args = {"--map", dir + "/csail.yaml"};
-  NavdStack stack(o);
-  const auto r = RunCommand({NavctlBinary(), "replay", "--log", log, "--rate", "25", "--max-scans", "120", "--domain",
-                             std::to_string(stack.domain()), "--server", stack.address()},
-                            120.0);
-  ASSERT_EQ(r.exit_code, 0) << r.output << stack.Logs();
+TEST_F(NavctlReplay, PacesTheCsailLogsCoarseStampsAndNavdLocalisesIt) {
+  const std::string log = SharedLog("csail");
+  if (log.empty()) GTEST_SKIP() << "shared data not beside the checkout";
+  ASSERT_NO_FATAL_FAILURE(StartNavdOnMapOf(log));
+  const auto r = Replay({"--rate", "25", "--max-scans", "120"});
+  ASSERT_EQ(r.exit_code, 0) << r.output << stack_->Logs();
   EXPECT_NE(r.output.find("paced from its odometry"), std::string::npos) << r.output;
-  double rmse = -1;
-  int poses = 0;
-  const size_t at = r.output.find("navd: ");
-  ASSERT_NE(at, std::string::npos) << r.output;
-  ASSERT_EQ(std::sscanf(r.output.c_str() + at, "navd: %d poses, position RMSE %lf m", &poses, &rmse), 2) << r.output;
-  std::printf("online csail replay: %d poses, position RMSE %.4f m\n", poses, rmse);
-  EXPECT_GT(poses, 500);
-  EXPECT_LE(rmse, 0.2) << r.output << stack.Logs();
+  Verdict v;
+  ASSERT_NO_FATAL_FAILURE(ReadVerdict(r.output, &v));
+  std::printf("online csail replay: %d poses, position RMSE %.4f m\n", v.poses, v.rmse);
+  EXPECT_GT(v.poses, 500);
+  EXPECT_LE(v.rmse, 0.2) << r.output << stack_->Logs();
 }
 
 TEST(Daemons, BadWorldAndMapFilesExitNonZeroWithOneLine) {
