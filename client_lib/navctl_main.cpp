@@ -136,6 +136,12 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   navd::ClientOptions client_options;
   app.add_option("--server", client_options.server, "navd address HOST:PORT");
+  app.add_option("--tls-ca", client_options.tls_ca, "Connect over TLS, trusting navd's certificate if this PEM CA signed it");
+  app.add_option("--tls-cert", client_options.tls_cert, "Mutual TLS: this client's PEM certificate (with --tls-key)");
+  app.add_option("--tls-key", client_options.tls_key, "Mutual TLS: the PEM private key of --tls-cert");
+  app.add_option("--tls-server-name", client_options.tls_server_name,
+                 "The name navd's certificate carries, when --server's host is another (an IP address, say)");
+  app.add_option("--token", client_options.token, "Bearer token for navd's roles (needs TLS)")->envname("NAVD_TOKEN");
   // NaN slips past CLI11's number checks, so seconds get their own.
   const CLI::Validator seconds(
       [](std::string& s) {

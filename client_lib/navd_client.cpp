@@ -2,11 +2,52 @@
 
 #include <chrono>
 
+#include "services/common/error.h"
+#include "services/common/text_file.h"
+
 namespace navd {
+namespace {
+
+std::string ReadPemFile(const std::string& path, const char* what) {
+  try {
+    return ReadTextFile(path, what);
+  } catch (const Error& e) {
+    throw ClientError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+  }
+}
+
+std::shared_ptr<grpc::ChannelCredentials> ChannelCredentials(const ClientOptions& o) {
+  const bool tls = !o.tls_ca.empty() || !o.tls_cert.empty();
+  if (!tls) {
+    if (!o.token.empty()) {
+      throw ClientError(grpc::StatusCode::INVALID_ARGUMENT,
+                        "a token is sent only over TLS: give the CA that signed navd's certificate (--tls-ca)");
+    }
+    return grpc::InsecureChannelCredentials();
+  }
+  if (o.tls_cert.empty() != o.tls_key.empty()) {
+    throw ClientError(grpc::StatusCode::INVALID_ARGUMENT, "--tls-cert and --tls-key go together");
+  }
+  grpc::SslCredentialsOptions ssl;
+  if (!o.tls_ca.empty()) ssl.pem_root_certs = ReadPemFile(o.tls_ca, "TLS CA file");
+  if (!o.tls_cert.empty()) {
+    ssl.pem_cert_chain = ReadPemFile(o.tls_cert, "TLS certificate file");
+    ssl.pem_private_key = ReadPemFile(o.tls_key, "TLS key file");
+  }
+  std::shared_ptr<grpc::ChannelCredentials> credentials = grpc::SslCredentials(ssl);
+  if (!o.token.empty()) {
+    credentials = grpc::CompositeChannelCredentials(credentials, grpc::AccessTokenCredentials(o.token));
+  }
+  return credentials;
+}
+
+}  // namespace
 
 Client::Client(const ClientOptions& options)
     : options_(options) {
-  channel_ = grpc::CreateChannel(options.server, grpc::InsecureChannelCredentials());
+  grpc::ChannelArguments arguments;
+  if (!options.tls_server_name.empty()) arguments.SetSslTargetNameOverride(options.tls_server_name);
+  channel_ = grpc::CreateCustomChannel(options.server, ChannelCredentials(options), arguments);
   health_ = grpc::health::v1::Health::NewStub(channel_);
   planning_ = v1::PlanningService::NewStub(channel_);
   localization_ = v1::LocalizationService::NewStub(channel_);

@@ -30,8 +30,18 @@ class ClientError : public std::runtime_error {
 };
 
 struct ClientOptions {
-  std::string server = "127.0.0.1:50051";
-  double timeout = 10.0;   // default deadline of unary calls, seconds
+  ClientOptions(std::string server_address = "127.0.0.1:50051", double deadline = 10.0)
+      : server(std::move(server_address)), timeout(deadline) {}
+
+  std::string server;
+  double timeout;   // default deadline of unary calls, seconds
+  // TLS is on when tls_ca or tls_cert is set. tls_ca: PEM CA that signed navd's certificate
+  // (empty: the system's roots); tls_cert + tls_key: this client's certificate, for mutual TLS.
+  std::string tls_ca;
+  std::string tls_cert;
+  std::string tls_key;
+  std::string tls_server_name;  // the name navd's certificate must carry, when not the address's host
+  std::string token;            // sent as "authorization: Bearer <token>"; needs TLS
 };
 
 class Client {

@@ -10,6 +10,7 @@
 #include "server/control_loop.h"
 #include "server/dds_bridge.h"
 #include "server/map_publisher.h"
+#include "server/security/grpc_security.h"
 #include "services/common/error.h"
 #include "services/common/map_store.h"
 #include "services/common/sonar_ring.h"
@@ -32,7 +33,9 @@
 
 namespace navd::server {
 
-int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
+int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
+  // Refused before anything starts: a daemon that would listen unprotected must not come up.
+  security::GrpcSecurity grpc_security(o.grpc_security, o.listen);
   // --- Map and robot -------------------------------------------------------------------------
   MapStore maps;
   RobotDescription robot;
@@ -166,14 +169,15 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   grpc::EnableDefaultHealthCheckService(true);
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(o.listen, grpc::InsecureServerCredentials(), &port);
+  builder.AddListeningPort(o.listen, grpc_security.Credentials(), &port);
   builder.RegisterService(&planning_service);
   builder.RegisterService(&localization_service);
   builder.RegisterService(&mapping_service);
   builder.RegisterService(&navigation_service);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || port == 0) {
-    throw Error(ErrorCode::kUnavailable, "cannot listen on " + o.listen + " (address in use or invalid)");
+    throw Error(ErrorCode::kUnavailable,
+                "cannot listen on " + o.listen + " (address in use or invalid, or a TLS key that does not match its certificate)");
   }
   auto* health = server->GetHealthCheckService();
   for (const char* name : {"", "navd.v1.PlanningService", "navd.v1.LocalizationService", "navd.v1.MappingService",
@@ -184,10 +188,18 @@ int RunDaemon(const DaemonOptions& o, const std::atomic<bool>& stop) {
   if (!o.port_file.empty()) WriteFileAtomically(o.port_file, std::to_string(port) + "\n");
   loop.Start();
   map_publisher.Start();
-  spdlog::info("navd: listening on {}:{}, DDS domain {}, {} clock", host, port, o.dds.domain,
-               o.use_sim_time ? "simulated (rt/clock)" : "system");
+  spdlog::info("navd: listening on {}:{} ({}), DDS domain {}, {} clock", host, port, grpc_security.Describe(),
+               o.dds.domain, o.use_sim_time ? "simulated (rt/clock)" : "system");
+  if (grpc_security.warns_plain_text_beyond_loopback()) {
+    spdlog::warn("navd: --insecure: gRPC in plain text on {}, without authentication: anyone who reaches the port "
+                 "can drive the robot",
+                 o.listen);
+  }
 
-  while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  while (!signals.stop) {
+    if (signals.reload_tokens.exchange(false)) grpc_security.ReloadCredentialTable();
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
 
   // --- Shutdown: robot first ----------------------------------------------------------------
   spdlog::info("navd: shutting down");

@@ -8,8 +8,14 @@
 
 namespace navd::server {
 
-// Runs until `stop` turns true. Returns the process exit code. Throws navd::Error for bad
-// configuration (unreadable world or map, listen address in use).
-int RunDaemon(const DaemonOptions& options, const std::atomic<bool>& stop);
+// What navd's signal handlers ask of the running daemon.
+struct DaemonSignals {
+  std::atomic<bool> stop{false};           // SIGINT, SIGTERM: stop the robot, then shut down
+  std::atomic<bool> reload_tokens{false};  // SIGHUP: re-read the --auth-tokens file
+};
+
+// Runs until `signals.stop` turns true. Returns the process exit code. Throws navd::Error for bad
+// configuration (unreadable world or map, listen address in use, contradictory security options).
+int RunDaemon(const DaemonOptions& options, DaemonSignals& signals);
 
 }  // namespace navd::server

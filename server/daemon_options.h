@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "dds/participant.h"
+#include "server/security/grpc_security.h"
 
 namespace navd::server {
 
@@ -12,6 +13,7 @@ struct DaemonOptions {
   std::string map_path;             // map_server YAML or world YAML (map only)
   std::string listen = "127.0.0.1:50051";
   std::string port_file;            // when set, the bound port is written here (atomically)
+  security::GrpcSecurityOptions grpc_security;
   dds::ParticipantOptions dds;
   std::string robot_namespace;
   bool use_sim_time = false;

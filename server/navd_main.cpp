@@ -11,8 +11,9 @@
 #include "server/daemon.h"
 
 namespace {
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop = true; }
+navd::server::DaemonSignals g_signals;
+void OnStop(int) { g_signals.stop = true; }
+void OnHangUp(int) { g_signals.reload_tokens = true; }
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -22,6 +23,16 @@ int main(int argc, char** argv) {
   app.add_option("--map", o.map_path, "Map file: ROS map_server YAML (+PGM) or a world YAML")->excludes(world);
   app.add_option("--listen", o.listen, "gRPC listen address HOST:PORT (port 0 picks a free one)");
   app.add_option("--port-file", o.port_file, "Write the bound gRPC port to this file");
+  navd::server::security::GrpcSecurityOptions& sec = o.grpc_security;
+  app.add_option("--tls-cert", sec.tls_cert, "Serve gRPC over TLS with this PEM certificate (chain); needs --tls-key");
+  app.add_option("--tls-key", sec.tls_key, "The PEM private key of --tls-cert");
+  app.add_option("--tls-client-ca", sec.tls_client_ca,
+                 "Mutual TLS: accept only clients whose certificate this PEM CA signed");
+  app.add_option("--auth-tokens", sec.auth_tokens,
+                 "Roles per caller: a file of 'TOKEN ROLE' or 'cn:CERT_NAME ROLE' lines (viewer, operator, admin), "
+                 "mode 600; reloaded on SIGHUP; needs TLS");
+  app.add_flag("--insecure", sec.insecure,
+               "Allow plain-text gRPC on a non-loopback --listen address (anyone who reaches it can drive the robot)");
   app.add_option("--domain", o.dds.domain, "DDS domain id")->check(CLI::Range(0, 232));
   std::string network = "loopback";
   app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
@@ -90,10 +101,11 @@ int main(int argc, char** argv) {
     std::copy(initial.begin(), initial.end(), o.initial_pose);
   }
   o.dds.name = "navd";
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  std::signal(SIGINT, OnStop);
+  std::signal(SIGTERM, OnStop);
+  std::signal(SIGHUP, OnHangUp);
   try {
-    return navd::server::RunDaemon(o, g_stop);
+    return navd::server::RunDaemon(o, g_signals);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "navd: %s\n", e.what());
     return 2;

@@ -1,0 +1,90 @@
+#include "server/security/role_authorizer.h"
+
+#include <grpc/grpc_security_constants.h>
+#include <grpcpp/security/auth_context.h>
+#include <spdlog/spdlog.h>
+
+#include <string>
+
+namespace navd::server::security {
+namespace {
+
+constexpr std::string_view kBearer = "Bearer ";
+
+std::string_view Lookup(const grpc::AuthMetadataProcessor::InputMetadata& metadata, std::string_view key) {
+  const auto it = metadata.find(grpc::string_ref(key.data(), key.size()));
+  if (it == metadata.end()) return {};
+  return {it->second.data(), it->second.size()};
+}
+
+// "/navd.v1.NavigationService/NavigateTo" -> "NavigationService.NavigateTo"
+std::string MethodName(std::string_view path) {
+  const size_t slash = path.rfind('/');
+  std::string_view service = path.substr(0, slash == std::string_view::npos ? 0 : slash);
+  if (const size_t dot = service.rfind('.'); dot != std::string_view::npos) service.remove_prefix(dot + 1);
+  if (!service.empty() && service.front() == '/') service.remove_prefix(1);
+  const std::string_view method = slash == std::string_view::npos ? path : path.substr(slash + 1);
+  return std::string(service) + "." + std::string(method);
+}
+
+}  // namespace
+
+RoleAuthorizer::RoleAuthorizer(CredentialTable table)
+    : table_(std::make_shared<const CredentialTable>(std::move(table))) {}
+
+void RoleAuthorizer::Replace(CredentialTable table) {
+  auto next = std::make_shared<const CredentialTable>(std::move(table));
+  std::lock_guard lock(mutex_);
+  table_ = std::move(next);
+}
+
+std::shared_ptr<const CredentialTable> RoleAuthorizer::Table() const {
+  std::lock_guard lock(mutex_);
+  return table_;
+}
+
+grpc::Status RoleAuthorizer::Process(const InputMetadata& metadata, grpc::AuthContext* context,
+                                     OutputMetadata* consumed, OutputMetadata*) {
+  const std::string_view path = Lookup(metadata, ":path");
+  const std::optional<Role> required = RequiredRole(path);
+  if (!required) return grpc::Status::OK;
+  const std::string method = MethodName(path);
+  const std::shared_ptr<const CredentialTable> table = Table();
+
+  std::optional<Role> role;
+  std::string caller;
+  const std::string_view authorization = Lookup(metadata, "authorization");
+  if (!authorization.empty()) {
+    consumed->emplace("authorization", std::string(authorization));
+    if (authorization.substr(0, kBearer.size()) != kBearer) {
+      return {grpc::StatusCode::UNAUTHENTICATED,
+              method + ": the authorization metadata must be 'Bearer <token>'"};
+    }
+    role = table->RoleOfToken(authorization.substr(kBearer.size()));
+    if (!role) return {grpc::StatusCode::UNAUTHENTICATED, method + ": navd does not know this bearer token"};
+    caller = "token";
+  } else if (context != nullptr && context->IsPeerAuthenticated()) {
+    for (const grpc::string_ref& cn : context->FindPropertyValues(GRPC_X509_CN_PROPERTY_NAME)) {
+      role = table->RoleOfCommonName(std::string_view(cn.data(), cn.size()));
+      if (role) {
+        caller = "certificate '" + std::string(cn.data(), cn.size()) + "'";
+        break;
+      }
+    }
+    if (!role) {
+      return {grpc::StatusCode::UNAUTHENTICATED,
+              method + ": the client certificate's common name has no role in the auth tokens file"};
+    }
+  } else {
+    return {grpc::StatusCode::UNAUTHENTICATED,
+            method + " needs credentials: a bearer token (authorization: Bearer <token>) or a client certificate"};
+  }
+  if (*role < *required) {
+    spdlog::info("navd: refused {} to role {} ({})", method, RoleName(*role), caller);
+    return {grpc::StatusCode::PERMISSION_DENIED,
+            method + " needs the " + RoleName(*required) + " role; the caller's role is " + RoleName(*role)};
+  }
+  return grpc::Status::OK;
+}
+
+}  // namespace navd::server::security
