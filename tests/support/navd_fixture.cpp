@@ -69,10 +69,13 @@ NavdStack::NavdStack(const StackOptions& o) : domain_(ReserveDomain()), dir_(Mak
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   address_ = "127.0.0.1:" + port;
-  ClientOptions co;
-  co.server = address_;
-  client_ = std::make_unique<Client>(co);
+  client_ = MakeClient(o.client);
   if (!client_->WaitForConnected(10.0)) throw std::runtime_error("cannot connect to navd at " + address_);
+}
+
+std::unique_ptr<Client> NavdStack::MakeClient(ClientOptions o) const {
+  o.server = address_;
+  return std::make_unique<Client>(o);
 }
 
 NavdStack::~NavdStack() {

@@ -20,6 +20,7 @@ struct StackOptions {
   bool start_sim = true;
   std::vector<std::string> navd_args;  // extra arguments
   std::vector<std::string> sim_args;
+  ClientOptions client;                // the stack's client; its server is set to navd's address
 };
 
 class NavdStack {
@@ -28,6 +29,8 @@ class NavdStack {
   ~NavdStack();
 
   Client& client() { return *client_; }
+  // A client of this stack's navd with other credentials (`o.server` is replaced).
+  std::unique_ptr<Client> MakeClient(ClientOptions o) const;
   const std::string& address() const { return address_; }
   int domain() const { return domain_; }
   const std::string& dir() const { return dir_; }
