@@ -5,6 +5,8 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
+#include "dds/security.h"
+
 #include <stdexcept>
 
 namespace navd::dds {
@@ -55,6 +57,7 @@ DomainParticipantQos MakeQos(const ParticipantOptions& o) {
   builtin.discovery_config.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(1, 0);
   builtin.discovery_config.initial_announcements.count = 5;
   builtin.discovery_config.initial_announcements.period = eprosima::fastrtps::Duration_t(0, 100'000'000);
+  if (!o.security_enclave.empty()) AddSecurityProperties(o.security_enclave, qos.properties());
   return qos;
 }
 

@@ -40,6 +40,8 @@ struct ParticipantOptions {
   std::string name = "navd";
   // Extra unicast discovery peers (IPv4 addresses) for Network::kAll across hosts.
   std::vector<std::string> peers;
+  // DDS Security enclave directory (security.h); empty: no security.
+  std::string security_enclave;
 };
 
 enum class Reliability { kBestEffort, kReliable };

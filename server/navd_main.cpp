@@ -37,6 +37,9 @@ int main(int argc, char** argv) {
   std::string network = "loopback";
   app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
   app.add_option("--dds-peer", o.dds.peers, "Extra unicast DDS discovery peer (IPv4), repeatable");
+  app.add_option("--dds-security", o.dds.security_enclave,
+                 "DDS Security enclave directory (cert.pem, key.pem, CAs, signed governance and permissions; "
+                 "scripts/make-keystore makes one): authenticated, access-controlled, encrypted DDS");
   app.add_option("--namespace", o.robot_namespace, "Robot namespace for topics (rt/<ns>/scan ...)");
   app.add_flag("--use-sim-time", o.use_sim_time, "Follow the simulator's rt/clock instead of the system clock");
   app.add_option("--localizer", o.localizer,

@@ -335,6 +335,10 @@ int Run(int argc, char** argv) {
   app.add_option("--seed", seed, "Random seed (overrides the scenario's); the same seed repeats the same run");
   app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
+  std::string dds_security;
+  app.add_option("--dds-security", dds_security,
+                 "DDS Security enclave directory (cert.pem, key.pem, CAs, signed governance and permissions; "
+                 "scripts/make-keystore makes one): authenticated, access-controlled, encrypted DDS");
   app.add_option("--namespace", ns, "Topic namespace of a --world robot (rt/<ns>/scan ...)")->excludes(scenario_opt);
   app.add_option("--duration", duration, "Stop after this many simulated seconds (0: run until signalled)")
       ->check(CLI::NonNegativeNumber);
@@ -393,6 +397,7 @@ int Run(int argc, char** argv) {
   dds_options.domain = domain;
   dds_options.network = navd::dds::ParseNetwork(network);
   dds_options.name = "navsim";
+  dds_options.security_enclave = dds_security;
   navd::dds::Participant participant(dds_options);
   navd::dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock_writer(participant, navd::dds::kClock,
                                                                              Reliability::kBestEffort, 1);

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "services/common/text_file.h"
+#include "tests/support/keystore.h"
 #include "tests/support/navd_fixture.h"
 
 namespace navd::testing {
@@ -27,54 +28,6 @@ std::string ReadIfPresent(const std::string& path) {
   std::ifstream in(path);
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
-
-// A keystore made by the script users run, in a fresh directory.
-struct Keystore {
-  Keystore() : dir(MakeTempDir() + "/keys") {
-    const CommandResult r = RunCommand({SourceDir() + "/scripts/make-keystore", dir});
-    if (r.exit_code != 0) throw std::runtime_error("make-keystore failed: " + r.output);
-  }
-  std::string tls(const std::string& file) const { return dir + "/tls/" + file; }
-  std::string token(const std::string& role) const { return Trimmed(ReadTextFile(dir + "/token." + role, "token")); }
-  std::string tokens() const { return dir + "/tokens"; }
-
-  // TLS (and navd's CA) with `token`, or with this client certificate for mutual TLS.
-  ClientOptions Client(const std::string& token_role, const std::string& cert = "") const {
-    ClientOptions o;
-    o.timeout = 5.0;
-    o.tls_ca = tls("ca.pem");
-    if (!token_role.empty()) o.token = token(token_role);
-    if (!cert.empty()) {
-      o.tls_cert = cert + ".pem";
-      o.tls_key = cert + ".key";
-    }
-    return o;
-  }
-
-  // A client certificate with common name `cn`, signed by this keystore's CA (or by a CA of its
-  // own when `foreign`), valid for `days` (negative: already expired).
-  std::string ExtraClientCertificate(const std::string& name, const std::string& cn, bool foreign, int days) const {
-    const std::string base = dir + "/" + name;
-    std::string script =
-        "set -e; cd " + dir + "; openssl genpkey -algorithm EC -pkeyopt ec_paramgen_curve:P-256 -out " + base + ".key;" +
-        "openssl req -new -key " + base + ".key -subj /CN=" + cn + " -out " + base + ".csr;";
-    std::string ca = tls("ca.pem"), ca_key = tls("ca.key");
-    if (foreign) {
-      ca = base + "-ca.pem";
-      ca_key = base + "-ca.key";
-      script += "openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -keyout " + ca_key + " -out " + ca +
-                " -days 30 -subj /CN=intruder-ca;";
-    }
-    script += "printf 'extendedKeyUsage=clientAuth\\n' > " + base + ".ext; openssl x509 -req -in " + base + ".csr -CA " +
-              ca + " -CAkey " + ca_key + " -CAcreateserial -days " + std::to_string(days) + " -extfile " + base +
-              ".ext -out " + base + ".pem";
-    const CommandResult r = RunCommand({"/bin/bash", "-c", script + " 2>&1"});
-    if (r.exit_code != 0) throw std::runtime_error("openssl failed: " + r.output);
-    return base;
-  }
-
-  std::string dir;
-};
 
 StackOptions SecuredStack(const Keystore& keys, bool client_ca, const std::string& client_role = "admin",
                           const std::string& client_cert = "") {
