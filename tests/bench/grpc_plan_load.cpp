@@ -1,11 +1,14 @@
 // Load test of PlanningService.ComputePath over real gRPC on loopback: starts a navd on the
 // embedded warehouse (free port, own DDS domain), then N client threads each send requests between
 // random free points for a bounded time. Prints requests/s and latency percentiles.
-//   build/tests/grpc_plan_load [--clients N] [--seconds S] [--max-requests M] [--cost-decay M]
+// With --secure, navd serves TLS with roles (a fresh scripts/make-keystore keystore) and each
+// client sends an operator token: the cost of security, beside a plain run.
+//   build/tests/grpc_plan_load [--clients N] [--seconds S] [--max-requests M] [--cost-decay M] [--secure]
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -13,6 +16,7 @@
 
 #include "services/common/world.h"
 #include "services/planning/costmap.h"
+#include "tests/support/keystore.h"
 #include "tests/support/navd_fixture.h"
 
 int main(int argc, char** argv) {
@@ -25,6 +29,8 @@ int main(int argc, char** argv) {
   app.add_option("--max-requests", max_requests)->check(CLI::PositiveNumber);
   std::string cost_decay = "0.5";
   app.add_option("--cost-decay", cost_decay, "navd --cost-decay (0: shortest paths, no decay layer)");
+  bool secure = false;
+  app.add_flag("--secure", secure, "TLS and an operator bearer token on every call");
   CLI11_PARSE(app, argc, argv);
 
   using namespace navd;
@@ -32,6 +38,15 @@ int main(int argc, char** argv) {
   options.start_sim = false;  // planning needs only the map
   options.use_sim_time = false;
   options.navd_args = {"--cost-decay", cost_decay};
+  std::optional<navd::testing::Keystore> keys;
+  ClientOptions client_options("", 5.0);
+  if (secure) {
+    keys.emplace();
+    options.navd_args.insert(options.navd_args.end(), {"--tls-cert", keys->tls("navd.pem"), "--tls-key",
+                                                       keys->tls("navd.key"), "--auth-tokens", keys->tokens()});
+    options.client = keys->Client("admin");
+    client_options = keys->Client("operator");
+  }
   navd::testing::NavdStack stack(options);
 
   // Random query points on cells free of the inflated obstacles, fixed seed.
@@ -55,7 +70,9 @@ int main(int argc, char** argv) {
   std::vector<std::thread> threads;
   for (int t = 0; t < clients; ++t) {
     threads.emplace_back([&, t] {
-      Client client({stack.address(), 5.0});  // a channel per client, as separate processes would have
+      // A channel per client, as separate processes would have.
+      const std::unique_ptr<Client> channel = stack.MakeClient(client_options);
+      Client& client = *channel;
       size_t k = t * 7;
       while (std::chrono::steady_clock::now() < end && issued.fetch_add(1) < max_requests) {
         const Point2& a = points[k++ % points.size()];
