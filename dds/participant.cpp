@@ -1,13 +1,17 @@
 #include "dds/participant.h"
 
+#include <arpa/inet.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/rtps/attributes/ServerAttributes.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
+#include <netdb.h>
+
+#include <cstdlib>
+#include <stdexcept>
 
 #include "dds/security.h"
-
-#include <stdexcept>
 
 namespace navd::dds {
 
@@ -30,6 +34,32 @@ Locator_t UdpLocator(const std::string& address) {
   return loc;
 }
 
+// "HOST:PORT", HOST a name or an IPv4 address, as a UDPv4 locator.
+Locator_t DiscoveryServerLocator(const std::string& address) {
+  const size_t colon = address.rfind(':');
+  const auto bad = [&](const std::string& why) {
+    return std::invalid_argument("DDS discovery server '" + address + "' " + why);
+  };
+  if (colon == std::string::npos || colon == 0) throw bad("is not HOST:PORT");
+  const std::string host = address.substr(0, colon), port_text = address.substr(colon + 1);
+  char* end = nullptr;
+  const long port = std::strtol(port_text.c_str(), &end, 10);
+  if (port_text.empty() || *end != '\0' || port < 1 || port > 65535) throw bad("has no port in 1..65535");
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  hints.ai_socktype = SOCK_DGRAM;
+  addrinfo* found = nullptr;
+  if (getaddrinfo(host.c_str(), nullptr, &hints, &found) != 0 || found == nullptr) {
+    throw bad("names no IPv4 host this machine can resolve");
+  }
+  char ip[INET_ADDRSTRLEN] = {};
+  inet_ntop(AF_INET, &reinterpret_cast<sockaddr_in*>(found->ai_addr)->sin_addr, ip, sizeof ip);
+  freeaddrinfo(found);
+  Locator_t loc = UdpLocator(ip);
+  loc.port = static_cast<uint32_t>(port);
+  return loc;
+}
+
 DomainParticipantQos MakeQos(const ParticipantOptions& o) {
   DomainParticipantQos qos = PARTICIPANT_QOS_DEFAULT;
   qos.name(o.name);
@@ -48,6 +78,24 @@ DomainParticipantQos MakeQos(const ParticipantOptions& o) {
     builtin.metatrafficUnicastLocatorList.push_back(lo);
     qos.wire_protocol().default_unicast_locator_list.push_back(lo);
     builtin.initialPeersList.push_back(lo);
+  } else {
+    qos.transport().use_builtin_transports = false;
+    qos.transport().user_transports.push_back(std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>());
+  }
+  if (!o.discovery_server.empty()) {
+    if (!o.security_enclave.empty()) {
+      // Under DDS Security a participant's GUID prefix is derived from its certificate, so the
+      // clients' well-known server prefix no longer names the server; Fast DDS 2.9 has no secure
+      // discovery server.
+      throw std::invalid_argument(
+          "a DDS discovery server cannot be used with DDS Security in Fast DDS 2.9: give unicast peers "
+          "(--dds-peer) instead");
+    }
+    eprosima::fastdds::rtps::RemoteServerAttributes server;
+    eprosima::fastdds::rtps::get_server_client_default_guidPrefix(0, server.guidPrefix);
+    server.metatrafficUnicastLocatorList.push_back(DiscoveryServerLocator(o.discovery_server));
+    builtin.discovery_config.discoveryProtocol = eprosima::fastrtps::rtps::DiscoveryProtocol_t::CLIENT;
+    builtin.discovery_config.m_DiscoveryServers.push_back(server);
   }
   for (const auto& peer : o.peers) {
     if (!IPLocator::isIPv4(peer)) throw std::invalid_argument("DDS peer '" + peer + "' is not an IPv4 address");

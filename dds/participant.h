@@ -26,8 +26,9 @@ enum class Network {
   // Default: UDPv4 on 127.0.0.1 only, unicast discovery to 127.0.0.1 peers, no multicast and no
   // shared memory, so nothing leaves the host and parallel test domains stay apart.
   kLoopback,
-  // Fast DDS's default transports: every interface, multicast discovery, the shared-memory
-  // transport. For deployment. Data sharing stays off in both (see EndpointQos).
+  // UDPv4 on every interface with multicast discovery, for deployments. No shared memory:
+  // containers and hosts share none, and Fast DDS would pick it for peers it believes local and
+  // then reach nothing. Data sharing stays off in both (see EndpointQos).
   kAll,
 };
 
@@ -42,6 +43,9 @@ struct ParticipantOptions {
   std::vector<std::string> peers;
   // DDS Security enclave directory (security.h); empty: no security.
   std::string security_enclave;
+  // HOST:PORT of a Fast DDS discovery server (fast-discovery-server -i 0): the participant
+  // discovers its peers through it, by unicast, instead of by multicast or initial peers.
+  std::string discovery_server;
 };
 
 enum class Reliability { kBestEffort, kReliable };

@@ -37,6 +37,9 @@ int main(int argc, char** argv) {
   std::string network = "loopback";
   app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
   app.add_option("--dds-peer", o.dds.peers, "Extra unicast DDS discovery peer (IPv4), repeatable");
+  app.add_option("--dds-discovery-server", o.dds.discovery_server,
+                 "HOST:PORT of a Fast DDS discovery server (fast-discovery-server -i 0): discover peers through it "
+                 "by unicast, as in a cluster without multicast");
   app.add_option("--dds-security", o.dds.security_enclave,
                  "DDS Security enclave directory (cert.pem, key.pem, CAs, signed governance and permissions; "
                  "scripts/make-keystore makes one): authenticated, access-controlled, encrypted DDS");

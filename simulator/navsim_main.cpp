@@ -335,7 +335,12 @@ int Run(int argc, char** argv) {
   app.add_option("--seed", seed, "Random seed (overrides the scenario's); the same seed repeats the same run");
   app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
-  std::string dds_security;
+  std::string dds_security, discovery_server;
+  std::vector<std::string> dds_peers;
+  app.add_option("--dds-peer", dds_peers, "Extra unicast DDS discovery peer (IPv4), repeatable");
+  app.add_option("--dds-discovery-server", discovery_server,
+                 "HOST:PORT of a Fast DDS discovery server (fast-discovery-server -i 0): discover peers through it "
+                 "by unicast, as in a cluster without multicast");
   app.add_option("--dds-security", dds_security,
                  "DDS Security enclave directory (cert.pem, key.pem, CAs, signed governance and permissions; "
                  "scripts/make-keystore makes one): authenticated, access-controlled, encrypted DDS");
@@ -398,6 +403,8 @@ int Run(int argc, char** argv) {
   dds_options.network = navd::dds::ParseNetwork(network);
   dds_options.name = "navsim";
   dds_options.security_enclave = dds_security;
+  dds_options.discovery_server = discovery_server;
+  dds_options.peers = dds_peers;
   navd::dds::Participant participant(dds_options);
   navd::dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock_writer(participant, navd::dds::kClock,
                                                                              Reliability::kBestEffort, 1);

@@ -21,8 +21,8 @@ namespace {
 
 TEST(DdsLoopback, LoopbackParticipantsDiscoverEachOtherAndExchangeSamples) {
   const int domain = ReserveDomain();
-  dds::Participant a({domain, dds::Network::kLoopback, "a", {}, {}});
-  dds::Participant b({domain, dds::Network::kLoopback, "b", {}, {}});
+  dds::Participant a({domain, dds::Network::kLoopback, "a", {}, {}, {}});
+  dds::Participant b({domain, dds::Network::kLoopback, "b", {}, {}, {}});
   dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> writer(a, "rt/cmd_vel", dds::Reliability::kReliable);
   dds::Reader<geometry_msgs::msg::dds_::Twist_PubSubType> reader(b, "rt/cmd_vel", dds::Reliability::kReliable);
   for (int i = 0; i < 100 && writer.matched() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -25,7 +25,7 @@ using Twist = geometry_msgs::msg::dds_::Twist_PubSubType;
 // One participant's view of the robot and its wheels.
 struct Station {
   Station(int domain, const std::string& name, const std::string& enclave)
-      : participant({domain, dds::Network::kLoopback, name, {}, enclave}),
+      : participant({domain, dds::Network::kLoopback, name, {}, enclave, {}}),
         scans(participant, dds::TopicName("", dds::kScan), Reliability::kBestEffort),
         truth(participant, dds::TopicName("", dds::kGroundTruth), Reliability::kBestEffort),
         cmd(participant, dds::TopicName("", dds::kCmdVel), Reliability::kReliable) {}

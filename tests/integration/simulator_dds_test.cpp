@@ -40,7 +40,7 @@ TEST(NavsimScenario, TwoRobotsAndPeopleOverDdsWithNamespacesTruthAndCollisions) 
                   "--domain", std::to_string(domain), "--record", record, "--record-robot", "alpha"},
                  dir + "/navsim.log");
 
-  dds::Participant p({domain, dds::Network::kLoopback, "driver", {}, {}});
+  dds::Participant p({domain, dds::Network::kLoopback, "driver", {}, {}, {}});
   using dds::Reliability;
   dds::Writer<Twist> alpha_cmd(p, dds::TopicName("alpha", dds::kCmdVel), Reliability::kReliable);
   dds::Writer<Twist> beta_cmd(p, dds::TopicName("beta", dds::kCmdVel), Reliability::kReliable);
@@ -146,7 +146,7 @@ TEST(NavsimScenario, BareMapServerMapRunsTheDefaultRobotAndBadStartsAreRefused) 
   std::ofstream(dir + "/room.pgm", std::ios::binary) << "P5 80 60 255\n" << pixels;
   std::ofstream(dir + "/room.yaml") << "image: room.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\n";
   Process navsim({NavsimBinary(), "--world", dir + "/room.yaml", "--domain", std::to_string(domain)}, dir + "/navsim.log");
-  dds::Participant p({domain, dds::Network::kLoopback, "driver", {}, {}});
+  dds::Participant p({domain, dds::Network::kLoopback, "driver", {}, {}, {}});
   dds::Reader<Odometry> truth(p, dds::TopicName("", dds::kGroundTruth), dds::Reliability::kBestEffort);
   dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(p, dds::TopicName("", dds::kScan),
                                                                  dds::Reliability::kBestEffort);
@@ -173,7 +173,7 @@ TEST(NavsimScenario, NavctlClosesAndOpensADoorTheLaserSeesIt) {
   Process navsim({NavsimBinary(), "--scenario", SourceDir() + "/worlds/scenarios/office.yaml", "--rate", "5", "--domain",
                   std::to_string(domain), "--command-timeout", "1000"},
                  dir + "/navsim.log");
-  dds::Participant p({domain, dds::Network::kLoopback, "driver", {}, {}});
+  dds::Participant p({domain, dds::Network::kLoopback, "driver", {}, {}, {}});
   std::mutex scans_mutex;
   std::vector<float> last_ranges;
   int scans = 0;
@@ -230,7 +230,7 @@ TEST(NavsimLockstep, SimulatedTimeWaitsForNavdThenMovesOnWithoutAFrozenOne) {
   options.sim_args = {"--lockstep-timeout", "1.5"};
   NavdStack stack(options);
   ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
-  dds::Participant p({stack.domain(), dds::Network::kLoopback, "clock-watcher", {}, {}});
+  dds::Participant p({stack.domain(), dds::Network::kLoopback, "clock-watcher", {}, {}, {}});
   dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock(p, dds::kClock, dds::Reliability::kBestEffort);
   auto sim_time_after = [&](double wall) {
     std::this_thread::sleep_for(std::chrono::duration<double>(wall));

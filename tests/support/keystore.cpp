@@ -8,8 +8,10 @@
 
 namespace navd::testing {
 
-Keystore::Keystore() : dir_(MakeTempDir() + "/keys") {
-  const CommandResult r = RunCommand({SourceDir() + "/scripts/make-keystore", dir_});
+Keystore::Keystore(const std::vector<std::string>& hosts) : dir_(MakeTempDir() + "/keys") {
+  std::vector<std::string> argv{SourceDir() + "/scripts/make-keystore", dir_};
+  for (const std::string& h : hosts) argv.insert(argv.end(), {"--host", h});
+  const CommandResult r = RunCommand(argv);
   if (r.exit_code != 0) throw std::runtime_error("make-keystore failed: " + r.output);
 }
 

@@ -2,6 +2,7 @@
 // The credentials scripts/make-keystore makes (the script users run), in a fresh temporary
 // directory, with accessors for what tests hand to navd, navsim and clients.
 #include <string>
+#include <vector>
 
 #include "client_lib/navd_client.h"
 
@@ -9,7 +10,8 @@ namespace navd::testing {
 
 class Keystore {
  public:
-  Keystore();
+  // `hosts`: names or addresses navd's certificate carries beside localhost and 127.0.0.1.
+  explicit Keystore(const std::vector<std::string>& hosts = {});
 
   const std::string& dir() const { return dir_; }
   std::string tls(const std::string& file) const { return dir_ + "/tls/" + file; }
