@@ -31,6 +31,7 @@ int RunDoor(const DoorOptions& o) {
   dds::ParticipantOptions popts;
   popts.domain = o.domain;
   popts.name = "navctl";
+  popts.security_enclave = o.dds_security;
   dds::Participant participant(popts);
   dds::Reader<WorldState> world(participant, dds::kWorldState, dds::Reliability::kBestEffort);
   dds::Writer<DoorCommand> writer(participant, dds::kDoorCommand, dds::Reliability::kReliable);

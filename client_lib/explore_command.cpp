@@ -77,7 +77,8 @@ int RunExplore(Client& client, const ExploreOptions& o) {
   // Ground truth and navd's estimates (the SLAM poses while exploring), matched by stamp.
   PoseErrorMeter meter;
   MeasuredRun measured;
-  if (o.measure) measured = StartMeasuring(meter, o.domain, o.robot_namespace, "navctl-explore");
+  if (o.measure) measured = StartMeasuring(meter, {o.domain, dds::Network::kLoopback, "navctl-explore", {}, o.dds_security, {}},
+                                           o.robot_namespace);
   const std::unique_ptr<Telemetry>& telemetry = measured.telemetry;
   const auto& before = measured.before;
 

@@ -20,6 +20,7 @@ struct ExploreOptions {
   bool measure = false;           // with wait: judge against navsim and the world
   std::string world;              // with measure: the world navsim runs (default: the embedded one)
   int domain = 0;
+  std::string dds_security;    // DDS Security enclave, with measure (navctl --dds-security)
   std::string robot_namespace;
   bool json = false;
 };

@@ -52,7 +52,8 @@ int RunFollow(Client& client, const FollowOptions& o) {
   PoseErrorMeter meter;
   PeopleProximityMeter proximity(o.robot_namespace.empty() ? "robot" : o.robot_namespace);
   MeasuredRun measured;
-  if (o.measure) measured = StartMeasuring(meter, o.domain, o.robot_namespace, "navctl-follow", &proximity);
+  if (o.measure) measured = StartMeasuring(meter, {o.domain, dds::Network::kLoopback, "navctl-follow", {}, o.dds_security, {}},
+                                           o.robot_namespace, &proximity);
   const std::unique_ptr<Telemetry>& telemetry = measured.telemetry;
   const auto& before = measured.before;
 

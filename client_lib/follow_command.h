@@ -21,6 +21,7 @@ struct FollowOptions {
   bool json = false;
   bool measure = false;        // compare with navsim's ground truth
   int domain = 0;              // DDS domain of navsim, with measure
+  std::string dds_security;    // DDS Security enclave, with measure (navctl --dds-security)
   std::string robot_namespace;
 };
 

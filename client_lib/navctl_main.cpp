@@ -142,6 +142,10 @@ int main(int argc, char** argv) {
   app.add_option("--tls-server-name", client_options.tls_server_name,
                  "The name navd's certificate carries, when --server's host is another (an IP address, say)");
   app.add_option("--token", client_options.token, "Bearer token for navd's roles (needs TLS)")->envname("NAVD_TOKEN");
+  std::string dds_security;
+  app.add_option("--dds-security", dds_security,
+                 "DDS Security enclave (scripts/make-keystore's dds/enclaves/navctl) for the commands that use DDS: "
+                 "truth, door, replay, follow/explore --measure");
   // NaN slips past CLI11's number checks, so seconds get their own.
   const CLI::Validator seconds(
       [](std::string& s) {
@@ -344,16 +348,19 @@ int main(int argc, char** argv) {
       if (!kidnap.empty())
         navd::navctl::ParseDisturbance("--kidnap", kidnap, navd::navctl::Disturbance::kKidnap, &replay_options);
       if (!slip.empty()) navd::navctl::ParseDisturbance("--slip", slip, navd::navctl::Disturbance::kSlip, &replay_options);
+      replay_options.dds_security = dds_security;
       return navd::navctl::RunReplay(replay_options);
     }
     if (door->parsed()) {
       door_options.close = door_action == "close";
+      door_options.dds_security = dds_security;
       return navd::navctl::RunDoor(door_options);
     }
     if (truth->parsed()) {
       navd::TelemetryOptions topts;
       topts.dds.domain = domain;
       topts.dds.name = "navctl";
+      topts.dds.security_enclave = dds_security;
       topts.robot_namespace = ns;
       navd::Telemetry telemetry(topts);
       const auto s = telemetry.WaitForSimStatus(wait);
@@ -506,6 +513,7 @@ int main(int argc, char** argv) {
       for (const auto& name : m.methods()) std::printf("%s%s\n", name.c_str(), name == m.selected() ? " (selected)" : "");
       return 0;
     }
+    follow_options.dds_security = explore_options.dds_security = dds_security;
     if (follow->parsed()) return navd::navctl::RunFollow(client, follow_options);
     if (deliver->parsed()) return navd::navctl::RunDeliver(client, deliver_options);
     if (explore->parsed()) return navd::navctl::RunExplore(client, explore_options);

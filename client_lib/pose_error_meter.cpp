@@ -90,11 +90,10 @@ PoseErrorFigures PoseErrorMeter::Figures() const {
   return f;
 }
 
-MeasuredRun StartMeasuring(PoseErrorMeter& meter, int domain, const std::string& robot_namespace,
-                           const std::string& participant_name, PeopleProximityMeter* proximity) {
+MeasuredRun StartMeasuring(PoseErrorMeter& meter, const dds::ParticipantOptions& dds,
+                           const std::string& robot_namespace, PeopleProximityMeter* proximity) {
   TelemetryOptions topts;
-  topts.dds.domain = domain;
-  topts.dds.name = participant_name;
+  topts.dds = dds;
   topts.robot_namespace = robot_namespace;
   MeasuredRun run;
   run.telemetry = std::make_unique<Telemetry>(
@@ -109,7 +108,7 @@ MeasuredRun StartMeasuring(PoseErrorMeter& meter, int domain, const std::string&
                 : Telemetry::WorldCallback{});
   const auto before = run.telemetry->WaitForSimStatus(10.0);
   if (!before) {
-    throw std::runtime_error("--measure: no simulator status on DDS domain " + std::to_string(domain) +
+    throw std::runtime_error("--measure: no simulator status on DDS domain " + std::to_string(dds.domain) +
                              " within 10 s (is navsim running there?)");
   }
   run.before = *before;

@@ -49,7 +49,8 @@ class PoseErrorMeter {
   double from_ = -1e300, to_ = 1e300;
 };
 
-// A DDS subscriber feeding `meter` with navsim's truth and navd's estimates on `domain`, and the
+// A DDS subscriber (`dds`: domain, name, security) feeding `meter` with navsim's truth and navd's
+// estimates, and the
 // simulator's status when it started: how navctl's --measure judges a run. Throws
 // std::runtime_error when navsim does not report within 10 s.
 struct MeasuredRun {
@@ -57,7 +58,7 @@ struct MeasuredRun {
   navsim_msgs::msg::dds_::SimStatus_ before;
 };
 // With `proximity`, the simulator's bodies feed it too (how near people the robot came).
-MeasuredRun StartMeasuring(PoseErrorMeter& meter, int domain, const std::string& robot_namespace,
-                           const std::string& participant_name, PeopleProximityMeter* proximity = nullptr);
+MeasuredRun StartMeasuring(PoseErrorMeter& meter, const dds::ParticipantOptions& dds,
+                           const std::string& robot_namespace, PeopleProximityMeter* proximity = nullptr);
 
 }  // namespace navd

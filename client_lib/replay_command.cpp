@@ -185,6 +185,7 @@ int RunReplay(const ReplayOptions& o) {
   dds::ParticipantOptions popts;
   popts.domain = o.domain;
   popts.name = "navctl-replay";
+  popts.security_enclave = o.dds_security;
   dds::Participant participant(popts);
   dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock(participant, dds::kClock, dds::Reliability::kBestEffort, 1);
   dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> odom(

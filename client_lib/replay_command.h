@@ -25,6 +25,7 @@ struct ReplayOptions {
   std::string log;                      // CARMEN log, plain or .gz
   double rate = 10.0;                   // log seconds per wall second
   int domain = 0;                       // navd's DDS domain
+  std::string dds_security;             // DDS Security enclave (navctl --dds-security); empty: none
   std::string robot_namespace;
   std::string server = "127.0.0.1:50051";  // navd's gRPC, to set the first pose ("" to skip)
   std::string odom_noise = "0.05,0.035";

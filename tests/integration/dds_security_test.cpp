@@ -94,6 +94,15 @@ TEST(DdsSecurity, SecuredNavdAndNavsimNavigate) {
   ASSERT_TRUE(stack.WaitForPose(30.0)) << stack.Logs();
   const v1::NavigationResult r = stack.client().NavigateTo(2.5, 3.0, std::nullopt, {}, 120.0);
   EXPECT_EQ(r.outcome(), v1::SUCCEEDED) << r.ShortDebugString() << "\n" << stack.Logs();
+
+  // navctl's DDS commands join with the keystore's navctl enclave, and only with it.
+  const std::vector<std::string> truth{NavctlBinary(), "--dds-security", keys.enclave("navctl"), "truth", "--domain",
+                                       std::to_string(stack.domain())};
+  CommandResult t = RunCommand(truth, 30.0);
+  EXPECT_EQ(t.exit_code, 0) << t.output;
+  t = RunCommand({NavctlBinary(), "truth", "--domain", std::to_string(stack.domain()), "--wait", "2"}, 30.0);
+  EXPECT_NE(t.exit_code, 0) << t.output;
+  EXPECT_NE(t.output.find("no simulator status"), std::string::npos) << t.output;
 }
 
 TEST(DdsSecurity, AnIncompleteEnclaveIsRefusedInOneLine) {
