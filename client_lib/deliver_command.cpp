@@ -53,7 +53,8 @@ v1::DeliveryTask ParseDeliveryTask(const std::string& text) {
     from = colon + 1;
   }
   if (parts.size() < 3 || parts.size() > 4 || parts[0].empty()) {
-    throw std::invalid_argument("--task '" + text + "': expected NAME:PICKUP_X,PICKUP_Y:DROPOFF_X,DROPOFF_Y[:PRIORITY]");
+    throw std::invalid_argument("--task '" + text +
+                                "': expected NAME:PICKUP_X,PICKUP_Y:DROPOFF_X,DROPOFF_Y[:PRIORITY]");
   }
   const auto pickup = ParseTuple(parts[1], "--task " + parts[0] + " pickup", 2, 2);
   const auto dropoff = ParseTuple(parts[2], "--task " + parts[0] + " dropoff", 2, 2);

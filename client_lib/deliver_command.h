@@ -13,10 +13,10 @@ struct DeliverOptions {
   std::vector<std::string> tasks;  // "NAME:PX,PY:DX,DY[:PRIORITY]"
   uint32_t capacity = 0;           // 0: no limit
   bool return_to_start = false;
-  bool plan_only = false;          // print the schedule; the robot does not move
+  bool plan_only = false;  // print the schedule; the robot does not move
   std::string planner;
   bool preempt = false;
-  double timeout = 0.0;            // s of wall time, 0 = none
+  double timeout = 0.0;  // s of wall time, 0 = none
   bool json = false;
 };
 

@@ -8,9 +8,9 @@ namespace navd::navctl {
 struct DoorOptions {
   std::string name;
   bool close = false;
-  int domain = 0;     // navsim's DDS domain
+  int domain = 0;            // navsim's DDS domain
   std::string dds_security;  // DDS Security enclave (navctl --dds-security); empty: none
-  double wait = 5.0;  // s for navsim to answer and to carry the command out
+  double wait = 5.0;         // s for navsim to answer and to carry the command out
   bool json = false;
 };
 

@@ -51,11 +51,12 @@ nlohmann::json StatusJson(const v1::ExplorationStatus& s) {
 }
 
 void PrintStatus(const v1::ExplorationStatus& s) {
-  std::printf("exploration %s (%s): %s; %.1f m2 explored, %u frontier cells, %u goals (%u given up), %.1f s, "
-              "%.1f m travelled (estimated), %u SLAM nodes, %u loop closures\n",
-              StateText(s.state()), MethodText(s.method()), s.message().c_str(), s.explored_area(), s.frontier_cells(),
-              s.goals(), s.goals_given_up(), s.elapsed(), s.distance_travelled(), s.mapping().nodes(),
-              s.mapping().loop_closures());
+  std::printf(
+      "exploration %s (%s): %s; %.1f m2 explored, %u frontier cells, %u goals (%u given up), %.1f s, "
+      "%.1f m travelled (estimated), %u SLAM nodes, %u loop closures\n",
+      StateText(s.state()), MethodText(s.method()), s.message().c_str(), s.explored_area(), s.frontier_cells(),
+      s.goals(), s.goals_given_up(), s.elapsed(), s.distance_travelled(), s.mapping().nodes(),
+      s.mapping().loop_closures());
 }
 
 }  // namespace
@@ -77,8 +78,9 @@ int RunExplore(Client& client, const ExploreOptions& o) {
   // Ground truth and navd's estimates (the SLAM poses while exploring), matched by stamp.
   PoseErrorMeter meter;
   MeasuredRun measured;
-  if (o.measure) measured = StartMeasuring(meter, {o.domain, dds::Network::kLoopback, "navctl-explore", {}, o.dds_security, {}},
-                                           o.robot_namespace);
+  if (o.measure)
+    measured = StartMeasuring(meter, {o.domain, dds::Network::kLoopback, "navctl-explore", {}, o.dds_security, {}},
+                              o.robot_namespace);
   const std::unique_ptr<Telemetry>& telemetry = measured.telemetry;
   const auto& before = measured.before;
 
@@ -123,17 +125,15 @@ int RunExplore(Client& client, const ExploreOptions& o) {
     const double distance = after->distance_travelled() - before.distance_travelled();
     const unsigned collisions = after->collisions() - before.collisions();
     const PoseErrorFigures e = meter.Figures();
-    j["truth"] = {{"distance_travelled", distance},
-                  {"collisions", collisions},
-                  {"mean_position_error", e.mean_position},
-                  {"max_position_error", e.max_position},
-                  {"reachable_mapped", coverage.known},
-                  {"reachable_mapped_free", coverage.known_free}};
+    j["truth"] = {{"distance_travelled", distance},         {"collisions", collisions},
+                  {"mean_position_error", e.mean_position}, {"max_position_error", e.max_position},
+                  {"reachable_mapped", coverage.known},     {"reachable_mapped_free", coverage.known_free}};
     if (!o.json) {
-      std::printf("ground truth: %.1f%% of the reachable free space mapped (%.1f%% mapped free), %.1f m driven, "
-                  "%u collisions, %.1f s; position error mean %.3f m, max %.3f m\n",
-                  100.0 * coverage.known, 100.0 * coverage.known_free, distance, collisions, s.elapsed(),
-                  e.mean_position, e.max_position);
+      std::printf(
+          "ground truth: %.1f%% of the reachable free space mapped (%.1f%% mapped free), %.1f m driven, "
+          "%u collisions, %.1f s; position error mean %.3f m, max %.3f m\n",
+          100.0 * coverage.known, 100.0 * coverage.known_free, distance, collisions, s.elapsed(), e.mean_position,
+          e.max_position);
     }
   }
   if (o.json) std::printf("%s\n", j.dump().c_str());

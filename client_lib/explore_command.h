@@ -10,17 +10,17 @@
 namespace navd::navctl {
 
 struct ExploreOptions {
-  std::string action = "status";  // start, stop or status
+  std::string action = "status";    // start, stop or status
   std::string method = "frontier";  // frontier, greedy or vfm
-  double resolution = 0.0;        // m per cell; 0: navd's default
-  double size = 0.0;              // m; 0: navd's default
-  double max_time = 0.0;          // s of navd's clock; 0: no limit
+  double resolution = 0.0;          // m per cell; 0: navd's default
+  double size = 0.0;                // m; 0: navd's default
+  double max_time = 0.0;            // s of navd's clock; 0: no limit
   std::string planner;
-  bool wait = false;              // start: follow to the end; exit 0 only when complete
-  bool measure = false;           // with wait: judge against navsim and the world
-  std::string world;              // with measure: the world navsim runs (default: the embedded one)
+  bool wait = false;     // start: follow to the end; exit 0 only when complete
+  bool measure = false;  // with wait: judge against navsim and the world
+  std::string world;     // with measure: the world navsim runs (default: the embedded one)
   int domain = 0;
-  std::string dds_security;    // DDS Security enclave, with measure (navctl --dds-security)
+  std::string dds_security;  // DDS Security enclave, with measure (navctl --dds-security)
   std::string robot_namespace;
   bool json = false;
 };

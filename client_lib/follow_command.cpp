@@ -52,8 +52,9 @@ int RunFollow(Client& client, const FollowOptions& o) {
   PoseErrorMeter meter;
   PeopleProximityMeter proximity(o.robot_namespace.empty() ? "robot" : o.robot_namespace);
   MeasuredRun measured;
-  if (o.measure) measured = StartMeasuring(meter, {o.domain, dds::Network::kLoopback, "navctl-follow", {}, o.dds_security, {}},
-                                           o.robot_namespace, &proximity);
+  if (o.measure)
+    measured = StartMeasuring(meter, {o.domain, dds::Network::kLoopback, "navctl-follow", {}, o.dds_security, {}},
+                              o.robot_namespace, &proximity);
   const std::unique_ptr<Telemetry>& telemetry = measured.telemetry;
   const auto& before = measured.before;
 
@@ -84,9 +85,10 @@ int RunFollow(Client& client, const FollowOptions& o) {
                    {"recoveries", recoveries},
                    {"sonar_reflexes", reflexes}};
   if (!o.json) {
-    std::printf("%s: %s; %u waypoints reached, %.2f m travelled (estimated) in %.1f s; %u recoveries, %u sonar reflexes\n",
-                OutcomeText(result.outcome()), result.message().c_str(), result.waypoints_reached(),
-                result.distance_travelled(), result.elapsed(), recoveries, reflexes);
+    std::printf(
+        "%s: %s; %u waypoints reached, %.2f m travelled (estimated) in %.1f s; %u recoveries, %u sonar reflexes\n",
+        OutcomeText(result.outcome()), result.message().c_str(), result.waypoints_reached(),
+        result.distance_travelled(), result.elapsed(), recoveries, reflexes);
   }
   if (telemetry) {
     const auto after = telemetry->WaitForSimStatus(5.0);
@@ -100,10 +102,14 @@ int RunFollow(Client& client, const FollowOptions& o) {
     const double first_100m = meter.TimeToTravel(100.0, from);
     const double distance = after->distance_travelled() - before.distance_travelled();
     const unsigned collisions = after->collisions() - before.collisions();
-    j["truth"] = {{"distance_travelled", distance},     {"sim_time", result.elapsed()},
-                  {"collisions", collisions},           {"mean_position_error", e.mean_position},
-                  {"rms_position_error", e.rms_position}, {"max_position_error", e.max_position},
-                  {"mean_heading_error", e.mean_heading}, {"samples", e.samples},
+    j["truth"] = {{"distance_travelled", distance},
+                  {"sim_time", result.elapsed()},
+                  {"collisions", collisions},
+                  {"mean_position_error", e.mean_position},
+                  {"rms_position_error", e.rms_position},
+                  {"max_position_error", e.max_position},
+                  {"mean_heading_error", e.mean_heading},
+                  {"samples", e.samples},
                   {"mission_start", from}};
     if (first_100m >= 0.0) j["truth"]["time_to_first_100m"] = first_100m;
     proximity.SetWindow(from, from + result.elapsed());
@@ -122,9 +128,10 @@ int RunFollow(Client& client, const FollowOptions& o) {
           e.mean_heading * kRadToDeg, collisions);
       if (first_100m >= 0.0) std::printf("ground truth: the first 100 m took %.1f s\n", first_100m);
       if (people.samples > 0) {
-        std::printf("ground truth: the nearest person was outside the personal zone (1.2 m) %.2f%% of %.1f s, outside "
-                    "the intimate zone (0.45 m) %.2f%%; closest approach %.2f m\n",
-                    100.0 * people.outside_personal, people.time, 100.0 * people.outside_intimate, people.nearest);
+        std::printf(
+            "ground truth: the nearest person was outside the personal zone (1.2 m) %.2f%% of %.1f s, outside "
+            "the intimate zone (0.45 m) %.2f%%; closest approach %.2f m\n",
+            100.0 * people.outside_personal, people.time, 100.0 * people.outside_intimate, people.nearest);
       }
     }
   }

@@ -10,18 +10,18 @@
 namespace navd::navctl {
 
 struct FollowOptions {
-  std::string waypoints;       // "X,Y[,THETA];X,Y;..."
-  std::string scenario;        // or: the targets of this navsim scenario file
+  std::string waypoints;  // "X,Y[,THETA];X,Y;..."
+  std::string scenario;   // or: the targets of this navsim scenario file
   bool cyclic = false;
   uint32_t laps = 0;
-  double max_distance = 0.0;   // m
-  double timeout = 0.0;        // s of wall time, 0 = none
+  double max_distance = 0.0;  // m
+  double timeout = 0.0;       // s of wall time, 0 = none
   std::string planner;
   bool preempt = false;
   bool json = false;
-  bool measure = false;        // compare with navsim's ground truth
-  int domain = 0;              // DDS domain of navsim, with measure
-  std::string dds_security;    // DDS Security enclave, with measure (navctl --dds-security)
+  bool measure = false;      // compare with navsim's ground truth
+  int domain = 0;            // DDS domain of navsim, with measure
+  std::string dds_security;  // DDS Security enclave, with measure (navctl --dds-security)
   std::string robot_namespace;
 };
 

@@ -22,11 +22,11 @@
 
 namespace {
 
-using nlohmann::json;
 using navd::navctl::OutcomeText;
 using navd::navctl::ParseTuple;
 using navd::navctl::PoseJson;
 using navd::navctl::StateText;
+using nlohmann::json;
 
 // `navctl plan --json`'s object, the same from navd and offline; `points` are gRPC's or Eigen's.
 template <typename Points>
@@ -34,7 +34,10 @@ json PlanJson(const std::string& planner, double length, double planning_time, u
               const Points& points) {
   json path = json::array();
   for (const auto& p : points) path.push_back({p.x(), p.y()});
-  return {{"planner", planner}, {"length", length}, {"planning_time", planning_time}, {"expansions", expansions},
+  return {{"planner", planner},
+          {"length", length},
+          {"planning_time", planning_time},
+          {"expansions", expansions},
           {"path", path}};
 }
 
@@ -82,7 +85,9 @@ int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, co
   // MovingAI benchmarks plan for a point robot on 1 m cells: no inflation. Other maps are for
   // navd's robot: its radius plus the daemon's 0.10 m margin.
   const bool movingai = std::filesystem::path(map_path).extension() == ".map";
-  options.costmap.inflation_radius = inflation >= 0 ? inflation : movingai ? 0.0 : navd::RobotDescription().radius + 0.10;
+  options.costmap.inflation_radius = inflation >= 0 ? inflation
+                                     : movingai     ? 0.0
+                                                    : navd::RobotDescription().radius + 0.10;
   navd::planning::PlanningEngine engine(maps, options);
   navd::planning::RegisterDefaultPlanners(engine);
   if (planners.empty()) {  // every planner but the time-budgeted sampling ones (name them to run them)
@@ -107,16 +112,21 @@ int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, co
   json reports = json::array();
   bool all_passed = true;
   for (const auto& p : planners) {
-    const auto report = navd::planning::RunScenarios(engine, snapshot->grid, scenarios, p, [&](size_t done, size_t total) {
-      if (!json_out && (done % 50 == 0 || done == total)) {
-        std::fprintf(stderr, "\r  %s: %zu/%zu scenarios", p.c_str(), done, total);
-        if (done == total) std::fprintf(stderr, "\r\033[K");
-      }
-    });
+    const auto report =
+        navd::planning::RunScenarios(engine, snapshot->grid, scenarios, p, [&](size_t done, size_t total) {
+          if (!json_out && (done % 50 == 0 || done == total)) {
+            std::fprintf(stderr, "\r  %s: %zu/%zu scenarios", p.c_str(), done, total);
+            if (done == total) std::fprintf(stderr, "\r\033[K");
+          }
+        });
     all_passed &= report.passed == report.total;
     if (json_out) {
-      reports.push_back({{"planner", report.planner}, {"passed", report.passed}, {"total", report.total},
-                         {"objective", report.Summary().substr(report.Summary().find(' ') + 1)}, {"median_ms", report.median_ms}, {"p99_ms", report.p99_ms}});
+      reports.push_back({{"planner", report.planner},
+                         {"passed", report.passed},
+                         {"total", report.total},
+                         {"objective", report.Summary().substr(report.Summary().find(' ') + 1)},
+                         {"median_ms", report.median_ms},
+                         {"p99_ms", report.p99_ms}});
     } else {
       std::printf("%s\n", report.Summary().c_str());
       for (size_t i = 0; i < report.mismatches.size() && i < 5; ++i) {
@@ -125,7 +135,8 @@ int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, co
       }
     }
   }
-  if (json_out) std::printf("%s\n", json{{"map", map_path}, {"scenarios", scenarios.size()}, {"results", reports}}.dump().c_str());
+  if (json_out)
+    std::printf("%s\n", json{{"map", map_path}, {"scenarios", scenarios.size()}, {"results", reports}}.dump().c_str());
   return all_passed ? 0 : 1;
 }
 
@@ -136,7 +147,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   navd::ClientOptions client_options;
   app.add_option("--server", client_options.server, "navd address HOST:PORT");
-  app.add_option("--tls-ca", client_options.tls_ca, "Connect over TLS, trusting navd's certificate if this PEM CA signed it");
+  app.add_option("--tls-ca", client_options.tls_ca,
+                 "Connect over TLS, trusting navd's certificate if this PEM CA signed it");
   app.add_option("--tls-cert", client_options.tls_cert, "Mutual TLS: this client's PEM certificate (with --tls-key)");
   app.add_option("--tls-key", client_options.tls_key, "Mutual TLS: the PEM private key of --tls-cert");
   app.add_option("--tls-server-name", client_options.tls_server_name,
@@ -165,7 +177,8 @@ int main(int argc, char** argv) {
   plan->add_option("--from", from, "Start X,Y (map frame, metres)");
   plan->add_option("--to", to, "Goal X,Y");
   plan->add_option("--planner", plan_planners, "Planner name (see 'planners'); offline batches accept several");
-  plan->add_option("--map", offline_map, "Plan offline, without a server, on this map file (MovingAI .map, map_server or world YAML)");
+  plan->add_option("--map", offline_map,
+                   "Plan offline, without a server, on this map file (MovingAI .map, map_server or world YAML)");
   plan->add_option("--scen", scen, "With --map: run every scenario of this MovingAI .scen file and judge optimality");
   plan->add_flag("--json", json_out, "Print one JSON object");
   std::vector<std::string> option_texts;
@@ -176,8 +189,9 @@ int main(int argc, char** argv) {
   plan->add_option("--obstacle", obstacle_texts,
                    "A moving obstacle X,Y,R[,VX,VY] (kinodynamic, convex_grid), repeatable");
   double offline_inflation = -1.0;
-  plan->add_option("--inflation", offline_inflation,
-                   "With --map: obstacle inflation radius, m (default 0 for MovingAI maps, robot radius + 0.10 otherwise)");
+  plan->add_option(
+      "--inflation", offline_inflation,
+      "With --map: obstacle inflation radius, m (default 0 for MovingAI maps, robot radius + 0.10 otherwise)");
 
   auto* planners = app.add_subcommand("planners", "List planners");
   planners->add_flag("--json", json_out, "Print one JSON object");
@@ -208,12 +222,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 232));
   follow->add_option("--namespace", follow_options.robot_namespace, "With --measure: the robot's namespace");
   follow->add_flag("--json", follow_options.json, "Print the result as one JSON object");
-  auto* deliver = app.add_subcommand("deliver",
-                                     "Run a delivery mission: navd orders the pickups and dropoffs; exit 0 only when it succeeds");
+  auto* deliver = app.add_subcommand(
+      "deliver", "Run a delivery mission: navd orders the pickups and dropoffs; exit 0 only when it succeeds");
   navd::navctl::DeliverOptions deliver_options;
-  deliver->add_option("--task", deliver_options.tasks,
-                      "A task NAME:PICKUP_X,PICKUP_Y:DROPOFF_X,DROPOFF_Y[:PRIORITY] (map frame; higher priority is "
-                      "delivered first); repeatable")
+  deliver
+      ->add_option("--task", deliver_options.tasks,
+                   "A task NAME:PICKUP_X,PICKUP_Y:DROPOFF_X,DROPOFF_Y[:PRIORITY] (map frame; higher priority is "
+                   "delivered first); repeatable")
       ->required();
   deliver->add_option("--capacity", deliver_options.capacity, "Loads the robot carries at once (default: no limit)");
   deliver->add_flag("--return", deliver_options.return_to_start, "End the round where the robot started");
@@ -264,33 +279,45 @@ int main(int argc, char** argv) {
   std::string mapping_action, mapping_mode = "slam";
   double mapping_resolution = 0.0, mapping_size = 0.0;
   bool mapping_serve = false;
-  mapping_cmd->add_option("action", mapping_action, "start, stop or status")->required()->check(
-      CLI::IsMember({"start", "stop", "status"}));
-  mapping_cmd->add_option("--mode", mapping_mode, "start: slam (odometry + scan matching + loop closure) or known_poses")
+  mapping_cmd->add_option("action", mapping_action, "start, stop or status")
+      ->required()
+      ->check(CLI::IsMember({"start", "stop", "status"}));
+  mapping_cmd
+      ->add_option("--mode", mapping_mode, "start: slam (odometry + scan matching + loop closure) or known_poses")
       ->check(CLI::IsMember({"slam", "known_poses"}));
   mapping_cmd->add_option("--resolution", mapping_resolution, "start: metres per cell (default 0.05)");
-  mapping_cmd->add_option("--size", mapping_size, "start: metres, side of the square mapped around the robot (default 60)");
+  mapping_cmd->add_option("--size", mapping_size,
+                          "start: metres, side of the square mapped around the robot (default 60)");
   mapping_cmd->add_flag("--serve", mapping_serve, "stop: make the built map the one navd plans and localises on");
   mapping_cmd->add_flag("--json", json_out, "Print one JSON object");
 
-  auto* explore = app.add_subcommand("explore", "Explore from where the robot stands, building the map: start, stop, status");
+  auto* explore =
+      app.add_subcommand("explore", "Explore from where the robot stands, building the map: start, stop, status");
   navd::navctl::ExploreOptions explore_options;
-  explore->add_option("action", explore_options.action, "start, stop or status")->required()->check(
-      CLI::IsMember({"start", "stop", "status"}));
-  explore->add_option("--method", explore_options.method,
-                      "start: frontier (Yamauchi), greedy (seed 002) or vfm (book ch. 4 Voronoi Fast Marching)")
+  explore->add_option("action", explore_options.action, "start, stop or status")
+      ->required()
+      ->check(CLI::IsMember({"start", "stop", "status"}));
+  explore
+      ->add_option("--method", explore_options.method,
+                   "start: frontier (Yamauchi), greedy (seed 002) or vfm (book ch. 4 Voronoi Fast Marching)")
       ->check(CLI::IsMember({"frontier", "greedy", "vfm"}));
   explore->add_option("--resolution", explore_options.resolution, "start: metres per cell (default 0.05)")
       ->check(CLI::NonNegativeNumber);
-  explore->add_option("--size", explore_options.size, "start: metres, side of the square mapped around the robot (default 60)")
+  explore
+      ->add_option("--size", explore_options.size,
+                   "start: metres, side of the square mapped around the robot (default 60)")
       ->check(CLI::NonNegativeNumber);
-  explore->add_option("--max-time", explore_options.max_time, "start: give up after this many seconds (0: never)")->check(seconds);
+  explore->add_option("--max-time", explore_options.max_time, "start: give up after this many seconds (0: never)")
+      ->check(seconds);
   explore->add_option("--planner", explore_options.planner, "start: planner of each leg");
-  explore->add_flag("--wait", explore_options.wait, "start: follow the exploration to its end; exit 0 only when complete");
+  explore->add_flag("--wait", explore_options.wait,
+                    "start: follow the exploration to its end; exit 0 only when complete");
   explore->add_flag("--measure", explore_options.measure,
                     "with --wait: judge against navsim (collisions, distance) and the world (share mapped)");
-  explore->add_option("--world", explore_options.world, "with --measure: navsim's world file (default: the embedded one)");
-  explore->add_option("--domain", explore_options.domain, "with --measure: navsim's DDS domain id")->check(CLI::Range(0, 232));
+  explore->add_option("--world", explore_options.world,
+                      "with --measure: navsim's world file (default: the embedded one)");
+  explore->add_option("--domain", explore_options.domain, "with --measure: navsim's DDS domain id")
+      ->check(CLI::Range(0, 232));
   explore->add_option("--namespace", explore_options.robot_namespace, "with --measure: robot namespace");
   explore->add_flag("--json", explore_options.json, "Print one JSON object");
 
@@ -314,17 +341,21 @@ int main(int argc, char** argv) {
   door->add_option("--wait", door_options.wait, "Seconds to wait for navsim to do it")->check(seconds);
   door->add_flag("--json", door_options.json, "Print one JSON object");
 
-  auto* replay = app.add_subcommand("replay", "Play a CARMEN log over DDS like a robot while navd localises; judge its poses");
+  auto* replay =
+      app.add_subcommand("replay", "Play a CARMEN log over DDS like a robot while navd localises; judge its poses");
   navd::navctl::ReplayOptions replay_options;
   replay->add_option("--log", replay_options.log, "CARMEN log (.log or .log.gz)")->required();
   replay->add_option("--rate", replay_options.rate, "Log seconds per wall second")->check(CLI::Range(0.01, 10000.0));
   replay->add_option("--domain", replay_options.domain, "navd's DDS domain id")->check(CLI::Range(0, 232));
   replay->add_option("--namespace", replay_options.robot_namespace, "Robot namespace of navd's topics");
   replay->add_option("--server", replay_options.server, "navd's gRPC address, to set the first pose (\"\" to skip)");
-  replay->add_option("--odom-noise", replay_options.odom_noise, "T,R: relative translation noise, rad of heading noise per metre");
+  replay->add_option("--odom-noise", replay_options.odom_noise,
+                     "T,R: relative translation noise, rad of heading noise per metre");
   replay->add_option("--seed", replay_options.seed, "Seed of the odometry noise");
-  replay->add_option("--max-scans", replay_options.max_scans, "Replay only the first N scans")->check(CLI::NonNegativeNumber);
-  replay->add_option("--range-max", replay_options.range_max, "Beams are cut at this range, metres")->check(CLI::Range(0.1, 100.0));
+  replay->add_option("--max-scans", replay_options.max_scans, "Replay only the first N scans")
+      ->check(CLI::NonNegativeNumber);
+  replay->add_option("--range-max", replay_options.range_max, "Beams are cut at this range, metres")
+      ->check(CLI::Range(0.1, 100.0));
   replay->add_option("--out", replay_options.out, "Write navd's poses as TUM (t x y z qx qy qz qw)");
   replay->add_flag("--strict", replay_options.strict, "Stop at the first malformed log line");
   replay->add_option("--wait", replay_options.wait, "Seconds to wait for navd on DDS")->check(seconds);
@@ -347,7 +378,8 @@ int main(int argc, char** argv) {
     if (replay->parsed()) {
       if (!kidnap.empty())
         navd::navctl::ParseDisturbance("--kidnap", kidnap, navd::navctl::Disturbance::kKidnap, &replay_options);
-      if (!slip.empty()) navd::navctl::ParseDisturbance("--slip", slip, navd::navctl::Disturbance::kSlip, &replay_options);
+      if (!slip.empty())
+        navd::navctl::ParseDisturbance("--slip", slip, navd::navctl::Disturbance::kSlip, &replay_options);
       replay_options.dds_security = dds_security;
       return navd::navctl::RunReplay(replay_options);
     }
@@ -364,16 +396,21 @@ int main(int argc, char** argv) {
       topts.robot_namespace = ns;
       navd::Telemetry telemetry(topts);
       const auto s = telemetry.WaitForSimStatus(wait);
-      if (!s) throw std::runtime_error("no simulator status on DDS domain " + std::to_string(domain) + " within " +
-                                       std::to_string(wait) + " s");
+      if (!s)
+        throw std::runtime_error("no simulator status on DDS domain " + std::to_string(domain) + " within " +
+                                 std::to_string(wait) + " s");
       std::optional<double> error;
       if (!truth_goal.empty()) {
         const auto g = ParseTuple(truth_goal, "--to", 2, 3);
         error = std::hypot(s->x() - g[0], s->y() - g[1]);
       }
       if (json_out) {
-        json j{{"x", s->x()}, {"y", s->y()}, {"theta", s->theta()}, {"collisions", s->collisions()},
-               {"in_collision", s->in_collision()}, {"distance_travelled", s->distance_travelled()},
+        json j{{"x", s->x()},
+               {"y", s->y()},
+               {"theta", s->theta()},
+               {"collisions", s->collisions()},
+               {"in_collision", s->in_collision()},
+               {"distance_travelled", s->distance_travelled()},
                {"sim_time", s->header().stamp().sec() + s->header().stamp().nanosec() * 1e-9}};
         if (error) j["error"] = *error;
         std::printf("%s\n", j.dump().c_str());
@@ -434,9 +471,10 @@ int main(int argc, char** argv) {
         json opts = json::array();
         for (const auto& o : p.options())
           opts.push_back({{"name", o.name()}, {"default", o.default_value()}, {"description", o.description()}});
-        list.push_back({{"name", p.name()}, {"description", p.description()}, {"default", p.is_default()},
-                        {"options", opts}});
-        if (!json_out) std::printf("%s%s  %s\n", p.name().c_str(), p.is_default() ? " (default)" : "", p.description().c_str());
+        list.push_back(
+            {{"name", p.name()}, {"description", p.description()}, {"default", p.is_default()}, {"options", opts}});
+        if (!json_out)
+          std::printf("%s%s  %s\n", p.name().c_str(), p.is_default() ? " (default)" : "", p.description().c_str());
       }
       if (json_out) std::printf("%s\n", json{{"planners", list}}.dump().c_str());
       return 0;
@@ -467,9 +505,11 @@ int main(int argc, char** argv) {
           },
           timeout);
       if (json_out) {
-        std::printf("%s\n", json{{"outcome", OutcomeText(result.outcome())}, {"message", result.message()},
+        std::printf("%s\n", json{{"outcome", OutcomeText(result.outcome())},
+                                 {"message", result.message()},
                                  {"final_pose", PoseJson(result.final_pose())},
-                                 {"distance_to_goal", result.distance_to_goal()}, {"elapsed", result.elapsed()},
+                                 {"distance_to_goal", result.distance_to_goal()},
+                                 {"elapsed", result.elapsed()},
                                  {"path_length", result.path_length()}}
                                 .dump()
                                 .c_str());
@@ -510,7 +550,8 @@ int main(int argc, char** argv) {
     if (localizers->parsed()) {
       if (!select_method.empty()) client.SelectMethod(select_method);
       const auto m = client.ListMethods();
-      for (const auto& name : m.methods()) std::printf("%s%s\n", name.c_str(), name == m.selected() ? " (selected)" : "");
+      for (const auto& name : m.methods())
+        std::printf("%s%s\n", name.c_str(), name == m.selected() ? " (selected)" : "");
       return 0;
     }
     follow_options.dds_security = explore_options.dds_security = dds_security;
@@ -534,7 +575,9 @@ int main(int argc, char** argv) {
     if (status->parsed()) {
       const auto s = client.GetStatus();
       if (json_out) {
-        std::printf("%s\n", json{{"state", StateText(s.state())}, {"active", s.active()}, {"goal", PoseJson(s.goal())},
+        std::printf("%s\n", json{{"state", StateText(s.state())},
+                                 {"active", s.active()},
+                                 {"goal", PoseJson(s.goal())},
                                  {"pose", PoseJson(s.feedback().pose())},
                                  {"distance_remaining", s.feedback().distance_remaining()},
                                  {"sensors_stale", s.sensors_stale()}}
@@ -593,14 +636,18 @@ int main(int argc, char** argv) {
     if (map->parsed()) {
       const auto m = client.GetMap(true).info();
       if (json_out) {
-        std::printf("%s\n", json{{"name", m.name()}, {"width", m.width()}, {"height", m.height()},
-                                 {"resolution", m.resolution()}, {"origin", PoseJson(m.origin())},
+        std::printf("%s\n", json{{"name", m.name()},
+                                 {"width", m.width()},
+                                 {"height", m.height()},
+                                 {"resolution", m.resolution()},
+                                 {"origin", PoseJson(m.origin())},
                                  {"version", m.version()}}
                                 .dump()
                                 .c_str());
       } else {
         std::printf("map '%s': %ux%u cells at %.3f m, origin (%.2f, %.2f), version %lu\n", m.name().c_str(), m.width(),
-                    m.height(), m.resolution(), m.origin().x(), m.origin().y(), static_cast<unsigned long>(m.version()));
+                    m.height(), m.resolution(), m.origin().x(), m.origin().y(),
+                    static_cast<unsigned long>(m.version()));
       }
       return 0;
     }
@@ -614,31 +661,39 @@ int main(int argc, char** argv) {
     if (mapping_cmd->parsed()) {
       navd::v1::MappingStatus st;
       if (mapping_action == "start") {
-        st = client.StartMapping(mapping_mode == "slam" ? navd::v1::MAPPING_MODE_SLAM : navd::v1::MAPPING_MODE_KNOWN_POSES,
-                                 mapping_resolution, mapping_size);
+        st = client.StartMapping(
+            mapping_mode == "slam" ? navd::v1::MAPPING_MODE_SLAM : navd::v1::MAPPING_MODE_KNOWN_POSES,
+            mapping_resolution, mapping_size);
       } else if (mapping_action == "stop") {
         st = client.StopMapping(mapping_serve);
       } else {
         st = client.GetMappingStatus();
       }
       if (json_out) {
-        std::printf("%s\n", json{{"exists", st.exists()}, {"active", st.active()},
-                                  {"mode", st.mode() == navd::v1::MAPPING_MODE_SLAM ? "slam" : "known_poses"},
-                                  {"scans", st.scans()}, {"dropped_scans", st.dropped_scans()}, {"nodes", st.nodes()},
-                                  {"loop_closures", st.loop_closures()}, {"pose", PoseJson(st.pose())},
-                                  {"width", st.info().width()}, {"height", st.info().height()},
-                                  {"resolution", st.info().resolution()}, {"version", st.version()}}
-                                 .dump()
-                                 .c_str());
+        std::printf("%s\n", json{{"exists", st.exists()},
+                                 {"active", st.active()},
+                                 {"mode", st.mode() == navd::v1::MAPPING_MODE_SLAM ? "slam" : "known_poses"},
+                                 {"scans", st.scans()},
+                                 {"dropped_scans", st.dropped_scans()},
+                                 {"nodes", st.nodes()},
+                                 {"loop_closures", st.loop_closures()},
+                                 {"pose", PoseJson(st.pose())},
+                                 {"width", st.info().width()},
+                                 {"height", st.info().height()},
+                                 {"resolution", st.info().resolution()},
+                                 {"version", st.version()}}
+                                .dump()
+                                .c_str());
       } else if (!st.exists()) {
         std::printf("no mapping run yet\n");
       } else {
-        std::printf("mapping %s (%s): %lu scans (%lu dropped), %u nodes, %u loop closures, %ux%u cells at %.3f m, "
-                    "pose (%.2f, %.2f, %.2f)\n",
-                    st.active() ? "active" : "stopped", st.mode() == navd::v1::MAPPING_MODE_SLAM ? "slam" : "known poses",
-                    static_cast<unsigned long>(st.scans()), static_cast<unsigned long>(st.dropped_scans()), st.nodes(),
-                    st.loop_closures(), st.info().width(), st.info().height(), st.info().resolution(), st.pose().x(),
-                    st.pose().y(), st.pose().theta());
+        std::printf(
+            "mapping %s (%s): %lu scans (%lu dropped), %u nodes, %u loop closures, %ux%u cells at %.3f m, "
+            "pose (%.2f, %.2f, %.2f)\n",
+            st.active() ? "active" : "stopped", st.mode() == navd::v1::MAPPING_MODE_SLAM ? "slam" : "known poses",
+            static_cast<unsigned long>(st.scans()), static_cast<unsigned long>(st.dropped_scans()), st.nodes(),
+            st.loop_closures(), st.info().width(), st.info().height(), st.info().resolution(), st.pose().x(),
+            st.pose().y(), st.pose().theta());
       }
       return 0;
     }

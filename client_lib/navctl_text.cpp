@@ -30,5 +30,4 @@ const char* StateText(v1::NavigationState s) {
   }
 }
 
-
 }  // namespace navd::navctl

@@ -43,8 +43,7 @@ std::shared_ptr<grpc::ChannelCredentials> ChannelCredentials(const ClientOptions
 
 }  // namespace
 
-Client::Client(const ClientOptions& options)
-    : options_(options) {
+Client::Client(const ClientOptions& options) : options_(options) {
   grpc::ChannelArguments arguments;
   if (!options.tls_server_name.empty()) arguments.SetSslTargetNameOverride(options.tls_server_name);
   channel_ = grpc::CreateCustomChannel(options.server, ChannelCredentials(options), arguments);
@@ -57,9 +56,9 @@ Client::Client(const ClientOptions& options)
 
 void Client::Prepare(grpc::ClientContext& context, double timeout) const {
   if (timeout > 0) {
-    context.set_deadline(std::chrono::system_clock::now() +
-                         std::chrono::duration_cast<std::chrono::system_clock::duration>(
-                             std::chrono::duration<double>(timeout)));
+    context.set_deadline(
+        std::chrono::system_clock::now() +
+        std::chrono::duration_cast<std::chrono::system_clock::duration>(std::chrono::duration<double>(timeout)));
   }
 }
 
@@ -228,7 +227,8 @@ v1::MapInfo Client::LoadMap(const std::string& path) {
   return Call(*mapping_, &v1::MappingService::Stub::LoadMap, req).info();
 }
 
-v1::NavigationResult Client::ReadMission(grpc::ClientContext&, grpc::ClientReaderInterface<v1::NavigateToResponse>& reader,
+v1::NavigationResult Client::ReadMission(grpc::ClientContext&,
+                                         grpc::ClientReaderInterface<v1::NavigateToResponse>& reader,
                                          const FeedbackCallback& on_feedback, double timeout,
                                          const ScheduleCallback& on_schedule) const {
   v1::NavigateToResponse msg;
@@ -241,8 +241,8 @@ v1::NavigationResult Client::ReadMission(grpc::ClientContext&, grpc::ClientReade
   const grpc::Status s = reader.Finish();
   if (!s.ok()) {
     if (s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED) {
-      throw ClientError(s.error_code(), "navigation did not finish within " + std::to_string(timeout) +
-                                            " s; navd cancelled the goal");
+      throw ClientError(s.error_code(),
+                        "navigation did not finish within " + std::to_string(timeout) + " s; navd cancelled the goal");
     }
     Fail(s);
   }

@@ -34,7 +34,7 @@ struct ClientOptions {
       : server(std::move(server_address)), timeout(deadline) {}
 
   std::string server;
-  double timeout;   // default deadline of unary calls, seconds
+  double timeout;  // default deadline of unary calls, seconds
   // TLS is on when tls_ca or tls_cert is set. tls_ca: PEM CA that signed navd's certificate
   // (empty: the system's roots); tls_cert + tls_key: this client's certificate, for mutual TLS.
   std::string tls_ca;
@@ -140,7 +140,8 @@ class Client {
       }
     }
     const grpc::Status s = reader.Finish();
-    if (!s.ok() && s.error_code() != grpc::StatusCode::CANCELLED && s.error_code() != grpc::StatusCode::DEADLINE_EXCEEDED)
+    if (!s.ok() && s.error_code() != grpc::StatusCode::CANCELLED &&
+        s.error_code() != grpc::StatusCode::DEADLINE_EXCEEDED)
       Fail(s);
   }
   [[noreturn]] void Fail(const grpc::Status& status) const;

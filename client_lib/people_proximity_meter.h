@@ -15,8 +15,8 @@
 namespace navd {
 
 struct ProximityFigures {
-  double time = 0.0;                 // s judged (with at least one person in the world)
-  double outside_personal = 1.0;     // share of `time`
+  double time = 0.0;              // s judged (with at least one person in the world)
+  double outside_personal = 1.0;  // share of `time`
   double outside_intimate = 1.0;
   double nearest = std::numeric_limits<double>::infinity();  // m, the closest approach
   size_t samples = 0;

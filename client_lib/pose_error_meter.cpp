@@ -15,12 +15,15 @@ constexpr double kTruthKept = 5.0;  // s of truth history
 void PoseErrorMeter::AddTruth(double stamp, const Pose2& truth) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!truth_.empty() && stamp <= truth_.back().first) {
-    if (stamp < truth_.back().first - 1.0) truth_.clear();  // the simulator restarted
-    else return;
+    if (stamp < truth_.back().first - 1.0)
+      truth_.clear();  // the simulator restarted
+    else
+      return;
   }
-  const double travelled = odometer_.empty() || truth_.empty()
-                              ? 0.0
-                              : odometer_.back().second + Distance(truth.translation(), truth_.back().second.translation());
+  const double travelled =
+      odometer_.empty() || truth_.empty()
+          ? 0.0
+          : odometer_.back().second + Distance(truth.translation(), truth_.back().second.translation());
   odometer_.emplace_back(stamp, travelled);
   truth_.emplace_back(stamp, truth);
   while (truth_.front().first < stamp - kTruthKept) truth_.pop_front();
@@ -54,8 +57,8 @@ void PoseErrorMeter::MatchLocked() {
       const double s = tb > ta ? (stamp - ta) / (tb - ta) : 1.0;
       truth = Interpolate(a, b, s);
     }
-    errors_.push_back({stamp, Distance(est.translation(), truth.translation()),
-                       std::abs(NormalizeAngle(est.theta - truth.theta))});
+    errors_.push_back(
+        {stamp, Distance(est.translation(), truth.translation()), std::abs(NormalizeAngle(est.theta - truth.theta))});
   }
 }
 
@@ -104,7 +107,8 @@ MeasuredRun StartMeasuring(PoseErrorMeter& meter, const dds::ParticipantOptions&
       [&meter](const geometry_msgs::msg::dds_::PoseWithCovarianceStamped_& m) {
         meter.AddEstimate(dds::FromTime(m.header().stamp()), dds::FromPose(m.pose().pose()));
       },
-      proximity ? Telemetry::WorldCallback([proximity](const navsim_msgs::msg::dds_::WorldState_& w) { proximity->AddWorld(w); })
+      proximity ? Telemetry::WorldCallback(
+                      [proximity](const navsim_msgs::msg::dds_::WorldState_& w) { proximity->AddWorld(w); })
                 : Telemetry::WorldCallback{});
   const auto before = run.telemetry->WaitForSimStatus(10.0);
   if (!before) {

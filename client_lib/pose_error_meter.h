@@ -18,10 +18,10 @@ namespace navd {
 
 struct PoseErrorFigures {
   size_t samples = 0;
-  double mean_position = 0.0;   // m
-  double max_position = 0.0;    // m
-  double rms_position = 0.0;    // m
-  double mean_heading = 0.0;    // rad, absolute
+  double mean_position = 0.0;  // m
+  double max_position = 0.0;   // m
+  double rms_position = 0.0;   // m
+  double mean_heading = 0.0;   // rad, absolute
 };
 
 class PoseErrorMeter {
@@ -39,12 +39,12 @@ class PoseErrorMeter {
   void MatchLocked();
 
   mutable std::mutex mutex_;
-  std::deque<std::pair<double, Pose2>> truth_;     // by stamp, a few seconds
-  std::deque<std::pair<double, Pose2>> pending_;   // estimates newer than the newest truth
+  std::deque<std::pair<double, Pose2>> truth_;    // by stamp, a few seconds
+  std::deque<std::pair<double, Pose2>> pending_;  // estimates newer than the newest truth
   struct Sample {
     double stamp, position, heading;
   };
-  std::vector<Sample> errors_;  // per matched estimate
+  std::vector<Sample> errors_;                       // per matched estimate
   std::vector<std::pair<double, double>> odometer_;  // (stamp, true path length so far)
   double from_ = -1e300, to_ = 1e300;
 };

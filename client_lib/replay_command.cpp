@@ -102,7 +102,8 @@ double BackWithin(const std::vector<std::pair<double, double>>& errors, double f
   for (size_t i = 0; i < errors.size(); ++i) {
     if (errors[i].first < from || errors[i].second > within) continue;
     std::vector<double> next;
-    for (size_t j = i; j < errors.size() && errors[j].first <= errors[i].first + hold; ++j) next.push_back(errors[j].second);
+    for (size_t j = i; j < errors.size() && errors[j].first <= errors[i].first + hold; ++j)
+      next.push_back(errors[j].second);
     std::nth_element(next.begin(), next.begin() + next.size() / 2, next.end());
     if (next[next.size() / 2] <= within) return errors[i].first;
   }
@@ -153,9 +154,10 @@ void ParseDisturbance(const std::string& flag, const std::string& text, Disturba
   char tail = 0;
   if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &t, &dx, &dy, &tail) != 3 || !std::isfinite(t) || !std::isfinite(dx) ||
       !std::isfinite(dy) || t < 0.0)
-    throw std::runtime_error(flag + " must be T,DX,DY: seconds of log time (>= 0) and metres in the robot's frame, got '" +
-                             text + "'");
-  if (options->disturbance != Disturbance::kNone) throw std::runtime_error(flag + ": one of --kidnap and --slip at a time");
+    throw std::runtime_error(
+        flag + " must be T,DX,DY: seconds of log time (>= 0) and metres in the robot's frame, got '" + text + "'");
+  if (options->disturbance != Disturbance::kNone)
+    throw std::runtime_error(flag + ": one of --kidnap and --slip at a time");
   options->disturbance = kind;
   options->disturb_at = t;
   options->disturb_dx = dx;
@@ -171,7 +173,9 @@ int RunReplay(const ReplayOptions& o) {
   if (log.scans.size() < 2) throw std::runtime_error(o.log + ": fewer than two laser scans to replay");
   std::vector<Pose2> odometry = NoisyOdometryAtScans(log, noise, o.seed);  // by the log's own stamps
   if (PaceScansWhenStampsAreCoarse(log)) {
-    std::printf("replay: the log's scan stamps are too coarse to time by; scans paced from its odometry (0.5 m/s, 0.5 rad/s)\n");
+    std::printf(
+        "replay: the log's scan stamps are too coarse to time by; scans paced from its odometry (0.5 m/s, 0.5 "
+        "rad/s)\n");
   }
   const bool disturbed = o.disturbance != Disturbance::kNone;
   if (disturbed && o.disturb_at >= log.scans.back().timestamp - log.scans.front().timestamp)
@@ -187,9 +191,10 @@ int RunReplay(const ReplayOptions& o) {
   popts.name = "navctl-replay";
   popts.security_enclave = o.dds_security;
   dds::Participant participant(popts);
-  dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock(participant, dds::kClock, dds::Reliability::kBestEffort, 1);
-  dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> odom(
-      participant, dds::TopicName(o.robot_namespace, dds::kOdom), dds::Reliability::kBestEffort, 5);
+  dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock(participant, dds::kClock, dds::Reliability::kBestEffort,
+                                                                1);
+  dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> odom(participant, dds::TopicName(o.robot_namespace, dds::kOdom),
+                                                             dds::Reliability::kBestEffort, 5);
   dds::Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(
       participant, dds::TopicName(o.robot_namespace, dds::kScan), dds::Reliability::kBestEffort, 5);
   std::mutex mutex;
@@ -258,7 +263,9 @@ int RunReplay(const ReplayOptions& o) {
   if (disturbed) lost_watch = std::make_unique<LostWatch>(o.server, t0 + o.disturb_at, log_time);
   const double tick = std::max(1.0 / kTicksPerLogSecond, o.rate / kMaxTicksPerWallSecond);
   const auto wall0 = Clock::now();
-  auto pace = [&](double t) { std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((t - t0) / o.rate)); };
+  auto pace = [&](double t) {
+    std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((t - t0) / o.rate));
+  };
   size_t next = 1;  // scan 0 was "published" as the starting pose; it is sent below at t0
   publish_scan(log.scans.front());
   for (double t = t0 + tick; next < log.scans.size();) {
@@ -305,7 +312,8 @@ int RunReplay(const ReplayOptions& o) {
     const CarmenScan& a = log.scans[k - 1];
     const CarmenScan& b = log.scans[k];
     const double span = b.timestamp - a.timestamp;
-    const Pose2 truth = Interpolate(a.pose, b.pose, span > 0 ? std::clamp((p.stamp - a.timestamp) / span, 0.0, 1.0) : 1.0);
+    const Pose2 truth =
+        Interpolate(a.pose, b.pose, span > 0 ? std::clamp((p.stamp - a.timestamp) / span, 0.0, 1.0) : 1.0);
     const double ep = std::hypot(p.pose.x - truth.x, p.pose.y - truth.y);
     const double eh = std::abs(NormalizeAngle(p.pose.theta - truth.theta));
     sq_pos += ep * ep;
@@ -336,16 +344,18 @@ int RunReplay(const ReplayOptions& o) {
     const double lost = lost_watch->first_lost();
     const std::string what =
         o.disturbance == Disturbance::kKidnap
-            ? "carried " + Format("%.2f", plan.moved) + " m at " + Seconds(log.scans[plan.pick].timestamp - t0) + " s (" +
-                  std::to_string(plan.drop - plan.pick - 1) + " scans over " +
-                  Seconds(log.scans[plan.drop].timestamp - log.scans[plan.pick].timestamp) + " s unseen, odometry still)"
+            ? "carried " + Format("%.2f", plan.moved) + " m at " + Seconds(log.scans[plan.pick].timestamp - t0) +
+                  " s (" + std::to_string(plan.drop - plan.pick - 1) + " scans over " +
+                  Seconds(log.scans[plan.drop].timestamp - log.scans[plan.pick].timestamp) +
+                  " s unseen, odometry still)"
             : "odometry slipped " + Format("%.2f", plan.moved) + " m at " + Seconds(o.disturb_at) + " s";
     std::printf("%s: %s; navd %s; worst error after %.2f m; %s\n",
                 o.disturbance == Disturbance::kKidnap ? "kidnap" : "slip", what.c_str(),
                 lost >= 0.0 ? ("declared the pose lost " + Seconds(lost - plan.shown) + " s later").c_str()
                             : "never declared the pose lost",
-                peak, back >= 0.0 ? ("back within 0.1 m " + Seconds(back - plan.shown) + " s after it").c_str()
-                                  : "never back within 0.1 m");
+                peak,
+                back >= 0.0 ? ("back within 0.1 m " + Seconds(back - plan.shown) + " s after it").c_str()
+                            : "never back within 0.1 m");
   }
   return 0;
 }

@@ -22,25 +22,25 @@ namespace navd::navctl {
 enum class Disturbance { kNone, kKidnap, kSlip };
 
 struct ReplayOptions {
-  std::string log;                      // CARMEN log, plain or .gz
-  double rate = 10.0;                   // log seconds per wall second
-  int domain = 0;                       // navd's DDS domain
-  std::string dds_security;             // DDS Security enclave (navctl --dds-security); empty: none
+  std::string log;           // CARMEN log, plain or .gz
+  double rate = 10.0;        // log seconds per wall second
+  int domain = 0;            // navd's DDS domain
+  std::string dds_security;  // DDS Security enclave (navctl --dds-security); empty: none
   std::string robot_namespace;
   std::string server = "127.0.0.1:50051";  // navd's gRPC, to set the first pose ("" to skip)
   std::string odom_noise = "0.05,0.035";
   uint64_t seed = 1;
-  int max_scans = 0;                    // 0: the whole log
-  double range_max = 15.0;              // m: beams are cut here, as navd-replay's map builder cuts them
-  double wait = 10.0;                   // s for navd's DDS readers to appear
-  std::string out;                      // TUM file of navd's poses ("" for none)
-  bool strict = false;                  // stop at the first malformed log line
+  int max_scans = 0;        // 0: the whole log
+  double range_max = 15.0;  // m: beams are cut here, as navd-replay's map builder cuts them
+  double wait = 10.0;       // s for navd's DDS readers to appear
+  std::string out;          // TUM file of navd's poses ("" for none)
+  bool strict = false;      // stop at the first malformed log line
   // A disturbance `disturb_at` s of log time after the first scan (see Disturbance).
   Disturbance disturbance = Disturbance::kNone;
-  double disturb_at = 0.0;                  // s
+  double disturb_at = 0.0;                    // s
   double disturb_dx = 0.0, disturb_dy = 0.0;  // m
-  double slip_ramp = 1.0;                   // s
-  double carry_tolerance = 0.5;             // m: the farthest a drop-off place may be from (dx, dy)
+  double slip_ramp = 1.0;                     // s
+  double carry_tolerance = 0.5;               // m: the farthest a drop-off place may be from (dx, dy)
 };
 
 // "T,DX,DY" (the value of `flag`) into the options' disturbance fields as `kind`; throws

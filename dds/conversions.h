@@ -63,8 +63,8 @@ inline Eigen::Matrix3d FromCovariance6(const std::array<double, 36>& c) {
 
 // nav_msgs/Odometry of a planar pose and body twist (vx forward, vy left, omega), child base_link.
 inline nav_msgs::msg::dds_::Odometry_ MakeOdometry(double seconds, const Pose2& pose, double vx, double vy,
-                                                    double omega, const Eigen::Matrix3d& covariance,
-                                                    const std::string& frame) {
+                                                   double omega, const Eigen::Matrix3d& covariance,
+                                                   const std::string& frame) {
   nav_msgs::msg::dds_::Odometry_ m;
   m.header(MakeHeader(seconds, frame));
   m.child_frame_id("base_link");

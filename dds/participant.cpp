@@ -116,7 +116,8 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
     throw std::invalid_argument("DDS domain " + std::to_string(options.domain) + " is outside 0..232");
   }
   participant_ = DomainParticipantFactory::get_instance()->create_participant(options.domain, MakeQos(options));
-  if (!participant_) throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(options.domain));
+  if (!participant_)
+    throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(options.domain));
   publisher_ = participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
   if (!publisher_ || !subscriber_) throw std::runtime_error("cannot create DDS publisher/subscriber");
@@ -145,7 +146,8 @@ Topic* Participant::TopicFor(const std::string& name, TypeSupport& type) {
 // is killed). Our samples are small and few, so the transport's copy costs nothing that matters.
 template <typename Qos>
 Qos EndpointQos(Qos qos, Reliability reliability, int depth) {
-  qos.reliability().kind = reliability == Reliability::kReliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
+  qos.reliability().kind =
+      reliability == Reliability::kReliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
   qos.history().kind = KEEP_LAST_HISTORY_QOS;
   qos.history().depth = depth;
   qos.durability().kind = VOLATILE_DURABILITY_QOS;

@@ -131,8 +131,8 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener {
   Reader(Participant& participant, const std::string& topic, Reliability reliability, Callback callback = {},
          int depth = 10)
       : participant_(participant), callback_(std::move(callback)) {
-    reader_ = participant.CreateReader(topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()), reliability,
-                                       depth, this);
+    reader_ = participant.CreateReader(topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()), reliability, depth,
+                                       this);
   }
   // Must go before its Participant. Deleting the reader waits for a running callback.
   ~Reader() override { participant_.DeleteReader(reader_); }

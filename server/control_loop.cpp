@@ -16,12 +16,18 @@ constexpr int kZeroCommandsAfterGoal = 5;
 ControlLoop::ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
                          localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive,
                          mapping::MapBuilder& map_builder)
-    : options_(options), clock_(clock), bridge_(bridge), localizer_(localizer), executive_(executive),
+    : options_(options),
+      clock_(clock),
+      bridge_(bridge),
+      localizer_(localizer),
+      executive_(executive),
       map_builder_(map_builder) {}
 
 ControlLoop::~ControlLoop() { Stop(); }
 
-void ControlLoop::Start() { thread_ = std::thread([this] { Run(); }); }
+void ControlLoop::Start() {
+  thread_ = std::thread([this] { Run(); });
+}
 
 void ControlLoop::Stop() {
   if (stop_.exchange(true)) return;  // already stopped
@@ -83,14 +89,16 @@ void ControlLoop::LogCrowdPlan(const WheelSpeeds& wheels, double now) {
   const std::vector<Point2> ahead = executive_.navigator().PathAhead(executive_.crowd().options().lookahead);
   const Point2 path_end = ahead.empty() ? pose.translation() : ahead.back();
   const Point2 plan_end = plan.states.empty() ? pose.translation() : plan.states.back().position();
-  spdlog::debug("t={:.2f}s crowd plan {} at ({:.2f}, {:.2f}, {:.2f}): {} {:.2f} s to ({:.2f}, {:.2f}) for the path's "
-                "({:.2f}, {:.2f}), cost {:.1f}, {} vertices; command {:.2f} m/s {:.2f} rad/s{}; {} people, nearest {}",
-                now, crowd_plans_seen_, pose.x, pose.y, pose.theta,
-                plan.escape ? "escape" : plan.braking ? "braking" : "driving",
-                plan.states.empty() ? 0.0 : plan.states.back().t, plan_end.x(), plan_end.y(), path_end.x(), path_end.y(),
-                plan.cost, plan.tree_size,
-                0.5 * (wheels.left + wheels.right), (wheels.right - wheels.left) / options_.wheel_base,
-                executive_.crowd_steering() ? "" : " (not the crowd controller's)", people.size(), nearest);
+  spdlog::debug(
+      "t={:.2f}s crowd plan {} at ({:.2f}, {:.2f}, {:.2f}): {} {:.2f} s to ({:.2f}, {:.2f}) for the path's "
+      "({:.2f}, {:.2f}), cost {:.1f}, {} vertices; command {:.2f} m/s {:.2f} rad/s{}; {} people, nearest {}",
+      now, crowd_plans_seen_, pose.x, pose.y, pose.theta,
+      plan.escape    ? "escape"
+      : plan.braking ? "braking"
+                     : "driving",
+      plan.states.empty() ? 0.0 : plan.states.back().t, plan_end.x(), plan_end.y(), path_end.x(), path_end.y(),
+      plan.cost, plan.tree_size, 0.5 * (wheels.left + wheels.right), (wheels.right - wheels.left) / options_.wheel_base,
+      executive_.crowd_steering() ? "" : " (not the crowd controller's)", people.size(), nearest);
 }
 
 void ControlLoop::StaleTick(double now) {
@@ -105,8 +113,8 @@ void ControlLoop::Tick(uint64_t tick, double now) {
     localizer_.AddOdometry(*odom);
     if (localizer_.odometry_jumps() != odometry_jumps_seen_) {
       odometry_jumps_seen_ = localizer_.odometry_jumps();
-      spdlog::warn("odometry jumped to ({:.2f}, {:.2f}, {:.2f}) at t={:.2f}s: taken as no motion (jump {})", odom->pose.x,
-                   odom->pose.y, odom->pose.theta, odom->stamp, odometry_jumps_seen_);
+      spdlog::warn("odometry jumped to ({:.2f}, {:.2f}, {:.2f}) at t={:.2f}s: taken as no motion (jump {})",
+                   odom->pose.x, odom->pose.y, odom->pose.theta, odom->stamp, odometry_jumps_seen_);
     }
   }
   std::optional<localization::ScanReading> scan;  // the scan that arrived since the last tick
@@ -166,10 +174,11 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   if (spdlog::should_log(spdlog::level::trace)) {
     // Every tick's command, with what it came from, to set beside navsim's trace of the truth.
     const localization::PoseEstimate e = localizer_.Estimate();
-    spdlog::trace("t={:.2f}s tick at ({:.3f}, {:.3f}, {:.3f}): wheels {:.3f} {:.3f} m/s, {}, state {}{}{}{}", now, e.pose.x,
-                  e.pose.y, e.pose.theta, wheels.left, wheels.right,
-                  executive_.crowd_steering() ? "crowd controller" : "navigator", navigation::NavigationStateName(status.feedback.state),
-                  inputs.contact ? ", bumper pressed" : "", status.hold_reason.empty() ? "" : ": ", status.hold_reason);
+    spdlog::trace("t={:.2f}s tick at ({:.3f}, {:.3f}, {:.3f}): wheels {:.3f} {:.3f} m/s, {}, state {}{}{}{}", now,
+                  e.pose.x, e.pose.y, e.pose.theta, wheels.left, wheels.right,
+                  executive_.crowd_steering() ? "crowd controller" : "navigator",
+                  navigation::NavigationStateName(status.feedback.state), inputs.contact ? ", bumper pressed" : "",
+                  status.hold_reason.empty() ? "" : ": ", status.hold_reason);
   }
   if (status.feedback.behaviour != behaviour_ || status.hold_reason != hold_reason_) {
     // Why the robot does what it does, in the log as well as in the telemetry.
@@ -185,7 +194,8 @@ void ControlLoop::Tick(uint64_t tick, double now) {
     spdlog::info("t={:.2f}s pose {}: the scans fit the map at {:.2f}, position spread {:.2f} m", now,
                  was_lost_ ? "lost" : "found again", e.quality, e.PositionSpread());
   }
-  if (spdlog::should_log(spdlog::level::debug) && executive_.crowd().plans() != crowd_plans_seen_) LogCrowdPlan(wheels, now);
+  if (spdlog::should_log(spdlog::level::debug) && executive_.crowd().plans() != crowd_plans_seen_)
+    LogCrowdPlan(wheels, now);
   was_searching_ = executive_.searching();
   if (status.active || was_searching_) {
     bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));

@@ -13,9 +13,9 @@
 namespace navd::server {
 
 struct ControlLoopOptions {
-  double rate = 20.0;            // Hz
-  double sensor_timeout = 0.3;   // s
-  double wheel_base = 0.33;      // m, to turn wheel speeds into a twist
+  double rate = 20.0;           // Hz
+  double sensor_timeout = 0.3;  // s
+  double wheel_base = 0.33;     // m, to turn wheel speeds into a twist
 };
 
 class ControlLoop {
@@ -52,7 +52,7 @@ class ControlLoop {
   int zero_commands_left_ = 0;
   uint64_t scans_seen_ = 0;
   uint64_t people_seen_ = 0;
-  double people_stamp_ = -1.0;  // of the last people report handed on
+  double people_stamp_ = -1.0;           // of the last people report handed on
   std::string behaviour_, hold_reason_;  // at the last tick, to log changes
   uint64_t crowd_plans_seen_ = 0;        // the crowd controller's plans already in the debug log
 };

@@ -70,8 +70,8 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   planning.CurrentCostmap();  // built now rather than on the first request
 
   if (!map->grid.ContainsPoint(initial_pose.translation())) {
-    throw Error(ErrorCode::kInvalidArgument, "initial pose " + FormatPoint(initial_pose.translation()) +
-                                                 " lies outside the map");
+    throw Error(ErrorCode::kInvalidArgument,
+                "initial pose " + FormatPoint(initial_pose.translation()) + " lies outside the map");
   }
   // Every localiser runs; --localizer (or SelectMethod) picks the one that answers.
   mapping::MapBuilder map_builder;
@@ -120,7 +120,7 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   if (o.people_source == "topic" && !o.people_aware)
     spdlog::warn("navd: --people-source topic has no effect without --people-aware");
   people.source = o.people_source == "topic" ? navigation::PeopleAwareOptions::Source::kReports
-                                              : navigation::PeopleAwareOptions::Source::kLaser;
+                                             : navigation::PeopleAwareOptions::Source::kLaser;
   planning::UnicycleLimits& limits = people.control.limits;
   if (robot.drive == DriveType::kUnicycle) {
     limits = {robot.max_speed, robot.max_angular_speed, robot.max_accel, robot.max_angular_accel};
@@ -144,7 +144,8 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
 
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr,
-                   o.rear_range_frame, !o.sonar_reflexes             ? std::vector<double>{}
+                   o.rear_range_frame,
+                   !o.sonar_reflexes        ? std::vector<double>{}
                    : o.sonar_angles.empty() ? PioneerSonarAngles()
                                             : o.sonar_angles,
                    o.people_aware && o.people_source == "topic");
@@ -159,11 +160,12 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   // Exploration goals a little deeper in free space than the planners' inflation: SLAM poses err
   // by a few centimetres.
   exploring.exploration.clearance = robot.radius + o.inflation_margin + 0.05;
-  mapping::MappingService mapping_service(maps, map_builder, explorer, exploring, [&localizer]() -> std::optional<Pose2> {
-    const localization::PoseEstimate e = localizer.Estimate();
-    if (!e.valid) return std::nullopt;
-    return e.pose;
-  });
+  mapping::MappingService mapping_service(maps, map_builder, explorer, exploring,
+                                          [&localizer]() -> std::optional<Pose2> {
+                                            const localization::PoseEstimate e = localizer.Estimate();
+                                            if (!e.valid) return std::nullopt;
+                                            return e.pose;
+                                          });
   navigation::NavigationService navigation_service(executive);
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -177,7 +179,8 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || port == 0) {
     throw Error(ErrorCode::kUnavailable,
-                "cannot listen on " + o.listen + " (address in use or invalid, or a TLS key that does not match its certificate)");
+                "cannot listen on " + o.listen +
+                    " (address in use or invalid, or a TLS key that does not match its certificate)");
   }
   auto* health = server->GetHealthCheckService();
   for (const char* name : {"", "navd.v1.PlanningService", "navd.v1.LocalizationService", "navd.v1.MappingService",
@@ -191,9 +194,10 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   spdlog::info("navd: listening on {}:{} ({}), DDS domain {}, {} clock", host, port, grpc_security.Describe(),
                o.dds.domain, o.use_sim_time ? "simulated (rt/clock)" : "system");
   if (grpc_security.warns_plain_text_beyond_loopback()) {
-    spdlog::warn("navd: --insecure: gRPC in plain text on {}, without authentication: anyone who reaches the port "
-                 "can drive the robot",
-                 o.listen);
+    spdlog::warn(
+        "navd: --insecure: gRPC in plain text on {}, without authentication: anyone who reaches the port "
+        "can drive the robot",
+        o.listen);
   }
 
   while (!signals.stop) {

@@ -16,8 +16,8 @@ namespace navd::server {
 using dds::Reliability;
 
 DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& ns, SimClock* sim_clock,
-                     const Clock& arrival_clock, const RobotDescription* encoders,
-                     const std::string& rear_range_frame, const std::vector<double>& sonar_angles, bool people)
+                     const Clock& arrival_clock, const RobotDescription* encoders, const std::string& rear_range_frame,
+                     const std::vector<double>& sonar_angles, bool people)
     : participant_(options), arrival_clock_(arrival_clock) {
   if (encoders) {
     wheel_odometry_ = std::make_unique<localization::WheelOdometry>(*encoders);
@@ -67,8 +67,8 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
           // REP 117: +inf (or anything past max_range) is "nothing in range", -inf and readings at
           // min_range (a Sharp IR's 0.1 m) something that close or closer; NaN says nothing.
           if (std::isnan(m.range())) return;
-          double r = m.range() == -std::numeric_limits<float>::infinity() ? 0.0
-                                                                           : std::min<double>(m.range(), m.max_range());
+          double r =
+              m.range() == -std::numeric_limits<float>::infinity() ? 0.0 : std::min<double>(m.range(), m.max_range());
           if (r <= m.min_range()) r = 0.0;
           rear_range_ = r;
           last_rear_arrival_ = arrival_clock_.Now();
@@ -151,7 +151,8 @@ std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
   if (!bad.empty()) {
     // Said on the first bad scan and every tenfold after, not at the laser's rate.
     const int n = ++bad_scans_;
-    if (n == 1 || n == 10 || n == 100 || n % 1000 == 0) spdlog::warn("{}: scan ignored ({} so far): {}", scan_topic_, n, bad);
+    if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
+      spdlog::warn("{}: scan ignored ({} so far): {}", scan_topic_, n, bad);
     return std::nullopt;
   }
   localization::ScanReading s;

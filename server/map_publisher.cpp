@@ -6,12 +6,18 @@ namespace navd::server {
 
 MapPublisher::MapPublisher(DdsBridge& bridge, const MapStore& maps, const mapping::MapBuilder& builder,
                            const Clock& clock, double building_period, double served_period)
-    : bridge_(bridge), maps_(maps), builder_(builder), clock_(clock), building_period_(building_period),
+    : bridge_(bridge),
+      maps_(maps),
+      builder_(builder),
+      clock_(clock),
+      building_period_(building_period),
       served_period_(served_period) {}
 
 MapPublisher::~MapPublisher() { Stop(); }
 
-void MapPublisher::Start() { thread_ = std::thread([this] { Run(); }); }
+void MapPublisher::Start() {
+  thread_ = std::thread([this] { Run(); });
+}
 
 void MapPublisher::Stop() {
   {
@@ -33,7 +39,8 @@ void MapPublisher::Run() {
     const auto session = builder_.session();
     if (session && session->status().active) {
       if (now >= next_building) {
-        next_building = now + std::chrono::duration_cast<Steady::duration>(std::chrono::duration<double>(building_period_));
+        next_building =
+            now + std::chrono::duration_cast<Steady::duration>(std::chrono::duration<double>(building_period_));
         bridge_.PublishMap(*session->Map(), clock_.Now());
       }
     } else if (const auto served = maps_.Get(); served && (served->version != served_version || now >= next_served)) {

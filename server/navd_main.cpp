@@ -71,9 +71,10 @@ int main(int argc, char** argv) {
   app.add_option("--crowd-speed", o.crowd_speed, "With --people-aware: the desired speed among people, m/s")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--people-source", o.people_source,
-                 "With --people-aware, where people come from: laser (navd tracks the laser's blobs) or topic "
-                 "(a people detector's people_msgs/People on rt/<ns>/people, base_link frame; navsim's `people` sensor)")
+  app.add_option(
+         "--people-source", o.people_source,
+         "With --people-aware, where people come from: laser (navd tracks the laser's blobs) or topic "
+         "(a people detector's people_msgs/People on rt/<ns>/people, base_link frame; navsim's `people` sensor)")
       ->check(CLI::IsMember({"laser", "topic"}))
       ->capture_default_str();
   std::vector<double> sonar_degrees;

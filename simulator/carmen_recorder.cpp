@@ -53,7 +53,8 @@ void CarmenRecorder::Laser(double t, const LaserDescription& laser, double angle
                            const std::vector<float>& ranges, const Pose2& true_pose, const Pose2& odom_pose, double v,
                            double omega) {
   std::string line = "ROBOTLASER1 0 " + Fixed(angle_min, 6) + " " + Fixed(laser.fov, 6) + " " + Fixed(increment, 8) +
-                     " " + Fixed(laser.range_max, 3) + " " + Fixed(laser.noise, 3) + " 0 " + std::to_string(ranges.size());
+                     " " + Fixed(laser.range_max, 3) + " " + Fixed(laser.noise, 3) + " 0 " +
+                     std::to_string(ranges.size());
   line.reserve(line.size() + ranges.size() * 7 + 200);
   for (float r : ranges) {
     line += ' ';

@@ -13,8 +13,10 @@ Point2 WalkingVelocity(const Person& p) {
 Crowd::Crowd(const CrowdDescription& description, uint64_t seed) : d_(description), rng_(seed) {}
 
 Point2 Crowd::RandomPointInArea(double margin) {
-  std::uniform_real_distribution<double> ux(d_.area.min.x() + margin, std::max(d_.area.min.x() + margin, d_.area.max.x() - margin));
-  std::uniform_real_distribution<double> uy(d_.area.min.y() + margin, std::max(d_.area.min.y() + margin, d_.area.max.y() - margin));
+  std::uniform_real_distribution<double> ux(d_.area.min.x() + margin,
+                                            std::max(d_.area.min.x() + margin, d_.area.max.x() - margin));
+  std::uniform_real_distribution<double> uy(d_.area.min.y() + margin,
+                                            std::max(d_.area.min.y() + margin, d_.area.max.y() - margin));
   const double x = ux(rng_);
   return {x, uy(rng_)};
 }

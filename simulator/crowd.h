@@ -15,29 +15,29 @@
 namespace navd::sim {
 
 struct CrowdDescription {
-  Box area;                          // where people walk, map frame
-  bool street = true;                // street (walk along x, enter/leave at the ends) or room
-  int initial_min = 10;              // people at the start: uniform in [initial_min, initial_max]
+  Box area;              // where people walk, map frame
+  bool street = true;    // street (walk along x, enter/leave at the ends) or room
+  int initial_min = 10;  // people at the start: uniform in [initial_min, initial_max]
   int initial_max = 20;
   int max_people = 40;
-  double arrival_rate = 0.5;         // 1/s, Poisson arrivals
-  double speed_mean = 1.3;           // m/s
-  double speed_std = 0.2;            // m/s
-  double radius = 0.25;              // m
-  double goal_ahead = 10.0;          // m (street)
-  double goal_period_min = 2.0;      // s, goals change after a uniform draw in [min, max]
+  double arrival_rate = 0.5;     // 1/s, Poisson arrivals
+  double speed_mean = 1.3;       // m/s
+  double speed_std = 0.2;        // m/s
+  double radius = 0.25;          // m
+  double goal_ahead = 10.0;      // m (street)
+  double goal_period_min = 2.0;  // s, goals change after a uniform draw in [min, max]
   double goal_period_max = 5.0;
-  double brownian = 0.1;             // m/sqrt(s), std-dev of the random walk added to the motion
-  double spawn_clearance = 1.0;      // m kept from robots when someone appears
+  double brownian = 0.1;         // m/sqrt(s), std-dev of the random walk added to the motion
+  double spawn_clearance = 1.0;  // m kept from robots when someone appears
 };
 
 struct Person {
-  int id = 0;                // body id (Simulation numbers people from kFirstPersonId)
+  int id = 0;  // body id (Simulation numbers people from kFirstPersonId)
   Point2 position = Point2::Zero();
   Point2 velocity = Point2::Zero();  // m/s, measured over the last step
   Point2 goal = Point2::Zero();
-  double speed = 0.0;        // m/s, preferred
-  int direction = 1;         // street: +1 walks towards +x, -1 towards -x
+  double speed = 0.0;  // m/s, preferred
+  int direction = 1;   // street: +1 walks towards +x, -1 towards -x
   double next_goal_change = 0.0;
   double last_goal_change = 0.0;  // s: when they last took a new goal
   double last_step_aside = -1e9;  // s: when another person in their way last made them step aside

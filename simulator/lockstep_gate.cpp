@@ -29,7 +29,8 @@ bool LockstepGate::AllowedLocked(double t) const {
 
 std::vector<size_t> LockstepGate::WaitUntilAllowed(double t, const std::function<void()>& while_held) {
   using Clock = std::chrono::steady_clock;
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_));
+  const auto deadline =
+      Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_));
   const auto repeat = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kRepeatPeriod));
   std::unique_lock<std::mutex> lock(mutex_);
   std::vector<size_t> released;
@@ -44,7 +45,8 @@ std::vector<size_t> LockstepGate::WaitUntilAllowed(double t, const std::function
       }
       break;
     }
-    if (cv_.wait_until(lock, while_held ? std::min(deadline, now + repeat) : deadline, [&] { return AllowedLocked(t); }))
+    if (cv_.wait_until(lock, while_held ? std::min(deadline, now + repeat) : deadline,
+                       [&] { return AllowedLocked(t); }))
       break;
     if (while_held && Clock::now() < deadline) {
       lock.unlock();

@@ -48,7 +48,7 @@ class LockstepGate {
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   struct Controller {
-    bool held = true;        // at first: until it reports
+    bool held = true;  // at first: until it reports
     double next_tick = -std::numeric_limits<double>::infinity();
   };
   std::vector<Controller> controllers_;

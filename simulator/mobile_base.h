@@ -63,7 +63,7 @@ class MobileBase {
   int wheels_n_ = 2;
   Pose2 pose_;
   Pose2 proposed_;
-  BodyTwist twist_;                 // achieved this step
+  BodyTwist twist_;                                   // achieved this step
   Eigen::Vector3d target_ = Eigen::Vector3d::Zero();  // rim speeds the motors aim for
   Eigen::Vector3d wheels_ = Eigen::Vector3d::Zero();  // rim speeds reached
   Eigen::Vector3d travel_ = Eigen::Vector3d::Zero();  // rim travel this step (m), before slip

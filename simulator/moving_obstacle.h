@@ -12,10 +12,10 @@ namespace navd::sim {
 
 struct MovingObstacleDescription {
   std::string name;
-  double radius = 0.20;             // m
-  double speed = 0.30;              // m/s
-  std::vector<Point2> loop;         // closed: the last point connects back to the first
-  double patience = 0.0;            // s blocked before turning back; 0: waits for ever
+  double radius = 0.20;      // m
+  double speed = 0.30;       // m/s
+  std::vector<Point2> loop;  // closed: the last point connects back to the first
+  double patience = 0.0;     // s blocked before turning back; 0: waits for ever
 };
 
 class MovingObstacle {
@@ -40,8 +40,8 @@ class MovingObstacle {
   std::vector<double> cumulative_;  // arc length at each vertex
   double length_ = 0.0;
   double s_ = 0.0;
-  double direction_ = 1.0;   // +1 along the loop, -1 back
-  double waited_ = 0.0;      // s blocked in a row
+  double direction_ = 1.0;  // +1 along the loop, -1 back
+  double waited_ = 0.0;     // s blocked in a row
   Point2 position_;
   Point2 velocity_ = Point2::Zero();
 };

@@ -46,7 +46,7 @@ using navd::dds::TopicName;
 using navd::dds::MakeHeader;
 
 nav_msgs::msg::dds_::Odometry_ MakeOdometry(double t, const Pose2& pose, const sim::BodyTwist& twist,
-                                             const Eigen::Matrix3d& cov, const std::string& frame) {
+                                            const Eigen::Matrix3d& cov, const std::string& frame) {
   return navd::dds::MakeOdometry(t, pose, twist.vx, twist.vy, twist.omega, cov, frame);
 }
 
@@ -65,27 +65,26 @@ class RobotTopics {
         bumper_(p, TopicName(ns_, navd::dds::kBumper), Reliability::kBestEffort, 5),
         truth_(p, TopicName(ns_, navd::dds::kGroundTruth), Reliability::kBestEffort, 5),
         status_(p, TopicName(ns_, navd::dds::kSimStatus), Reliability::kReliable, 10),
-        cmd_vel_(p, TopicName(ns_, navd::dds::kCmdVel), Reliability::kReliable,
-                 [this](const msgs_geo::Twist_& m) {
-                   if (!std::isfinite(m.linear().x()) || !std::isfinite(m.linear().y()) ||
-                       !std::isfinite(m.angular().z())) {
-                     spdlog::warn("navsim: ignored a {} with non-finite values", TopicName(ns_, navd::dds::kCmdVel));
-                     return;
-                   }
-                   std::lock_guard<std::mutex> lock(mutex_);
-                   velocity_ = sim::BodyTwist{m.linear().x(), m.linear().y(), m.angular().z()};
-                   accel_.reset();
-                 }),
-        cmd_accel_(p, TopicName(ns_, navd::dds::kCmdAccel), Reliability::kReliable,
-                   [this](const msgs_geo::Accel_& m) {
-                     if (!std::isfinite(m.linear().x()) || !std::isfinite(m.angular().z())) {
-                       spdlog::warn("navsim: ignored a {} with non-finite values", TopicName(ns_, navd::dds::kCmdAccel));
-                       return;
-                     }
-                     std::lock_guard<std::mutex> lock(mutex_);
-                     accel_ = std::make_pair(m.linear().x(), m.angular().z());
-                     velocity_.reset();
-                   }) {
+        cmd_vel_(
+            p, TopicName(ns_, navd::dds::kCmdVel), Reliability::kReliable,
+            [this](const msgs_geo::Twist_& m) {
+              if (!std::isfinite(m.linear().x()) || !std::isfinite(m.linear().y()) || !std::isfinite(m.angular().z())) {
+                spdlog::warn("navsim: ignored a {} with non-finite values", TopicName(ns_, navd::dds::kCmdVel));
+                return;
+              }
+              std::lock_guard<std::mutex> lock(mutex_);
+              velocity_ = sim::BodyTwist{m.linear().x(), m.linear().y(), m.angular().z()};
+              accel_.reset();
+            }),
+        cmd_accel_(p, TopicName(ns_, navd::dds::kCmdAccel), Reliability::kReliable, [this](const msgs_geo::Accel_& m) {
+          if (!std::isfinite(m.linear().x()) || !std::isfinite(m.angular().z())) {
+            spdlog::warn("navsim: ignored a {} with non-finite values", TopicName(ns_, navd::dds::kCmdAccel));
+            return;
+          }
+          std::lock_guard<std::mutex> lock(mutex_);
+          accel_ = std::make_pair(m.linear().x(), m.angular().z());
+          velocity_.reset();
+        }) {
     if (const auto& l = robot.laser()) {
       scan_msg_.angle_min(static_cast<float>(l->angle_min()));
       scan_msg_.angle_max(static_cast<float>(l->angle_max()));
@@ -102,7 +101,9 @@ class RobotTopics {
     if (gate) {
       next_tick_ = std::make_unique<navd::dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
           p, TopicName(ns_, navd::dds::kNextTick), Reliability::kReliable,
-          [gate, index](const rosgraph_msgs::msg::dds_::Clock_& m) { gate->Report(index, navd::dds::FromTime(m.clock())); },
+          [gate, index](const rosgraph_msgs::msg::dds_::Clock_& m) {
+            gate->Report(index, navd::dds::FromTime(m.clock()));
+          },
           1);
     }
   }
@@ -147,7 +148,8 @@ class RobotTopics {
       const auto angles = base.wheel_angles();
       const auto speeds = base.wheel_speeds();
       for (size_t i = 0; i < angles.size(); ++i) {
-        j.name().push_back(angles.size() == 2 ? (i == 0 ? "left_wheel" : "right_wheel") : "wheel_" + std::to_string(i + 1));
+        j.name().push_back(angles.size() == 2 ? (i == 0 ? "left_wheel" : "right_wheel")
+                                              : "wheel_" + std::to_string(i + 1));
         j.position().push_back(angles[i]);
         j.velocity().push_back(speeds[i] / base.description().wheel_radius);
       }
@@ -234,12 +236,14 @@ msgs_sim::WorldState_ MakeWorldState(double t, const sim::Simulation& s) {
     add(s.BodyName(r->id()), "robot", p, {c * tw.vx - sn * tw.vy, sn * tw.vx + c * tw.vy}, r->spec().body.radius);
   }
   for (const auto& o : s.moving_obstacles()) {
-    add(o.description().name, "obstacle", {o.position().x(), o.position().y(), std::atan2(o.velocity().y(), o.velocity().x())},
-        o.velocity(), o.description().radius);
+    add(o.description().name, "obstacle",
+        {o.position().x(), o.position().y(), std::atan2(o.velocity().y(), o.velocity().x())}, o.velocity(),
+        o.description().radius);
   }
   for (const auto& p : s.people()) {
-    add("person " + std::to_string(p.id), "person", {p.position.x(), p.position.y(), std::atan2(p.velocity.y(), p.velocity.x())},
-        p.velocity, s.scenario().crowd->radius);
+    add("person " + std::to_string(p.id), "person",
+        {p.position.x(), p.position.y(), std::atan2(p.velocity.y(), p.velocity.x())}, p.velocity,
+        s.scenario().crowd->radius);
   }
   for (const auto& d : s.scenario().doors) {
     msgs_sim::DoorState_ door;
@@ -290,15 +294,16 @@ void LogGroundTruth(double t, const sim::Simulation& s) {
   for (const auto& r : s.robots()) {
     const Pose2& p = r->base().true_pose();
     const auto& v = r->base().true_twist();
-    line += fmt::format(" {} ({:.3f}, {:.3f}, {:.3f}) at {:.2f} m/s {:.2f} rad/s;", s.BodyName(r->id()), p.x, p.y, p.theta,
-                        v.vx, v.omega);
+    line += fmt::format(" {} ({:.3f}, {:.3f}, {:.3f}) at {:.2f} m/s {:.2f} rad/s;", s.BodyName(r->id()), p.x, p.y,
+                        p.theta, v.vx, v.omega);
   }
   for (const auto& o : s.moving_obstacles())
     line += fmt::format(" {} ({:.3f}, {:.3f}) at ({:.2f}, {:.2f}) m/s;", o.description().name, o.position().x(),
                         o.position().y(), o.velocity().x(), o.velocity().y());
   for (const auto& q : s.people()) {
     bool near = false;
-    for (const auto& r : s.robots()) near = near || Distance(q.position, r->base().true_pose().translation()) < kTracedPeopleRange;
+    for (const auto& r : s.robots())
+      near = near || Distance(q.position, r->base().true_pose().translation()) < kTracedPeopleRange;
     if (near)
       line += fmt::format(" person {} ({:.3f}, {:.3f}) at ({:.2f}, {:.2f}) m/s;", q.id, q.position.x(), q.position.y(),
                           q.velocity.x(), q.velocity.y());
@@ -307,15 +312,17 @@ void LogGroundTruth(double t, const sim::Simulation& s) {
 }
 
 int Run(int argc, char** argv) {
-  CLI::App app{"navsim: 2-D simulator of wheeled robots with lasers, sonars, IR, encoders and bumpers among moving "
-               "obstacles and people, over ROS 2-layout DDS"};
+  CLI::App app{
+      "navsim: 2-D simulator of wheeled robots with lasers, sonars, IR, encoders and bumpers among moving "
+      "obstacles and people, over ROS 2-layout DDS"};
   std::string scenario_path, world_path, network = "loopback", ns, record_path, record_robot, start;
   double rate = 1.0;
   std::optional<uint64_t> seed;
   int domain = 0;
   double duration = 0.0;
   bool fast = false;
-  auto* scenario_opt = app.add_option("--scenario", scenario_path, "Scenario YAML: world, robots, obstacles, people, seed");
+  auto* scenario_opt =
+      app.add_option("--scenario", scenario_path, "Scenario YAML: world, robots, obstacles, people, seed");
   app.add_option("--world", world_path,
                  "World YAML, or a bare map (map_server YAML + PGM, MovingAI .map) with the default robot; one robot "
                  "(default: the embedded warehouse)")
@@ -326,9 +333,10 @@ int Run(int argc, char** argv) {
   app.add_flag("--fast", fast, "Run as fast as possible (no pacing)");
   bool lockstep = false;
   double lockstep_timeout = 2.0;
-  app.add_flag("--lockstep", lockstep,
-               "Step no further than each robot's navd has been given (rt/<robot>/navd/next_tick, navd --use-sim-time): "
-               "runs then do not depend on machine load");
+  app.add_flag(
+      "--lockstep", lockstep,
+      "Step no further than each robot's navd has been given (rt/<robot>/navd/next_tick, navd --use-sim-time): "
+      "runs then do not depend on machine load");
   app.add_option("--lockstep-timeout", lockstep_timeout,
                  "Wall seconds to wait for a navd before stepping on without it (until it reports again)")
       ->check(CLI::PositiveNumber);
@@ -369,7 +377,8 @@ int Run(int argc, char** argv) {
       const auto p = ParseTuple(start, "--start", 2, 3);
       world.start = Pose2(p[0], p[1], p.size() == 3 ? p[2] : 0.0);
       if (!world.start.translation().allFinite() || !std::isfinite(world.start.theta) ||
-          !world.map.ContainsPoint(world.start.translation()) || world.map.DiscHitsObstacle(world.start.translation(), world.robot.radius)) {
+          !world.map.ContainsPoint(world.start.translation()) ||
+          world.map.DiscHitsObstacle(world.start.translation(), world.robot.radius)) {
         throw Error(ErrorCode::kInvalidArgument, "--start '" + start + "' puts the robot off the map or inside a wall");
       }
     }
@@ -393,7 +402,8 @@ int Run(int argc, char** argv) {
       }
     }
     if (!found) throw Error(ErrorCode::kInvalidArgument, "--record-robot: no robot named '" + record_robot + "'");
-    if (!robots[recorded]->laser()) throw Error(ErrorCode::kInvalidArgument, "--record: the robot has no laser to record");
+    if (!robots[recorded]->laser())
+      throw Error(ErrorCode::kInvalidArgument, "--record: the robot has no laser to record");
     recorder = std::make_unique<sim::CarmenRecorder>(
         record_path, "scenario '" + simulation.scenario().name + "', seed " + std::to_string(simulation.seed()));
   }
@@ -420,12 +430,13 @@ int Run(int argc, char** argv) {
   DoorCommands doors(participant);
 
   const auto& w = simulation.world();
-  spdlog::info("navsim: scenario '{}' on world '{}' ({}x{} cells at {} m), {} robot(s), {} moving obstacle(s), {} "
-               "people, {} hidden obstacle(s), rate {}{}, seed {}, DDS domain {} ({})",
-               simulation.scenario().name, w.name, w.map.width(), w.map.height(), w.map.resolution(), robots.size(),
-               simulation.moving_obstacles().size(), simulation.people().size(), simulation.scenario().hidden_obstacles,
-               fast ? std::string("max") : std::to_string(rate), gate ? " in lockstep with navd" : "", simulation.seed(), domain,
-               network);
+  spdlog::info(
+      "navsim: scenario '{}' on world '{}' ({}x{} cells at {} m), {} robot(s), {} moving obstacle(s), {} "
+      "people, {} hidden obstacle(s), rate {}{}, seed {}, DDS domain {} ({})",
+      simulation.scenario().name, w.name, w.map.width(), w.map.height(), w.map.resolution(), robots.size(),
+      simulation.moving_obstacles().size(), simulation.people().size(), simulation.scenario().hidden_obstacles,
+      fast ? std::string("max") : std::to_string(rate), gate ? " in lockstep with navd" : "", simulation.seed(), domain,
+      network);
   for (const auto& r : robots) {
     const Pose2& p = r->base().true_pose();
     spdlog::info("navsim: robot '{}' ({}) at ({:.2f}, {:.2f}, {:.2f}) on rt/{}", simulation.BodyName(r->id()),
@@ -452,9 +463,10 @@ int Run(int argc, char** argv) {
       // A navd waits for rt/clock to reach its tick: it must have heard the time it is held at.
       if (!clock_sent) send_clock();
       for (const size_t i : gate->WaitUntilAllowed(simulation.now(), send_clock)) {
-        spdlog::warn("navsim: robot '{}''s navd sent no next tick for {} s at t={:.2f}s: stepping on without it until "
-                     "it reports again",
-                     simulation.BodyName(robots[i]->id()), lockstep_timeout, simulation.now());
+        spdlog::warn(
+            "navsim: robot '{}''s navd sent no next tick for {} s at t={:.2f}s: stepping on without it until "
+            "it reports again",
+            simulation.BodyName(robots[i]->id()), lockstep_timeout, simulation.now());
       }
     }
     for (size_t i = 0; i < topics.size(); ++i) topics[i]->ApplyCommands(simulation, i);
@@ -477,9 +489,10 @@ int Run(int argc, char** argv) {
       Pose2 at;
       for (const auto& r : robots)
         if (r->name() == e.robot || (r->name().empty() && e.robot == "robot")) at = r->base().true_pose();
-      spdlog::warn("navsim: collision of '{}' at ({:.2f}, {:.2f}, {:.2f}) with {} at ({:.2f}, {:.2f}) t={:.2f}s, the robot "
-                   "closing at {:.2f} m/s, the other at {:.2f} m/s",
-                   e.robot, at.x, at.y, at.theta, e.other, e.where.x(), e.where.y(), e.time, e.robot_closing, e.other_closing);
+      spdlog::warn(
+          "navsim: collision of '{}' at ({:.2f}, {:.2f}, {:.2f}) with {} at ({:.2f}, {:.2f}) t={:.2f}s, the robot "
+          "closing at {:.2f} m/s, the other at {:.2f} m/s",
+          e.robot, at.x, at.y, at.theta, e.other, e.where.x(), e.where.y(), e.time, e.robot_closing, e.other_closing);
       msgs_sim::CollisionEvent_ m;
       m.header(MakeHeader(e.time, "map"));
       m.robot(e.robot);
@@ -514,8 +527,8 @@ int Run(int argc, char** argv) {
   if (recorder) recorder->Close();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   for (const auto& r : robots) {
-    spdlog::info("navsim: robot '{}' stopped at t={:.2f}s, travelled {:.2f} m, {} collisions", simulation.BodyName(r->id()),
-                 simulation.now(), r->base().distance_travelled(), r->collisions());
+    spdlog::info("navsim: robot '{}' stopped at t={:.2f}s, travelled {:.2f} m, {} collisions",
+                 simulation.BodyName(r->id()), simulation.now(), r->base().distance_travelled(), r->collisions());
   }
   spdlog::info("navsim: {:.1f} simulated seconds in {:.2f} s wall ({:.0f}x real time)", simulation.now(), wall,
                wall > 0 ? simulation.now() / wall : 0.0);

@@ -54,7 +54,8 @@ std::vector<float> RangeSensorArray::Read(const Pose2& pose, const RayCaster& wo
     double r = d_.range_max;
     for (int k = 0; k < rays; ++k) {
       const double offset = rays == 1 ? 0.0 : -d_.cone / 2 + k * d_.cone / (rays - 1);
-      r = std::min(r, CastAgainstWorld(world, nearby, origin, Point2(std::cos(heading + offset), std::sin(heading + offset)), d_.range_max));
+      r = std::min(r, CastAgainstWorld(world, nearby, origin,
+                                       Point2(std::cos(heading + offset), std::sin(heading + offset)), d_.range_max));
     }
     if (r < d_.range_max && d_.noise > 0) r += noise(rng);
     out.push_back(static_cast<float>(std::clamp(r, d_.range_min, d_.range_max)));

@@ -14,15 +14,15 @@
 namespace navd::sim {
 
 struct RangeArrayDescription {
-  std::string kind;                 // "sonar" or "ir": names the topic and the ROS radiation type
-  std::vector<double> angles;       // rad, robot frame
-  double mount_radius = 0.20;       // m from the robot's centre
-  double cone = 0.0;                // rad, full opening angle (0: a single ray)
+  std::string kind;            // "sonar" or "ir": names the topic and the ROS radiation type
+  std::vector<double> angles;  // rad, robot frame
+  double mount_radius = 0.20;  // m from the robot's centre
+  double cone = 0.0;           // rad, full opening angle (0: a single ray)
   int rays_per_cone = 1;
-  double range_min = 0.0;           // m
-  double range_max = 1.0;           // m
-  double noise = 0.0;               // m, std-dev
-  double rate = 10.0;               // Hz, the whole array
+  double range_min = 0.0;  // m
+  double range_max = 1.0;  // m
+  double noise = 0.0;      // m, std-dev
+  double rate = 10.0;      // Hz, the whole array
 };
 
 // Pioneer 2/3 sonar ring: 16 Polaroid transducers (8 front, 8 rear), 0.1-5 m, 15 degree cones.

@@ -88,7 +88,8 @@ void ReadSensors(const YamlFields& f, const YAML::Node& list, const std::string&
       f.Read(s, "velocity_noise", field + ".", d.velocity_noise, &YamlFields::NonNegative);
       r.people = d;
     } else {
-      f.Fail(field + ".type", "is not a known sensor type '" + type + "' (expected laser, sonar, ir, bumper, encoders, people)",
+      f.Fail(field + ".type",
+             "is not a known sensor type '" + type + "' (expected laser, sonar, ir, bumper, encoders, people)",
              s["type"]);
     }
   }
@@ -106,8 +107,9 @@ Box AreaOf(const YamlFields& f, const YAML::Node& n, const std::string& field, c
 
 CrowdDescription ReadCrowd(const YamlFields& f, const YAML::Node& n, const World& world) {
   f.ExpectMap(n, "people");
-  f.CheckKeys(n, "people", {"area", "mode", "initial", "max", "arrival_rate", "speed", "radius", "goal_ahead",
-                            "goal_period", "brownian", "spawn_clearance"});
+  f.CheckKeys(n, "people",
+              {"area", "mode", "initial", "max", "arrival_rate", "speed", "radius", "goal_ahead", "goal_period",
+               "brownian", "spawn_clearance"});
   CrowdDescription c;
   if (!n["area"]) f.Fail("people.area", "is missing (a region name or [x_min, y_min, x_max, y_max])", n);
   c.area = AreaOf(f, n["area"], "people.area", world);
@@ -117,7 +119,8 @@ CrowdDescription ReadCrowd(const YamlFields& f, const YAML::Node& n, const World
   if (n["initial"]) {
     const auto v = f.Numbers(n["initial"], "people.initial", 1, 2);
     for (double x : v) {
-      if (x < 0 || x != std::floor(x) || x > 1000) f.Fail("people.initial", "must be whole numbers from 0 to 1000", n["initial"]);
+      if (x < 0 || x != std::floor(x) || x > 1000)
+        f.Fail("people.initial", "must be whole numbers from 0 to 1000", n["initial"]);
     }
     c.initial_min = static_cast<int>(v[0]);
     c.initial_max = static_cast<int>(v.size() > 1 ? v[1] : v[0]);
@@ -135,7 +138,8 @@ CrowdDescription ReadCrowd(const YamlFields& f, const YAML::Node& n, const World
   f.Read(n, "goal_ahead", "people.", c.goal_ahead, &YamlFields::Positive);
   if (n["goal_period"]) {
     const auto v = f.Numbers(n["goal_period"], "people.goal_period", 2, 2);
-    if (v[0] <= 0 || v[1] < v[0]) f.Fail("people.goal_period", "must be [min > 0, max >= min] in seconds", n["goal_period"]);
+    if (v[0] <= 0 || v[1] < v[0])
+      f.Fail("people.goal_period", "must be [min > 0, max >= min] in seconds", n["goal_period"]);
     c.goal_period_min = v[0];
     c.goal_period_max = v[1];
   }
@@ -171,7 +175,8 @@ int PlaceRandomObstacles(const YamlFields& f, const YAML::Node& n, Scenario& s, 
   double size_min = 0.10, size_max = 0.30, clearance = 0.8;
   if (n["size"]) {
     const auto v = f.Numbers(n["size"], "hidden_obstacles.random.size", 2, 2);
-    if (v[0] <= 0 || v[1] < v[0]) f.Fail("hidden_obstacles.random.size", "must be [min > 0, max >= min] in metres", n["size"]);
+    if (v[0] <= 0 || v[1] < v[0])
+      f.Fail("hidden_obstacles.random.size", "must be [min > 0, max >= min] in metres", n["size"]);
     size_min = v[0];
     size_max = v[1];
   }
@@ -188,7 +193,8 @@ int PlaceRandomObstacles(const YamlFields& f, const YAML::Node& n, Scenario& s, 
     const CellIndex cell = s.truth.CellOf(c);
     if (!s.truth.Contains(cell) || field->at(cell) < half * M_SQRT2 + clearance) continue;
     bool near = false;
-    for (const auto& r : s.robots) near |= Distance(r.start.translation(), c) < half * M_SQRT2 + clearance + r.body.radius;
+    for (const auto& r : s.robots)
+      near |= Distance(r.start.translation(), c) < half * M_SQRT2 + clearance + r.body.radius;
     for (const auto& t : s.targets) near |= Distance(t, c) < half * M_SQRT2 + clearance;
     if (near) continue;
     FillHidden(s, c - Point2(half, half), c + Point2(half, half), glass);
@@ -196,16 +202,19 @@ int PlaceRandomObstacles(const YamlFields& f, const YAML::Node& n, Scenario& s, 
     ++placed;
   }
   if (placed < count) {
-    f.Fail("hidden_obstacles.random.count", "asks for " + std::to_string(count) + " obstacles but only " +
-                                                std::to_string(placed) + " fit with the clearance", n["count"]);
+    f.Fail("hidden_obstacles.random.count",
+           "asks for " + std::to_string(count) + " obstacles but only " + std::to_string(placed) +
+               " fit with the clearance",
+           n["count"]);
   }
   return placed;
 }
 
 Scenario Parse(const YamlFields& f, const std::string& text, const std::string& base_dir) {
   const YAML::Node doc = ParseYamlMapping(text, f.source());
-  f.CheckKeys(doc, "", {"name", "world", "seed", "targets", "hidden_obstacles", "doors", "robots", "moving_obstacles",
-                        "people"});
+  f.CheckKeys(
+      doc, "",
+      {"name", "world", "seed", "targets", "hidden_obstacles", "doors", "robots", "moving_obstacles", "people"});
   Scenario s;
   s.source = f.source();
   s.name = doc["name"] ? f.String(doc["name"], "name") : std::filesystem::path(f.source()).stem().string();
@@ -241,7 +250,8 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
       spec.body = s.world.robot;
       ReadRobotDescription(f, r, field + ".", spec.body, {"name", "sensors"});
       if (r["name"]) spec.name = f.String(r["name"], field + ".name");
-      if (robots.size() > 1 && spec.name.empty()) f.Fail(field + ".name", "is required when there are several robots", r);
+      if (robots.size() > 1 && spec.name.empty())
+        f.Fail(field + ".name", "is required when there are several robots", r);
       if (!spec.name.empty() && !std::regex_match(spec.name, valid_name)) {
         f.Fail(field + ".name", "must be a topic name (a letter, then letters, digits or _)", r["name"]);
       }
@@ -306,7 +316,8 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
         if (v[2] <= 0) f.Fail(field, "must have a positive radius", h["discs"][i]);
         FillPolygon(s.truth, [&] {
           Polygon p;
-          for (int k = 0; k < 16; ++k) p.push_back({v[0] + v[2] * std::cos(k * M_PI / 8), v[1] + v[2] * std::sin(k * M_PI / 8)});
+          for (int k = 0; k < 16; ++k)
+            p.push_back({v[0] + v[2] * std::cos(k * M_PI / 8), v[1] + v[2] * std::sin(k * M_PI / 8)});
           return p;
         }());
         ++s.hidden_obstacles;
@@ -352,7 +363,8 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
     const auto& r = s.robots[i];
     const YAML::Node at = doc["robots"] ? doc["robots"][i] : doc["world"];
     if (s.truth.DiscHitsObstacle(r.start.translation(), r.body.radius)) {
-      f.Fail(Index("robots", i) + ".start", "puts the robot inside or against a wall at " + FormatPoint(r.start.translation()), at);
+      f.Fail(Index("robots", i) + ".start",
+             "puts the robot inside or against a wall at " + FormatPoint(r.start.translation()), at);
     }
     for (size_t j = 0; j < i; ++j) {
       if (Distance(r.start.translation(), s.robots[j].start.translation()) < r.body.radius + s.robots[j].body.radius) {

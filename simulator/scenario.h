@@ -20,15 +20,15 @@ namespace navd::sim {
 // (book chapter 7's simulations: "the robot will only know the current position and velocity of
 // each of the persons within a range of 45 m in front"). Gaussian noise on request.
 struct PeopleSensorDescription {
-  double range_max = 45.0;       // m, centre to centre
-  double fov = 2.0 * M_PI;       // rad, centred on the heading
-  double rate = 10.0;            // Hz
-  double position_noise = 0.0;   // m, standard deviation per axis
-  double velocity_noise = 0.0;   // m/s, standard deviation per axis
+  double range_max = 45.0;      // m, centre to centre
+  double fov = 2.0 * M_PI;      // rad, centred on the heading
+  double rate = 10.0;           // Hz
+  double position_noise = 0.0;  // m, standard deviation per axis
+  double velocity_noise = 0.0;  // m/s, standard deviation per axis
 };
 
 struct RobotSpec {
-  std::string name;                  // topic namespace (rt/<name>/scan ...); empty: rt/scan ...
+  std::string name;  // topic namespace (rt/<name>/scan ...); empty: rt/scan ...
   Pose2 start;
   RobotDescription body;
   std::optional<LaserDescription> laser;
@@ -37,28 +37,28 @@ struct RobotSpec {
   std::optional<PeopleSensorDescription> people;
   bool bumper = false;
   bool encoders = false;
-  double encoder_rate = 50.0;        // Hz
-  double bumper_rate = 10.0;         // Hz
+  double encoder_rate = 50.0;  // Hz
+  double bumper_rate = 10.0;   // Hz
 };
 
 struct Door {
   std::string name;
   Box box;
-  bool closed = false;               // a closed door is a wall the robots' map does not show
+  bool closed = false;  // a closed door is a wall the robots' map does not show
 };
 
 struct Scenario {
   std::string name;
   std::string source;
-  World world;                       // what navd is given: map, default robot, goals, regions
-  OccupancyGrid truth;               // what the sensors see: the map plus hidden obstacles and closed doors
-  OccupancyGrid fixed_truth;         // the same with every door open, to rebuild `truth` when doors move
+  World world;                // what navd is given: map, default robot, goals, regions
+  OccupancyGrid truth;        // what the sensors see: the map plus hidden obstacles and closed doors
+  OccupancyGrid fixed_truth;  // the same with every door open, to rebuild `truth` when doors move
   std::vector<RobotSpec> robots;
   std::vector<MovingObstacleDescription> moving_obstacles;
   std::optional<CrowdDescription> crowd;
   std::vector<Door> doors;
-  std::vector<Point2> targets;       // named target points, in visiting order (seed 000's 11)
-  int hidden_obstacles = 0;          // how many obstacles are in `truth` but not in the map
+  std::vector<Point2> targets;  // named target points, in visiting order (seed 000's 11)
+  int hidden_obstacles = 0;     // how many obstacles are in `truth` but not in the map
   // Cells of glass panes among the hidden obstacles: in `truth` (bumpers, sonar and IR find them)
   // but seen through by lasers, as real glass doors and partitions are.
   std::vector<CellIndex> glass;

@@ -55,7 +55,8 @@ Simulation::Simulation(Scenario scenario, const SimulationOptions& options)
 }
 
 void Simulation::SetDoor(const std::string& name, bool closed) {
-  auto door = std::find_if(scenario_.doors.begin(), scenario_.doors.end(), [&](const Door& d) { return d.name == name; });
+  auto door =
+      std::find_if(scenario_.doors.begin(), scenario_.doors.end(), [&](const Door& d) { return d.name == name; });
   if (door == scenario_.doors.end()) {
     std::string known;
     for (const Door& d : scenario_.doors) known += (known.empty() ? "" : ", ") + d.name;
@@ -85,7 +86,8 @@ std::vector<Disc> Simulation::Discs() const {
   out.reserve(robots_.size() + obstacles_.size() + people().size());
   for (const auto& r : robots_) out.push_back({r->base().true_pose().translation(), r->spec().body.radius, r->id()});
   for (size_t i = 0; i < obstacles_.size(); ++i) {
-    out.push_back({obstacles_[i].position(), obstacles_[i].description().radius, kFirstObstacleId + static_cast<int>(i)});
+    out.push_back(
+        {obstacles_[i].position(), obstacles_[i].description().radius, kFirstObstacleId + static_cast<int>(i)});
   }
   for (const auto& p : people()) out.push_back({p.position, scenario_.crowd->radius, p.id});
   return out;
@@ -247,11 +249,12 @@ StepOutputs Simulation::Step() {
     }
   }
   if (crowd_) {
-    crowd_->Step(now_, dt,
-                 [this](const Point2& c, double r, int self, bool robots_only) { return Occupied(c, r, self, robots_only); },
-                 [this](const Person& p, int body) {
-                   if (body < kFirstObstacleId) Touch(*robots_[body], p.id, p.position, false);
-                 });
+    crowd_->Step(
+        now_, dt,
+        [this](const Point2& c, double r, int self, bool robots_only) { return Occupied(c, r, self, robots_only); },
+        [this](const Person& p, int body) {
+          if (body < kFirstObstacleId) Touch(*robots_[body], p.id, p.position, false);
+        });
   }
   now_ += dt;
 
@@ -292,7 +295,8 @@ StepOutputs Simulation::Step() {
     if (r.sonar_ && Due(r.sonar_->description().rate, r.last_sonar_)) {
       o.sonar = r.sonar_->Read(pose, truth_, discs, r.id_, r.sensor_rng_);
     }
-    if (r.ir_ && Due(r.ir_->description().rate, r.last_ir_)) o.ir = r.ir_->Read(pose, truth_, discs, r.id_, r.sensor_rng_);
+    if (r.ir_ && Due(r.ir_->description().rate, r.last_ir_))
+      o.ir = r.ir_->Read(pose, truth_, discs, r.id_, r.sensor_rng_);
     o.odom = Due(options_.odom_rate, r.last_odom_);
     o.encoders = r.spec_.encoders && Due(r.spec_.encoder_rate, r.last_encoders_);
     o.bumper = r.spec_.bumper && Due(r.spec_.bumper_rate, r.last_bumper_);

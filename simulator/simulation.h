@@ -22,11 +22,11 @@
 namespace navd::sim {
 
 struct SimulationOptions {
-  double physics_step = 0.01;       // s
-  double odom_rate = 50.0;          // Hz
-  double truth_rate = 50.0;         // Hz
-  double status_rate = 10.0;        // Hz
-  double command_timeout = 0.5;     // s without a command stops the robot
+  double physics_step = 0.01;    // s
+  double odom_rate = 50.0;       // Hz
+  double truth_rate = 50.0;      // Hz
+  double status_rate = 10.0;     // Hz
+  double command_timeout = 0.5;  // s without a command stops the robot
   // Overrides the scenario's seed when set (navsim --seed).
   std::optional<uint64_t> seed;
 };
@@ -35,8 +35,8 @@ struct SimulationOptions {
 struct CollisionEvent {
   double time = 0.0;
   std::string robot;
-  std::string other;                // "wall", a robot's or obstacle's name, or "person <id>"
-  int other_id = kWall;             // the body's id (Crowd::kFirstPersonId and up: a person), or kWall
+  std::string other;     // "wall", a robot's or obstacle's name, or "person <id>"
+  int other_id = kWall;  // the body's id (Crowd::kFirstPersonId and up: a person), or kWall
   Point2 where = Point2::Zero();
   // Who closed the gap (m/s, along the line between the two centres): the robot's speed towards
   // the other (towards a wall, its speed), and the other's towards the robot (a person's walking
@@ -78,7 +78,7 @@ class SimulatedRobot {
   std::optional<RangeSensorArray> sonar_, ir_;
   double last_command_ = -1e9;
   bool watchdog_stopped_ = true;
-  bool in_contact_ = false;         // touching something now
+  bool in_contact_ = false;  // touching something now
   double last_contact_ = -1e9;
   bool contact_this_step_ = false;
   std::string contact_with_;

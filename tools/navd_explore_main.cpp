@@ -88,8 +88,8 @@ int Explore(const World& world, navigation::ExplorationMethod method, const std:
       best_remaining = remaining;
       last_progress_time = sim.now();
     }
-    const bool arrived = follower.state() == navigation::FollowerState::kArrived ||
-                         follower.state() == navigation::FollowerState::kIdle;
+    const bool arrived =
+        follower.state() == navigation::FollowerState::kArrived || follower.state() == navigation::FollowerState::kIdle;
     const bool stuck = sim.now() - last_progress_time > 20.0;
     if (sim.now() < look_around_until) continue;
     if (arrived && goals > 0 && look_around_until < 0.0) {
@@ -99,7 +99,8 @@ int Explore(const World& world, navigation::ExplorationMethod method, const std:
       continue;
     }
     if (sim.now() >= next_plan || (arrived && look_around_until >= 0.0) || stuck) {
-      if ((arrived && look_around_until >= 0.0) || stuck) eo.excluded.push_back(goal);  // this goal is done or out of reach
+      if ((arrived && look_around_until >= 0.0) || stuck)
+        eo.excluded.push_back(goal);  // this goal is done or out of reach
       look_around_until = -1.0;
       next_plan = sim.now() + 1.0;
       const auto step = navigation::NextExplorationStep(*session.Map(), estimate, method, visited, eo);
@@ -116,8 +117,8 @@ int Explore(const World& world, navigation::ExplorationMethod method, const std:
       follower.SetPath(step->path, std::nullopt);
     }
     if (sim.now() > 2.0 && static_cast<int>(sim.now() * 100) % 3000 == 0)
-      std::fprintf(stderr, "\r  %s: %.0f s simulated, %.1f m driven, %d goals", method_name.c_str(), sim.now(), travelled,
-                   goals);
+      std::fprintf(stderr, "\r  %s: %.0f s simulated, %.1f m driven, %d goals", method_name.c_str(), sim.now(),
+                   travelled, goals);
   }
   std::fprintf(stderr, "\n");
   session.Finish();
@@ -126,11 +127,11 @@ int Explore(const World& world, navigation::ExplorationMethod method, const std:
   const auto built = session.Map();
   const mapping::MapCoverage coverage = mapping::CoverageOf(*built, world.map, world.start.translation());
   const mapping::MappingStatus st = session.status();
-  std::printf("explore (%s): %s, %.1f%% of the reachable free space mapped (%.1f%% mapped free), %.1f s simulated, "
-              "%.1f m driven, %d goals, %d collisions, %d SLAM nodes, %d loop closures\n",
-              method_name.c_str(), complete ? "complete" : "stopped at --max-time", 100.0 * coverage.known, 100.0 * coverage.known_free,
-              sim.now(),
-              travelled, goals, collisions, st.nodes, st.loop_closures);
+  std::printf(
+      "explore (%s): %s, %.1f%% of the reachable free space mapped (%.1f%% mapped free), %.1f s simulated, "
+      "%.1f m driven, %d goals, %d collisions, %d SLAM nodes, %d loop closures\n",
+      method_name.c_str(), complete ? "complete" : "stopped at --max-time", 100.0 * coverage.known,
+      100.0 * coverage.known_free, sim.now(), travelled, goals, collisions, st.nodes, st.loop_closures);
   if (!png.empty()) SaveMapPng(*built, png);
   return complete ? 0 : 3;
 }
@@ -138,7 +139,8 @@ int Explore(const World& world, navigation::ExplorationMethod method, const std:
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"navd-explore: explore a simulated world from an empty map with navd's SLAM, exploration and path following"};
+  CLI::App app{
+      "navd-explore: explore a simulated world from an empty map with navd's SLAM, exploration and path following"};
   std::string world_path, method = "frontier", png;
   double max_time = 900.0;
   uint64_t seed = 1;

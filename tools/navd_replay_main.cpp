@@ -32,7 +32,6 @@
 #include "services/mapping/occupancy_grid_mapper.h"
 #include "services/common/trajectory_alignment.h"
 
-
 namespace {
 
 // Graph SLAM over the log's scans with the given odometry (one pose per scan): the TUM trajectory of every scan (the
@@ -84,19 +83,20 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
       const Pose2 diff = true_relative.inverse() * c.measurement;
       if (std::hypot(diff.x, diff.y) > 0.3 || std::abs(diff.theta) > 0.1) {
         ++wrong;
-        std::fprintf(stderr, "wrong %s: scan %d to scan %d (score %.3f) is %.3f m, %.3f rad off the corrected poses\n", kind,
-                     c.from_scan, c.to_scan, c.score, std::hypot(diff.x, diff.y), diff.theta);
+        std::fprintf(stderr, "wrong %s: scan %d to scan %d (score %.3f) is %.3f m, %.3f rad off the corrected poses\n",
+                     kind, c.from_scan, c.to_scan, c.score, std::hypot(diff.x, diff.y), diff.theta);
       }
     }
     return wrong;
   };
   const int wrong = count_wrong(slam.closures(), "loop closure");
   const int wrong_refinements = count_wrong(slam.refinements(), "refinement match");
-  std::printf("slam: %zu scans, %d nodes, %d loop closures (%d wrong) of %d attempts, %zu refinement matches (%d wrong), "
-              "ATE RMSE %.4f m after SE(2) alignment, heading RMSE %.4f rad, worst %.3f m, %.2f ms per scan -> %s\n",
-              estimate.size(), slam.nodes(), slam.loop_closures(), wrong, slam.loop_attempts(), slam.refinements().size(),
-              wrong_refinements, error.position_rmse,
-              error.heading_rmse, error.worst, 1e3 * busy / static_cast<double>(estimate.size()), out.c_str());
+  std::printf(
+      "slam: %zu scans, %d nodes, %d loop closures (%d wrong) of %d attempts, %zu refinement matches (%d wrong), "
+      "ATE RMSE %.4f m after SE(2) alignment, heading RMSE %.4f rad, worst %.3f m, %.2f ms per scan -> %s\n",
+      estimate.size(), slam.nodes(), slam.loop_closures(), wrong, slam.loop_attempts(), slam.refinements().size(),
+      wrong_refinements, error.position_rmse, error.heading_rmse, error.worst,
+      1e3 * busy / static_cast<double>(estimate.size()), out.c_str());
   if (!map_out.empty() || !png.empty()) {
     mapping::MapperOptions o;
     o.resolution = resolution;
@@ -171,7 +171,8 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
     std::snprintf(line, sizeof line, "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n", s.timestamp, e.x, e.y, std::sin(e.theta / 2),
                   std::cos(e.theta / 2));
     tum += line;
-    if ((k + 1) % 100 == 0 || k + 1 == log.scans.size()) std::fprintf(stderr, "\r  localised %zu/%zu scans", k + 1, log.scans.size());
+    if ((k + 1) % 100 == 0 || k + 1 == log.scans.size())
+      std::fprintf(stderr, "\r  localised %zu/%zu scans", k + 1, log.scans.size());
   }
   std::fprintf(stderr, "\n");
   WriteFileAtomically(out, tum);

@@ -36,8 +36,8 @@ CredentialTable CredentialTable::Load(const std::string& path) {
   if ((st.st_mode & (S_IRWXG | S_IRWXO)) != 0) {
     char mode[8];
     std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
-    throw Error(ErrorCode::kInvalidArgument, "auth tokens file " + path + " is open to group or others (mode " +
-                                                 mode + "); chmod 600 " + path);
+    throw Error(ErrorCode::kInvalidArgument,
+                "auth tokens file " + path + " is open to group or others (mode " + mode + "); chmod 600 " + path);
   }
   return Parse(ReadTextFile(path, "auth tokens file"), path);
 }

@@ -24,9 +24,7 @@ std::string ReadPem(const std::string& path, const std::string& option, const ch
   return text;
 }
 
-std::string Plural(size_t n, const char* what) {
-  return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
-}
+std::string Plural(size_t n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); }
 
 std::string DescribeTable(const CredentialTable& t) {
   return Plural(t.token_count(), "token") + " and " + Plural(t.common_name_count(), "certificate name");

@@ -51,12 +51,9 @@ constexpr std::string_view kOpenPrefix = "/grpc.health.v1.Health/";
 
 const char* RoleName(Role role) {
   switch (role) {
-    case Role::kViewer:
-      return "viewer";
-    case Role::kOperator:
-      return "operator";
-    case Role::kAdmin:
-      return "admin";
+    case Role::kViewer: return "viewer";
+    case Role::kOperator: return "operator";
+    case Role::kAdmin: return "admin";
   }
   return "admin";
 }

@@ -57,8 +57,7 @@ grpc::Status RoleAuthorizer::Process(const InputMetadata& metadata, grpc::AuthCo
   if (!authorization.empty()) {
     consumed->emplace("authorization", std::string(authorization));
     if (authorization.substr(0, kBearer.size()) != kBearer) {
-      return {grpc::StatusCode::UNAUTHENTICATED,
-              method + ": the authorization metadata must be 'Bearer <token>'"};
+      return {grpc::StatusCode::UNAUTHENTICATED, method + ": the authorization metadata must be 'Bearer <token>'"};
     }
     role = table->RoleOfToken(authorization.substr(kBearer.size()));
     if (!role) return {grpc::StatusCode::UNAUTHENTICATED, method + ": navd does not know this bearer token"};

@@ -107,7 +107,6 @@ void Finish(CarmenLog& log, const std::string& source) {
     if (s.range_max <= 0.0) s.range_max = no_return;
 }
 
-
 }  // namespace
 
 double InferNoReturnRange(const CarmenLog& log) {
@@ -162,7 +161,9 @@ CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
       ++line_no;
       std::string type;
       if (!ParseLine(line, line_no, log, type)) {
-        if (strict) throw Error(ErrorCode::kInvalidArgument, path + ":" + std::to_string(line_no) + ": malformed " + type + " line");
+        if (strict)
+          throw Error(ErrorCode::kInvalidArgument,
+                      path + ":" + std::to_string(line_no) + ": malformed " + type + " line");
         ++log.skipped_lines;
       }
     }
@@ -183,7 +184,9 @@ CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, boo
   while (std::getline(in, line)) {
     ++line_no;
     if (!ParseLine(line, line_no, log, type)) {
-      if (strict) throw Error(ErrorCode::kInvalidArgument, source + ":" + std::to_string(line_no) + ": malformed " + type + " line");
+      if (strict)
+        throw Error(ErrorCode::kInvalidArgument,
+                    source + ":" + std::to_string(line_no) + ": malformed " + type + " line");
       ++log.skipped_lines;
     }
   }

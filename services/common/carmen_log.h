@@ -20,8 +20,8 @@ struct CarmenScan {
   double angle_min = 0.0;        // rad, laser frame, beam 0
   double angle_increment = 0.0;  // rad between beams
   double range_max = 0.0;        // m: readings here or beyond are no-returns; 0: none known
-  Pose2 pose;        // laser pose (corrected poses in corrected logs)
-  Pose2 odometry;    // odometry pose at the scan
+  Pose2 pose;                    // laser pose (corrected poses in corrected logs)
+  Pose2 odometry;                // odometry pose at the scan
   double timestamp = 0.0;
   int line = 0;
   // range_max as a threshold: infinity when no no-return reading is known.
@@ -35,8 +35,8 @@ struct CarmenOdometry {
 };
 
 struct CarmenTruth {
-  Pose2 pose;        // true pose
-  Pose2 odometry;    // odometry pose at the same time
+  Pose2 pose;      // true pose
+  Pose2 odometry;  // odometry pose at the same time
   double timestamp = 0.0;
   int line = 0;
 };
@@ -45,7 +45,7 @@ struct CarmenLog {
   std::vector<CarmenScan> scans;
   std::vector<CarmenOdometry> odometry;
   std::vector<CarmenTruth> truth;
-  int skipped_lines = 0;   // malformed lines skipped (when not strict)
+  int skipped_lines = 0;  // malformed lines skipped (when not strict)
 };
 
 // FLASER lines do not say the scanner's maximum range, and each scanner writes its no-return

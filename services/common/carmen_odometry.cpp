@@ -25,7 +25,8 @@ std::vector<Pose2> OdometryAtScans(const CarmenLog& log) {
         after->timestamp > before->timestamp) {
       out.push_back(Interpolate(before->pose, after->pose,
                                 (s.timestamp - before->timestamp) / (after->timestamp - before->timestamp)));
-    } else if (before && (!after || std::abs(s.timestamp - before->timestamp) <= std::abs(after->timestamp - s.timestamp))) {
+    } else if (before &&
+               (!after || std::abs(s.timestamp - before->timestamp) <= std::abs(after->timestamp - s.timestamp))) {
       out.push_back(before->pose);
     } else {
       out.push_back(after->pose);

@@ -37,9 +37,7 @@ void ToProto(double seconds, v1::Stamp* out) {
 }
 
 std::function<bool()> StopWhenDone(const grpc::ServerContextBase* context) {
-  return [context] {
-    return context->IsCancelled() || context->deadline() < std::chrono::system_clock::now();
-  };
+  return [context] { return context->IsCancelled() || context->deadline() < std::chrono::system_clock::now(); };
 }
 
 }  // namespace navd

@@ -9,7 +9,7 @@
 namespace navd {
 
 struct WheelSpeeds {
-  double left = 0.0;   // m/s at the rim
+  double left = 0.0;  // m/s at the rim
   double right = 0.0;
 };
 

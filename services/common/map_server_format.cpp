@@ -39,8 +39,8 @@ int ParseInt(const std::string& token, const std::string& what, const std::strin
     if (used == token.size() && v >= min) return v;
   } catch (const std::exception&) {
   }
-  throw Error(ErrorCode::kInvalidArgument, source + ": PGM " + what + " '" + token + "' is not an integer >= " +
-                                               std::to_string(min));
+  throw Error(ErrorCode::kInvalidArgument,
+              source + ": PGM " + what + " '" + token + "' is not an integer >= " + std::to_string(min));
 }
 
 }  // namespace
@@ -68,8 +68,8 @@ OccupancyGrid DecodeMapServerImage(const std::string& bytes, const MapServerPara
   if (magic == "P5") {
     ++pos;  // exactly one whitespace byte separates the header from the raster
     if (bytes.size() < pos + pixels.size()) {
-      throw Error(ErrorCode::kInvalidArgument, source + ": PGM raster truncated (expected " +
-                                                   std::to_string(pixels.size()) + " bytes)");
+      throw Error(ErrorCode::kInvalidArgument,
+                  source + ": PGM raster truncated (expected " + std::to_string(pixels.size()) + " bytes)");
     }
     for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>(bytes[pos + i]);
   } else {
@@ -80,8 +80,8 @@ OccupancyGrid DecodeMapServerImage(const std::string& bytes, const MapServerPara
   }
   for (size_t i = 0; i < pixels.size(); ++i) {
     if (pixels[i] > maxval) {
-      throw Error(ErrorCode::kInvalidArgument, source + ": PGM pixel " + std::to_string(i) + " exceeds maxval " +
-                                                   std::to_string(maxval));
+      throw Error(ErrorCode::kInvalidArgument,
+                  source + ": PGM pixel " + std::to_string(i) + " exceeds maxval " + std::to_string(maxval));
     }
   }
 
@@ -115,8 +115,10 @@ std::vector<uint8_t> MapImage(const OccupancyGrid& grid) {
     for (int x = 0; x < grid.width(); ++x) {
       const int8_t v = grid.at({x, y});
       uint8_t px = 205;
-      if (v >= OccupancyGrid::kOccupiedThreshold) px = 0;
-      else if (v >= 0 && v < 20) px = 254;
+      if (v >= OccupancyGrid::kOccupiedThreshold)
+        px = 0;
+      else if (v >= 0 && v < 20)
+        px = 254;
       image[static_cast<size_t>(grid.height() - 1 - y) * grid.width() + x] = px;
     }
   return image;
@@ -125,7 +127,8 @@ std::vector<uint8_t> MapImage(const OccupancyGrid& grid) {
 void SaveMapServerMap(const OccupancyGrid& grid, const std::string& yaml_path) {
   const std::filesystem::path yaml(yaml_path);
   const std::filesystem::path pgm = std::filesystem::path(yaml).replace_extension(".pgm");
-  std::string image = "P5\n# navd map\n" + std::to_string(grid.width()) + " " + std::to_string(grid.height()) + "\n255\n";
+  std::string image =
+      "P5\n# navd map\n" + std::to_string(grid.width()) + " " + std::to_string(grid.height()) + "\n255\n";
   const std::vector<uint8_t> pixels = MapImage(grid);
   image.append(reinterpret_cast<const char*>(pixels.data()), pixels.size());
   std::ostringstream meta;
@@ -170,8 +173,7 @@ OccupancyGrid LoadMapServerMap(const std::string& yaml_path) {
     throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'occupied_thresh' must be within [0, 1]");
   }
   if (!(p.free_thresh >= 0.0 && p.free_thresh < p.occupied_thresh)) {
-    throw Error(ErrorCode::kInvalidArgument,
-                yaml_path + ": field 'free_thresh' must be within [0, occupied_thresh)");
+    throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'free_thresh' must be within [0, occupied_thresh)");
   }
   if (p.mode != "trinary" && p.mode != "scale" && p.mode != "raw") {
     throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'mode' must be trinary, scale or raw");

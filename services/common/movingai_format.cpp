@@ -56,7 +56,9 @@ OccupancyGrid ParseMovingAiMap(const std::string& text, const std::string& sourc
   return grid;
 }
 
-OccupancyGrid LoadMovingAiMap(const std::string& path) { return ParseMovingAiMap(ReadTextFile(path, "map file"), path); }
+OccupancyGrid LoadMovingAiMap(const std::string& path) {
+  return ParseMovingAiMap(ReadTextFile(path, "map file"), path);
+}
 
 std::vector<MovingAiScenario> LoadMovingAiScenarios(const std::string& path) {
   std::istringstream in(ReadTextFile(path, "scenario file"));
@@ -72,14 +74,14 @@ std::vector<MovingAiScenario> LoadMovingAiScenarios(const std::string& path) {
     int w = 0, h = 0;
     std::string optimal;
     if (!(f >> s.bucket >> s.map >> w >> h >> s.start_x >> s.start_row >> s.goal_x >> s.goal_row >> optimal)) {
-      throw Error(ErrorCode::kInvalidArgument, path + ":" + std::to_string(line_no) +
-                                                   ": expected 'bucket map width height sx sy gx gy optimal'");
+      throw Error(ErrorCode::kInvalidArgument,
+                  path + ":" + std::to_string(line_no) + ": expected 'bucket map width height sx sy gx gy optimal'");
     }
     char* end = nullptr;
     s.optimal_length = std::strtod(optimal.c_str(), &end);
     if (*end != '\0' || !std::isfinite(s.optimal_length)) {
-      throw Error(ErrorCode::kInvalidArgument, path + ":" + std::to_string(line_no) + ": optimal length '" +
-                                                   optimal + "' is not a number");
+      throw Error(ErrorCode::kInvalidArgument,
+                  path + ":" + std::to_string(line_no) + ": optimal length '" + optimal + "' is not a number");
     }
     const size_t dot = optimal.find('.');
     s.decimals = dot == std::string::npos ? 0 : static_cast<int>(optimal.size() - dot - 1);

@@ -20,7 +20,7 @@ struct MovingAiScenario {
   int start_x = 0, start_row = 0;  // MovingAI coordinates: column, row from the top
   int goal_x = 0, goal_row = 0;
   double optimal_length = 0.0;
-  int decimals = 0;                // digits after the point in the file's optimal length
+  int decimals = 0;  // digits after the point in the file's optimal length
 };
 
 std::vector<MovingAiScenario> LoadMovingAiScenarios(const std::string& path);

@@ -6,7 +6,10 @@
 namespace navd {
 
 OccupancyGrid::OccupancyGrid(int width, int height, double resolution, Point2 origin, int8_t fill)
-    : width_(width), height_(height), resolution_(resolution), origin_(origin),
+    : width_(width),
+      height_(height),
+      resolution_(resolution),
+      origin_(origin),
       cells_(static_cast<size_t>(width) * height, fill) {}
 
 namespace {

@@ -13,8 +13,8 @@
 namespace navd {
 
 struct OdometryNoise {
-  double translation = 0.05;           // T: relative std-dev of each step's translation
-  double rotation_per_metre = 0.035;   // R: rad of heading std-dev per metre driven
+  double translation = 0.05;          // T: relative std-dev of each step's translation
+  double rotation_per_metre = 0.035;  // R: rad of heading std-dev per metre driven
 };
 
 // Parses "T,R" (both >= 0); throws std::invalid_argument naming `option` and the text otherwise.

@@ -20,7 +20,8 @@ void PutChunk(std::string& out, const char* type, const std::string& data) {
   PutBigEndian(out, static_cast<uint32_t>(data.size()));
   const std::string body = std::string(type, 4) + data;
   out += body;
-  PutBigEndian(out, static_cast<uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
+  PutBigEndian(out, static_cast<uint32_t>(
+                        crc32(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
 }
 
 }  // namespace

@@ -28,8 +28,7 @@ bool SegmentsIntersect(const Point2& p1, const Point2& p2, const Point2& q1, con
   const int o3 = Orientation(q1, q2, p1), o4 = Orientation(q1, q2, p2);
   if (o1 != o2 && o3 != o4 && o1 != 0 && o2 != 0 && o3 != 0 && o4 != 0) return true;
   return (o1 == 0 && OnSegment(p1, p2, q1)) || (o2 == 0 && OnSegment(p1, p2, q2)) ||
-         (o3 == 0 && OnSegment(q1, q2, p1)) || (o4 == 0 && OnSegment(q1, q2, p2)) ||
-         (o1 != o2 && o3 != o4);
+         (o3 == 0 && OnSegment(q1, q2, p1)) || (o4 == 0 && OnSegment(q1, q2, p2)) || (o1 != o2 && o3 != o4);
 }
 
 void FillEdges(OccupancyGrid& grid, const Polygon& polygon, int8_t value) {
@@ -79,8 +78,7 @@ bool PolygonContains(const Polygon& polygon, const Point2& p) {
   bool inside = false;
   for (size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
     const Point2 &a = polygon[i], &b = polygon[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
       inside = !inside;
     }
   }

@@ -50,7 +50,8 @@ inline Point2 Rotate(const Point2& v, double angle) {
 // The pose a fraction f of the way from a to b (f in [0, 1]): positions linearly, the heading the
 // short way round.
 inline Pose2 Interpolate(const Pose2& a, const Pose2& b, double f) {
-  return {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), NormalizeAngle(a.theta + f * NormalizeAngle(b.theta - a.theta))};
+  return {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y),
+          NormalizeAngle(a.theta + f * NormalizeAngle(b.theta - a.theta))};
 }
 
 // "(x, y)" with centimetre precision, for error messages.

@@ -91,7 +91,9 @@ RayCaster::RayCaster(OccupancyGrid grid) : grid_(std::move(grid)), inv_resolutio
         if (tiles_[t]) continue;
         const int nx = x + sx, ny = y + sy;
         const bool inside = nx >= 0 && ny >= 0 && nx < w && ny < h;
-        const auto ahead = [&](int ax, int ay) { return static_cast<int>(empty_ahead_[(static_cast<size_t>(ay) * w + ax) * 4 + q]); };
+        const auto ahead = [&](int ax, int ay) {
+          return static_cast<int>(empty_ahead_[(static_cast<size_t>(ay) * w + ax) * 4 + q]);
+        };
         const int side = inside ? 1 + std::min({ahead(nx, y), ahead(x, ny), ahead(nx, ny)}) : 1;
         empty_ahead_[t * 4 + q] = static_cast<uint8_t>(std::min(side, 255));
       }
@@ -125,7 +127,9 @@ double RayCaster::Cast(const Point2& origin, const Point2& dir, double max_range
   const uint8_t* empty_ahead = empty_ahead_.data();
   const int quadrant = (sx > 0 ? 0 : 1) | (sy > 0 ? 0 : 2);
   const size_t tile_stride = static_cast<size_t>(tile_stride_);
-  auto tile_of = [&](int x, int y) { return tiles[static_cast<size_t>(y >> kTileShift) * tile_stride + (x >> kTileShift)]; };
+  auto tile_of = [&](int x, int y) {
+    return tiles[static_cast<size_t>(y >> kTileShift) * tile_stride + (x >> kTileShift)];
+  };
   auto wall = [&](int x, int y) {
     return (tile_of(x, y) >> (((y & (kTile - 1)) << kTileShift) | (x & (kTile - 1)))) & 1;
   };

@@ -12,7 +12,7 @@ namespace navd {
 Pose2 AlignTrajectory(const std::vector<Point2>& estimate, const std::vector<Point2>& truth);
 
 struct TrajectoryError {
-  Pose2 alignment;           // estimate frame -> truth frame
+  Pose2 alignment;             // estimate frame -> truth frame
   double position_rmse = 0.0;  // m
   double heading_rmse = 0.0;   // rad
   double worst = 0.0;          // m

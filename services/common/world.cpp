@@ -22,10 +22,22 @@ extern "C" const char navd_default_world_yaml[];
 namespace navd {
 namespace {
 
-constexpr const char* kRobotKeys[] = {"start", "drive", "radius", "wheel_base", "wheel_radius", "max_wheel_speed",
-                                      "max_wheel_accel", "encoder_ticks_per_rev", "actuator_noise", "encoder_noise",
-                                      "omni_wheel_distance", "omni_wheel_angles_deg", "max_speed", "max_angular_speed",
-                                      "max_accel", "max_angular_accel"};
+constexpr const char* kRobotKeys[] = {"start",
+                                      "drive",
+                                      "radius",
+                                      "wheel_base",
+                                      "wheel_radius",
+                                      "max_wheel_speed",
+                                      "max_wheel_accel",
+                                      "encoder_ticks_per_rev",
+                                      "actuator_noise",
+                                      "encoder_noise",
+                                      "omni_wheel_distance",
+                                      "omni_wheel_angles_deg",
+                                      "max_speed",
+                                      "max_angular_speed",
+                                      "max_accel",
+                                      "max_angular_accel"};
 
 OccupancyGrid InlineMap(const YamlFields& f, const YAML::Node& m, const std::string& base_dir) {
   f.CheckKeys(m, "map", {"resolution", "size", "origin", "boxes", "polygons", "boundary"});
@@ -34,8 +46,10 @@ OccupancyGrid InlineMap(const YamlFields& f, const YAML::Node& m, const std::str
   const auto size = f.Numbers(m["size"], "map.size", 2, 2);
   const long long cells_x = std::llround(size[0] / res), cells_y = std::llround(size[1] / res);
   if (cells_x < 1 || cells_y < 1 || cells_x * cells_y > OccupancyGrid::kMaxCells) {
-    f.Fail("map.size", "must span at least one cell and at most " + std::to_string(OccupancyGrid::kMaxCells) +
-                           " cells at this resolution", m["size"]);
+    f.Fail("map.size",
+           "must span at least one cell and at most " + std::to_string(OccupancyGrid::kMaxCells) +
+               " cells at this resolution",
+           m["size"]);
   }
   Point2 origin = Point2::Zero();
   if (m["origin"]) {
@@ -102,7 +116,8 @@ World Parse(const YamlFields& f, const std::string& text, const std::string& bas
     }
   }
   if (const YAML::Node zones = doc["speed_zones"]) {
-    f.ExpectSequence(zones, "speed_zones", "{name, box: [x_min, y_min, x_max, y_max] or polygon: [[x, y], ...], max_speed}");
+    f.ExpectSequence(zones, "speed_zones",
+                     "{name, box: [x_min, y_min, x_max, y_max] or polygon: [[x, y], ...], max_speed}");
     for (size_t i = 0; i < zones.size(); ++i) {
       const std::string field = "speed_zones[" + std::to_string(i) + "]";
       const YAML::Node z = zones[i];
@@ -130,8 +145,10 @@ World Parse(const YamlFields& f, const std::string& text, const std::string& bas
   }
   if (!w.map.ContainsPoint(w.start.translation())) f.Fail("robot.start", "lies outside the map", doc["robot"]);
   if (w.map.DiscHitsObstacle(w.start.translation(), w.robot.radius)) {
-    f.Fail("robot.start", "puts the robot (radius " + std::to_string(w.robot.radius).substr(0, 4) +
-                              " m) inside or against an obstacle", doc["robot"]);
+    f.Fail(
+        "robot.start",
+        "puts the robot (radius " + std::to_string(w.robot.radius).substr(0, 4) + " m) inside or against an obstacle",
+        doc["robot"]);
   }
   return w;
 }
@@ -186,7 +203,8 @@ void ReadRobotDescription(const YamlFields& f, const YAML::Node& r, const std::s
 
 void ReadLaserDescription(const YamlFields& f, const YAML::Node& l, const std::string& prefix, LaserDescription& d) {
   f.ExpectMap(l, prefix.substr(0, prefix.size() - 1));
-  f.CheckKeys(l, prefix.substr(0, prefix.size() - 1), {"type", "fov_deg", "range_min", "range_max", "beams", "rate_hz", "noise"});
+  f.CheckKeys(l, prefix.substr(0, prefix.size() - 1),
+              {"type", "fov_deg", "range_min", "range_max", "beams", "rate_hz", "noise"});
   if (l["fov_deg"]) d.fov = f.Positive(l["fov_deg"], prefix + "fov_deg") * M_PI / 180.0;
   f.Read(l, "range_min", prefix, d.range_min, &YamlFields::NonNegative);
   f.Read(l, "range_max", prefix, d.range_max, &YamlFields::Positive);
@@ -228,8 +246,9 @@ MapFileKind SniffMapFile(const std::string& text, const std::string& path) {
   const YAML::Node doc = ParseYamlMapping(text, path);
   if (doc["image"]) return MapFileKind::kMapServer;
   if (doc["map"]) return MapFileKind::kWorld;
-  throw Error(ErrorCode::kInvalidArgument,
-              path + ": neither a map_server YAML (no 'image' field), a world file (no 'map' field) nor a MovingAI map");
+  throw Error(
+      ErrorCode::kInvalidArgument,
+      path + ": neither a map_server YAML (no 'image' field), a world file (no 'map' field) nor a MovingAI map");
 }
 
 // The known-free cell nearest the map's centre whose clearance fits a robot of `radius`.
@@ -250,8 +269,8 @@ Pose2 FreeSpotNearCentre(const OccupancyGrid& map, double radius, const std::str
     }
   }
   if (!std::isfinite(best)) {
-    throw Error(ErrorCode::kInvalidArgument, path + ": no free spot where a robot of radius " +
-                                                 std::to_string(radius).substr(0, 4) + " m fits");
+    throw Error(ErrorCode::kInvalidArgument,
+                path + ": no free spot where a robot of radius " + std::to_string(radius).substr(0, 4) + " m fits");
   }
   return Pose2(spot.x(), spot.y(), 0.0);
 }

@@ -23,23 +23,23 @@ const char* DriveTypeName(DriveType type);
 // The robot's geometry and limits (seed 000's differential-drive robot by default).
 struct RobotDescription {
   DriveType drive = DriveType::kDiffDrive;
-  double radius = 0.20;            // m, the robot is a disc
-  double wheel_base = 0.33;        // m, distance between the drive wheels (diff drive, unicycle)
-  double wheel_radius = 0.05;      // m
-  double max_wheel_speed = 0.5;    // m/s at the rim
-  double max_wheel_accel = 2.0;    // m/s^2 at the rim
+  double radius = 0.20;          // m, the robot is a disc
+  double wheel_base = 0.33;      // m, distance between the drive wheels (diff drive, unicycle)
+  double wheel_radius = 0.05;    // m
+  double max_wheel_speed = 0.5;  // m/s at the rim
+  double max_wheel_accel = 2.0;  // m/s^2 at the rim
   int encoder_ticks_per_rev = 1024;
-  double actuator_noise = 0.02;    // relative std-dev of each wheel's achieved speed
-  double encoder_noise = 0.005;    // relative std-dev of each wheel's travel against the floor (slip)
+  double actuator_noise = 0.02;  // relative std-dev of each wheel's achieved speed
+  double encoder_noise = 0.005;  // relative std-dev of each wheel's travel against the floor (slip)
   // Omnidirectional drive: wheel i sits at angle omni_wheel_angles[i] (rad, robot frame) at
   // omni_wheel_distance from the centre and rolls tangentially (Festo Robotino geometry).
   double omni_wheel_distance = 0.135;  // m
   std::vector<double> omni_wheel_angles = {0.0, 2.0 * M_PI / 3.0, 4.0 * M_PI / 3.0};
   // Unicycle (chapter 7): body-level limits on speed and on the acceleration inputs u1, u2.
-  double max_speed = 1.5;              // m/s
-  double max_angular_speed = 2.0;      // rad/s
-  double max_accel = 1.0;              // m/s^2 (|u1|)
-  double max_angular_accel = 4.0;      // rad/s^2 (|u2|)
+  double max_speed = 1.5;          // m/s
+  double max_angular_speed = 2.0;  // rad/s
+  double max_accel = 1.0;          // m/s^2 (|u1|)
+  double max_angular_accel = 4.0;  // rad/s^2 (|u2|)
 };
 
 // A laser range finder like the Hokuyo URG-04LX of seed 000.
@@ -48,8 +48,8 @@ struct LaserDescription {
   double range_min = 0.02;            // m
   double range_max = 4.0;             // m
   int beams = 683;
-  double rate = 10.0;                 // Hz
-  double noise = 0.01;                // m, std-dev of range noise
+  double rate = 10.0;   // Hz
+  double noise = 0.01;  // m, std-dev of range noise
 };
 
 // An axis-aligned box in the map frame, metres.
@@ -65,18 +65,18 @@ struct Box {
 // bays, doorways, where people walk). Map frame, metres, m/s at the robot's rim.
 struct SpeedZone {
   std::string name;
-  Polygon area;      // a simple closed curve
+  Polygon area;  // a simple closed curve
   double max_speed = 0.0;
 };
 
 struct World {
   std::string name;
-  std::string source;              // file path, or "<embedded>"
+  std::string source;  // file path, or "<embedded>"
   OccupancyGrid map;
-  Pose2 start;                     // robot start pose in the map frame
+  Pose2 start;  // robot start pose in the map frame
   RobotDescription robot;
   LaserDescription laser;
-  std::vector<Pose2> goals;        // named demo goals, in order
+  std::vector<Pose2> goals;            // named demo goals, in order
   std::map<std::string, Box> regions;  // named areas (rooms, streets, spawn areas)
   std::vector<SpeedZone> speed_zones;
 };

@@ -15,7 +15,8 @@ void YamlFields::Fail(const std::string& field, const std::string& why, const YA
 void YamlFields::CheckKeys(const YAML::Node& n, const std::string& where,
                            std::initializer_list<const char*> allowed) const {
   for (const auto& kv : n) {
-    if (!kv.first.IsScalar()) Fail(where.empty() ? "(top level)" : where, "has a key that is not a plain name", kv.first);
+    if (!kv.first.IsScalar())
+      Fail(where.empty() ? "(top level)" : where, "has a key that is not a plain name", kv.first);
     const std::string key = kv.first.as<std::string>();
     bool known = false;
     std::string list;
@@ -100,7 +101,8 @@ size_t YamlFields::Choice(const YAML::Node& n, const std::string& field,
 
 std::vector<double> YamlFields::Numbers(const YAML::Node& n, const std::string& field, size_t min, size_t max) const {
   if (!n.IsSequence() || n.size() < min || n.size() > max) {
-    Fail(field, "must be a list of " + std::to_string(min) + (min == max ? "" : "-" + std::to_string(max)) + " numbers", n);
+    Fail(field, "must be a list of " + std::to_string(min) + (min == max ? "" : "-" + std::to_string(max)) + " numbers",
+         n);
   }
   std::vector<double> out;
   for (size_t i = 0; i < n.size(); ++i) out.push_back(Number(n[i], field + "[" + std::to_string(i) + "]"));

@@ -46,13 +46,9 @@ EkfLocalizer::Belief EkfLocalizer::Predicted(const Belief& b, const Pose2& d) co
   const double c = std::cos(b.x.z()), s = std::sin(b.x.z());
   // Jacobians of x+ = x (+) d: A_x by the state, A_u by the increment (its rotation into the map).
   Eigen::Matrix3d a_x;
-  a_x << 1, 0, -s * d.x - c * d.y,
-         0, 1, c * d.x - s * d.y,
-         0, 0, 1;
+  a_x << 1, 0, -s * d.x - c * d.y, 0, 1, c * d.x - s * d.y, 0, 0, 1;
   Eigen::Matrix3d a_u;
-  a_u << c, -s, 0,
-         s, c, 0,
-         0, 0, 1;
+  a_u << c, -s, 0, s, c, 0, 0, 0, 1;
   // U: along and across the motion k_distance per metre, heading k_turn per radian plus
   // k_turn_per_metre per metre; expressed on the increment's robot-frame axes.
   const double sd = o_.k_distance * dist;

@@ -30,8 +30,8 @@ struct EkfOptions {
   double k_turn = 0.05;
   double k_turn_per_metre = 0.035;  // rad/m (2 degrees per metre)
   // Process noise Q per metre driven (slip the wheels do not report), variances.
-  double q_xy_per_metre = 1e-4;       // m^2/m
-  double q_theta_per_metre = 1e-4;    // rad^2/m
+  double q_xy_per_metre = 1e-4;     // m^2/m
+  double q_theta_per_metre = 1e-4;  // rad^2/m
   // Correct only after the robot moved this much since the last correction (as AMCL): repeated
   // matches of one standing scene are one measurement, not many.
   double update_min_distance = 0.05;  // m
@@ -41,7 +41,7 @@ struct EkfOptions {
   // first match caught in a local minimum leaves it confident and off by centimetres, and every
   // right match after looks like an outlier): it re-anchors at the latest match.
   int reanchor_after = 5;
-  int beams = 120;                    // beams used per scan, evenly spread
+  int beams = 120;  // beams used per scan, evenly spread
   LikelihoodFieldOptions field;
   ScanToMapFitOptions fit;
 };
@@ -81,12 +81,12 @@ class EkfLocalizer : public Localizer {
   };
   mutable std::mutex mutex_;
   std::shared_ptr<const MapModel> model_;  // guarded by mutex_
-  Belief belief_;                    // at the odometry predicted_at_odom_
+  Belief belief_;                          // at the odometry predicted_at_odom_
   Pose2 predicted_at_odom_;
   OdometryHistory odom_history_;
   bool have_odom_ = false;
   Pose2 latest_odom_;
-  Pose2 corrected_at_odom_;          // odometry at the last correction
+  Pose2 corrected_at_odom_;  // odometry at the last correction
   bool moved_since_correction_ = true;
   int rejected_in_a_row_ = 0;
   double quality_ = 1.0;

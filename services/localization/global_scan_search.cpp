@@ -26,15 +26,21 @@ std::vector<float> SlidingMax(const std::vector<float>& in, int width, int heigh
 
 }  // namespace
 
-GlobalScanSearch::GlobalScanSearch(const OccupancyGrid& map, const LikelihoodField& field, const GlobalScanSearchOptions& options)
-    : o_(options), field_(field), width_(map.width()), height_(map.height()), resolution_(map.resolution()),
+GlobalScanSearch::GlobalScanSearch(const OccupancyGrid& map, const LikelihoodField& field,
+                                   const GlobalScanSearchOptions& options)
+    : o_(options),
+      field_(field),
+      width_(map.width()),
+      height_(map.height()),
+      resolution_(map.resolution()),
       origin_(map.origin()) {
   block_cells_ = std::max(1, static_cast<int>(std::lround(o_.block / resolution_)));
   const float best = static_cast<float>(field.best_log_likelihood());
   std::vector<float> score(static_cast<size_t>(width_) * height_);
   for (int y = 0; y < height_; ++y)
     for (int x = 0; x < width_; ++x)
-      score[static_cast<size_t>(y) * width_ + x] = std::exp(field.LogLikelihoodAtCell(static_cast<float>(x), static_cast<float>(y)) - best);
+      score[static_cast<size_t>(y) * width_ + x] =
+          std::exp(field.LogLikelihoodAtCell(static_cast<float>(x), static_cast<float>(y)) - best);
   // Half a block, and a cell for the rounding of the point's cell.
   const int half = block_cells_ / 2 + 1;
   bound_ = SlidingMax(SlidingMax(score, width_, height_, half, true), width_, height_, half, false);
@@ -45,7 +51,8 @@ GlobalScanSearch::GlobalScanSearch(const OccupancyGrid& map, const LikelihoodFie
         for (int x = bx * block_cells_; x < std::min(width_, (bx + 1) * block_cells_) && !free; ++x)
           free = map.cells()[static_cast<size_t>(y) * width_ + x] == OccupancyGrid::kFree;
       if (free) {
-        blocks_.push_back(origin_ + resolution_ * Point2(bx * block_cells_ + 0.5 * block_cells_, by * block_cells_ + 0.5 * block_cells_));
+        blocks_.push_back(origin_ + resolution_ * Point2(bx * block_cells_ + 0.5 * block_cells_,
+                                                         by * block_cells_ + 0.5 * block_cells_));
       }
     }
   }

@@ -17,14 +17,14 @@
 namespace navd::localization {
 
 struct GlobalScanSearchOptions {
-  double block = 0.3;                       // m: the coarse level's step in x and y
-  double angle_step = 2.0 * M_PI / 180.0;   // rad: the coarse level's heading step
-  int points = 60;                          // scan points scored (evenly thinned)
-  double max_range = 10.0;                  // m: farther points are left out (heading errors grow with range)
-  int blocks_refined = 300;                 // best coarse (block, heading) pairs searched finely
-  int candidates = 40;                      // at most this many returned
-  double distinct_xy = 0.4;                 // m: candidates closer than this (and distinct_theta) are one
-  double distinct_theta = 0.3;              // rad
+  double block = 0.3;                      // m: the coarse level's step in x and y
+  double angle_step = 2.0 * M_PI / 180.0;  // rad: the coarse level's heading step
+  int points = 60;                         // scan points scored (evenly thinned)
+  double max_range = 10.0;                 // m: farther points are left out (heading errors grow with range)
+  int blocks_refined = 300;                // best coarse (block, heading) pairs searched finely
+  int candidates = 40;                     // at most this many returned
+  double distinct_xy = 0.4;                // m: candidates closer than this (and distinct_theta) are one
+  double distinct_theta = 0.3;             // rad
 };
 
 struct PoseCandidate {
@@ -46,8 +46,8 @@ class GlobalScanSearch {
   int block_cells_ = 1;
   double resolution_ = 0.05;
   Point2 origin_;
-  std::vector<float> bound_;       // per map cell: the best per-point score within half a block
-  std::vector<Point2> blocks_;     // centres of the blocks holding free space
+  std::vector<float> bound_;    // per map cell: the best per-point score within half a block
+  std::vector<Point2> blocks_;  // centres of the blocks holding free space
 };
 
 }  // namespace navd::localization

@@ -192,16 +192,23 @@ void HistogramLocalizer::Blur() {
       if (m == 0.0f) continue;
       const size_t pos = offset_of(s);
       scratch_[s] += p * m;
-      if (pos > 0) scratch_[s - stride] += q * m;
-      else if (wrap) scratch_[s + (count - 1) * stride] += q * m;
-      if (pos + 1 < count) scratch_[s + stride] += q * m;
-      else if (wrap) scratch_[s - (count - 1) * stride] += q * m;
+      if (pos > 0)
+        scratch_[s - stride] += q * m;
+      else if (wrap)
+        scratch_[s + (count - 1) * stride] += q * m;
+      if (pos + 1 < count)
+        scratch_[s + stride] += q * m;
+      else if (wrap)
+        scratch_[s - (count - 1) * stride] += q * m;
     }
     belief_.swap(scratch_);
   };
-  along(nx_, 1, [&](size_t s) { return s % nx_; }, false);
-  along(ny_, nx_, [&](size_t s) { return (s / nx_) % ny_; }, false);
-  along(nk_, plane, [&](size_t s) { return s / plane; }, true);
+  along(
+      nx_, 1, [&](size_t s) { return s % nx_; }, false);
+  along(
+      ny_, nx_, [&](size_t s) { return (s / nx_) % ny_; }, false);
+  along(
+      nk_, plane, [&](size_t s) { return s / plane; }, true);
 }
 
 void HistogramLocalizer::AddOdometry(const OdometryReading& reading) {

@@ -23,13 +23,13 @@
 namespace navd::localization {
 
 struct HistogramOptions {
-  double cell_size = 0.1;        // m
-  int heading_bins = 36;         // 10 degrees each
+  double cell_size = 0.1;            // m
+  int heading_bins = 36;             // 10 degrees each
   double kernel_centre = 2.0 / 3.0;  // the chapter's p; each neighbour gets (1 - p) / 2
-  int beams = 30;                // beams used per scan, evenly spread
+  int beams = 30;                    // beams used per scan, evenly spread
   // Beams of one scan are far from independent: their summed log-likelihood is scaled by this.
   double likelihood_scale = 0.2;
-  size_t max_states = 4000000;   // larger grids are refused: use the particle filter
+  size_t max_states = 4000000;  // larger grids are refused: use the particle filter
   // States whose probability falls under this fraction of the most likely one are dropped, so a
   // converged belief costs a few hundred states per scan instead of the whole grid.
   double prune_below = 1e-9;
@@ -77,18 +77,18 @@ class HistogramLocalizer : public Localizer {
   void GlobalRelocalizeLocked();
 
   const HistogramOptions requested_;
-  HistogramOptions o_;              // in effect: SetMap may coarsen the cells of a larger map
+  HistogramOptions o_;  // in effect: SetMap may coarsen the cells of a larger map
   std::unique_ptr<const LikelihoodField> field_;
   Point2 origin_;
   int nx_ = 0, ny_ = 0, nk_ = 0;
   double bin_ = 0.0;
-  std::vector<uint8_t> free_;      // per (i, j): the cell centre lies in free space
+  std::vector<uint8_t> free_;  // per (i, j): the cell centre lies in free space
   mutable std::mutex mutex_;
   std::vector<float> belief_;
   std::vector<float> scratch_;
   OdometryHistory odom_history_;
   bool have_odom_ = false;
-  Pose2 predicted_at_odom_;        // odometry up to which the belief has been moved
+  Pose2 predicted_at_odom_;  // odometry up to which the belief has been moved
   bool moved_since_scan_ = true;
   PoseEstimate estimate_;
 };

@@ -23,7 +23,8 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
   for (int y = -1; y <= height_; ++y) {
     for (int x = -1; x <= width_; ++x) {
       const int cx = std::clamp(x, 0, width_ - 1), cy = std::clamp(y, 0, height_ - 1);
-      surface_distance_[static_cast<size_t>(y + 1) * padded_width_ + (x + 1)] = surface[static_cast<size_t>(cy) * width_ + cx];
+      surface_distance_[static_cast<size_t>(y + 1) * padded_width_ + (x + 1)] =
+          surface[static_cast<size_t>(cy) * width_ + cx];
     }
   }
   const double rand = o_.z_rand / o_.range_max;
@@ -85,7 +86,8 @@ double LikelihoodField::Agreement(const Pose2& pose, const std::vector<Point2>& 
   const float best = log_likelihood_table_[0];
   double sum = 0.0;
   for (const Point2& p : ends) {
-    sum += std::exp(LogLikelihoodAtCell(ToCellX(pose.x + c * p.x() - s * p.y()), ToCellY(pose.y + s * p.x() + c * p.y())) - best);
+    sum += std::exp(
+        LogLikelihoodAtCell(ToCellX(pose.x + c * p.x() - s * p.y()), ToCellY(pose.y + s * p.x() + c * p.y())) - best);
   }
   return sum / ends.size();
 }

@@ -16,11 +16,11 @@
 namespace navd::localization {
 
 struct LikelihoodFieldOptions {
-  double sigma_hit = 0.07;     // m
+  double sigma_hit = 0.07;  // m
   double z_hit = 0.95;
   double z_rand = 0.05;
-  double max_distance = 2.0;   // m: distances beyond count as this far
-  double range_max = 4.0;      // m: the z_rand density is 1 / range_max
+  double max_distance = 2.0;  // m: distances beyond count as this far
+  double range_max = 4.0;     // m: the z_rand density is 1 / range_max
 };
 
 class LikelihoodField {

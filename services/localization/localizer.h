@@ -34,10 +34,10 @@ struct ScanReading {
 };
 
 struct PoseEstimate {
-  Pose2 pose;                                             // map frame
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();   // (x, y, theta)
+  Pose2 pose;                                            // map frame
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // (x, y, theta)
   double stamp = 0.0;
-  bool valid = false;                                     // false until the first reading
+  bool valid = false;  // false until the first reading
   // How well the sensors agree with the map, 0 (lost) to 1; 1 for pure odometry, which cannot tell.
   double quality = 1.0;
   // m: how widely the position is spread, sqrt(var x + var y).

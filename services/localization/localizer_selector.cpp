@@ -33,7 +33,8 @@ void LocalizerSelector::Select(const std::string& name) {
     }
     known += localizers_[i]->name() + ", ";
   }
-  throw Error(ErrorCode::kInvalidArgument, "method: unknown localisation method '" + name + "' (known: " + known + "auto)");
+  throw Error(ErrorCode::kInvalidArgument,
+              "method: unknown localisation method '" + name + "' (known: " + known + "auto)");
 }
 
 bool LocalizerSelector::automatic() const {
@@ -148,8 +149,8 @@ bool LocalizerSelector::StartSearch() {
   if (!fresh->GlobalRelocalize()) return false;
   std::lock_guard<std::mutex> lock(search_mutex_);
   if (map_version_ != version) return false;  // a new map came meanwhile: the caller searches again
-  search_estimate_ = fresh->Estimate();  // scattered over the map (valid once odometry came)
-  search_estimate_.valid = true;         // a search runs
+  search_estimate_ = fresh->Estimate();       // scattered over the map (valid once odometry came)
+  search_estimate_.valid = true;              // a search runs
   search_ = std::move(fresh);
   return true;
 }

@@ -37,7 +37,7 @@ class LocalizerSelector : public Localizer {
   int odometry_jumps() const;
   bool AddScan(const ScanReading& scan) override;
   PoseEstimate Estimate() const override;
-  bool GlobalRelocalize() override;   // on every localiser that can; true if any did
+  bool GlobalRelocalize() override;  // on every localiser that can; true if any did
   bool SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) override;  // likewise
   bool SetMap(const OccupancyGrid& map) override;  // every localiser's map (and the search's)
   // The search runs beside the selected localiser, on a Fresh() one of its kind (or of the first
@@ -56,8 +56,8 @@ class LocalizerSelector : public Localizer {
   void Arbitrate(double stamp);
 
   std::vector<std::unique_ptr<Localizer>> localizers_;  // fixed after start-up
-  OdometryJumpFilter jump_filter_;                       // guarded by mutex_
-  std::optional<OdometryReading> last_odometry_;         // guarded by mutex_: a search starts from it
+  OdometryJumpFilter jump_filter_;                      // guarded by mutex_
+  std::optional<OdometryReading> last_odometry_;        // guarded by mutex_: a search starts from it
   mutable std::mutex mutex_;
   size_t selected_ = 0;
   // The whole-map search beside the selected localiser, if one runs. Fed outside any lock of

@@ -21,13 +21,13 @@ namespace navd::localization {
 // One method's criteria at one evaluation.
 struct MethodContext {
   std::string name;
-  double gate = 1.0;              // product of the critical criteria: 0 or 1
-  std::vector<double> criteria;   // non-critical, 1..5, in the order of the weights
+  double gate = 1.0;             // product of the critical criteria: 0 or 1
+  std::vector<double> criteria;  // non-critical, 1..5, in the order of the weights
 };
 
 struct MethodArbiterOptions {
-  int switch_after = 10;          // consecutive wins a new method needs (1: no filter)
-  uint64_t seed = 1;              // for the random choice among tied methods
+  int switch_after = 10;  // consecutive wins a new method needs (1: no filter)
+  uint64_t seed = 1;      // for the random choice among tied methods
 };
 
 class MethodArbiter {

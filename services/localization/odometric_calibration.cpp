@@ -50,8 +50,7 @@ void OdometricCalibrationLocalizer::AddOdometry(const OdometryReading& reading) 
 
 OdometricCalibrationLocalizer::Match OdometricCalibrationLocalizer::Compare(const std::vector<double>& angles,
                                                                             const std::vector<double>& ranges,
-                                                                            double range_max,
-                                                                            const Pose2& pose) const {
+                                                                            double range_max, const Pose2& pose) const {
   Match m;
   const double reject2 = o_.reject_distance * o_.reject_distance;
   double kept_sum = 0.0;
@@ -103,7 +102,8 @@ bool OdometricCalibrationLocalizer::AddScan(const ScanReading& scan) {
       for (int j = -half_xy; j <= half_xy; ++j) {
         for (int k = -half_t; k <= half_t; ++k) {
           if (i == 0 && j == 0 && k == 0) continue;
-          const Pose2 candidate{centre.x + i * step_x, centre.y + j * step_y, NormalizeAngle(centre.theta + k * step_t)};
+          const Pose2 candidate{centre.x + i * step_x, centre.y + j * step_y,
+                                NormalizeAngle(centre.theta + k * step_t)};
           const Match m = Compare(angles, ranges, scan.range_max, candidate);
           if (m.cost < best_match.cost) {
             best_match = m;

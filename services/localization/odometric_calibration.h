@@ -23,17 +23,17 @@
 namespace navd::localization {
 
 struct OdometricCalibrationOptions {
-  double period = 0.2;               // s between checks ("at least a few times per second")
-  double wheel_base = 0.33;          // m, to turn the odometry's turn rate into |v_L - v_R|
-  double turn_threshold = 0.1;       // T_dv, m/s of wheel speed difference
-  double reject_distance = 0.30;     // T_mo, m
-  double error_threshold = 0.015;    // T_eps, m (RMS)
-  double search_x = 0.5;             // L_x, m (full width, centred on the estimate)
-  double search_y = 0.5;             // L_y, m
-  double search_theta = 0.4;         // L_phi, rad
-  int refinements = 4;               // grid levels after the first, each a third of the last's step
-  int beams = 60;                    // rays compared per scan, evenly spread
-  int min_rays = 15;                 // fewer usable rays: no check
+  double period = 0.2;             // s between checks ("at least a few times per second")
+  double wheel_base = 0.33;        // m, to turn the odometry's turn rate into |v_L - v_R|
+  double turn_threshold = 0.1;     // T_dv, m/s of wheel speed difference
+  double reject_distance = 0.30;   // T_mo, m
+  double error_threshold = 0.015;  // T_eps, m (RMS)
+  double search_x = 0.5;           // L_x, m (full width, centred on the estimate)
+  double search_y = 0.5;           // L_y, m
+  double search_theta = 0.4;       // L_phi, rad
+  int refinements = 4;             // grid levels after the first, each a third of the last's step
+  int beams = 60;                  // rays compared per scan, evenly spread
+  int min_rays = 15;               // fewer usable rays: no check
 };
 
 class OdometricCalibrationLocalizer : public Localizer {
@@ -71,8 +71,8 @@ class OdometricCalibrationLocalizer : public Localizer {
   Pose2 initial_pose_;
   Pose2 map_from_odom_;
   Eigen::Matrix3d anchor_covariance_ = Eigen::Matrix3d::Zero();
-  double anchor_distance_ = 0.0;      // odometry distance at the last anchoring
-  double distance_ = 0.0;             // odometry distance so far
+  double anchor_distance_ = 0.0;  // odometry distance at the last anchoring
+  double distance_ = 0.0;         // odometry distance so far
   double last_check_ = -1e18;
   double quality_ = 1.0;
   int searches_ = 0;

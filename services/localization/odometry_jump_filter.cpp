@@ -11,7 +11,8 @@ OdometryReading OdometryJumpFilter::Filter(const OdometryReading& reading, bool*
   if (!reading.pose.finite()) return out;  // the localisers refuse it themselves
   if (have_last_) {
     const Pose2 step = last_raw_.pose.inverse() * reading.pose;
-    const double dt = std::isfinite(reading.stamp - last_raw_.stamp) ? std::max(0.0, reading.stamp - last_raw_.stamp) : 0.0;
+    const double dt =
+        std::isfinite(reading.stamp - last_raw_.stamp) ? std::max(0.0, reading.stamp - last_raw_.stamp) : 0.0;
     const bool too_far = std::hypot(step.x, step.y) > std::max(limits_.min_distance, limits_.max_speed * dt);
     const bool too_turned = std::abs(step.theta) > std::max(limits_.min_angle, limits_.max_turn_rate * dt);
     if (too_far || too_turned) {

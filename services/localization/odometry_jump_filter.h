@@ -8,10 +8,10 @@
 namespace navd::localization {
 
 struct OdometryJumpLimits {
-  double max_speed = 3.0;          // m/s no indoor robot exceeds
-  double max_turn_rate = 8.0;      // rad/s
-  double min_distance = 0.25;      // m: smaller steps are never jumps (jitter in the stamps)
-  double min_angle = 0.5;          // rad
+  double max_speed = 3.0;      // m/s no indoor robot exceeds
+  double max_turn_rate = 8.0;  // rad/s
+  double min_distance = 0.25;  // m: smaller steps are never jumps (jitter in the stamps)
+  double min_angle = 0.5;      // rad
 };
 
 class OdometryJumpFilter {

@@ -10,7 +10,7 @@
 namespace navd::localization {
 
 namespace {
-constexpr double kScanlessSteps = 4.0;   // x the update thresholds
+constexpr double kScanlessSteps = 4.0;  // x the update thresholds
 }  // namespace
 
 ParticleFilterLocalizer::MapModel::MapModel(const OccupancyGrid& grid, const ParticleFilterOptions& o)
@@ -28,7 +28,8 @@ const GlobalScanSearch& ParticleFilterLocalizer::MapModel::scan_search(const Glo
 ParticleFilterLocalizer::ParticleFilterLocalizer(const OccupancyGrid& map, const ParticleFilterOptions& options)
     : ParticleFilterLocalizer(std::make_shared<const MapModel>(map, options), options) {}
 
-ParticleFilterLocalizer::ParticleFilterLocalizer(std::shared_ptr<const MapModel> model, const ParticleFilterOptions& options)
+ParticleFilterLocalizer::ParticleFilterLocalizer(std::shared_ptr<const MapModel> model,
+                                                 const ParticleFilterOptions& options)
     : o_(options), model_(std::move(model)), rng_(options.seed) {}
 
 std::unique_ptr<Localizer> ParticleFilterLocalizer::Fresh() const {
@@ -57,7 +58,8 @@ size_t ParticleFilterLocalizer::particle_count() const {
 Pose2 ParticleFilterLocalizer::RandomFreePose() {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   if (model_->free_cells.empty()) return {};
-  const int32_t i = model_->free_cells[static_cast<size_t>(u(rng_) * model_->free_cells.size()) % model_->free_cells.size()];
+  const int32_t i =
+      model_->free_cells[static_cast<size_t>(u(rng_) * model_->free_cells.size()) % model_->free_cells.size()];
   const Point2 c = model_->map.CellCenter({i % model_->map.width(), i / model_->map.width()});
   const double r = model_->map.resolution();
   return {c.x() + (u(rng_) - 0.5) * r, c.y() + (u(rng_) - 0.5) * r, NormalizeAngle(u(rng_) * 2 * M_PI)};
@@ -219,7 +221,8 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   return true;
 }
 
-void ParticleFilterLocalizer::WeighByLikelihoodField(const std::vector<Point2>& ends, std::vector<double>& sensor) const {
+void ParticleFilterLocalizer::WeighByLikelihoodField(const std::vector<Point2>& ends,
+                                                     std::vector<double>& sensor) const {
   // Sensor log-likelihood of each particle, summed over the beams; in float cells of the map
   // (shifted by half a cell) from here on, since this loop runs particles x beams times.
   std::vector<float> end_x(ends.size()), end_y(ends.size());
@@ -245,7 +248,8 @@ double ParticleFilterLocalizer::BeamModelLogLikelihood(const Pose2& pose, const 
   const double norm = 1.0 / (b.sigma_hit * std::sqrt(2 * M_PI));
   double sum = 0.0;
   for (const ScanBeam& beam : beams) {
-    const double expected = std::min(model_->caster->CastOpenEdge(pose.translation(), pose.theta + beam.angle, range_max), range_max);
+    const double expected =
+        std::min(model_->caster->CastOpenEdge(pose.translation(), pose.theta + beam.angle, range_max), range_max);
     const double z = beam.range;
     double p = b.z_rand / range_max;
     if (!beam.hit) {
@@ -253,7 +257,8 @@ double ParticleFilterLocalizer::BeamModelLogLikelihood(const Pose2& pose, const 
     } else {
       const double d = z - expected;
       p += b.z_hit * norm * std::exp(-0.5 * d * d / (b.sigma_hit * b.sigma_hit));
-      if (z < expected) p += b.z_short * b.lambda_short * std::exp(-b.lambda_short * z) / (1.0 - std::exp(-b.lambda_short * expected));
+      if (z < expected)
+        p += b.z_short * b.lambda_short * std::exp(-b.lambda_short * z) / (1.0 - std::exp(-b.lambda_short * expected));
     }
     sum += std::log(p);
   }

@@ -43,10 +43,10 @@ enum class SensorModel { kLikelihoodField, kBeam };
 
 // The beam model's mixture (AMCL's defaults).
 struct BeamModelOptions {
-  int beams = 30;              // ray casts per particle per scan
-  double sigma_hit = 0.2;      // m
+  int beams = 30;          // ray casts per particle per scan
+  double sigma_hit = 0.2;  // m
   double z_hit = 0.95, z_short = 0.1, z_max = 0.05, z_rand = 0.05;
-  double lambda_short = 0.1;   // 1/m
+  double lambda_short = 0.1;  // 1/m
 };
 
 struct ParticleFilterOptions {
@@ -56,23 +56,23 @@ struct ParticleFilterOptions {
   // Scattered for global relocalisation; resampling trims them. 30 000 found 93 of 100 random
   // warehouse poses, 60 000 95-99, 100 000 all (relocalization_bench, seeds 1-3).
   int global_particles = 100000;
-  double kld_error = 0.01;          // KLD bound epsilon
-  double kld_z = 2.326;             // upper standard normal quantile for 1 - delta = 0.99
-  double kld_bin_xy = 0.25;         // m
+  double kld_error = 0.01;                     // KLD bound epsilon
+  double kld_z = 2.326;                        // upper standard normal quantile for 1 - delta = 0.99
+  double kld_bin_xy = 0.25;                    // m
   double kld_bin_theta = 10.0 * M_PI / 180.0;  // rad
   // Odometry noise (AMCL's odom_alpha1..4): rotation from rotation, rotation from translation,
   // translation from translation, translation from rotation.
   double alpha1 = 0.1, alpha2 = 0.1, alpha3 = 0.1, alpha4 = 0.1;
-  double alpha5 = 0.1;              // omni only: sideways slip from translation
+  double alpha5 = 0.1;  // omni only: sideways slip from translation
   SensorModel sensor_model = SensorModel::kLikelihoodField;
   BeamModelOptions beam_model;
   // Likelihood field.
-  int beams = 90;                   // beams used per scan, evenly spread
-  double sigma_hit = 0.07;           // m
+  int beams = 90;           // beams used per scan, evenly spread
+  double sigma_hit = 0.07;  // m
   double z_hit = 0.95;
   double z_rand = 0.05;
-  double max_distance = 2.0;        // m: distances beyond count as this far
-  double range_max = 4.0;           // m: the z_rand density is 1 / range_max
+  double max_distance = 2.0;  // m: distances beyond count as this far
+  double range_max = 4.0;     // m: the z_rand density is 1 / range_max
   // Filter only after the robot moved this much (AMCL update_min_d / update_min_a).
   double update_min_distance = 0.05;  // m
   double update_min_angle = 0.05;     // rad
@@ -165,14 +165,14 @@ class ParticleFilterLocalizer : public Localizer {
   std::mt19937_64 rng_;
   std::vector<Particle> particles_;
   bool have_odom_ = false;
-  Pose2 last_odom_;                     // odometry at the last filter update
+  Pose2 last_odom_;  // odometry at the last filter update
   Pose2 latest_odom_;
   OdometryHistory odom_history_;  // scans are matched with the particles moved to their own stamp
   bool moved_since_scan_ = true;
   double w_slow_ = 0.0, w_fast_ = 0.0;
   PoseEstimate estimate_;
   bool initialised_ = false;
-  bool global_mode_ = false;            // relocalising globally: likelihood tempered
+  bool global_mode_ = false;  // relocalising globally: likelihood tempered
   // Scattered for a global relocalisation, no scan searched yet; read outside the lock by AddScan.
   std::atomic<bool> scan_search_due_{false};
 };

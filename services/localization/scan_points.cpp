@@ -11,7 +11,8 @@ bool ScanHeaderIsUsable(const ScanReading& scan) {
 }
 
 std::string ScanGeometryError(size_t ranges, double angle_min, double angle_max, double angle_increment) {
-  if (!std::isfinite(angle_min) || !std::isfinite(angle_max) || !std::isfinite(angle_increment) || angle_increment == 0.0) {
+  if (!std::isfinite(angle_min) || !std::isfinite(angle_max) || !std::isfinite(angle_increment) ||
+      angle_increment == 0.0) {
     return "angle_min, angle_max and angle_increment must be finite and angle_increment non-zero";
   }
   if (ranges == 0) return "ranges is empty";

@@ -34,7 +34,8 @@ ScanToMapFitResult ScanToMapFit::Fit(const std::vector<Point2>& points, const Po
       const double a = std::abs(d);
       const double weight = a <= o_.huber ? 1.0 : o_.huber / a;
       // d(world point)/d(theta) = R'(theta) p.
-      const Eigen::Vector3d j(grad.x(), grad.y(), grad.x() * (-s * p.x() - c * p.y()) + grad.y() * (c * p.x() - s * p.y()));
+      const Eigen::Vector3d j(grad.x(), grad.y(),
+                              grad.x() * (-s * p.x() - c * p.y()) + grad.y() * (c * p.x() - s * p.y()));
       l.h += weight * j * j.transpose();
       l.g += weight * d * j;
       l.cost += a <= o_.huber ? 0.5 * d * d : o_.huber * (a - 0.5 * o_.huber);

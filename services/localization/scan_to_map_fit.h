@@ -16,10 +16,10 @@ namespace navd::localization {
 
 struct ScanToMapFitOptions {
   int max_iterations = 30;
-  double huber = 0.05;             // m: residuals beyond weigh linearly, not quadratically
-  double outlier_distance = 0.30;  // m: end points further from any surface are ignored
+  double huber = 0.05;                    // m: residuals beyond weigh linearly, not quadratically
+  double outlier_distance = 0.30;         // m: end points further from any surface are ignored
   double initial_outlier_distance = 1.0;  // m: the first iteration's, shrinking by 0.7 per iteration
-  int min_points = 10;             // fewer inliers than this: no fit
+  int min_points = 10;                    // fewer inliers than this: no fit
   // Beams of one scan are not independent (they share the pose error and the map's
   // discretisation): the least-squares covariance is scaled by this to be honest.
   double covariance_scale = 20.0;
@@ -28,10 +28,10 @@ struct ScanToMapFitOptions {
 };
 
 struct ScanToMapFitResult {
-  bool ok = false;        // converged with enough inliers
-  Pose2 pose;             // the fitted robot pose, map frame
+  bool ok = false;                                           // converged with enough inliers
+  Pose2 pose;                                                // the fitted robot pose, map frame
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // of (x, y, theta)
-  double rms = 0.0;       // m: root mean square surface distance of the inliers
+  double rms = 0.0;                                          // m: root mean square surface distance of the inliers
   int inliers = 0;
   int points = 0;
   int iterations = 0;

@@ -18,7 +18,8 @@ CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double re
   }
   // A margin of the smear plus the largest window anyone searches (loop closures: a few metres).
   const double margin = reach + 2.0 * resolution;
-  origin_ = Point2(std::floor((lo.x() - margin) / resolution) * resolution, std::floor((lo.y() - margin) / resolution) * resolution);
+  origin_ = Point2(std::floor((lo.x() - margin) / resolution) * resolution,
+                   std::floor((lo.y() - margin) / resolution) * resolution);
   width_ = static_cast<int>(std::ceil((hi.x() + margin - origin_.x()) / resolution)) + 1;
   height_ = static_cast<int>(std::ceil((hi.y() + margin - origin_.y()) / resolution)) + 1;
   if (static_cast<long long>(width_) * height_ > 64'000'000LL)
@@ -108,7 +109,8 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
         for (size_t i = 0; i < points.size(); ++i) sum += grid.AtCell(cx[i] + dx, cy[i] + dy);
         const double score = sum * inv_n;
         if (!coarse.empty())
-          coarse[(static_cast<size_t>(a + n_theta) * side + (dy + n_xy)) * side + (dx + n_xy)] = static_cast<float>(score);
+          coarse[(static_cast<size_t>(a + n_theta) * side + (dy + n_xy)) * side + (dx + n_xy)] =
+              static_cast<float>(score);
         const double ranked = score * prior_weight(dx * res, dy * res, a * o.angle_step);
         if (static_cast<int>(top.size()) < o.refine_candidates || ranked > top.back().score) {
           top.push_back({ranked, dx, dy, theta});
@@ -122,7 +124,8 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
   double coarse_best = 0.0, coarse_elsewhere = 0.0, coarse_spread = 0.0;
   if (!coarse.empty() && !top.empty()) {
     const int best_a = static_cast<int>(std::lround((top.front().theta - prior.theta) / o.angle_step)) + n_theta;
-    coarse_best = coarse[(static_cast<size_t>(best_a) * side + (top.front().dy + n_xy)) * side + (top.front().dx + n_xy)];
+    coarse_best =
+        coarse[(static_cast<size_t>(best_a) * side + (top.front().dy + n_xy)) * side + (top.front().dx + n_xy)];
     const double min_cells = o.distinct_xy / res;
     const double min_steps = o.distinct_theta > 0.0 ? o.distinct_theta / o.angle_step : 1e18;
     for (int a = 0; a < 2 * n_theta + 1; ++a) {

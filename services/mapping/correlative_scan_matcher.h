@@ -12,12 +12,12 @@
 namespace navd::mapping {
 
 struct ScanMatchOptions {
-  double resolution = 0.05;     // m, lookup cells
-  double sigma = 0.05;          // m, smear of each reference point
-  double window_xy = 0.25;      // m, half-size of the translational window
-  double window_theta = 0.15;   // rad, half-size of the angular window
-  double angle_step = 0.01;     // rad, coarse angular step
-  int refine_candidates = 3;    // coarse poses refined
+  double resolution = 0.05;    // m, lookup cells
+  double sigma = 0.05;         // m, smear of each reference point
+  double window_xy = 0.25;     // m, half-size of the translational window
+  double window_theta = 0.15;  // rad, half-size of the angular window
+  double angle_step = 0.01;    // rad, coarse angular step
+  int refine_candidates = 3;   // coarse poses refined
   // A prior on the offset from `prior` (Cartographer's real-time matcher weighs its candidates
   // the same way): scores are ranked after multiplying by exp(-d²/2σ_xy² - Δθ²/2σ_θ²), so along a
   // corridor, where the scan fits equally well anywhere, the odometry's guess wins instead of

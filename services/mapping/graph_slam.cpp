@@ -99,8 +99,8 @@ void GraphSlam::TryLoopClosure(int node) {
   const std::vector<Point2> scan = ThinPoints(node_points_[node], o_.match_point_spacing);
   if (static_cast<int>(scan.size()) < o_.loop_min_points) return;
   ++loop_attempts_;
-  const std::vector<Point2> reference =
-      NodePointsInMap(candidate - o_.loop_neighbourhood, std::min(node - o_.loop_min_node_gap, candidate + o_.loop_neighbourhood));
+  const std::vector<Point2> reference = NodePointsInMap(
+      candidate - o_.loop_neighbourhood, std::min(node - o_.loop_min_node_gap, candidate + o_.loop_neighbourhood));
   // Coarse over the wide window on a 10 cm grid, then fine on a 5 cm grid around the result.
   ScanMatchOptions coarse = o_.sequential;
   coarse.resolution = 2.0 * o_.sequential.resolution;
@@ -173,12 +173,14 @@ void GraphSlam::Refine() {
         int nearest = j, k = j;
         for (; k < last_j && distance(k) < o_.refine_radius; ++k)
           if (distance(k) < distance(nearest)) nearest = k;
-        stretches.push_back({nearest, std::max(j, nearest - o_.loop_neighbourhood), std::min(k - 1, nearest + o_.loop_neighbourhood)});
+        stretches.push_back(
+            {nearest, std::max(j, nearest - o_.loop_neighbourhood), std::min(k - 1, nearest + o_.loop_neighbourhood)});
         j = k;
       }
       // The nearest stretches only: a node the robot passed many times is held well by a few.
-      std::sort(stretches.begin(), stretches.end(),
-                [&](const std::array<int, 3>& a, const std::array<int, 3>& b) { return distance(a[0]) < distance(b[0]); });
+      std::sort(stretches.begin(), stretches.end(), [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
+        return distance(a[0]) < distance(b[0]);
+      });
       if (static_cast<int>(stretches.size()) > o_.refine_max_stretches) stretches.resize(o_.refine_max_stretches);
       for (const auto& [nearest, first, last] : stretches) {
         if (TurnedOnTheSpot(nearest)) continue;

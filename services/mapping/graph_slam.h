@@ -46,18 +46,18 @@ struct GraphSlamOptions {
   }();
   double sequential_sigma_xy = 0.03, sequential_sigma_theta = 0.01;  // edge uncertainty
   // Loop closing.
-  double loop_search_radius = 4.0;   // m between the new node and a candidate
-  int loop_min_node_gap = 30;        // nodes back along the chain, at least
-  int loop_neighbourhood = 5;        // candidate's neighbours either side forming its map
+  double loop_search_radius = 4.0;  // m between the new node and a candidate
+  int loop_min_node_gap = 30;       // nodes back along the chain, at least
+  int loop_neighbourhood = 5;       // candidate's neighbours either side forming its map
   double loop_window_xy = 1.5, loop_window_theta = 0.4;
-  double loop_min_score = 0.65;      // mean lookup value of the scan on the candidate's map
+  double loop_min_score = 0.65;  // mean lookup value of the scan on the candidate's map
   // Scans with fewer matched points (0.1 m apart) close no loops: a robot turning in a tight
   // corner sees a small, nearly round outline that matches at many headings.
   int loop_min_points = 50;
   // The most a closure may move the new node: drift grows with the distance driven since the
   // last closure, so the gate does too.
-  double loop_max_correction = 0.15;           // m, plus
-  double loop_correction_per_metre = 0.01;     // of travel since the last accepted closure
+  double loop_max_correction = 0.15;        // m, plus
+  double loop_correction_per_metre = 0.01;  // of travel since the last accepted closure
   // Refused as ambiguous when a pose at least loop_distinct_xy away scores within this fraction
   // of the best (corridors, rows of identical rooms).
   double loop_distinct_xy = 0.5;
@@ -68,17 +68,17 @@ struct GraphSlamOptions {
   // each stretch of the chain passing near it, in a narrow window around where the graph puts it.
   // The many small constraints average out the front end's per-step errors the way Cartographer's
   // constraints to every nearby submap do.
-  double refine_radius = 3.0;        // m between the node and the nearest node of a stretch
-  double refine_window_xy = 0.2;     // m
-  double refine_window_theta = 0.08; // rad
+  double refine_radius = 3.0;         // m between the node and the nearest node of a stretch
+  double refine_window_xy = 0.2;      // m
+  double refine_window_theta = 0.08;  // rad
   int refine_passes = 2;
-  int refine_max_stretches = 3;     // the nearest stretches matched per node
+  int refine_max_stretches = 3;  // the nearest stretches matched per node
   // Nodes where the robot turned on the spot (this far in rad, over at most refine_spot_travel m
   // since the previous node) are left out of refinement: a scan swept while turning fast is
   // skewed, and fits the other pass best at a wrong heading.
   double refine_spot_turn = 0.5;
   double refine_spot_travel = 0.35;
-  double refine_max_spread = 0.1;    // m: a match that slides farther along a corridor is dropped
+  double refine_max_spread = 0.1;  // m: a match that slides farther along a corridor is dropped
   PoseGraphOptions optimizer;
 };
 

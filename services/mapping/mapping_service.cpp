@@ -150,7 +150,8 @@ grpc::Status MappingService::StartMapping(grpc::ServerContext*, const v1::StartM
     if (request->resolution() != 0.0) o.resolution = request->resolution();
     if (request->size() != 0.0) o.size = request->size();
     const std::optional<Pose2> start = robot_pose_();
-    if (!start) throw Error(ErrorCode::kFailedPrecondition, "the robot has no pose estimate yet: mapping starts from it");
+    if (!start)
+      throw Error(ErrorCode::kFailedPrecondition, "the robot has no pose estimate yet: mapping starts from it");
     builder_.Start(o, *start);
     FillStatus(builder_, response);
   });
@@ -176,8 +177,7 @@ grpc::Status MappingService::StreamMapUpdates(grpc::ServerContext* context, cons
     const double period = request->min_period() > 0.0 ? request->min_period() : 1.0;
     if (!(period <= 60.0)) throw Error(ErrorCode::kInvalidArgument, "min_period must be at most 60 seconds");
     const auto session = builder_.session();
-    if (!session || !session->status().active)
-      throw Error(ErrorCode::kFailedPrecondition, "no mapping run is active");
+    if (!session || !session->status().active) throw Error(ErrorCode::kFailedPrecondition, "no mapping run is active");
     uint64_t sent = 0;
     while (!context->IsCancelled()) {
       const bool active = session->status().active;
@@ -194,7 +194,8 @@ grpc::Status MappingService::StreamMapUpdates(grpc::ServerContext* context, cons
         update.set_version(version);
         std::string cells(static_cast<size_t>(w) * h, '\0');
         for (int y = 0; y < h; ++y)
-          std::memcpy(&cells[static_cast<size_t>(y) * w], &grid->cells()[grid->Flat({region->min.x, region->min.y + y})], w);
+          std::memcpy(&cells[static_cast<size_t>(y) * w],
+                      &grid->cells()[grid->Flat({region->min.x, region->min.y + y})], w);
         update.set_cells(std::move(cells));
         if (!writer->Write(update)) return;
         sent = version;
@@ -214,7 +215,8 @@ grpc::Status MappingService::StartExploration(grpc::ServerContext*, const v1::St
       case v1::EXPLORATION_METHOD_GREEDY: o.method = navigation::ExplorationMethod::kGreedy; break;
       case v1::EXPLORATION_METHOD_VFM: o.method = navigation::ExplorationMethod::kVoronoiFastMarching; break;
       default:
-        throw Error(ErrorCode::kInvalidArgument, "method: unknown exploration method " + std::to_string(request->method()));
+        throw Error(ErrorCode::kInvalidArgument,
+                    "method: unknown exploration method " + std::to_string(request->method()));
     }
     if (request->resolution() != 0.0) o.mapping.resolution = request->resolution();
     if (request->size() != 0.0) o.mapping.size = request->size();

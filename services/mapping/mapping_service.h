@@ -17,7 +17,10 @@ class MappingService final : public v1::MappingService::Service {
   // `exploring`: the options StartExploration starts from (the robot's clearance, ...).
   MappingService(MapStore& maps, MapBuilder& builder, navigation::Explorer& explorer,
                  navigation::ExplorerOptions exploring, std::function<std::optional<Pose2>()> robot_pose)
-      : maps_(maps), builder_(builder), explorer_(explorer), exploring_(std::move(exploring)),
+      : maps_(maps),
+        builder_(builder),
+        explorer_(explorer),
+        exploring_(std::move(exploring)),
         robot_pose_(std::move(robot_pose)) {}
   grpc::Status GetMap(grpc::ServerContext* context, const v1::GetMapRequest* request,
                       grpc::ServerWriter<v1::GetMapResponse>* writer) override;

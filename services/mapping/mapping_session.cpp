@@ -24,8 +24,9 @@ MappingSession::MappingSession(const MappingSessionOptions& options, const Pose2
   const double cells = std::ceil(o_.size / o_.resolution);
   if (cells * cells > static_cast<double>(OccupancyGrid::kMaxCells))
     throw Error(ErrorCode::kInvalidArgument, "size: " + std::to_string(static_cast<long long>(cells)) + " x " +
-                                                 std::to_string(static_cast<long long>(cells)) + " cells is more than " +
-                                                 std::to_string(OccupancyGrid::kMaxCells) + " cells");
+                                                 std::to_string(static_cast<long long>(cells)) +
+                                                 " cells is more than " + std::to_string(OccupancyGrid::kMaxCells) +
+                                                 " cells");
   if (!start.finite()) throw Error(ErrorCode::kInvalidArgument, "start pose is not finite");
   o_.mapper.resolution = o_.resolution;
   const Point2 half(o_.size / 2, o_.size / 2);
@@ -119,7 +120,8 @@ void MappingSession::Integrate(const Item& item) {
       if (std::isfinite(r)) reach = std::max(reach, std::min<double>(r, o_.mapper.usable_range));
     const CellIndex a = g.CellOf(pose.translation() - Point2(reach, reach));
     const CellIndex b = g.CellOf(pose.translation() + Point2(reach, reach));
-    const MapRegion r{{std::max(0, a.x), std::max(0, a.y)}, {std::min(g.width() - 1, b.x), std::min(g.height() - 1, b.y)}};
+    const MapRegion r{{std::max(0, a.x), std::max(0, a.y)},
+                      {std::min(g.width() - 1, b.x), std::min(g.height() - 1, b.y)}};
     return r.min.x <= r.max.x && r.min.y <= r.max.y ? std::optional<MapRegion>(r) : std::nullopt;
   };
   Pose2 pose = item.localised;

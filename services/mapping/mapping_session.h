@@ -22,9 +22,9 @@ enum class MappingMode { kSlam, kKnownPoses };
 
 struct MappingSessionOptions {
   MappingMode mode = MappingMode::kSlam;
-  double resolution = 0.05;       // m
-  double size = 60.0;             // m, the side of the square mapped
-  double rerender_period = 2.0;   // s of wall time between re-renders after loop closures
+  double resolution = 0.05;      // m
+  double size = 60.0;            // m, the side of the square mapped
+  double rerender_period = 2.0;  // s of wall time between re-renders after loop closures
   // Submit integrates in the caller's thread and nothing is dropped (offline tools, simulations
   // in one process); otherwise a worker thread does, newest scan first.
   bool synchronous = false;
@@ -40,12 +40,12 @@ struct MapRegion {
 struct MappingStatus {
   bool active = false;
   MappingMode mode = MappingMode::kSlam;
-  uint64_t scans = 0;          // scans integrated (the worker drops scans it cannot keep up with)
+  uint64_t scans = 0;  // scans integrated (the worker drops scans it cannot keep up with)
   uint64_t dropped = 0;
   int nodes = 0, loop_closures = 0;
-  Pose2 pose;                  // the robot's latest mapped pose, map frame
-  double stamp = 0.0;          // s, the stamp of the scan `pose` belongs to
-  uint64_t version = 0;        // increments with every change of the map
+  Pose2 pose;            // the robot's latest mapped pose, map frame
+  double stamp = 0.0;    // s, the stamp of the scan `pose` belongs to
+  uint64_t version = 0;  // increments with every change of the map
 };
 
 class MappingSession {
@@ -94,8 +94,8 @@ class MappingSession {
   MappingStatus status_;
   mutable std::shared_ptr<const OccupancyGrid> snapshot_;  // rebuilt on demand when stale
   mutable uint64_t snapshot_version_ = 0;
-  std::deque<std::pair<uint64_t, MapRegion>> changes_;   // recent changes, oldest first
-  mutable std::mutex mapper_mutex_;                      // the worker writes, Map() reads
+  std::deque<std::pair<uint64_t, MapRegion>> changes_;  // recent changes, oldest first
+  mutable std::mutex mapper_mutex_;                     // the worker writes, Map() reads
   std::thread worker_;
 };
 

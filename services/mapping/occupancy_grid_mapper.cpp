@@ -19,8 +19,8 @@ OccupancyGridMapper::OccupancyGridMapper(const Point2& min, const Point2& max, c
   const long long w = static_cast<long long>(std::ceil((max.x() - min.x()) / options.resolution));
   const long long h = static_cast<long long>(std::ceil((max.y() - min.y()) / options.resolution));
   if (w < 1 || h < 1 || w * h > OccupancyGrid::kMaxCells) {
-    throw Error(ErrorCode::kInvalidArgument, "map extent must span 1 to " + std::to_string(OccupancyGrid::kMaxCells) +
-                                                 " cells at this resolution");
+    throw Error(ErrorCode::kInvalidArgument,
+                "map extent must span 1 to " + std::to_string(OccupancyGrid::kMaxCells) + " cells at this resolution");
   }
   geometry_ = OccupancyGrid(static_cast<int>(w), static_cast<int>(h), options.resolution, min, OccupancyGrid::kUnknown);
   log_odds_.assign(static_cast<size_t>(w) * h, 0.0f);
@@ -29,7 +29,9 @@ OccupancyGridMapper::OccupancyGridMapper(const Point2& min, const Point2& max, c
 
 OccupancyGridMapper::OccupancyGridMapper(const OccupancyGrid& geometry, const MapperOptions& options)
     : geometry_(geometry.width(), geometry.height(), geometry.resolution(), geometry.origin(), OccupancyGrid::kUnknown),
-      o_(options), log_odds_(geometry.cells().size(), 0.0f), seen_(geometry.cells().size(), 0) {}
+      o_(options),
+      log_odds_(geometry.cells().size(), 0.0f),
+      seen_(geometry.cells().size(), 0) {}
 
 void OccupancyGridMapper::Update(size_t k, double log_odds, int himm) {
   if (o_.rule == MapUpdateRule::kHimm) {
@@ -57,7 +59,8 @@ void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& r
     // behind it (a reading ending exactly on a cell border would otherwise mark the free cell).
     const CellIndex end = geometry_.CellOf(to + 0.01 * geometry_.resolution() * dir);
     const bool end_inside = geometry_.Contains(end);
-    ClearBeam(from, to, hit && end_inside ? static_cast<long>(geometry_.Flat(end)) : -1);  // the end cell is updated below
+    ClearBeam(from, to,
+              hit && end_inside ? static_cast<long>(geometry_.Flat(end)) : -1);  // the end cell is updated below
     if (hit && end_inside) Update(geometry_.Flat(end), o_.l_occupied, +3);
   }
 }
@@ -136,12 +139,14 @@ void OccupancyGridMapper::AddSonar(const Pose2& sensor, double range, double hal
 }
 
 void OccupancyGridMapper::FuseLocalMap(const OccupancyGrid& local, const Pose2& local_pose) {
-  if (o_.rule != MapUpdateRule::kLogOdds) throw Error(ErrorCode::kFailedPrecondition, "local map fusion needs the log-odds rule");
+  if (o_.rule != MapUpdateRule::kLogOdds)
+    throw Error(ErrorCode::kFailedPrecondition, "local map fusion needs the log-odds rule");
   const double lr = local.resolution();
   const Pose2 to_local = local_pose.inverse();
   // The global cells the local map's footprint can touch.
   Point2 lo(1e300, 1e300), hi(-1e300, -1e300);
-  for (const Point2& corner : {Point2(0, 0), Point2(local.size_x(), 0), Point2(0, local.size_y()), Point2(local.size_x(), local.size_y())}) {
+  for (const Point2& corner :
+       {Point2(0, 0), Point2(local.size_x(), 0), Point2(0, local.size_y()), Point2(local.size_x(), local.size_y())}) {
     const Point2 w = local_pose * corner;
     lo = lo.cwiseMin(w);
     hi = hi.cwiseMax(w);
@@ -178,7 +183,8 @@ OccupancyGrid OccupancyGridMapper::ToGrid() const {
     for (int x = 0; x < g.width(); ++x) {
       const size_t k = g.Flat({x, y});
       if (!seen_[k]) continue;
-      const double p = o_.rule == MapUpdateRule::kHimm ? log_odds_[k] / 15.0 : 1.0 - 1.0 / (1.0 + std::exp(log_odds_[k]));
+      const double p =
+          o_.rule == MapUpdateRule::kHimm ? log_odds_[k] / 15.0 : 1.0 - 1.0 / (1.0 + std::exp(log_odds_[k]));
       g.set({x, y}, static_cast<int8_t>(std::lround(100.0 * p)));
     }
   return g;

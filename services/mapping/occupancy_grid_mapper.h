@@ -27,14 +27,14 @@ enum class MapUpdateRule { kLogOdds, kHimm };
 
 struct MapperOptions {
   MapUpdateRule rule = MapUpdateRule::kLogOdds;
-  double resolution = 0.05;    // m
-  double l_occupied = 0.85;    // log-odds added at a hit (p 0.70: one hit marks a cell occupied)
-  double l_free = -0.28;       // log-odds added along a beam (p 0.43: about three misses undo a hit)
-  double l_min = -4.0, l_max = 4.0;  // clamps keep the map responsive to change
-  double max_range = 50.0;     // m: longer readings are no-returns
-  double usable_range = 15.0;  // m: beams are cut here (long beams are mostly noise); marks nothing
+  double resolution = 0.05;              // m
+  double l_occupied = 0.85;              // log-odds added at a hit (p 0.70: one hit marks a cell occupied)
+  double l_free = -0.28;                 // log-odds added along a beam (p 0.43: about three misses undo a hit)
+  double l_min = -4.0, l_max = 4.0;      // clamps keep the map responsive to change
+  double max_range = 50.0;               // m: longer readings are no-returns
+  double usable_range = 15.0;            // m: beams are cut here (long beams are mostly noise); marks nothing
   double missing_data_ray_length = 5.0;  // m cleared along a no-return reading
-  double l_free_sonar = -0.4;  // log-odds along a sonar cone's axis, weighted down off it (Elfes)
+  double l_free_sonar = -0.4;            // log-odds along a sonar cone's axis, weighted down off it (Elfes)
 };
 
 // How far along its beam a reading is traced (m): a no-return (at or beyond range_max)
@@ -65,13 +65,13 @@ class OccupancyGridMapper {
   OccupancyGrid ToGrid() const;
 
  private:
-  OccupancyGrid geometry_;       // size, origin and resolution only
+  OccupancyGrid geometry_;  // size, origin and resolution only
   MapperOptions o_;
   void Update(size_t cell, double log_odds, int himm);  // one observation of a cell
   // One free observation of every cell a beam crosses from `from` to `to` (map frame) except
   // the cell at flat index `skip` (-1: none).
   void ClearBeam(const Point2& from, const Point2& to, long skip);
-  std::vector<float> log_odds_;      // log-odds, or the HIMM certainty 0..15
+  std::vector<float> log_odds_;  // log-odds, or the HIMM certainty 0..15
   std::vector<uint8_t> seen_;
 };
 

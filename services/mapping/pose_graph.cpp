@@ -93,7 +93,8 @@ double PoseGraph::Optimize(const PoseGraphOptions& o) {
     Eigen::SparseMatrix<double> H(3 * n, 3 * n);
     H.setFromTriplets(triplets.begin(), triplets.end());
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(H);
-    if (solver.info() != Eigen::Success) throw Error(ErrorCode::kInternal, "pose graph: the normal equations are singular");
+    if (solver.info() != Eigen::Success)
+      throw Error(ErrorCode::kInternal, "pose graph: the normal equations are singular");
     const Eigen::VectorXd dx = solver.solve(-b);
     double step = 0.0;
     for (int k = 0; k < n; ++k) {

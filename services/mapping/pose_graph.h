@@ -14,9 +14,9 @@ namespace navd::mapping {
 
 struct PoseGraphEdge {
   int from = 0, to = 0;
-  Pose2 measurement;                                    // pose of `to` in `from`'s frame
+  Pose2 measurement;  // pose of `to` in `from`'s frame
   Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
-  bool robust = false;                                  // Cauchy kernel (loop closures)
+  bool robust = false;  // Cauchy kernel (loop closures)
 };
 
 struct PoseGraphOptions {

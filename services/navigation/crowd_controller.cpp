@@ -46,15 +46,19 @@ UnicycleCommand CrowdController::HoldTurn(const Pose2& pose, UnicycleCommand com
   return command;
 }
 
-UnicycleCommand CrowdController::Step(const planning::Costmap& costmap, const Pose2& pose, const std::vector<Point2>& path,
-                                      const std::vector<planning::MovingBody>& people, double now) {
+UnicycleCommand CrowdController::Step(const planning::Costmap& costmap, const Pose2& pose,
+                                      const std::vector<Point2>& path, const std::vector<planning::MovingBody>& people,
+                                      double now) {
   const double since = plan_start_ < 0.0 ? 0.0 : now - plan_start_;
-  const bool strayed =
-      !plan_.states.empty() && Distance(StateAt(since).position(), pose.translation()) > kStrayed;
+  const bool strayed = !plan_.states.empty() && Distance(StateAt(since).position(), pose.translation()) > kStrayed;
   if (plan_start_ < 0.0 || since >= o_.replan_period - 1e-9 || since < 0.0 || strayed) {
     planning::CrowdRrtRequest request;
-    request.start = {pose.x, pose.y, pose.theta, std::clamp(last_.v, 0.0, o_.limits.max_speed),
-                     std::clamp(last_.w, -o_.limits.max_yaw_rate, o_.limits.max_yaw_rate), 0.0};
+    request.start = {pose.x,
+                     pose.y,
+                     pose.theta,
+                     std::clamp(last_.v, 0.0, o_.limits.max_speed),
+                     std::clamp(last_.w, -o_.limits.max_yaw_rate, o_.limits.max_yaw_rate),
+                     0.0};
     request.goal = planning::VisibleGoal(costmap, pose.translation(), path);
     request.path = path;
     request.people = people;
@@ -63,7 +67,8 @@ UnicycleCommand CrowdController::Step(const planning::Costmap& costmap, const Po
     // What is left of the last plan, from the vertex the robot has reached.
     if (!strayed && plan_start_ >= 0.0 && !plan_.inputs.empty()) {
       const size_t done = static_cast<size_t>(std::max(0.0, std::round(since / o_.planner.step)));
-      if (done < plan_.inputs.size()) request.previous.assign(plan_.inputs.begin() + static_cast<long>(done), plan_.inputs.end());
+      if (done < plan_.inputs.size())
+        request.previous.assign(plan_.inputs.begin() + static_cast<long>(done), plan_.inputs.end());
     }
     plan_ = planning::PlanCrowdRrt(costmap, request, o_.planner);
     plan_start_ = now;

@@ -22,12 +22,12 @@ namespace navd::navigation {
 struct CrowdControllerOptions {
   planning::CrowdRrtOptions planner;
   planning::UnicycleLimits limits;
-  double replan_period = 0.25;      // s, best a whole number of the planner's steps
-  double lookahead = 12.0;          // m along the leg's path
+  double replan_period = 0.25;  // s, best a whole number of the planner's steps
+  double lookahead = 12.0;      // m along the leg's path
   // m left on the leg: below this the path follower takes the robot the rest of the way (the RRT
   // has no notion of stopping on a point).
   double handover_distance = 1.5;
-  double command_lead = 0.1;        // s: the command is the plan's speeds this far ahead
+  double command_lead = 0.1;  // s: the command is the plan's speeds this far ahead
   // rad off the way to the plan's goal: beyond, the path follower turns the robot round. The RRT
   // turns a robot back from any heading it starts with (it prunes only worse ones), so by default
   // it keeps the robot whatever its heading. The follower heads straight back onto the path across
@@ -68,7 +68,8 @@ class CrowdController {
   // The plan's state at `t` seconds after it started (linear between its vertices).
   planning::UnicycleState StateAt(double t) const;
   // `command` without its turn while someone is against the robot's rim.
-  UnicycleCommand HoldTurn(const Pose2& pose, UnicycleCommand command, const std::vector<planning::MovingBody>& people) const;
+  UnicycleCommand HoldTurn(const Pose2& pose, UnicycleCommand command,
+                           const std::vector<planning::MovingBody>& people) const;
 
   CrowdControllerOptions o_;
   planning::CrowdTrajectory plan_;

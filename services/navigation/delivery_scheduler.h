@@ -34,16 +34,16 @@ struct DeliveryScheduleOptions {
 };
 
 struct DeliveryStop {
-  size_t task = 0;               // index into the tasks
+  size_t task = 0;  // index into the tasks
   bool pickup = true;
   Point2 at = Point2::Zero();
-  double leg_length = 0.0;       // m from the stop before (the start for the first)
+  double leg_length = 0.0;  // m from the stop before (the start for the first)
 };
 
 struct DeliverySchedule {
   std::vector<DeliveryStop> stops;
-  double length = 0.0;             // m, the whole round (with the way back when asked)
-  double given_order_length = 0.0; // m, each task picked up and dropped off in the order given
+  double length = 0.0;              // m, the whole round (with the way back when asked)
+  double given_order_length = 0.0;  // m, each task picked up and dropped off in the order given
 };
 
 // Path length in metres between two points; +infinity when there is no path. Taken as the same

@@ -8,7 +8,11 @@ namespace navd::navigation {
 
 Explorer::Explorer(MapStore& maps, mapping::MapBuilder& builder, NavigationExecutive& executive,
                    planning::PlanningEngine& planning, localization::LocalizerSelector& localizer, Clock& clock)
-    : maps_(maps), builder_(builder), executive_(executive), planning_(planning), localizer_(localizer),
+    : maps_(maps),
+      builder_(builder),
+      executive_(executive),
+      planning_(planning),
+      localizer_(localizer),
       clock_(clock) {}
 
 Explorer::~Explorer() {
@@ -71,8 +75,7 @@ ExplorationProgress Explorer::Start(const ExplorerOptions& options) {
 
 ExplorationProgress Explorer::Stop() {
   std::lock_guard<std::mutex> run(run_mutex_);
-  if (Progress().state != ExplorationState::kExploring)
-    throw Error(ErrorCode::kFailedPrecondition, "not exploring");
+  if (Progress().state != ExplorationState::kExploring) throw Error(ErrorCode::kFailedPrecondition, "not exploring");
   stop_ = true;
   if (thread_.joinable()) thread_.join();
   if (Progress().state == ExplorationState::kExploring) End(ExplorationState::kStopped, "stopped by request");
@@ -194,8 +197,8 @@ void Explorer::SendGoal(const ExplorationStep& step, const Point2& position, dou
   }
   // Arrive facing the frontier, so the laser looks into the unknown.
   const Point2 look = Distance(step.goal, *target) > 0.05 ? Point2(step.goal - *target)
-                      : step.path.size() > 1 ? Point2(step.path.back() - step.path[step.path.size() - 2])
-                                               : Point2(1.0, 0.0);
+                      : step.path.size() > 1              ? Point2(step.path.back() - step.path[step.path.size() - 2])
+                                                          : Point2(1.0, 0.0);
   NavigateRequest request;
   request.goal = Pose2(target->x(), target->y(), std::atan2(look.y(), look.x()));
   request.use_goal_heading = true;

@@ -25,7 +25,7 @@ struct ExplorerOptions {
   ExplorationOptions exploration;
   mapping::MappingSessionOptions mapping;  // of the SLAM run it starts (mode is always SLAM)
   std::string planner;                     // of each leg; empty: the engine's default
-  double period = 1.0;        // s between decisions
+  double period = 1.0;                     // s between decisions
   // A new goal is sent when the frontier chosen moves this far from the one being driven to, or
   // the mission is this old (its path was planned on an older map).
   double goal_switch_distance = 1.0;  // m
@@ -38,7 +38,7 @@ struct ExplorerOptions {
   // centimetres off, and a gap only a hair wider than the robot's inflated disc (a shelf beside a
   // wall) was entered and grazed (measured).
   double extra_inflation = 0.05;  // m
-  int complete_after = 3;     // decisions in a row without a reachable frontier
+  int complete_after = 3;         // decisions in a row without a reachable frontier
 };
 
 enum class ExplorationState { kIdle, kExploring, kComplete, kStopped, kFailed };
@@ -47,8 +47,8 @@ struct ExplorationProgress {
   ExplorationState state = ExplorationState::kIdle;
   ExplorationMethod method = ExplorationMethod::kFrontier;
   std::string message;
-  double explored_area = 0.0;       // m^2 known free
-  int frontier_cells = 0;           // reachable at the last decision
+  double explored_area = 0.0;  // m^2 known free
+  int frontier_cells = 0;      // reachable at the last decision
   int goals = 0, goals_given_up = 0;
   double elapsed = 0.0;             // s
   double distance_travelled = 0.0;  // m, estimated poses
@@ -106,7 +106,7 @@ class Explorer {
   uint64_t served_version_ = ~0ULL;
   std::vector<Point2> visited_;
   Point2 last_position_ = Point2::Zero();
-  uint64_t mission_ = 0;            // the executive's id of the current goal's mission
+  uint64_t mission_ = 0;  // the executive's id of the current goal's mission
   double mission_started_ = 0.0;
   Point2 frontier_goal_ = Point2::Zero();  // the frontier cell the mission heads for
   double best_remaining_ = 0.0, last_progress_ = 0.0;

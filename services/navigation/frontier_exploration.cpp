@@ -48,7 +48,8 @@ ExplorationMethod ParseExplorationMethod(const std::string& name) {
   if (name == "greedy") return ExplorationMethod::kGreedy;
   if (name == "frontier") return ExplorationMethod::kFrontier;
   if (name == "vfm") return ExplorationMethod::kVoronoiFastMarching;
-  throw Error(ErrorCode::kInvalidArgument, "method: unknown exploration method '" + name + "' (known: greedy, frontier, vfm)");
+  throw Error(ErrorCode::kInvalidArgument,
+              "method: unknown exploration method '" + name + "' (known: greedy, frontier, vfm)");
 }
 
 std::optional<ExplorationStep> NextExplorationStep(const OccupancyGrid& map, const Pose2& robot,

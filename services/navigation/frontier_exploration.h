@@ -22,12 +22,12 @@ namespace navd::navigation {
 enum class ExplorationMethod { kGreedy, kFrontier, kVoronoiFastMarching };
 
 struct ExplorationOptions {
-  double clearance = 0.3;         // m from obstacles the robot's centre keeps
-  int free_below = 25;            // map values below this are known free (0..100)
-  int min_frontier_cells = 6;     // frontier method: smaller frontiers are ignored
-  double occupancy_cost = 4.0;    // greedy: extra cost per cell at occupancy 100
-  double w_saturation = 1.5;      // m: W reaches 1 this far from obstacles
-  double vt_saturation = 4.0;     // m: VT reaches 1 this far from visited places
+  double clearance = 0.3;       // m from obstacles the robot's centre keeps
+  int free_below = 25;          // map values below this are known free (0..100)
+  int min_frontier_cells = 6;   // frontier method: smaller frontiers are ignored
+  double occupancy_cost = 4.0;  // greedy: extra cost per cell at occupancy 100
+  double w_saturation = 1.5;    // m: W reaches 1 this far from obstacles
+  double vt_saturation = 4.0;   // m: VT reaches 1 this far from visited places
   // Goals given up on (reached without the frontier going away, or no progress): frontier cells
   // within exclusion_radius of them are not chosen again.
   std::vector<Point2> excluded;

@@ -34,7 +34,8 @@ WheelSpeeds GridReentry::Step(const Pose2& pose, const std::vector<Point2>& scan
                               double now) {
   if (!active()) return {};
   // Turning counts between consecutive steps only: another behaviour may have had the robot.
-  if (last_step_ >= 0.0 && now - last_step_ <= kStepGap) turned_ += std::abs(NormalizeAngle(pose.theta - last_heading_));
+  if (last_step_ >= 0.0 && now - last_step_ <= kStepGap)
+    turned_ += std::abs(NormalizeAngle(pose.theta - last_heading_));
   last_step_ = now;
   last_heading_ = pose.theta;
   if (any_clear_way_ && Distance(pose.translation(), relaxed_at_) > o_.relaxed_distance) {
@@ -50,8 +51,9 @@ WheelSpeeds GridReentry::Step(const Pose2& pose, const std::vector<Point2>& scan
   // State 3: is the way ahead clear, and (the addition) does it lead towards the grid? Driving
   // goes on while it stays clear and does not turn away from the grid.
   const std::optional<double> bearing =
-      toward ? std::optional<double>(NormalizeAngle(std::atan2(toward->y() - pose.y, toward->x() - pose.x) - pose.theta))
-             : std::nullopt;
+      toward
+          ? std::optional<double>(NormalizeAngle(std::atan2(toward->y() - pose.y, toward->x() - pose.x) - pose.theta))
+          : std::nullopt;
   const double allowed = state_ == ReentryState::kForward ? M_PI / 2.0 : o_.max_bearing;
   const bool towards_grid = !bearing || any_clear_way_ || std::abs(*bearing) <= allowed;
   if (SectorClear(scan, o_.sector_width, o_.sector_radius) && towards_grid) {

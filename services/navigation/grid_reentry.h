@@ -20,13 +20,13 @@
 namespace navd::navigation {
 
 struct GridReentryOptions {
-  double sector_width = 1.0;    // gamma_c, rad: the whole width of the sector that must be clear
-  double sector_radius = 0.6;   // r_c, m from the robot's centre
-  double forward_speed = 0.15;  // m/s, both wheels (state 5)
-  double rotate_speed = 0.08;   // m/s, the wheels with opposite signs (state 4)
-  double max_bearing = 0.5;     // rad: how far off the grid's bearing it may drive off
+  double sector_width = 1.0;      // gamma_c, rad: the whole width of the sector that must be clear
+  double sector_radius = 0.6;     // r_c, m from the robot's centre
+  double forward_speed = 0.15;    // m/s, both wheels (state 5)
+  double rotate_speed = 0.08;     // m/s, the wheels with opposite signs (state 4)
+  double max_bearing = 0.5;       // rad: how far off the grid's bearing it may drive off
   double relaxed_distance = 0.5;  // m driven on any clear way before the grid's bearing counts again
-  double give_up_after = 30.0;  // s outside the grid before the leg fails
+  double give_up_after = 30.0;    // s outside the grid before the leg fails
 };
 
 enum class ReentryState { kIdle = 0, kCheckSector = 3, kRotate = 4, kForward = 5 };
@@ -58,12 +58,12 @@ class GridReentry {
   GridReentryOptions o_;
   ReentryState state_ = ReentryState::kIdle;
   double started_at_ = 0.0;
-  double turn_sign_ = 0.0;       // +1 left, -1 right; 0: not chosen yet
+  double turn_sign_ = 0.0;                 // +1 left, -1 right; 0: not chosen yet
   static constexpr double kStepGap = 0.5;  // s: steps further apart are not consecutive
-  double turned_ = 0.0;          // rad turned since the robot last drove towards the grid
+  double turned_ = 0.0;                    // rad turned since the robot last drove towards the grid
   double last_step_ = -1.0;
   double last_heading_ = 0.0;
-  bool any_clear_way_ = false;   // after a whole turn: any clear way, for relaxed_distance
+  bool any_clear_way_ = false;  // after a whole turn: any clear way, for relaxed_distance
   Point2 relaxed_at_ = Point2::Zero();
 };
 

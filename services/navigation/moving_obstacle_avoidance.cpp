@@ -66,8 +66,7 @@ WheelSpeeds MovingObstacleAvoidance::Step(const Pose2& pose, const AvoidanceSens
   auto overdue = [&](double distance, double speed) { return now - phase_since_ > 2.0 * distance / speed + 1.0; };
   switch (phase_) {
     case AvoidancePhase::kIdle:
-    case AvoidancePhase::kWaiting:
-      return {};
+    case AvoidancePhase::kWaiting: return {};
     case AvoidancePhase::kBackingUp:
       if (travelled >= options_.backup_distance || overdue(options_.backup_distance, options_.backup_speed)) {
         phase_ = AvoidancePhase::kWaiting;

@@ -20,26 +20,26 @@
 namespace navd::navigation {
 
 struct MovingObstacleAvoidanceOptions {
-  double inner_zone = 0.52;        // rad: |bearing| below this is zone 2 or 3
-  double backup_distance = 0.40;   // m
-  double backup_speed = 0.30;      // m/s, as fast as seed 000's obstacles
-  double outer_turn = 0.79;        // rad (45 degrees): zones 1 and 4 without room behind
-  double inner_turn = 1.31;        // rad (75 degrees): zones 2 and 3
-  double max_turn = 2.6;           // rad: give up turning for a clear way beyond this
-  double turn_speed = 0.12;        // m/s of each wheel, opposite signs
-  double wheel_base = 0.33;        // m, to time the turns
-  double pass_distance = 0.50;     // m
-  double pass_speed = 0.25;        // m/s
+  double inner_zone = 0.52;       // rad: |bearing| below this is zone 2 or 3
+  double backup_distance = 0.40;  // m
+  double backup_speed = 0.30;     // m/s, as fast as seed 000's obstacles
+  double outer_turn = 0.79;       // rad (45 degrees): zones 1 and 4 without room behind
+  double inner_turn = 1.31;       // rad (75 degrees): zones 2 and 3
+  double max_turn = 2.6;          // rad: give up turning for a clear way beyond this
+  double turn_speed = 0.12;       // m/s of each wheel, opposite signs
+  double wheel_base = 0.33;       // m, to time the turns
+  double pass_distance = 0.50;    // m
+  double pass_speed = 0.25;       // m/s
   // Passing stops this far short of anything ahead: an obstacle may cross the way, and stopping
   // takes the command's latency and the deceleration.
-  double pass_clearance = 0.25;    // m
-  double min_clearance = 0.10;     // m kept free between the robot's rim and anything in its way
+  double pass_clearance = 0.25;  // m
+  double min_clearance = 0.10;   // m kept free between the robot's rim and anything in its way
   // Backing up stops this far short of what the rear sensor reads, for the same reasons, and what
   // is behind may be coming closer (a cart at 0.3 m/s and the robot close 15 cm in 0.25 s).
-  double back_clearance = 0.25;    // m
+  double back_clearance = 0.25;  // m
   // Closer than this, even turning in place may graze (the wheels never turn perfectly in place,
   // and a cart at 0.3 m/s closes 3 cm between two scans): the robot waits instead.
-  double turn_clearance = 0.12;    // m
+  double turn_clearance = 0.12;  // m
   // s standing still after a manoeuvre before another one, when the behaviour still has the robot
   double wait_before_retry = 2.0;
 };
@@ -83,12 +83,12 @@ class MovingObstacleAvoidance {
   MovingObstacleAvoidanceOptions options_;
   AvoidancePhase phase_ = AvoidancePhase::kIdle;
   int zone_ = 0;
-  double turn_sign_ = -1.0;     // -1: clockwise (away from an obstacle on the left)
-  double turn_target_ = 0.0;    // rad still to turn at least
-  double turned_ = 0.0;         // rad turned so far in this phase
-  double last_heading_ = 0.0;   // rad: at the phase's start (backing up), or at the last step (turning)
+  double turn_sign_ = -1.0;    // -1: clockwise (away from an obstacle on the left)
+  double turn_target_ = 0.0;   // rad still to turn at least
+  double turned_ = 0.0;        // rad turned so far in this phase
+  double last_heading_ = 0.0;  // rad: at the phase's start (backing up), or at the last step (turning)
   Point2 phase_start_ = Point2::Zero();
-  double phase_since_ = 0.0;    // s
+  double phase_since_ = 0.0;  // s
 };
 
 const char* AvoidancePhaseName(AvoidancePhase phase);

@@ -20,18 +20,18 @@
 namespace navd::navigation {
 
 struct MovingObstacleDetectorOptions {
-  double threshold = 0.30;         // m, T_mo: a beam this much shorter than the map says is an obstacle
-  double max_distance = 3.5;       // m, d_mo^max: candidates farther from the robot are dropped
-  double min_radius = 0.04;        // m, r_mo^min: narrower runs are noise
-  double margin = 0.5;             // the inferred radius is enlarged by 50 %
-  double max_radius = 0.45;        // m, r_mo^max: larger (pose errors along a wall) is capped
-  double associate_distance = 0.4; // m, delta_mo^max: a candidate this close to a known one is that one
+  double threshold = 0.30;          // m, T_mo: a beam this much shorter than the map says is an obstacle
+  double max_distance = 3.5;        // m, d_mo^max: candidates farther from the robot are dropped
+  double min_radius = 0.04;         // m, r_mo^min: narrower runs are noise
+  double margin = 0.5;              // the inferred radius is enlarged by 50 %
+  double max_radius = 0.45;         // m, r_mo^max: larger (pose errors along a wall) is capped
+  double associate_distance = 0.4;  // m, delta_mo^max: a candidate this close to a known one is that one
   double p0 = 0.4;
-  double alpha = 1.5;              // > 1, on re-detection
-  double beta = 0.6;               // < 1, on a miss
+  double alpha = 1.5;  // > 1, on re-detection
+  double beta = 0.6;   // < 1, on a miss
   double p_min = 0.2;
-  double dt_confirm = 0.5;         // s, Delta T_mo
-  int min_beams = 3;               // a run of fewer beams is a speck, not a body
+  double dt_confirm = 0.5;  // s, Delta T_mo
+  int min_beams = 3;        // a run of fewer beams is a speck, not a body
   // Danger level. The seed leaves m's formula out ("based on the distance and angle"); ours is the
   // time to contact: each confirmed obstacle ahead is carried at its velocity, the robot at its
   // own, and m = 1 when their discs (the obstacle's enlarged, grown by contact_margin) would touch
@@ -40,16 +40,16 @@ struct MovingObstacleDetectorOptions {
   // while the distance grows; also while it shrinks slower than closing_speed: an obstacle that
   // waits, next to a robot that waits, is no danger and must not hold both still for ever (the
   // plans route around it).
-  double robot_radius = 0.20;      // m
-  double contact_margin = 0.05;    // m
+  double robot_radius = 0.20;    // m
+  double contact_margin = 0.05;  // m
   // A robot at 0.5 m/s meeting a cart at 0.3 m/s closes 0.8 m/s: mu passes ~0.7 about three
   // scans after m does, and the robot needs ~0.3 s to stop.
-  double ttc_near = 1.5;           // s
-  double ttc_far = 3.0;            // s
-  double danger_alpha = 0.4;       // alpha_mu in ]0, 1], per scan
-  double closing_speed = 0.05;     // m/s
+  double ttc_near = 1.5;        // s
+  double ttc_far = 3.0;         // s
+  double danger_alpha = 0.4;    // alpha_mu in ]0, 1], per scan
+  double closing_speed = 0.05;  // m/s
   // Obstacles slower than this (tracked velocity) add no danger: they stand, and plans avoid them.
-  double min_obstacle_speed = 0.1; // m/s
+  double min_obstacle_speed = 0.1;  // m/s
 };
 
 struct DetectedObstacle {
@@ -57,9 +57,9 @@ struct DetectedObstacle {
   Point2 velocity = Point2::Zero();  // m/s, smoothed from successive detections
   double radius = 0.0;               // enlarged and capped
   double probability = 0.0;
-  double first_seen = 0.0;           // s
-  double last_seen = 0.0;            // s
-  bool confirmed = false;            // seen for dt_confirm: an actual moving obstacle
+  double first_seen = 0.0;  // s
+  double last_seen = 0.0;   // s
+  bool confirmed = false;   // seen for dt_confirm: an actual moving obstacle
 };
 
 class MovingObstacleDetector {
@@ -92,8 +92,8 @@ class MovingObstacleDetector {
   std::shared_ptr<const RayCaster> map_;
   std::vector<DetectedObstacle> candidates_;
   std::optional<DetectedObstacle> nearest_;
-  std::optional<Pose2> last_pose_;  // the robot at the last update
-  double last_update_ = 0.0;        // s
+  std::optional<Pose2> last_pose_;          // the robot at the last update
+  double last_update_ = 0.0;                // s
   Point2 robot_velocity_ = Point2::Zero();  // m/s, smoothed
   double danger_ = 0.0;
 };

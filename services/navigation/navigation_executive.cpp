@@ -13,8 +13,13 @@ namespace navd::navigation {
 namespace {
 const char* const kMeasured[] = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger",
                                  "map_building"};
-const char* const kProcesses[] = {"navigation",  "emergency_stop", "wake_up", "localization", "moving_obstacle_detection",
-                                  "moving_obstacle_avoidance", "long_term_memory"};
+const char* const kProcesses[] = {"navigation",
+                                  "emergency_stop",
+                                  "wake_up",
+                                  "localization",
+                                  "moving_obstacle_detection",
+                                  "moving_obstacle_avoidance",
+                                  "long_term_memory"};
 
 // Eight points on the rim of obstacle `o` at each of `ahead` seconds on at its velocity, in the
 // frame of a robot at `pose`.
@@ -69,9 +74,9 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
     bool known = false;
     for (const char* m : kMeasured) known = known || v == m;
     if (!known) {
-      throw Error(ErrorCode::kInvalidArgument,
-                  "brain: state variable '" + v + "' is not one navd measures (contact, sensors_stale, "
-                  "localization_lost, moving_obstacle_danger, map_building)");
+      throw Error(ErrorCode::kInvalidArgument, "brain: state variable '" + v +
+                                                   "' is not one navd measures (contact, sensors_stale, "
+                                                   "localization_lost, moving_obstacle_danger, map_building)");
     }
   }
   const long nav = brain_.FindProcess("navigation");
@@ -94,9 +99,9 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       throw Error(ErrorCode::kInvalidArgument, std::string("brain: '") + name + "' must be a motor behaviour");
     }
   }
-  for (const auto& [name, index] :
-       {std::pair<const char*, long>{"localization", localization_}, {"moving_obstacle_detection", detection_},
-        {"long_term_memory", memory_}}) {
+  for (const auto& [name, index] : {std::pair<const char*, long>{"localization", localization_},
+                                    {"moving_obstacle_detection", detection_},
+                                    {"long_term_memory", memory_}}) {
     if (index >= 0 && brain_.options().processes[index].kind != ProcessKind::kCognitive) {
       throw Error(ErrorCode::kInvalidArgument, std::string("brain: '") + name + "' must be a cognitive process");
     }
@@ -310,7 +315,8 @@ void NavigationExecutive::RememberMap() {
 }
 
 uint64_t NavigationExecutive::localizer_map_version() const {
-  const bool busy = map_handover_.valid() && map_handover_.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
+  const bool busy =
+      map_handover_.valid() && map_handover_.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
   return busy ? 0 : localizer_map_version_.load();
 }
 
@@ -344,7 +350,8 @@ planning::PlanningScene NavigationExecutive::Scene(const Pose2& pose) const {
     scene.moving.push_back({o.position, o.velocity, o.radius, false});
   }
   for (const SensedObstacle& s : sensed_obstacles_) {
-    if ((s.position - pose.translation()).norm() <= moving_.planning_range) scene.moving.push_back({s.position, {0, 0}, s.radius, false});
+    if ((s.position - pose.translation()).norm() <= moving_.planning_range)
+      scene.moving.push_back({s.position, {0, 0}, s.radius, false});
   }
   return scene;
 }
@@ -420,8 +427,10 @@ std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& po
   const std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
   // Facing further off than max_heading_error (by default never), the path follower turns the
   // robot round first; the crowd RRT turns it back from anything less.
-  const bool facing = !path.empty() && std::abs(NormalizeAngle(std::atan2(path.back().y() - pose.y, path.back().x() - pose.x) -
-                                                               pose.theta)) <= c.max_heading_error;
+  const bool facing =
+      !path.empty() &&
+      std::abs(NormalizeAngle(std::atan2(path.back().y() - pose.y, path.back().x() - pose.x) - pose.theta)) <=
+          c.max_heading_error;
   if (!facing || !costmap) return hand_back();
   if (!crowd_steering_) {
     // From what the robot was doing: the path follower's last command.
@@ -472,7 +481,8 @@ std::vector<SonarEcho> NavigationExecutive::Stimuli(const std::vector<SonarEcho>
     if (map) known = NearestInCone(map->grid(), pose * origin, pose.theta + e.angle, half_cone, horizon);
     for (const Point2& p : local) {
       const Point2 d = p - origin;
-      if (d.norm() < known && std::abs(NormalizeAngle(std::atan2(d.y(), d.x()) - e.angle)) <= half_cone) known = d.norm();
+      if (d.norm() < known && std::abs(NormalizeAngle(std::atan2(d.y(), d.x()) - e.angle)) <= half_cone)
+        known = d.norm();
     }
     if (e.range < known - o.explained_tolerance) out.push_back(e);
   }
@@ -482,7 +492,8 @@ std::vector<SonarEcho> NavigationExecutive::Stimuli(const std::vector<SonarEcho>
 double NavigationExecutive::NearestInCone(const OccupancyGrid& grid, const Point2& origin, double heading,
                                           double half_angle, double horizon) {
   double nearest = std::numeric_limits<double>::infinity();
-  const CellIndex lo = grid.CellOf(origin - Point2(horizon, horizon)), hi = grid.CellOf(origin + Point2(horizon, horizon));
+  const CellIndex lo = grid.CellOf(origin - Point2(horizon, horizon)),
+                  hi = grid.CellOf(origin + Point2(horizon, horizon));
   for (int y = std::max(lo.y, 0); y <= std::min(hi.y, grid.height() - 1); ++y) {
     for (int x = std::max(lo.x, 0); x <= std::min(hi.x, grid.width() - 1); ++x) {
       const CellIndex c{x, y};
@@ -543,7 +554,8 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
         for (int y = lo.y; y <= hi.y; ++y)
           for (int x = lo.x; x <= hi.x; ++x) {
             const CellIndex c{x, y};
-            if (grid.DistanceToCell(centre, c) > r || (grid.CellCenter(c) - pose.translation()).dot(back) <= 0.0) continue;
+            if (grid.DistanceToCell(centre, c) > r || (grid.CellCenter(c) - pose.translation()).dot(back) <= 0.0)
+              continue;
             if (!grid.Contains(c) || grid.IsOccupied(c)) return true;
           }
         return false;
@@ -624,7 +636,7 @@ void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e,
 }
 
 void NavigationExecutive::Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
-                                double now) {
+                                 double now) {
   if (!lost_) {
     if (search_beside_) localizer_.EndSearch(false);  // found by the estimate itself
     search_beside_ = false;
@@ -732,7 +744,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     // Without a laser nothing else keeps the map's place in the odometry frame.
     if (in.odometry) map_from_odometry_ = estimate.pose * in.odometry->inverse();
-    reported_.Update(*in.people, in.people_odometry ? *in.people_odometry : map_from_odometry_.inverse() * estimate.pose,
+    reported_.Update(*in.people,
+                     in.people_odometry ? *in.people_odometry : map_from_odometry_.inverse() * estimate.pose,
                      now - in.people_age);
   }
   {
@@ -767,8 +780,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     if (in.rear_contact_only) contact = false;
     for (const TrackedPerson& p : PeopleLocked(now)) {
-      const double gap = Distance(p.position, estimate.pose.translation()) - people_.person_radius -
-                         moving_.detection.robot_radius;
+      const double gap =
+          Distance(p.position, estimate.pose.translation()) - people_.person_radius - moving_.detection.robot_radius;
       if (gap < moving_.touch_gap) contact = false;
     }
   }
@@ -804,7 +817,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     for (const DetectedObstacle& o : detector_.confirmed()) seen.push_back({o.position, o.velocity, o.radius, false});
     if (people_.enabled)
-      for (const TrackedPerson& p : PeopleLocked(now)) seen.push_back({p.position, p.velocity, people_.person_radius, true});
+      for (const TrackedPerson& p : PeopleLocked(now))
+        seen.push_back({p.position, p.velocity, people_.person_radius, true});
     navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
   }
 
@@ -861,7 +875,10 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     }
     const bool ease_off = in.contact && now - contact_since_ >= stop_options_.ease_off_after;
     navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop,
-                    !in.contact ? "emergency stop" : ease_off ? "bumper pressed: easing off" : "bumper pressed", fresh);
+                    !in.contact ? "emergency stop"
+                    : ease_off  ? "bumper pressed: easing off"
+                                : "bumper pressed",
+                    fresh);
     if (ease_off) {
       const AvoidanceSensing sensing = Sensing(estimate.pose, in.rear_free);
       const double v = stop_options_.ease_off_speed;
@@ -875,7 +892,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   recoil_from_.reset();
   if (static_cast<long>(motor) == wake_up_) {
     navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop,
-                    search_ == SearchStage::kNearby ? "localization lost: searching nearby" : "localization lost: searching the map",
+                    search_ == SearchStage::kNearby ? "localization lost: searching nearby"
+                                                    : "localization lost: searching the map",
                     fresh);
     // Turning in place shows the filter the whole room; it cannot tell places apart standing still.
     const double v = watch_.search_turn_rate * navigator_.options().follower.wheel_base / 2.0;
@@ -899,7 +917,8 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     const AvoidanceSensing sensing = Sensing(estimate.pose, in.contact && in.rear_contact_only ? 0.0 : in.rear_free);
     // A manoeuvre starts when the behaviour takes over, and again when the robot has stood still
     // a while after one and the obstacle is still in the way (it waits for the robot, say).
-    if ((brain_.activated(static_cast<size_t>(avoidance_)) || waited_out || avoider_.phase() == AvoidancePhase::kIdle) &&
+    if ((brain_.activated(static_cast<size_t>(avoidance_)) || waited_out ||
+         avoider_.phase() == AvoidancePhase::kIdle) &&
         nearest) {
       avoider_.Start(estimate.pose, nearest->position, sensing, now, in.contact);
     }
@@ -954,10 +973,10 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
         local = LocalScanPointsLocked(estimate.pose);
       }
       const WheelSpeeds w = fresh ? reentry_.Step(estimate.pose, local, toward, now) : WheelSpeeds{};
-      navigator_.Hold(estimate.pose, now, NavigationState::kRecovering,
-                      std::string("outside the navigation grid (") + reentry_why_ + "): " +
-                          ReentryStateName(reentry_.state()),
-                      fresh);
+      navigator_.Hold(
+          estimate.pose, now, NavigationState::kRecovering,
+          std::string("outside the navigation grid (") + reentry_why_ + "): " + ReentryStateName(reentry_.state()),
+          fresh);
       return ScanGuard(w, estimate.pose, in.rear_free, !people_.enabled);
     }
     reentry_.Stop();  // on the grid, or the mission ended
@@ -976,10 +995,12 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
           discs.push_back({o.position, o.radius + moving_.detection.robot_radius});
         }
       }
-      for (const SensedObstacle& s : sensed_obstacles_) discs.push_back({s.position, s.radius + moving_.detection.robot_radius});
+      for (const SensedObstacle& s : sensed_obstacles_)
+        discs.push_back({s.position, s.radius + moving_.detection.robot_radius});
     }
     std::shared_ptr<const planning::Costmap> costmap;
-    if (const auto map = planning_.maps().Get(); map && map->version != leg_map_version_) costmap = planning_.CurrentCostmap();
+    if (const auto map = planning_.maps().Get(); map && map->version != leg_map_version_)
+      costmap = planning_.CurrentCostmap();
     const Point2 here = estimate.pose.translation();
     const double near = moving_.detection.robot_radius + 0.1;
     navigator_.ReplanIfBlocked(
@@ -1066,7 +1087,8 @@ std::vector<Point2> NavigationExecutive::LocalScanPointsLocked(const Pose2& pose
   return local;
 }
 
-WheelSpeeds NavigationExecutive::CapApproach(const WheelSpeeds& wheels, std::vector<Point2> local, double margin) const {
+WheelSpeeds NavigationExecutive::CapApproach(const WheelSpeeds& wheels, std::vector<Point2> local,
+                                             double margin) const {
   const double v = 0.5 * (wheels.left + wheels.right);
   if (v <= 0.0 || local.empty()) return wheels;
   const double room = std::max(0.0, FreeAlong(std::move(local), moving_.detection.robot_radius)(0.0) - margin);

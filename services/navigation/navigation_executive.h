@@ -40,11 +40,11 @@ struct NavigateRequest {
 };
 
 struct MissionRequest {
-  std::vector<Pose2> waypoints;    // map frame; headings used only with use_goal_heading
+  std::vector<Pose2> waypoints;  // map frame; headings used only with use_goal_heading
   bool use_goal_heading = false;
   bool cyclic = false;
-  uint32_t laps = 0;               // with cyclic: 0 = until cancelled
-  double max_distance = 0.0;       // m, 0 = no limit
+  uint32_t laps = 0;          // with cyclic: 0 = until cancelled
+  double max_distance = 0.0;  // m, 0 = no limit
   std::string planner;
   bool preempt = false;
 };
@@ -80,16 +80,16 @@ inline constexpr size_t kMaxDeliveryTasks = 25;
 // room (whole-log RMSE 6.7-6.9 m; beside, 0.08 m).
 struct LocalizationWatchOptions {
   double lost_quality = 0.45;
-  double lost_after = 3.0;     // s
+  double lost_after = 3.0;  // s
   int lost_scans = 3;
   // Well above lost_quality: after a loss, on real logs, a corridor seen the other way round or a
   // look-alike stretch fits at 0.6-0.7 for scans in a row (a true pose at 0.94 median).
   double found_quality = 0.8;
-  double max_spread = 0.3;     // m, sqrt(var x + var y)
-  double search_turn_rate = 0.5;  // rad/s: the wake-up behaviour turns in place while it searches
-  double search_sigma_xy = 0.2;     // m: the spread stays within max_spread along a featureless way
-  double search_sigma_theta = 0.3;  // rad
-  double local_search_for = 15.0;   // s: a full turn at search_turn_rate, and some; 0: global at once
+  double max_spread = 0.3;            // m, sqrt(var x + var y)
+  double search_turn_rate = 0.5;      // rad/s: the wake-up behaviour turns in place while it searches
+  double search_sigma_xy = 0.2;       // m: the spread stays within max_spread along a featureless way
+  double search_sigma_theta = 0.3;    // rad
+  double local_search_for = 15.0;     // s: a full turn at search_turn_rate, and some; 0: global at once
   double global_search_every = 30.0;  // s
 };
 
@@ -103,15 +103,15 @@ struct MovingObstacleOptions {
   double replan_period = 1.0;   // s between checks that a confirmed obstacle lies across the path
   // A bumper pressed while a detected obstacle's (enlarged) disc is this close to the robot's rim
   // is that obstacle's doing.
-  double touch_gap = 0.15;      // m
+  double touch_gap = 0.15;  // m
   // While navigating, the forward speed is capped so the robot could stop guard_margin short of
   // a moving tracked obstacle ahead at guard_deceleration (a third of the seed robot's wheel limit, for the
   // command's latency).
-  double guard_margin = 0.10;        // m
-  double guard_deceleration = 0.7;   // m/s^2
-  double guard_min_speed = 0.1;      // m/s: slower tracked obstacles are left to the plans
+  double guard_margin = 0.10;       // m
+  double guard_deceleration = 0.7;  // m/s^2
+  double guard_min_speed = 0.1;     // m/s: slower tracked obstacles are left to the plans
   // ... and never faster than it could stop scan_guard_margin short of what the laser sees ahead.
-  double scan_guard_margin = 0.05;   // m
+  double scan_guard_margin = 0.05;  // m
   // Turning in place is never quite in place: each wheel misses its speed a little, so the centre
   // creeps along the heading. With something this near the rim in front (a cart that came up to
   // the robot and waits there; in the front half, or among people within 60 degrees of the
@@ -119,8 +119,8 @@ struct MovingObstacleOptions {
   // keeps only the straight part of its command then, as the avoidance behaviour waits rather
   // than turn (its turn_clearance). When the straight part cannot go on either, it turns while
   // backing at turn_guard_backing, if the way back is free for turn_guard_backing_room.
-  double turn_guard_gap = 0.05;      // m
-  double turn_guard_backing = 0.03;  // m/s
+  double turn_guard_gap = 0.05;           // m
+  double turn_guard_backing = 0.03;       // m/s
   double turn_guard_backing_room = 0.05;  // m
 };
 
@@ -134,10 +134,10 @@ struct MovingObstacleOptions {
 // wall starts by turning or driving along it, and pressed it again and again (measured: 150
 // bumps in one corner while exploring).
 struct EmergencyStopOptions {
-  double ease_off_after = 6.0;  // s
-  double ease_off_speed = 0.05; // m/s
-  double recoil_distance = 0.10; // m
-  double recoil_speed = 0.10;    // m/s
+  double ease_off_after = 6.0;    // s
+  double ease_off_speed = 0.05;   // m/s
+  double recoil_distance = 0.10;  // m
+  double recoil_speed = 0.10;     // m/s
 };
 
 // Book chapter 7 among people: the laser's blobs that the map does not explain are tracked as
@@ -169,10 +169,10 @@ struct PeopleAwareOptions {
 
 // What the control loop measured this step.
 struct ExecutiveInputs {
-  bool sensors_fresh = true;   // odometry (and the laser) arrived recently
-  bool contact = false;        // a bumper is pressed
+  bool sensors_fresh = true;       // odometry (and the laser) arrived recently
+  bool contact = false;            // a bumper is pressed
   bool rear_contact_only = false;  // ... and it is the rear one only
-  uint64_t scans = 0;          // scans that have arrived so far (0: not counted)
+  uint64_t scans = 0;              // scans that have arrived so far (0: not counted)
   // The scan that arrived since the last step, if one did.
   const localization::ScanReading* scan = nullptr;
   // The robot's odometry pose (odometry frame) when that scan was taken, and at the localiser's
@@ -214,7 +214,8 @@ class NavigationExecutive {
   DeliverySchedule PlanDeliveries(const DeliveryRequest& request, const planning::StopRequested& stop = {});
   // Plans the schedule and starts it (the stops as waypoints; the start again last with
   // return_to_start). Returns the mission id.
-  uint64_t Deliver(const DeliveryRequest& request, DeliverySchedule& schedule, const planning::StopRequested& stop = {});
+  uint64_t Deliver(const DeliveryRequest& request, DeliverySchedule& schedule,
+                   const planning::StopRequested& stop = {});
   bool Cancel(uint64_t goal_id = 0) { return navigator_.Cancel(goal_id); }
   void Pause() { navigator_.Pause(clock_.Now()); }
   void Resume() { navigator_.Resume(clock_.Now()); }
@@ -334,30 +335,30 @@ class NavigationExecutive {
   mutable std::shared_ptr<const RayCaster> caster_;
   PeopleAwareOptions people_;
   MovingObstacleDetector people_segmenter_;
-  PersonTracker tracker_;           // guarded by detector_mutex_; in the odometry frame
-  ReportedPeople reported_;         // guarded by detector_mutex_; in the odometry frame
-  Pose2 map_from_odometry_;         // guarded by detector_mutex_; identity without odometry
+  PersonTracker tracker_;    // guarded by detector_mutex_; in the odometry frame
+  ReportedPeople reported_;  // guarded by detector_mutex_; in the odometry frame
+  Pose2 map_from_odometry_;  // guarded by detector_mutex_; identity without odometry
   CrowdController crowd_;
-  bool crowd_steering_ = false;     // the crowd controller drove the last step
-  WheelSpeeds last_wheels_;         // the last command of Step (the crowd controller starts from it)
+  bool crowd_steering_ = false;  // the crowd controller drove the last step
+  WheelSpeeds last_wheels_;      // the last command of Step (the crowd controller starts from it)
   SonarReflex reflex_;
   bool reflex_acted_ = false;       // the reflex answered a stimulus this step
   std::vector<SonarEcho> stimuli_;  // this step's unexplained echoes
   // What only the sonar or a bumper found (the map and the laser show nothing there): obstacle
   // discs for the leg plans, forgotten after the reflex's `memory`.
   struct SensedObstacle {
-    Point2 position;                // map frame
-    double radius = 0.0;            // m
-    double seen_at = 0.0;           // s
+    Point2 position;       // map frame
+    double radius = 0.0;   // m
+    double seen_at = 0.0;  // s
   };
   std::vector<SensedObstacle> sensed_obstacles_;  // guarded by detector_mutex_
-  std::vector<Point2> scan_points_;    // the last scan's returns, map frame
+  std::vector<Point2> scan_points_;               // the last scan's returns, map frame
   MovingObstacleAvoidance avoider_;
   RecoveryBehaviour recovery_;
-  GridReentry reentry_;             // control thread only
-  std::string reentry_why_;         // what the planner said of the start
+  GridReentry reentry_;      // control thread only
+  std::string reentry_why_;  // what the planner said of the start
   double reentry_checked_at_ = -1e9;
-  uint64_t reentry_mission_ = 0;    // the mission the reentry is for
+  uint64_t reentry_mission_ = 0;  // the mission the reentry is for
   std::atomic<uint64_t> localizer_map_version_{0};
   // The localisers' SetMap under way: the map version it hands over, 0 if it failed. Control
   // thread only.
@@ -365,14 +366,14 @@ class NavigationExecutive {
   double avoidance_done_at_ = -1.0;
   EmergencyStopOptions stop_options_;
   double contact_since_ = -1.0;
-  bool pressed_ = false;            // a bumper was pressed at the last emergency-stop step
-  bool pressed_rear_ = false;       // ... the rear one only
+  bool pressed_ = false;              // a bumper was pressed at the last emergency-stop step
+  bool pressed_rear_ = false;         // ... the rear one only
   std::optional<Pose2> recoil_from_;  // backing away from a contact that ended, from here
   double recoil_until_ = 0.0;
   double last_blocked_check_ = -1e9;
   // The served map's version the current leg was planned on (set by gRPC and control threads).
   std::atomic<uint64_t> leg_map_version_{0};
-  std::string planner_;            // the active mission's planner
+  std::string planner_;  // the active mission's planner
   double last_step_ = -1.0;
   double poor_fit_since_ = -1.0;
   // The last pose that fitted the scans, and the odometry then (for where the search begins).
@@ -386,8 +387,8 @@ class NavigationExecutive {
   int search_fits_ = 0;
   double search_stamp_ = -1.0;
   uint64_t last_scans_ = 0;
-  int poor_scans_ = 0;          // scans in a row that fitted poorly
-  std::atomic<bool> lost_{false};  // read by gRPC threads
+  int poor_scans_ = 0;              // scans in a row that fitted poorly
+  std::atomic<bool> lost_{false};   // read by gRPC threads
   mutable std::mutex zones_mutex_;  // set by gRPC threads
   SpeedZones zones_;
   SpeedZoneOptions zone_options_;

@@ -138,9 +138,9 @@ grpc::Status NavigationService::NavigateTo(grpc::ServerContext* context, const v
   uint64_t goal_id = 0;
   grpc::Status started = GuardedCall([&] {
     if (!request->has_goal()) throw Error(ErrorCode::kInvalidArgument, "goal is missing");
-    goal_id = executive_.Navigate({FromProto(request->goal()), request->use_goal_heading(), request->planner(),
-                                   request->preempt()},
-                                  StopWhenDone(context));
+    goal_id = executive_.Navigate(
+        {FromProto(request->goal()), request->use_goal_heading(), request->planner(), request->preempt()},
+        StopWhenDone(context));
   });
   if (!started.ok()) return started;
   return StreamMission(context, writer, goal_id);

@@ -65,7 +65,7 @@ std::optional<double> HeadingOf(const NavigationGoal& g) {
 }
 // A pose estimate that jumps farther than this in one control step was re-anchored (set-pose,
 // relocalisation); the jump is not distance the robot travelled.
-constexpr double kMaxStepTravel = 0.5;  // m
+constexpr double kMaxStepTravel = 0.5;   // m
 constexpr double kOdometerChord = 0.05;  // m
 }  // namespace
 
@@ -250,8 +250,8 @@ void Navigator::UpdateFeedbackLocked(NavigationState state, const Pose2& pose, d
   f.pose = pose;
   f.stamp = now;
   const bool following = !leg_needs_path_ && follower_.state() != FollowerState::kIdle;
-  f.distance_remaining = following ? follower_.DistanceRemaining(pose)
-                                   : Distance(pose.translation(), status_.goal.pose.translation());
+  f.distance_remaining =
+      following ? follower_.DistanceRemaining(pose) : Distance(pose.translation(), status_.goal.pose.translation());
   f.waypoint_index = static_cast<uint32_t>(follower_.waypoint_index());
   f.waypoint_count = static_cast<uint32_t>(follower_.waypoint_count());
   if (!status_.active) {
@@ -274,8 +274,8 @@ void Navigator::UpdateFeedbackLocked(NavigationState state, const Pose2& pose, d
     rest = mission_.cyclic && mission_.laps == 0 ? left : std::min(rest, left);
   }
   // The mission's own average speed once it has one; before that, a guess from the cruise speed.
-  const double speed = moving_time_ > 5.0 ? std::max(0.05, f.distance_travelled / moving_time_)
-                                          : 0.6 * options_.follower.v_nav;
+  const double speed =
+      moving_time_ > 5.0 ? std::max(0.05, f.distance_travelled / moving_time_) : 0.6 * options_.follower.v_nav;
   f.eta = rest / speed;
 }
 
@@ -366,8 +366,7 @@ void Navigator::NoteContact(const Point2& where, double now) {
   if (RecoverOrFailLocked(why, "the way seems blocked", last_pose_, now)) leg_contacts_.clear();
 }
 
-bool Navigator::RecoverOrFailLocked(const std::string& why, const std::string& verdict, const Pose2& pose,
-                                    double now) {
+bool Navigator::RecoverOrFailLocked(const std::string& why, const std::string& verdict, const Pose2& pose, double now) {
   if (CountWithin(leg_recoveries_, pose.translation(), options_.recovery_radius) < options_.max_recoveries) {
     leg_recoveries_.push_back(pose.translation());
     ++status_.feedback.recoveries;
@@ -377,9 +376,10 @@ bool Navigator::RecoverOrFailLocked(const std::string& why, const std::string& v
   }
   char where[64];
   std::snprintf(where, sizeof where, " within %.1f m of here", options_.recovery_radius);
-  FinishLocked(Outcome::kFailed,
-               why + " after " + std::to_string(options_.max_recoveries) + " recoveries on this leg" + where + ": " + verdict,
-               pose, now);
+  FinishLocked(
+      Outcome::kFailed,
+      why + " after " + std::to_string(options_.max_recoveries) + " recoveries on this leg" + where + ": " + verdict,
+      pose, now);
   return false;
 }
 

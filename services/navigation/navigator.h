@@ -32,10 +32,10 @@ enum class NavigationState {
   kFinalRotation = 4,
   kStoppedStaleSensors = 5,
   kPaused = 6,
-  kEmergencyStop = 7,   // held by the emergency-stop behaviour (contact, lost pose)
-  kPlanning = 8,        // between legs, or replanning after a hold or resume
-  kAvoiding = 9,        // the moving-obstacle avoidance behaviour has the robot
-  kRecovering = 10,     // stuck: a recovery runs before the leg is replanned
+  kEmergencyStop = 7,  // held by the emergency-stop behaviour (contact, lost pose)
+  kPlanning = 8,       // between legs, or replanning after a hold or resume
+  kAvoiding = 9,       // the moving-obstacle avoidance behaviour has the robot
+  kRecovering = 10,    // stuck: a recovery runs before the leg is replanned
 };
 // Mirrors navd.v1.Outcome.
 enum class Outcome { kNone = 0, kSucceeded = 1, kFailed = 2, kCanceled = 3, kPreempted = 4 };
@@ -57,9 +57,9 @@ struct NavigationResult {
   Outcome outcome = Outcome::kNone;
   std::string message;
   Pose2 final_pose;
-  double distance_to_goal = 0.0;   // to the current waypoint when the mission ended
+  double distance_to_goal = 0.0;  // to the current waypoint when the mission ended
   double elapsed = 0.0;
-  double path_length = 0.0;        // planned length of every leg started
+  double path_length = 0.0;  // planned length of every leg started
   double distance_travelled = 0.0;
   uint32_t waypoints_reached = 0;
 };
@@ -67,38 +67,38 @@ struct NavigationResult {
 struct NavigationFeedback {
   NavigationState state = NavigationState::kIdle;
   Pose2 pose;
-  double distance_remaining = 0.0;   // m along the current leg's path
-  uint32_t waypoint_index = 0;       // path point being steered to
+  double distance_remaining = 0.0;  // m along the current leg's path
+  uint32_t waypoint_index = 0;      // path point being steered to
   uint32_t waypoint_count = 0;
   double stamp = 0.0;
-  uint32_t mission_index = 0;        // mission waypoint being driven to
+  uint32_t mission_index = 0;  // mission waypoint being driven to
   uint32_t mission_count = 0;
   uint32_t laps_completed = 0;
   uint32_t waypoints_reached = 0;
-  double distance_travelled = 0.0;   // m since the mission started (estimated poses)
+  double distance_travelled = 0.0;  // m since the mission started (estimated poses)
   // s until the mission ends (until the end of the lap for an endless cyclic one), from the
   // distance left (current leg's path, straight lines after it) and the mission's average speed.
   double eta = 0.0;
-  std::string behaviour;             // the motor behaviour in control
+  std::string behaviour;  // the motor behaviour in control
   std::vector<ProcessUtility> utilities;
-  double danger = 0.0;               // moving-obstacle danger level mu
+  double danger = 0.0;                                 // moving-obstacle danger level mu
   std::vector<planning::MovingBody> moving_obstacles;  // confirmed by the detection process
-  double speed_limit = 0.0;          // m/s: a speed zone's limit where the robot is; 0: none
-  uint32_t recoveries = 0;           // recoveries run in this mission so far
-  std::string reflex;                // the sonar reflex acting now ("FRONT level 2"); empty: none
-  uint32_t reflexes = 0;             // times the sonar reflex took a hand in this mission
+  double speed_limit = 0.0;                            // m/s: a speed zone's limit where the robot is; 0: none
+  uint32_t recoveries = 0;                             // recoveries run in this mission so far
+  std::string reflex;                                  // the sonar reflex acting now ("FRONT level 2"); empty: none
+  uint32_t reflexes = 0;                               // times the sonar reflex took a hand in this mission
 };
 
 struct NavigationStatus {
-  uint64_t goal_id = 0;          // id of the active or last mission; 0 before the first
+  uint64_t goal_id = 0;  // id of the active or last mission; 0 before the first
   bool active = false;
   bool paused = false;
   bool sensors_stale = false;
-  std::string hold_reason;       // why the robot is held, while it is
-  NavigationGoal goal;           // the current mission waypoint
+  std::string hold_reason;  // why the robot is held, while it is
+  NavigationGoal goal;      // the current mission waypoint
   NavigationFeedback feedback;
   std::optional<NavigationResult> last_result;
-  uint64_t sequence = 0;         // increments on every change
+  uint64_t sequence = 0;  // increments on every change
 };
 
 // What the executive does when the robot is stuck, as Nav2's recovery behaviours, in turn: forget
@@ -130,14 +130,14 @@ struct NavigatorOptions {
   // stands still while the bumper holds the robot). Replans do not restart that clock; a new leg
   // and a recovery do.
   int max_contacts = 3;
-  double contact_radius = 0.3;      // m
+  double contact_radius = 0.3;  // m
   RecoveryOptions recovery;
   // Seed 000's way back onto the navigation grid when a leg cannot start where the robot is.
   GridReentryOptions reentry;
   // Seed 004's reflexes on the sonar ring, summed with the path follower's command.
   SonarReflexOptions reflex;
   // ...or when sensors stayed stale this long.
-  double stale_timeout = 10.0;      // s
+  double stale_timeout = 10.0;  // s
 };
 
 class Navigator {
@@ -147,8 +147,7 @@ class Navigator {
   // Starts `mission` with `path` (start first) for its first leg. When a mission is active: throws
   // navd::Error(kFailedPrecondition) unless preempt, in which case the old one ends PREEMPTED.
   // Returns the new mission's id.
-  uint64_t Start(const Mission& mission, const std::vector<Point2>& path, double path_length, double now,
-                 bool preempt);
+  uint64_t Start(const Mission& mission, const std::vector<Point2>& path, double path_length, double now, bool preempt);
   uint64_t Start(const NavigationGoal& goal, const std::vector<Point2>& path, double path_length, double now,
                  bool preempt) {
     return Start(Mission{{goal}}, path, path_length, now, preempt);
@@ -222,17 +221,17 @@ class Navigator {
   PathFollower follower_;
   Mission mission_;
   bool leg_needs_path_ = false;
-  bool stuck_ = false;              // a recovery is due
+  bool stuck_ = false;                  // a recovery is due
   std::vector<Point2> leg_recoveries_;  // where recoveries ran since the last waypoint was reached
-  std::vector<Point2> leg_contacts_;  // where bumpers were pressed since then
-  double best_remaining_ = 0.0;     // smallest distance left on this leg so far (progress check)
-  double best_remaining_at_ = 0.0;  // when it was reached
-  double held_since_ = -1.0;        // when a stop (stale, pause, hold) began; < 0 while driving
-  double stale_since_ = -1.0;       // when sensors went stale; < 0 while fresh
+  std::vector<Point2> leg_contacts_;    // where bumpers were pressed since then
+  double best_remaining_ = 0.0;         // smallest distance left on this leg so far (progress check)
+  double best_remaining_at_ = 0.0;      // when it was reached
+  double held_since_ = -1.0;            // when a stop (stale, pause, hold) began; < 0 while driving
+  double stale_since_ = -1.0;           // when sensors went stale; < 0 while fresh
   NavigationStatus status_;
   std::vector<std::pair<uint64_t, NavigationResult>> results_;  // recent results by mission id
   double started_at_ = 0.0;
-  double moving_time_ = 0.0;        // s the navigation behaviour drove (for the ETA's speed)
+  double moving_time_ = 0.0;  // s the navigation behaviour drove (for the ETA's speed)
   double last_step_ = -1.0;
   double path_length_ = 0.0;
   Pose2 last_pose_;

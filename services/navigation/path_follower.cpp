@@ -97,7 +97,8 @@ FollowerCommand PathFollower::Step(const Pose2& pose) {
 
   const double dphi = BearingOf(target, pose);
   // States 7/8 with hysteresis.
-  if (state_ == FollowerState::kDriving && std::abs(dphi) > p_.heading_threshold && !external_) state_ = FollowerState::kRotating;
+  if (state_ == FollowerState::kDriving && std::abs(dphi) > p_.heading_threshold && !external_)
+    state_ = FollowerState::kRotating;
   if (state_ == FollowerState::kRotating) {
     if (std::abs(dphi) > p_.heading_resume) return {Rotate(dphi), state_};
     state_ = FollowerState::kDriving;

@@ -15,22 +15,22 @@
 namespace navd::navigation {
 
 struct PathFollowerParams {
-  double heading_threshold = 0.8;     // delta, rad: rotate in place above this
-  double heading_resume = 0.25;       // rad: stop rotating below this
-  double v_nav = 0.5;                 // V_nav, m/s
-  double k_p = 1.0;                   // K_p, 1/rad
+  double heading_threshold = 0.8;  // delta, rad: rotate in place above this
+  double heading_resume = 0.25;    // rad: stop rotating below this
+  double v_nav = 0.5;              // V_nav, m/s
+  double k_p = 1.0;                // K_p, 1/rad
   // d_p, m: a waypoint counts as reached within this. With waypoints closer than d_p the robot
   // steers towards a point about d_p ahead on the path, which rounds corners instead of stopping.
   double waypoint_radius = 0.35;
-  double waypoint_spacing = 0.25;     // d_wp, m: the path is densified to at most this spacing
-  double goal_tolerance = 0.05;       // m
+  double waypoint_spacing = 0.25;        // d_wp, m: the path is densified to at most this spacing
+  double goal_tolerance = 0.05;          // m
   double goal_heading_tolerance = 0.05;  // rad
-  double approach_decel = 0.6;        // m/s^2: the final approach slows as sqrt(2 a d)
-  double min_speed = 0.04;            // m/s: slowest approach and rotation wheel speed
-  double rotate_speed = 0.3;          // m/s: wheel speed when turning in place
-  double rotate_gain = 0.6;           // (m/s)/rad: turning slows near the target heading
-  double wheel_base = 0.33;           // m
-  double max_wheel_speed = 0.5;       // m/s
+  double approach_decel = 0.6;           // m/s^2: the final approach slows as sqrt(2 a d)
+  double min_speed = 0.04;               // m/s: slowest approach and rotation wheel speed
+  double rotate_speed = 0.3;             // m/s: wheel speed when turning in place
+  double rotate_gain = 0.6;              // (m/s)/rad: turning slows near the target heading
+  double wheel_base = 0.33;              // m
+  double max_wheel_speed = 0.5;          // m/s
 };
 
 enum class FollowerState { kIdle, kRotating, kDriving, kFinalRotation, kArrived };

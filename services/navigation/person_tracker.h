@@ -31,7 +31,7 @@ struct PersonTrackerOptions {
   // zone 97.9% became 98.2% (2.5 s: 1 and 98.1%). Keeping them only where the laser could not see
   // through the place they would be (others in front) did no better than 1 s.
   double forget_after = 2.0;
-  double max_speed = 2.5;          // m/s: a faster track is clamped (a person does not run past this)
+  double max_speed = 2.5;  // m/s: a faster track is clamped (a person does not run past this)
   // m/s: slower, the estimate's direction is the filter's noise (it undershoots when someone
   // stops), and the orientation is left as it was: Eq. 6's β = 0.9 would still turn a standing
   // person round in a second or two (ours).

@@ -46,7 +46,7 @@ struct SonarReflexOptions {
   // the sonar finds (glass, things below the laser's plane). false: every echo is a stimulus, as in
   // the seed.
   bool only_unexplained = true;
-  double explained_tolerance = 0.15;  // m
+  double explained_tolerance = 0.15;         // m
   double sensor_cone = 15.0 * M_PI / 180.0;  // rad: a sensor's opening, for that comparison
   // The deliberative half (Nav2's range sensor layer): unexplained echoes within remember_within
   // become obstacle discs in the leg plans for `memory` seconds, so the path goes round what the

@@ -123,12 +123,12 @@ UtilityBrainOptions DefaultBrainOptions() {
   UtilityBrainOptions o;
   o.state_variables = {"contact", "sensors_stale", "localization_lost", "moving_obstacle_danger", "map_building"};
   UtilityProcessOptions navigation{"navigation", ProcessKind::kMotor, 0.1, 1.0, 0.25, {}};
-  UtilityProcessOptions stop{"emergency_stop", ProcessKind::kMotor, 0.05, 5.0, 0.0,
-                             {{"contact", 1.0}, {"sensors_stale", 1.0}}};
+  UtilityProcessOptions stop{
+      "emergency_stop", ProcessKind::kMotor, 0.05, 5.0, 0.0, {{"contact", 1.0}, {"sensors_stale", 1.0}}};
   UtilityProcessOptions wake_up{"wake_up", ProcessKind::kMotor, 0.1, 3.0, -0.2, {{"localization_lost", 1.0}}};
   // Seed 000 section 6: a_51 = 1, b_5 = -0.45, tau 0.1 s, Gamma_5 = 3 on activation decaying in 1 s.
-  UtilityProcessOptions avoidance{"moving_obstacle_avoidance", ProcessKind::kMotor, 0.1, 1.0, -0.45,
-                                  {{"moving_obstacle_danger", 1.0}}, 1.0, 3.0};
+  UtilityProcessOptions avoidance{
+      "moving_obstacle_avoidance", ProcessKind::kMotor, 0.1, 1.0, -0.45, {{"moving_obstacle_danger", 1.0}}, 1.0, 3.0};
   UtilityProcessOptions localization{"localization", ProcessKind::kCognitive, 0.1, 1.0, 0.5, {}};
   UtilityProcessOptions detection{"moving_obstacle_detection", ProcessKind::kCognitive, 0.1, 1.0, 0.5,
                                   {{"map_building", -1.0}}};
@@ -159,7 +159,8 @@ UtilityBrainOptions ParseBrain(const std::string& text, const std::string& sourc
     if (!n["name"]) f.Fail(at + "name", "is required", n);
     p.name = f.String(n["name"], at + "name");
     if (!n["kind"]) f.Fail(at + "kind", "is required (motor or cognitive)", n);
-    p.kind = f.Choice(n["kind"], at + "kind", {"motor", "cognitive"}) == 0 ? ProcessKind::kMotor : ProcessKind::kCognitive;
+    p.kind =
+        f.Choice(n["kind"], at + "kind", {"motor", "cognitive"}) == 0 ? ProcessKind::kMotor : ProcessKind::kCognitive;
     f.Read(n, "tau", at, p.tau, &YamlFields::Positive);
     f.Read(n, "c", at, p.c, &YamlFields::Positive);
     f.Read(n, "b", at, p.b, &YamlFields::Number);
@@ -169,7 +170,8 @@ UtilityBrainOptions ParseBrain(const std::string& text, const std::string& sourc
       f.ExpectMap(n["a"], at + "a");
       for (const auto& kv : n["a"]) {
         const std::string var = kv.first.as<std::string>();
-        const bool known = std::find(o.state_variables.begin(), o.state_variables.end(), var) != o.state_variables.end();
+        const bool known =
+            std::find(o.state_variables.begin(), o.state_variables.end(), var) != o.state_variables.end();
         if (!known) f.Fail(at + "a." + var, "is not one of state_variables", kv.first);
         p.a.emplace_back(var, f.Number(kv.second, at + "a." + var));
       }
@@ -184,6 +186,8 @@ UtilityBrainOptions ParseBrain(const std::string& text, const std::string& sourc
   return o;
 }
 
-UtilityBrainOptions LoadBrainFile(const std::string& path) { return ParseBrain(ReadTextFile(path, "brain file"), path); }
+UtilityBrainOptions LoadBrainFile(const std::string& path) {
+  return ParseBrain(ReadTextFile(path, "brain file"), path);
+}
 
 }  // namespace navd::navigation

@@ -18,11 +18,11 @@ enum class ProcessKind { kMotor, kCognitive };
 struct UtilityProcessOptions {
   std::string name;
   ProcessKind kind = ProcessKind::kMotor;
-  double tau = 0.1;        // s, reaction time
-  double c = 1.0;          // steepness of tanh
-  double b = 0.0;          // bias
+  double tau = 0.1;                               // s, reaction time
+  double c = 1.0;                                 // steepness of tanh
+  double b = 0.0;                                 // bias
   std::vector<std::pair<std::string, double>> a;  // weights a_ik by state-variable name
-  double gamma_tau = 1.0;  // s, decay time constant of Gamma_i
+  double gamma_tau = 1.0;                         // s, decay time constant of Gamma_i
   // Gamma_i is set to this when the process becomes active (0: the process never sets it).
   double gamma_on_activation = 0.0;
 };

@@ -93,8 +93,11 @@ std::vector<uint8_t> SquareErode(const Costmap& costmap, int k) {
 }  // namespace
 
 ConvexCellMap::ConvexCellMap(const Costmap& costmap, double margin)
-    : margin_(margin), width_(costmap.width()), height_(costmap.height()),
-      resolution_(costmap.grid().resolution()), origin_(costmap.grid().origin()),
+    : margin_(margin),
+      width_(costmap.width()),
+      height_(costmap.height()),
+      resolution_(costmap.grid().resolution()),
+      origin_(costmap.grid().origin()),
       label_(static_cast<size_t>(width_) * height_, -1) {
   if (!std::isfinite(margin) || margin < 0.0)
     throw Error(ErrorCode::kInvalidArgument, "margin must be a finite number of metres >= 0");
@@ -126,8 +129,8 @@ ConvexCellMap::ConvexCellMap(const Costmap& costmap, double margin)
     cell.max = origin_ + resolution_ * Point2(x1, y1);
     cells_.push_back(cell);
     for (int y = y0; y < y1; ++y)
-      std::fill(label_.begin() + static_cast<size_t>(y) * width_ + x0, label_.begin() + static_cast<size_t>(y) * width_ + x1,
-                static_cast<int32_t>(id));
+      std::fill(label_.begin() + static_cast<size_t>(y) * width_ + x0,
+                label_.begin() + static_cast<size_t>(y) * width_ + x1, static_cast<int32_t>(id));
   }
   // Doorways: along each cell's right and top sides (a left or bottom side is another cell's right
   // or top), runs of one neighbour give one shared segment.
@@ -138,7 +141,8 @@ ConvexCellMap::ConvexCellMap(const Costmap& costmap, double margin)
       if (fixed >= (right ? width_ : height_)) continue;
       const int from = right ? ys[r.y0] : xs[r.x0], to = right ? ys[r.y1] : xs[r.x1];
       for (int k = from; k < to;) {
-        const int32_t n = right ? label_[static_cast<size_t>(k) * width_ + fixed] : label_[static_cast<size_t>(fixed) * width_ + k];
+        const int32_t n =
+            right ? label_[static_cast<size_t>(k) * width_ + fixed] : label_[static_cast<size_t>(fixed) * width_ + k];
         int end = k + 1;
         while (end < to && (right ? label_[static_cast<size_t>(end) * width_ + fixed]
                                   : label_[static_cast<size_t>(fixed) * width_ + end]) == n)
@@ -177,7 +181,8 @@ std::pair<Point2, Point2> ConvexCellMap::Crossing(int32_t door, int32_t from, co
 }
 
 int32_t ConvexCellMap::CellAt(const Point2& p) const {
-  const double fx = std::floor((p.x() - origin_.x()) / resolution_), fy = std::floor((p.y() - origin_.y()) / resolution_);
+  const double fx = std::floor((p.x() - origin_.x()) / resolution_),
+               fy = std::floor((p.y() - origin_.y()) / resolution_);
   if (!(fx >= 0 && fy >= 0 && fx < width_ && fy < height_)) return -1;
   return label_[static_cast<size_t>(fy) * width_ + static_cast<size_t>(fx)];
 }

@@ -14,8 +14,8 @@ namespace {
 constexpr double kObstaclePenalty = 1e4;
 
 struct Search {
-  std::vector<double> cost;     // metres from the start along waypoints (penalties included)
-  std::vector<Point2> entry;    // the waypoint a cell was entered through
+  std::vector<double> cost;   // metres from the start along waypoints (penalties included)
+  std::vector<Point2> entry;  // the waypoint a cell was entered through
   std::vector<int32_t> parent;
 };
 
@@ -98,7 +98,8 @@ ConvexGridPath PlanOnConvexGrid(const ConvexCellMap& grid, const Costmap& costma
     best.best_length_per_iteration.push_back(best_cost);
   }
   if (best.points.empty())
-    throw Error(ErrorCode::kNotFound, "no path: the goal's cell of the convex navigation grid cannot be reached from the start's");
+    throw Error(ErrorCode::kNotFound,
+                "no path: the goal's cell of the convex navigation grid cannot be reached from the start's");
 
   // The entries off the grid (start or goal in the margin) are joined straight.
   std::vector<Point2> way;
@@ -136,7 +137,8 @@ CellPath ConvexGridPlanner::PlanInScene(const Costmap& costmap, const CellIndex&
                                         const PlannerOptions& options, const PlanningScene& scene,
                                         const StopRequested& stop) const {
   const double iterations = options.at("iterations"), seed = options.at("seed");
-  if (!(iterations >= 1 && iterations <= 10000)) throw Error(ErrorCode::kInvalidArgument, "iterations must be in 1..10000");
+  if (!(iterations >= 1 && iterations <= 10000))
+    throw Error(ErrorCode::kInvalidArgument, "iterations must be in 1..10000");
   if (!(seed >= 0 && seed < 1e18)) throw Error(ErrorCode::kInvalidArgument, "seed must be a number >= 0");
   const auto grid = cells_->Get(costmap, options.at("margin"));
   ConvexGridOptions o;

@@ -21,19 +21,19 @@ struct MovingObstacleCircle {
 };
 
 struct ConvexGridOptions {
-  int iterations = 10;             // n
-  double waypoint_spacing = 0.5;   // d_wp, metres
-  double obstacle_range = 3.0;     // Δ, metres from the start
-  double obstacle_margin = 0.2;    // metres added to an obstacle's radius
-  double entry_reach = 1.0;        // metres a start or goal in the margin may be from the grid
+  int iterations = 10;            // n
+  double waypoint_spacing = 0.5;  // d_wp, metres
+  double obstacle_range = 3.0;    // Δ, metres from the start
+  double obstacle_margin = 0.2;   // metres added to an obstacle's radius
+  double entry_reach = 1.0;       // metres a start or goal in the margin may be from the grid
   uint64_t seed = 1;
 };
 
 struct ConvexGridPath {
-  std::vector<Point2> points;  // start first, goal last
-  double length = 0.0;         // metres, without penalties
-  bool penalised = false;      // the best path still passes an obstacle circle
-  uint64_t expansions = 0;     // cells settled over all iterations
+  std::vector<Point2> points;                     // start first, goal last
+  double length = 0.0;                            // metres, without penalties
+  bool penalised = false;                         // the best path still passes an obstacle circle
+  uint64_t expansions = 0;                        // cells settled over all iterations
   std::vector<double> best_length_per_iteration;  // the best so far after each iteration
 };
 

@@ -10,7 +10,9 @@
 namespace navd::planning {
 
 Costmap::Costmap(std::shared_ptr<const OccupancyGrid> grid_ptr, const CostmapOptions& options)
-    : grid_(std::move(grid_ptr)), options_(options), lethal_(grid_->cells().size(), 0),
+    : grid_(std::move(grid_ptr)),
+      options_(options),
+      lethal_(grid_->cells().size(), 0),
       distance_(grid_->cells().size()) {
   // Distances to the nearest obstacle (exact) decide both layers: one pass, any radius.
   const DistanceField field(*grid_, options.unknown_is_lethal);
@@ -36,8 +38,8 @@ void Costmap::BuildMoveMasks() {
   // Bits in kGridMoves order: E, W, N, S, NE, SE, NW, SW; a diagonal needs both its sides.
   auto mask = [](unsigned here, unsigned e, unsigned west, unsigned n, unsigned s, unsigned ne, unsigned se,
                  unsigned nw, unsigned sw) {
-    const unsigned m = e | west << 1 | n << 2 | s << 3 | (e & n & ne) << 4 | (e & s & se) << 5 |
-                       (west & n & nw) << 6 | (west & s & sw) << 7;
+    const unsigned m = e | west << 1 | n << 2 | s << 3 | (e & n & ne) << 4 | (e & s & se) << 5 | (west & n & nw) << 6 |
+                       (west & s & sw) << 7;
     return static_cast<uint8_t>(here ? m : 0);
   };
   // Inner cells read their neighbours' flags directly (free = 1 - lethal), with no bounds tests.
@@ -56,8 +58,9 @@ void Costmap::BuildMoveMasks() {
     return x >= 0 && y >= 0 && x < w && y < h && !lethal_[static_cast<size_t>(y) * w + x];
   };
   auto edge = [&](int x, int y) {
-    moves_[static_cast<size_t>(y) * w + x] = mask(free(x, y), free(x + 1, y), free(x - 1, y), free(x, y + 1), free(x, y - 1),
-                                               free(x + 1, y + 1), free(x + 1, y - 1), free(x - 1, y + 1), free(x - 1, y - 1));
+    moves_[static_cast<size_t>(y) * w + x] =
+        mask(free(x, y), free(x + 1, y), free(x - 1, y), free(x, y + 1), free(x, y - 1), free(x + 1, y + 1),
+             free(x + 1, y - 1), free(x - 1, y + 1), free(x - 1, y - 1));
   };
   for (int x = 0; x < w; ++x) {
     edge(x, 0);
@@ -101,8 +104,8 @@ std::optional<CellIndex> Costmap::NearestFree(const CellIndex& from, int max_cel
     q.pop();
     for (const CellIndex d : {CellIndex{1, 0}, CellIndex{-1, 0}, CellIndex{0, 1}, CellIndex{0, -1}}) {
       const CellIndex n{c.x + d.x, c.y + d.y};
-      if (!grid_->Contains(n) || std::abs(n.x - from.x) > max_cells || std::abs(n.y - from.y) > max_cells ||
-          mark(n) || (!through_obstacles && grid_->IsOccupied(n))) {
+      if (!grid_->Contains(n) || std::abs(n.x - from.x) > max_cells || std::abs(n.y - from.y) > max_cells || mark(n) ||
+          (!through_obstacles && grid_->IsOccupied(n))) {
         continue;
       }
       mark(n) = 1;

@@ -16,8 +16,8 @@ namespace navd::planning {
 struct CostmapOptions {
   double inflation_radius = 0.30;  // metres: robot radius + margin
   bool unknown_is_lethal = true;
-  double decay_radius = 0.0;       // metres of decaying cost beyond the inflation radius (0: none)
-  double cost_scaling = 3.0;       // 1/m, Nav2's cost_scaling_factor
+  double decay_radius = 0.0;  // metres of decaying cost beyond the inflation radius (0: none)
+  double cost_scaling = 3.0;  // 1/m, Nav2's cost_scaling_factor
 };
 
 class Costmap {

@@ -67,7 +67,8 @@ CrowdRoute PlanCrowdRoute(const Costmap& costmap, const CrowdRouteRequest& r, co
                                             " s: the way on stays inside people's space");
     }
     if (robot.t >= r.max_time)
-      throw Error(ErrorCode::kNotFound, "the crowd RRT did not reach the goal within " + std::to_string(static_cast<int>(r.max_time)) + " s");
+      throw Error(ErrorCode::kNotFound,
+                  "the crowd RRT did not reach the goal within " + std::to_string(static_cast<int>(r.max_time)) + " s");
     along = NearestAhead(r.route, robot.position(), along, 200);
     CrowdRrtRequest round;
     round.start = robot;

@@ -21,20 +21,20 @@ namespace navd::planning {
 struct CrowdRouteRequest {
   UnicycleState start;
   Point2 goal = Point2::Zero();
-  double goal_tolerance = 0.25;     // m
-  std::vector<Point2> route;        // start to goal, clear of walls (at least two points)
-  std::vector<MovingBody> people;   // now, with velocities (m/s) for the prediction
+  double goal_tolerance = 0.25;    // m
+  std::vector<Point2> route;       // start to goal, clear of walls (at least two points)
+  std::vector<MovingBody> people;  // now, with velocities (m/s) for the prediction
   UnicycleLimits limits;
-  double execute = 2.0;             // s of each plan kept
-  double lookahead = 12.0;          // m along the route: each round's goal
-  double max_time = 120.0;          // s: a trajectory that has not arrived by then is not found
+  double execute = 2.0;     // s of each plan kept
+  double lookahead = 12.0;  // m along the route: each round's goal
+  double max_time = 120.0;  // s: a trajectory that has not arrived by then is not found
   uint64_t seed = 1;
 };
 
 struct CrowdRoute {
   std::vector<UnicycleState> states;  // start first; t from the start
   int plans = 0;
-  int vertices = 0;                   // in all the rounds' trees
+  int vertices = 0;  // in all the rounds' trees
 };
 
 // Throws navd::Error: kInvalidArgument (a route of fewer than two points, non-finite input,

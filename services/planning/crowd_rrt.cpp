@@ -14,8 +14,8 @@ namespace navd::planning {
 
 namespace {
 
-constexpr double kSubStep = 0.05;  // s: Eq. 10 is integrated this finely within a vertex step
-constexpr double kIndexCell = 0.5;  // m: the nearest-vertex grid's cells
+constexpr double kSubStep = 0.05;           // s: Eq. 10 is integrated this finely within a vertex step
+constexpr double kIndexCell = 0.5;          // m: the nearest-vertex grid's cells
 constexpr double kIndexMaxHalfSize = 40.0;  // m: the grid reaches no farther from the start
 // A robot slower than this (m/s) and more than kTurnOnTheSpot (rad) off the goal's direction is
 // offered a turn on the spot, which sets off once the goal is within kSetOff (rad) of its heading.
@@ -25,13 +25,13 @@ constexpr double kSetOff = 0.3;
 
 struct Vertex {
   UnicycleState state;
-  UnicycleInput input;     // what took the parent here
+  UnicycleInput input;  // what took the parent here
   int parent = -1;
   double cost = 0.0;       // ∫(g1 + g2) dt from the start
   double potential = 0.0;  // g1 + g2 here
   bool braking = false;
-  bool kept = false;       // on what is left of the last plan
-  bool arrived = false;    // its way came within the request's goal_tolerance of the goal
+  bool kept = false;     // on what is left of the last plan
+  bool arrived = false;  // its way came within the request's goal_tolerance of the goal
 };
 
 class CrowdField {
@@ -51,7 +51,8 @@ class CrowdField {
       least_wall_distance_ = std::min(WallDistance(r.start.position()), o.robot_radius + o.escape_touch);
     // The same for the map's edge, which is kept as far as a wall (below).
     const double edge = EdgeDistance(r.start.position());
-    if (edge < costmap.options().inflation_radius) least_edge_distance_ = std::max(0.5 * costmap.grid().resolution(), edge);
+    if (edge < costmap.options().inflation_radius)
+      least_edge_distance_ = std::max(0.5 * costmap.grid().resolution(), edge);
   }
   // Whether the robot may be at `p` as far as the map goes.
   bool Allowed(const Point2& p) const {
@@ -209,7 +210,9 @@ class NearestVertexIndex {
  private:
   int Cell(double v, double origin) const { return static_cast<int>(std::floor((v - origin) / cell_)); }
   int Clamp(int c) const { return std::clamp(c, 0, side_ - 1); }
-  size_t Flat(int x, int y) const { return static_cast<size_t>(y) * static_cast<size_t>(side_) + static_cast<size_t>(x); }
+  size_t Flat(int x, int y) const {
+    return static_cast<size_t>(y) * static_cast<size_t>(side_) + static_cast<size_t>(x);
+  }
 
   Point2 origin_;
   double cell_;
@@ -313,8 +316,7 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
   const CrowdField field(costmap, r, o);
   const Point2 start = s0.position();
   const double start_distance = Distance(start, r.goal);
-  const double direction =
-      start_distance > 1e-6 ? std::atan2(r.goal.y() - start.y(), r.goal.x() - start.x()) : s0.yaw;
+  const double direction = start_distance > 1e-6 ? std::atan2(r.goal.y() - start.y(), r.goal.x() - start.x()) : s0.yaw;
   const Point2 axis(std::cos(direction), std::sin(direction));
   const Point2 normal(-axis.y(), axis.x());
   const double reach = std::max(o.desired_speed * o.horizon, 1.0);
@@ -404,7 +406,8 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
   // 1.5 m/s, came within a metre of a 0.25 m goal disc and not into it, round after round.
   if (r.goal_tolerance > 0.0) {
     tip = 0;
-    while (tip >= 0 && !tree[static_cast<size_t>(tip)].arrived && tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
+    while (tip >= 0 && !tree[static_cast<size_t>(tip)].arrived &&
+           tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
       tip = extend(tip, SteerTowards(tree[static_cast<size_t>(tip)].state, r.goal, o.desired_speed, o.gains), false);
     }
   }
@@ -449,7 +452,8 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
   auto total = [&](const Vertex& v) {
     const double progress = start_distance - Distance(v.state.position(), r.goal);
     const double heading = NormalizeAngle(v.state.yaw - direction);
-    const double end = v.arrived ? 0.0 : o.end_weight * std::exp(o.end_rate * progress) + o.heading_weight * std::pow(heading, 4);
+    const double end =
+        v.arrived ? 0.0 : o.end_weight * std::exp(o.end_rate * progress) + o.heading_weight * std::pow(heading, 4);
     const double cost = v.cost + end;
     return v.kept ? cost * o.keep_factor : cost;
   };
@@ -493,8 +497,9 @@ CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const
 
 CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o) {
   const UnicycleState& s0 = r.start;
-  Check(std::isfinite(s0.x) && std::isfinite(s0.y) && std::isfinite(s0.yaw) && std::isfinite(s0.v) && std::isfinite(s0.w),
-        "start: every component must be finite");
+  Check(
+      std::isfinite(s0.x) && std::isfinite(s0.y) && std::isfinite(s0.yaw) && std::isfinite(s0.v) && std::isfinite(s0.w),
+      "start: every component must be finite");
   Check(r.goal.allFinite(), "goal: must be finite");
   Check(r.goal_tolerance >= 0.0, "goal_tolerance: must not be negative");
   for (const Point2& p : r.path) Check(p.allFinite(), "path: every point must be finite");
@@ -508,7 +513,8 @@ CrowdTrajectory PlanCrowdRrt(const Costmap& costmap, const CrowdRrtRequest& r, c
   Check(r.limits.max_speed > 0.0 && r.limits.max_accel > 0.0 && r.limits.max_yaw_rate > 0.0 &&
             r.limits.max_yaw_accel > 0.0,
         "limits: every limit must be positive");
-  for (const MovingBody& b : r.people) Check(b.position.allFinite() && b.velocity.allFinite(), "people: positions and velocities must be finite");
+  for (const MovingBody& b : r.people)
+    Check(b.position.allFinite() && b.velocity.allFinite(), "people: positions and velocities must be finite");
 
   CrowdTrajectory plan = PlanOnce(costmap, r, o);
   // Nothing lives min_select_time under the grown clearance (a walker heading straight at the

@@ -50,18 +50,18 @@
 namespace navd::planning {
 
 struct CrowdRrtOptions {
-  int max_nodes = 2000;          // vertices per plan (the chapter's fixed 2000)
-  double horizon = 8.0;          // s (the chapter: 20 s at 1.5 m/s on a 90 m street)
-  double step = 0.25;            // s, one vertex
-  double goal_bias = 0.2;        // GoalSamplingProb
-  double lateral_range = 3.0;    // m: random targets lie this far either side of the start-goal line
-  double desired_speed = 1.0;    // μ_v, m/s
+  int max_nodes = 2000;        // vertices per plan (the chapter's fixed 2000)
+  double horizon = 8.0;        // s (the chapter: 20 s at 1.5 m/s on a 90 m street)
+  double step = 0.25;          // s, one vertex
+  double goal_bias = 0.2;      // GoalSamplingProb
+  double lateral_range = 3.0;  // m: random targets lie this far either side of the start-goal line
+  double desired_speed = 1.0;  // μ_v, m/s
   SteeringGains gains;
-  double speed_noise = 0.4;      // σ_v, m/s²
-  double yaw_noise = 0.6;        // σ_θ, rad/s²
-  double env_weight = 2.0;       // g1 at the costmap's highest decaying cost
-  double speed_weight = 30.0;    // c_v, per (m/s)² of speed short of μ_v along the way (ours)
-  double path_weight = 0.2;      // g1's c_y, per m² of distance from the request's path
+  double speed_noise = 0.4;    // σ_v, m/s²
+  double yaw_noise = 0.6;      // σ_θ, rad/s²
+  double env_weight = 2.0;     // g1 at the costmap's highest decaying cost
+  double speed_weight = 30.0;  // c_v, per (m/s)² of speed short of μ_v along the way (ours)
+  double path_weight = 0.2;    // g1's c_y, per m² of distance from the request's path
   // Wider than PersonCostModel's defaults: the robot passes people at speed, and the street runs
   // are judged by the personal zone (1.2 m), where this costs about 14 per second at a
   // walker's side and 4 behind.
@@ -85,8 +85,8 @@ struct CrowdRrtOptions {
   // The last plan's vertices count at this share of their cost: a new tree must do clearly better
   // to replace it, or successive random trees would swing the robot from side to side (ours).
   double keep_factor = 0.85;
-  double robot_radius = 0.3;     // m
-  double clearance = 0.1;        // m kept between the robot's and a person's predicted discs (ours)
+  double robot_radius = 0.3;  // m
+  double clearance = 0.1;     // m kept between the robot's and a person's predicted discs (ours)
   // Ours: the clearance grows by this share of the distance a person is predicted to walk, up to
   // clearance_growth_time seconds ahead (0.3: a walker's way is known to about ±17°). Walkers
   // change their minds every few seconds and step round each other, so a constant-velocity
@@ -108,7 +108,7 @@ struct CrowdRrtOptions {
   // personal zone 99.42%, for about 2% more time (75.1 s a run, with the escapes' braking below:
   // 73.5 s without).
   double walking_clearance = 0.25;  // m
-  double walking_speed = 0.3;      // m/s
+  double walking_speed = 0.3;       // m/s
   // Ours, (e), off by default: a vertex faster than it could stop in, at approach_deceleration (at
   // most the robot's acceleration limit), before the rim of anyone predicted ahead of it (in its
   // forward half-plane, at its time) is pruned unless it brakes at half the acceleration limit or
@@ -121,16 +121,16 @@ struct CrowdRrtOptions {
   double approach_deceleration = 0.0;  // m/s²; 0: off
   // s: when nothing is valid, each escape is held this long (and judged with full braking after it)
   double escape_time = 1.0;
-  double escape_touch = 0.05;    // m: an escape that brings the robot's rim this near someone touches them
-  double people_range = 40.0;    // m: people farther than this from the robot are left out
+  double escape_touch = 0.05;  // m: an escape that brings the robot's rim this near someone touches them
+  double people_range = 40.0;  // m: people farther than this from the robot are left out
 };
 
 struct CrowdRrtRequest {
-  UnicycleState start;                     // t = 0
-  Point2 goal = Point2::Zero();            // where the mission leads (a point ahead on the path)
-  std::vector<Point2> path;                // optional: the global path towards goal, g1's valley
-  std::vector<MovingBody> people;          // now, with velocities (m/s) for the prediction
-  std::vector<UnicycleInput> previous;     // the last best trajectory's inputs still to come
+  UnicycleState start;                  // t = 0
+  Point2 goal = Point2::Zero();         // where the mission leads (a point ahead on the path)
+  std::vector<Point2> path;             // optional: the global path towards goal, g1's valley
+  std::vector<MovingBody> people;       // now, with velocities (m/s) for the prediction
+  std::vector<UnicycleInput> previous;  // the last best trajectory's inputs still to come
   UnicycleLimits limits;
   // 0: the goal is a point ahead to drive towards. Positive (m): the goal is where the plan ends. A
   // vertex whose way came this near it has arrived: it pays no g3 and nothing after the arrival,
@@ -141,14 +141,14 @@ struct CrowdRrtRequest {
 };
 
 struct CrowdTrajectory {
-  std::vector<UnicycleState> states;       // start first, one per step
-  std::vector<UnicycleInput> inputs;       // inputs[i] takes states[i] to states[i + 1]
-  double cost = 0.0;                       // Eq. 15 at the chosen vertex
+  std::vector<UnicycleState> states;  // start first, one per step
+  std::vector<UnicycleInput> inputs;  // inputs[i] takes states[i] to states[i + 1]
+  double cost = 0.0;                  // Eq. 15 at the chosen vertex
   int tree_size = 0;
-  int pruned = 0;                          // extensions rejected
-  bool braking = false;                    // the chosen vertex is on the braking chain
-  bool escape = false;                     // nothing was valid: the escape manoeuvre
-  bool arrived = false;                    // it comes within the request's goal_tolerance of the goal
+  int pruned = 0;        // extensions rejected
+  bool braking = false;  // the chosen vertex is on the braking chain
+  bool escape = false;   // nothing was valid: the escape manoeuvre
+  bool arrived = false;  // it comes within the request's goal_tolerance of the goal
 };
 
 // The goal for a plan along `path` (map frame) from `from`: the last point of the path before

@@ -15,9 +15,13 @@ constexpr OctileCost kDiagonal = OctileCost::Steps(0, 1);
 }  // namespace
 
 DStarLite::DStarLite(const Costmap& costmap, const CellIndex& start, const CellIndex& goal)
-    : width_(costmap.width()), height_(costmap.height()),
+    : width_(costmap.width()),
+      height_(costmap.height()),
       blocked_(costmap.lethal_data(), costmap.lethal_data() + static_cast<size_t>(width_) * height_),
-      node_(blocked_.size()), start_(start), goal_(goal), last_(start) {
+      node_(blocked_.size()),
+      start_(start),
+      goal_(goal),
+      last_(start) {
   // A path visits each cell once, so the grid's size bounds every finite cost (keys add the
   // heuristic and k_m, hence the factor).
   if (static_cast<int64_t>(blocked_.size()) * 4 > OctileCost::kMaxCells)
@@ -42,8 +46,9 @@ void DStarLite::Push(int32_t u, int x, int y) {
 template <typename F>
 void DStarLite::ForEachEdge(int32_t u, int x, int y, F&& f) const {
   if (!Free(x, y)) return;  // a blocked cell has no traversable edges
-  ForEachMove(x, y, [this](int cx, int cy) { return Free(cx, cy); },
-              [&](int nx, int ny, bool diagonal) { f(ny * width_ + nx, nx, ny, diagonal ? kDiagonal : kStraight); });
+  ForEachMove(
+      x, y, [this](int cx, int cy) { return Free(cx, cy); },
+      [&](int nx, int ny, bool diagonal) { f(ny * width_ + nx, nx, ny, diagonal ? kDiagonal : kStraight); });
 }
 
 void DStarLite::RecomputeRhs(int32_t u) {

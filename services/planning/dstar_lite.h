@@ -47,11 +47,11 @@ class DStarLite {
   OctileCost HeuristicToStart(int x, int y) const { return OctileCost::Distance(x - start_.x, y - start_.y); }
   Key CalculateKey(int32_t s) const { return CalculateKey(s, s % width_, s / width_); }
   Key CalculateKey(int32_t s, int x, int y) const;
-  void RecomputeRhs(int32_t u);   // rhs = min over edges of c + g (not for the goal)
+  void RecomputeRhs(int32_t u);  // rhs = min over edges of c + g (not for the goal)
   // Queued iff inconsistent, with its current key.
   void UpdateQueue(int32_t u) { UpdateQueue(u, u % width_, u / width_); }
   void UpdateQueue(int32_t u, int x, int y);
-  void UpdateVertex(int32_t u);   // both
+  void UpdateVertex(int32_t u);  // both
   void Push(int32_t u, int x, int y);
   // Calls f(neighbour, x, y, cost) for every traversable edge of u = (ux, uy) (cost an OctileCost
   // step).
@@ -68,7 +68,7 @@ class DStarLite {
   // grid each separate array cost a cache miss of its own.
   struct Node {
     OctileCost g = OctileCost::Infinite(), rhs = OctileCost::Infinite();
-    Key queued_key;        // the key the vertex is queued with, valid while in_queue
+    Key queued_key;  // the key the vertex is queued with, valid while in_queue
     bool in_queue = false;
   };
   std::vector<Node> node_;

@@ -32,8 +32,7 @@ double Clearance(const Costmap& costmap, const Point2& p, Point2* gradient) {
 
 }  // namespace
 
-std::vector<Point2> ElasticBand(const Costmap& costmap, const std::vector<Point2>& path,
-                                const ElasticBandOptions& o) {
+std::vector<Point2> ElasticBand(const Costmap& costmap, const std::vector<Point2>& path, const ElasticBandOptions& o) {
   if (path.size() < 2) return path;
   std::vector<Point2> band = Resample(path, o.spacing);
   const size_t n = band.size();
@@ -45,7 +44,8 @@ std::vector<Point2> ElasticBand(const Costmap& costmap, const std::vector<Point2
       }
       Point2 gradient;
       const double d = Clearance(costmap, band[i], &gradient);
-      if (d < o.influence && gradient.norm() > 0.0) force += o.obstacle * (o.influence - d) * gradient.normalized() * o.spacing;
+      if (d < o.influence && gradient.norm() > 0.0)
+        force += o.obstacle * (o.influence - d) * gradient.normalized() * o.spacing;
       const Point2 moved = band[i] + force;
       if (costmap.SegmentFree(band[i - 1], moved) && costmap.SegmentFree(moved, band[i + 1])) band[i] = moved;
     }

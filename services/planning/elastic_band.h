@@ -14,12 +14,12 @@
 namespace navd::planning {
 
 struct ElasticBandOptions {
-  double spacing = 0.1;        // m between chain points
+  double spacing = 0.1;  // m between chain points
   int iterations = 150;
-  double contraction = 0.4;    // weight of the elastic force (toward the neighbours' midpoint)
-  double curvature = 0.1;      // weight of the curvature force (fourth difference)
-  double obstacle = 0.3;       // weight of the repulsion
-  double influence = 0.6;      // m: obstacles farther than this do not push
+  double contraction = 0.4;  // weight of the elastic force (toward the neighbours' midpoint)
+  double curvature = 0.1;    // weight of the curvature force (fourth difference)
+  double obstacle = 0.3;     // weight of the repulsion
+  double influence = 0.6;    // m: obstacles farther than this do not push
 };
 
 std::vector<Point2> ElasticBand(const Costmap& costmap, const std::vector<Point2>& path,

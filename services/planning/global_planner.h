@@ -29,8 +29,8 @@ using StopRequested = std::function<bool()>;
 // prompt); throws navd::Error(kDeadlineExceeded) with the count when it is true.
 inline void CountExpansion(uint64_t& expansions, const StopRequested& stop) {
   if ((++expansions & 1023) == 1 && stop && stop()) {
-    throw Error(ErrorCode::kDeadlineExceeded, "planning stopped after " + std::to_string(expansions) +
-                                                  " expansions: deadline exceeded or cancelled");
+    throw Error(ErrorCode::kDeadlineExceeded,
+                "planning stopped after " + std::to_string(expansions) + " expansions: deadline exceeded or cancelled");
   }
 }
 
@@ -43,7 +43,7 @@ struct CellPath {
   bool keep_shape = false;
   // Per point of `points`: the planner's speed limit as a fraction of the robot's top speed.
   std::vector<double> speed_limits;
-  uint64_t expansions = 0;        // search nodes expanded, or roadmap/tree vertices
+  uint64_t expansions = 0;  // search nodes expanded, or roadmap/tree vertices
 };
 
 // A body that moves through the map, as the robot's perception reports it now: map frame, metres,

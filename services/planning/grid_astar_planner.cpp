@@ -17,8 +17,9 @@ std::string GridAStarPlanner::description() const {
 }
 
 std::vector<PlannerOptionSpec> GridAStarPlanner::options() const {
-  return {{"diagonal", 1.0, "1: 8-connected moves, 0: 4-connected"},
-          {"cost_weight", 1.0, "step cost = length * (1 + cost_weight * cost / 252) on the costmap's decay layer (>= 0)"}};
+  return {
+      {"diagonal", 1.0, "1: 8-connected moves, 0: 4-connected"},
+      {"cost_weight", 1.0, "step cost = length * (1 + cost_weight * cost / 252) on the costmap's decay layer (>= 0)"}};
 }
 
 namespace {
@@ -66,7 +67,8 @@ class LayerCosts {
     const int bits = 64 - kNodeBits - 1 - static_cast<int>(std::ceil(std::log2(cells * M_SQRT2 * (1.0 + cost_weight))));
     if (bits < 8) {
       throw Error(ErrorCode::kInvalidArgument, "options: 'cost_weight' " + std::to_string(cost_weight) +
-                                                   " is too large for a map of " + std::to_string(static_cast<long long>(cells)) + " cells");
+                                                   " is too large for a map of " +
+                                                   std::to_string(static_cast<long long>(cells)) + " cells");
     }
     const double scale = std::ldexp(1.0, std::min(bits, 30));
     straight_ = static_cast<int64_t>(scale);
@@ -74,7 +76,8 @@ class LayerCosts {
     const double per_sum = 0.5 * cost_weight / Costmap::kMaxCost;
     for (int sum = 0; sum <= 2 * Costmap::kMaxCost; ++sum) {
       steps_[0][sum] = static_cast<int64_t>(std::llround(scale * (1.0 + per_sum * sum)));
-      steps_[1][sum] = std::max(diagonal_step_, static_cast<int64_t>(std::llround(M_SQRT2 * scale * (1.0 + per_sum * sum))));
+      steps_[1][sum] =
+          std::max(diagonal_step_, static_cast<int64_t>(std::llround(M_SQRT2 * scale * (1.0 + per_sum * sum))));
     }
   }
   static Value Get(const SearchWorkspace& ws, int32_t i) { return ws.cost(i); }

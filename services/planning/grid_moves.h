@@ -12,7 +12,7 @@ struct GridMove {
 };
 
 // Straight moves first: the first 4 entries are the 4-connected neighbourhood.
-inline constexpr GridMove kGridMoves[8] = {{1, 0, false}, {-1, 0, false}, {0, 1, false},  {0, -1, false},
+inline constexpr GridMove kGridMoves[8] = {{1, 0, false}, {-1, 0, false}, {0, 1, false}, {0, -1, false},
                                            {1, 1, true},  {1, -1, true},  {-1, 1, true}, {-1, -1, true}};
 
 // The grid distance in cells between cells dx, dy apart (octile, or Manhattan for 4-connected

@@ -126,8 +126,8 @@ CellPath JumpPointPlanner::Plan(const Costmap& costmap, const CellIndex& start, 
     for (unsigned d = directions; d != 0; d &= d - 1) {
       const int k = __builtin_ctz(d);
       const GridMove& m = kGridMoves[k];
-      const int32_t jump = m.diagonal ? runs.Diagonal(current, k, MoveIndex(m.dx, 0), MoveIndex(0, m.dy))
-                                      : runs.Straight(current, k);
+      const int32_t jump =
+          m.diagonal ? runs.Diagonal(current, k, MoveIndex(m.dx, 0), MoveIndex(0, m.dy)) : runs.Straight(current, k);
       if (jump < 0 || ws.closed(jump)) continue;
       const int jx = jump % w, jy = jump / w;
       const int steps = std::max(std::abs(jx - x), std::abs(jy - y));

@@ -35,10 +35,12 @@ constexpr double kStep = 0.05;  // s, one Euler step of Eq. 10
 void CheckRequest(const KinodynamicRequest& r) {
   const UnicycleLimits& l = r.limits;
   if (!(l.max_speed > 0 && l.max_yaw_rate > 0 && l.max_accel > 0 && l.max_yaw_accel > 0))
-    throw Error(ErrorCode::kInvalidArgument, "limits: max_speed, max_yaw_rate, max_accel and max_yaw_accel must be > 0");
+    throw Error(ErrorCode::kInvalidArgument,
+                "limits: max_speed, max_yaw_rate, max_accel and max_yaw_accel must be > 0");
   if (!(r.time_limit > 0.0 && r.time_limit <= 60.0))
     throw Error(ErrorCode::kInvalidArgument, "time_limit must be in (0, 60] seconds");
-  if (!(r.horizon > 0.0 && r.horizon <= 3600.0)) throw Error(ErrorCode::kInvalidArgument, "horizon must be in (0, 3600] seconds");
+  if (!(r.horizon > 0.0 && r.horizon <= 3600.0))
+    throw Error(ErrorCode::kInvalidArgument, "horizon must be in (0, 3600] seconds");
   if (!(r.goal_tolerance > 0.0)) throw Error(ErrorCode::kInvalidArgument, "goal_tolerance must be > 0 metres");
   if (!(r.start_speed >= 0.0 && r.start_speed <= l.max_speed))
     throw Error(ErrorCode::kInvalidArgument, "start_speed must be in [0, max_speed]");
@@ -89,7 +91,8 @@ class CostField {
 
 class Eq15Objective : public ob::OptimizationObjective {
  public:
-  Eq15Objective(const ob::SpaceInformationPtr& si, const CostField& field) : ob::OptimizationObjective(si), field_(field) {
+  Eq15Objective(const ob::SpaceInformationPtr& si, const CostField& field)
+      : ob::OptimizationObjective(si), field_(field) {
     description_ = "book ch. 7 Eq. 15";
   }
   ob::Cost stateCost(const ob::State* s) const override {
@@ -124,8 +127,8 @@ class FeedbackSteering : public oc::DirectedControlSampler {
     double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
     u[0] = in.accel;
     u[1] = in.yaw_accel;
-    const int steps = rng_.uniformInt(static_cast<int>(si_->getMinControlDuration()),
-                                      static_cast<int>(si_->getMaxControlDuration()));
+    const int steps =
+        rng_.uniformInt(static_cast<int>(si_->getMinControlDuration()), static_cast<int>(si_->getMaxControlDuration()));
     return si_->propagateWhileValid(source, control, steps, dest);
   }
   unsigned int sampleTo(oc::Control* control, const oc::Control*, const ob::State* source, ob::State* dest) override {
@@ -298,7 +301,8 @@ KinodynamicTrajectory PlanKinodynamic(const Costmap& costmap, const KinodynamicR
   best.tree_size = vertices;
   if (best.points.empty()) {
     if (cancelled)
-      throw Error(ErrorCode::kDeadlineExceeded, "kinodynamic planning stopped before reaching the goal: deadline exceeded or cancelled");
+      throw Error(ErrorCode::kDeadlineExceeded,
+                  "kinodynamic planning stopped before reaching the goal: deadline exceeded or cancelled");
     throw Error(ErrorCode::kNotFound, "no path: no trajectory reached the goal within time_limit (" +
                                           std::to_string(vertices) + " tree vertices)");
   }
@@ -307,9 +311,10 @@ KinodynamicTrajectory PlanKinodynamic(const Costmap& costmap, const KinodynamicR
 
 std::vector<PlannerOptionSpec> KinodynamicPlanner::options() const {
   return {{"time_limit", 0.5, "seconds of planning (SST improves the trajectory for all of it)"},
-          {"algorithm", 0, "0: control RRT restarts for time_limit, the lowest Eq. 15 cost kept; 1: SST; 2: control RRT, "
-                           "first trajectory; 3: the crowd RRT (ch. 7 Algorithm 2) in its MPC loop, rolled out along an "
-                           "A* route against the people predicted at constant velocity (time_limit bounds it)"},
+          {"algorithm", 0,
+           "0: control RRT restarts for time_limit, the lowest Eq. 15 cost kept; 1: SST; 2: control RRT, "
+           "first trajectory; 3: the crowd RRT (ch. 7 Algorithm 2) in its MPC loop, rolled out along an "
+           "A* route against the people predicted at constant velocity (time_limit bounds it)"},
           {"start_yaw", 0.0, "radians, the robot's heading at the start"},
           {"start_speed", 0.0, "m/s, the robot's speed at the start"},
           {"goal_tolerance", 0.25, "metres: the goal disc the trajectory must enter"},
@@ -345,9 +350,8 @@ CellPath PlanCrowdRouteInScene(const Costmap& costmap, const CellIndex& start, c
   o.robot_radius = costmap.options().inflation_radius;
   o.people.interest = r.people_model.interest;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(r.time_limit);
-  const CrowdRoute route = PlanCrowdRoute(costmap, c, o, [&] {
-    return (stop && stop()) || std::chrono::steady_clock::now() > deadline;
-  });
+  const CrowdRoute route =
+      PlanCrowdRoute(costmap, c, o, [&] { return (stop && stop()) || std::chrono::steady_clock::now() > deadline; });
   CellPath result;
   result.cells = {start, goal};
   for (const UnicycleState& s : route.states) {
@@ -380,7 +384,8 @@ CellPath KinodynamicPlanner::PlanInScene(const Costmap& costmap, const CellIndex
   if (algorithm != 0.0 && algorithm != 1.0 && algorithm != 2.0 && algorithm != 3.0)
     throw Error(ErrorCode::kInvalidArgument,
                 "options: 'algorithm' must be 0 (RRT restarts), 1 (SST), 2 (RRT) or 3 (crowd RRT rolled out)");
-  r.limits = {options.at("max_speed"), options.at("max_yaw_rate"), options.at("max_accel"), options.at("max_yaw_accel")};
+  r.limits = {options.at("max_speed"), options.at("max_yaw_rate"), options.at("max_accel"),
+              options.at("max_yaw_accel")};
   r.time_weight = options.at("time_weight");
   r.people_model.interest = options.at("interest");
   if (!(r.people_model.interest >= 0.0 && r.people_model.interest <= 1.0))

@@ -38,18 +38,18 @@ struct KinodynamicRequest {
   double horizon = 120.0;        // seconds: states later than this are invalid
   double time_limit = 0.5;       // seconds of planning
   KinodynamicAlgorithm algorithm = KinodynamicAlgorithm::kRrtRestarts;
-  double time_weight = 1.0;      // c_t, cost per second
-  double env_weight = 2.0;       // g1 at the costmap's highest decaying cost
+  double time_weight = 1.0;  // c_t, cost per second
+  double env_weight = 2.0;   // g1 at the costmap's highest decaying cost
   UnicycleLimits limits;
   PersonCostModel people_model;
 };
 
 struct KinodynamicTrajectory {
-  std::vector<Point2> points;   // one per 0.05 s propagation step, start first
+  std::vector<Point2> points;               // one per 0.05 s propagation step, start first
   std::vector<double> yaws, speeds, times;  // per point
-  double cost = 0.0;            // Eq. 15 as above, along the returned trajectory
-  uint64_t tree_size = 0;       // vertices in the planners' trees, all rounds
-  int rounds = 0;               // trajectories found (RRT restarts)
+  double cost = 0.0;                        // Eq. 15 as above, along the returned trajectory
+  uint64_t tree_size = 0;                   // vertices in the planners' trees, all rounds
+  int rounds = 0;                           // trajectories found (RRT restarts)
 };
 
 // Throws navd::Error: kInvalidArgument for bad limits or an invalid start state, kNotFound when no

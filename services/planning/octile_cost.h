@@ -37,7 +37,8 @@ class OctileCost {
   constexpr bool infinite() const { return v_ >= kInfinite; }
   // In cells; within 1e-12 relative of a + b*sqrt(2).
   double value() const {
-    return infinite() ? std::numeric_limits<double>::infinity() : static_cast<double>(v_) / static_cast<double>(kStraight);
+    return infinite() ? std::numeric_limits<double>::infinity()
+                      : static_cast<double>(v_) / static_cast<double>(kStraight);
   }
 
   constexpr OctileCost operator+(const OctileCost& o) const {

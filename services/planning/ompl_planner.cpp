@@ -121,9 +121,12 @@ CellPath OmplPlanner::Plan(const Costmap& costmap, const CellIndex& start, const
 
   const OccupancyGrid& grid = costmap.grid();
   ob::StateSpacePtr space;
-  if (space_kind == 1) space = std::make_shared<ob::DubinsStateSpace>(radius);
-  else if (space_kind == 2) space = std::make_shared<ob::ReedsSheppStateSpace>(radius);
-  else space = std::make_shared<ob::SE2StateSpace>();
+  if (space_kind == 1)
+    space = std::make_shared<ob::DubinsStateSpace>(radius);
+  else if (space_kind == 2)
+    space = std::make_shared<ob::ReedsSheppStateSpace>(radius);
+  else
+    space = std::make_shared<ob::SE2StateSpace>();
   ob::RealVectorBounds bounds(2);
   bounds.setLow(0, grid.origin().x());
   bounds.setHigh(0, grid.origin().x() + grid.size_x());

@@ -38,7 +38,9 @@ CellPath PathTransformPlanner::Plan(const Costmap& costmap, const CellIndex& sta
   }
   // Dijkstra from the goal over free cells (8-connected, no corner cutting): the transform.
   const uint8_t* lethal = costmap.lethal_data();
-  auto free = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && !lethal[static_cast<size_t>(y) * w + x]; };
+  auto free = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && !lethal[static_cast<size_t>(y) * w + x];
+  };
   std::vector<double> value(static_cast<size_t>(w) * h, std::numeric_limits<double>::infinity());
   auto step_cost = [&](int32_t from, int32_t to, bool diagonal) {
     const double length = (diagonal ? M_SQRT2 : 1.0) * res;

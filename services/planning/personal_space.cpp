@@ -25,8 +25,10 @@ double PersonCostModel::Cost(const Point2& p, const Point2& mu, const Point2& v)
     return std::exp(-0.5 * (a * a / (sa * sa) + s * s / (ss * ss)));
   };
   double g = perpendicular_weight * gauss(ahead, perpendicular_sigma_ahead, side, perpendicular_sigma_side);
-  if (front) g += parallel_weight * gauss(ahead, parallel_sigma_ahead, side, parallel_sigma_side);
-  else g += rear_weight * gauss(ahead, rear_sigma, side, rear_sigma);
+  if (front)
+    g += parallel_weight * gauss(ahead, parallel_sigma_ahead, side, parallel_sigma_side);
+  else
+    g += rear_weight * gauss(ahead, rear_sigma, side, rear_sigma);
   g += interest * attractor_weight * gauss(ahead, attractor_sigma, side, attractor_sigma);
   return g;
 }

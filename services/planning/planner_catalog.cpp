@@ -28,9 +28,9 @@ void RegisterDefaultPlanners(PlanningEngine& engine) {
   engine.Register(std::make_unique<ConvexGridPlanner>(convex_cells));
   engine.Register(std::make_unique<MeadowMapPlanner>(convex_cells));
   engine.Register(std::make_unique<TopologicalGraphPlanner>(convex_cells));
-  for (const auto a : {OmplPlanner::Algorithm::kRrtConnect, OmplPlanner::Algorithm::kRrtStar,
-                       OmplPlanner::Algorithm::kPrmStar, OmplPlanner::Algorithm::kInformedRrtStar,
-                       OmplPlanner::Algorithm::kBitStar}) {
+  for (const auto a :
+       {OmplPlanner::Algorithm::kRrtConnect, OmplPlanner::Algorithm::kRrtStar, OmplPlanner::Algorithm::kPrmStar,
+        OmplPlanner::Algorithm::kInformedRrtStar, OmplPlanner::Algorithm::kBitStar}) {
     engine.Register(std::make_unique<OmplPlanner>(a));
   }
   engine.Register(std::make_unique<KinodynamicPlanner>());

@@ -13,7 +13,8 @@ namespace {
 const std::vector<PlannerOptionSpec>& CommonOptions() {
   static const std::vector<PlannerOptionSpec> kCommon = {
       {"smooth", 1.0, "1: shorten the path by line-of-sight shortcuts on the costmap, 0: raw cell path"},
-      {"elastic_band", 0.0, "1: then relax it as an elastic band (book ch. 9 R-snake: contraction, curvature, obstacle forces)"}};
+      {"elastic_band", 0.0,
+       "1: then relax it as an elastic band (book ch. 9 R-snake: contraction, curvature, obstacle forces)"}};
   return kCommon;
 }
 
@@ -30,8 +31,7 @@ double PathLength(const std::vector<Point2>& points) {
   return len;
 }
 
-std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point2>& points,
-                                 const StopRequested& stop) {
+std::vector<Point2> ShortcutPath(const Costmap& costmap, const std::vector<Point2>& points, const StopRequested& stop) {
   if (points.size() <= 2) return points;
   std::vector<Point2> out{points.front()};
   size_t anchor = 0;
@@ -72,7 +72,7 @@ void PlanningEngine::Register(std::unique_ptr<GlobalPlanner> planner) { planners
 std::vector<PlannerInfo> PlanningEngine::Planners() const {
   std::vector<PlannerInfo> out;
   for (const auto& p : planners_) {
-    PlannerInfo info{p->name(), p->description(), p->options(), p->name() == options_.default_planner,
+    PlannerInfo info{p->name(),      p->description(),  p->options(), p->name() == options_.default_planner,
                      p->objective(), p->time_budgeted()};
     info.options.insert(info.options.end(), CommonOptions().begin(), CommonOptions().end());
     out.push_back(std::move(info));
@@ -136,8 +136,8 @@ std::shared_ptr<const Costmap> PlanningEngine::CurrentCostmap() {
   if (!snapshot) throw Error(ErrorCode::kFailedPrecondition, "no map is loaded");
   std::lock_guard<std::mutex> lock(costmap_mutex_);
   if (!costmap_ || costmap_version_ != snapshot->version) {
-    costmap_ = std::make_shared<Costmap>(std::shared_ptr<const OccupancyGrid>(snapshot, &snapshot->grid),
-                                         costmap_options_);
+    costmap_ =
+        std::make_shared<Costmap>(std::shared_ptr<const OccupancyGrid>(snapshot, &snapshot->grid), costmap_options_);
     costmap_version_ = snapshot->version;
   }
   return costmap_;
@@ -160,7 +160,8 @@ std::shared_ptr<const Costmap> PlanningEngine::SceneCostmap(const std::shared_pt
     drawn = true;
   }
   if (!drawn) return map_costmap;
-  return std::make_shared<const Costmap>(std::make_shared<const OccupancyGrid>(std::move(grid)), map_costmap->options());
+  return std::make_shared<const Costmap>(std::make_shared<const OccupancyGrid>(std::move(grid)),
+                                         map_costmap->options());
 }
 
 PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, const std::string& planner_name,
@@ -186,9 +187,9 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
 
   auto check_inside = [&](const Point2& p, const std::string& field) {
     if (!grid.ContainsPoint(p)) {
-      throw Error(ErrorCode::kInvalidArgument,
-                  field + " " + FormatPoint(p) + " is outside the map, which spans " + FormatPoint(grid.origin()) +
-                      " to " + FormatPoint(grid.origin() + Point2(grid.size_x(), grid.size_y())));
+      throw Error(ErrorCode::kInvalidArgument, field + " " + FormatPoint(p) + " is outside the map, which spans " +
+                                                   FormatPoint(grid.origin()) + " to " +
+                                                   FormatPoint(grid.origin() + Point2(grid.size_x(), grid.size_y())));
     }
   };
   check_inside(start, "start");
@@ -210,11 +211,12 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     throw Error(ErrorCode::kInvalidArgument, "start " + FormatPoint(start) + " is inside an obstacle");
   }
   if (costmap->IsLethal(start_cell)) {
-    const std::optional<CellIndex> free = costmap->NearestFree(
-        start_cell, static_cast<int>(options_.start_recovery_radius / grid.resolution()), false);
+    const std::optional<CellIndex> free =
+        costmap->NearestFree(start_cell, static_cast<int>(options_.start_recovery_radius / grid.resolution()), false);
     if (!free) {
       char buf[96];
-      std::snprintf(buf, sizeof buf, " is within %.2f m of an obstacle or unknown space, and no free cell is within %.2f m",
+      std::snprintf(buf, sizeof buf,
+                    " is within %.2f m of an obstacle or unknown space, and no free cell is within %.2f m",
                     costmap->options().inflation_radius, options_.start_recovery_radius);
       throw Error(ErrorCode::kInvalidArgument, "start " + FormatPoint(start) + buf);
     }
@@ -276,9 +278,9 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
 }
 
 PathPlan PlanningEngine::ComputePathThroughPoses(const Point2& start, const std::vector<Point2>& waypoints,
-                                                const std::string& planner,
-                                                const std::map<std::string, double>& options,
-                                                const StopRequested& stop) {
+                                                 const std::string& planner,
+                                                 const std::map<std::string, double>& options,
+                                                 const StopRequested& stop) {
   if (waypoints.empty()) throw Error(ErrorCode::kInvalidArgument, "waypoints is empty");
   PathPlan total;
   Point2 from = start;
@@ -291,9 +293,12 @@ PathPlan PlanningEngine::ComputePathThroughPoses(const Point2& start, const std:
       std::string message = e.what();
       const std::string goal_name = "waypoints[" + std::to_string(i) + "]";
       const std::string start_name = i == 0 ? "start" : "waypoints[" + std::to_string(i - 1) + "]";
-      if (message.rfind("goal", 0) == 0) message = goal_name + message.substr(4);
-      else if (message.rfind("start", 0) == 0) message = start_name + message.substr(5);
-      else if (e.code() == ErrorCode::kNotFound) message = "leg to " + goal_name + ": " + message;
+      if (message.rfind("goal", 0) == 0)
+        message = goal_name + message.substr(4);
+      else if (message.rfind("start", 0) == 0)
+        message = start_name + message.substr(5);
+      else if (e.code() == ErrorCode::kNotFound)
+        message = "leg to " + goal_name + ": " + message;
       throw Error(e.code(), message);
     }
     total.points.insert(total.points.end(), leg.points.begin() + (i == 0 ? 0 : 1), leg.points.end());

@@ -27,7 +27,7 @@ struct PlanningEngineOptions {
 };
 
 struct PathPlan {
-  std::vector<Point2> points;  // start first, goal last
+  std::vector<Point2> points;        // start first, goal last
   std::vector<double> speed_limits;  // per point, fraction of top speed; empty unless the planner gives them
   // The time-optimal velocity profile along the path (book ch. 9), at each point: m/s (0 at the
   // goal) and seconds from the start; its total time.

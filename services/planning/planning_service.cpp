@@ -29,8 +29,9 @@ grpc::ServerUnaryReactor* PlanningService::ComputePath(grpc::CallbackServerConte
   } else {
     // The call, its messages and this service outlive the thread: gRPC keeps them until Finish,
     // and server shutdown cancels the call (the plan polls for that) and waits for it.
-    std::thread([this, context, request, response, reactor] { reactor->Finish(Plan(context, request, response)); })
-        .detach();
+    std::thread([this, context, request, response, reactor] {
+      reactor->Finish(Plan(context, request, response));
+    }).detach();
   }
   return reactor;
 }

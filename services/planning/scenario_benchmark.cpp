@@ -19,8 +19,7 @@ double Percentile(std::vector<double> v, double q) {
 // The file prints lengths rounded to `decimals` digits; compare at that precision.
 bool SameAsPrinted(double actual, double expected, int decimals) {
   const double scale = std::pow(10.0, decimals);
-  return std::abs(std::round(actual * scale) / scale - expected) < 1e-6 ||
-         std::abs(actual - expected) < 1e-6;
+  return std::abs(std::round(actual * scale) / scale - expected) < 1e-6 || std::abs(actual - expected) < 1e-6;
 }
 
 }  // namespace
@@ -29,9 +28,9 @@ std::string ScenarioReport::Summary() const {
   char buf[160];
   const char* verdict = objective == GlobalPlanner::Objective::kGridLength       ? "optimal"
                         : objective == GlobalPlanner::Objective::kAnyAngleLength ? "no longer than optimal"
-                                                                                  : "found (not judged on length)";
-  std::snprintf(buf, sizeof buf, "%s: %zu/%zu %s, median %.3f ms, p99 %.3f ms", planner.c_str(), passed, total,
-                verdict, median_ms, p99_ms);
+                                                                                 : "found (not judged on length)";
+  std::snprintf(buf, sizeof buf, "%s: %zu/%zu %s, median %.3f ms, p99 %.3f ms", planner.c_str(), passed, total, verdict,
+                median_ms, p99_ms);
   return buf;
 }
 
@@ -52,9 +51,9 @@ ScenarioReport RunScenarios(PlanningEngine& engine, const OccupancyGrid& grid,
     const auto& s = scenarios[i];
     ScenarioMismatch m{i, s.optimal_length, -1.0, ""};
     try {
-      const PathPlan plan = engine.ComputePath(MovingAiCellCenter(grid, s.start_x, s.start_row),
-                                               MovingAiCellCenter(grid, s.goal_x, s.goal_row), report.planner,
-                                               {{"smooth", 0.0}});
+      const PathPlan plan =
+          engine.ComputePath(MovingAiCellCenter(grid, s.start_x, s.start_row),
+                             MovingAiCellCenter(grid, s.goal_x, s.goal_row), report.planner, {{"smooth", 0.0}});
       times.push_back(plan.planning_time * 1e3);
       m.actual = plan.length;
       bool ok = true;  // kCost: finding a path is the test
@@ -63,8 +62,10 @@ ScenarioReport RunScenarios(PlanningEngine& engine, const OccupancyGrid& grid,
       } else if (report.objective == GlobalPlanner::Objective::kAnyAngleLength) {
         ok = plan.length <= s.optimal_length + std::pow(10.0, -s.decimals);
       }
-      if (ok) ++report.passed;
-      else report.mismatches.push_back(m);
+      if (ok)
+        ++report.passed;
+      else
+        report.mismatches.push_back(m);
     } catch (const Error& e) {
       m.error = e.what();
       report.mismatches.push_back(m);

@@ -1,8 +1,8 @@
 #pragma once
 // Runs MovingAI scenarios through the planning engine and judges each path against the file's
 // optimal octile length: grid planners must match it to the precision the file prints, any-angle
-// planners must not exceed it, and cost-minimising planners must find a path. Used by `navctl plan --map --scen` and the correctness tests.
-// Lengths in metres (MovingAI cells are 1 m); times in wall milliseconds.
+// planners must not exceed it, and cost-minimising planners must find a path. Used by `navctl plan --map --scen` and
+// the correctness tests. Lengths in metres (MovingAI cells are 1 m); times in wall milliseconds.
 #include <functional>
 #include <string>
 #include <vector>
@@ -13,9 +13,9 @@
 namespace navd::planning {
 
 struct ScenarioMismatch {
-  size_t index = 0;        // position in the scenario list
+  size_t index = 0;  // position in the scenario list
   double expected = 0.0;
-  double actual = -1.0;    // -1 when no path was found
+  double actual = -1.0;  // -1 when no path was found
   std::string error;
 };
 
@@ -23,7 +23,7 @@ struct ScenarioReport {
   std::string planner;
   GlobalPlanner::Objective objective = GlobalPlanner::Objective::kGridLength;
   size_t total = 0;
-  size_t passed = 0;       // optimal (grid length), no longer than optimal (any-angle), or found (cost)
+  size_t passed = 0;  // optimal (grid length), no longer than optimal (any-angle), or found (cost)
   double median_ms = 0.0;
   double p99_ms = 0.0;
   std::vector<ScenarioMismatch> mismatches;

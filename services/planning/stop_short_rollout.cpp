@@ -2,8 +2,9 @@
 
 namespace navd::planning {
 
-StopShortRollout RollOutStopShort(const UnicycleState& start, const std::function<UnicycleInput(const UnicycleState&)>& input,
-                                  double duration, const std::vector<MovingBody>& people, const UnicycleLimits& limits,
+StopShortRollout RollOutStopShort(const UnicycleState& start,
+                                  const std::function<UnicycleInput(const UnicycleState&)>& input, double duration,
+                                  const std::vector<MovingBody>& people, const UnicycleLimits& limits,
                                   const StopShortOptions& o, const std::function<bool(const Point2&)>& allowed) {
   StopShortRollout out;
   out.states.push_back(start);

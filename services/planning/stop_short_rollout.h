@@ -35,8 +35,9 @@ struct StopShortRollout {
 
 // Drives `start` for `duration` seconds with the input `input(state)` gives at each step.
 // `allowed`, if given, says where the robot may be as far as the map goes.
-StopShortRollout RollOutStopShort(const UnicycleState& start, const std::function<UnicycleInput(const UnicycleState&)>& input,
-                                  double duration, const std::vector<MovingBody>& people, const UnicycleLimits& limits,
+StopShortRollout RollOutStopShort(const UnicycleState& start,
+                                  const std::function<UnicycleInput(const UnicycleState&)>& input, double duration,
+                                  const std::vector<MovingBody>& people, const UnicycleLimits& limits,
                                   const StopShortOptions& options,
                                   const std::function<bool(const Point2&)>& allowed = nullptr);
 

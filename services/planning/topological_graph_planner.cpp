@@ -70,7 +70,8 @@ CellPath TopologicalGraphPlanner::Plan(const Costmap& costmap, const CellIndex& 
   }
 
   if (to.cell != from.cell && tree->parent[to.cell] < 0)
-    throw Error(ErrorCode::kNotFound, "no path: the goal's place is not connected to the start's in the topological graph");
+    throw Error(ErrorCode::kNotFound,
+                "no path: the goal's place is not connected to the start's in the topological graph");
   // The route read backwards from the goal's place: a border node's parent is the place it was
   // crossed from.
   std::vector<Point2> way{to.point};

@@ -5,7 +5,8 @@
 
 namespace navd::planning {
 
-UnicycleInput SteerTowards(const UnicycleState& s, const Point2& target, double desired_speed, const SteeringGains& gains) {
+UnicycleInput SteerTowards(const UnicycleState& s, const Point2& target, double desired_speed,
+                           const SteeringGains& gains) {
   const double phi = std::atan2(target.y() - s.y, target.x() - s.x);
   const double heading_error = NormalizeAngle(phi - s.yaw);
   return {gains.speed * (desired_speed - s.v), gains.heading * heading_error - gains.yaw_rate * s.w};

@@ -100,12 +100,14 @@ VelocityProfile TimeOptimalProfile(const std::vector<Point2>& path, const Veloci
   forward[0] = std::min(l.start_speed, top[0]);
   for (size_t i = 1; i < n; ++i) {
     const double ds = out.arc[i] - out.arc[i - 1];
-    forward[i] = std::min(top[i], std::sqrt(forward[i - 1] * forward[i - 1] + 2.0 * accel(i - 1, forward[i - 1], 1.0) * ds));
+    forward[i] =
+        std::min(top[i], std::sqrt(forward[i - 1] * forward[i - 1] + 2.0 * accel(i - 1, forward[i - 1], 1.0) * ds));
   }
   backward[n - 1] = 0.0;
   for (size_t i = n - 1; i-- > 0;) {
     const double ds = out.arc[i + 1] - out.arc[i];
-    backward[i] = std::min(top[i], std::sqrt(backward[i + 1] * backward[i + 1] + 2.0 * accel(i + 1, backward[i + 1], -1.0) * ds));
+    backward[i] =
+        std::min(top[i], std::sqrt(backward[i + 1] * backward[i + 1] + 2.0 * accel(i + 1, backward[i + 1], -1.0) * ds));
   }
   for (size_t i = 0; i < n; ++i) out.speed[i] = std::min(forward[i], backward[i]);
   for (size_t i = 1; i < n; ++i) {

@@ -13,20 +13,20 @@
 namespace navd::planning {
 
 struct VelocityLimits {
-  double max_speed = 0.5;             // m/s
-  double max_acceleration = 0.5;      // m/s^2: driving force / mass (F_max / M)
-  double friction = 0.6;              // mu_max: lateral acceleration at most g mu
+  double max_speed = 0.5;                 // m/s
+  double max_acceleration = 0.5;          // m/s^2: driving force / mass (F_max / M)
+  double friction = 0.6;                  // mu_max: lateral acceleration at most g mu
   double max_angular_acceleration = 6.0;  // rad/s^2: steering torque / inertia (tau_max / J)
-  double start_speed = 0.0;           // m/s
-  double step = 0.05;                 // m: the arc-length step delta
+  double start_speed = 0.0;               // m/s
+  double step = 0.05;                     // m: the arc-length step delta
 };
 
 struct VelocityProfile {
-  std::vector<Point2> points;   // the path resampled every `step` (first and last point kept)
-  std::vector<double> arc;      // m from the start, per point
-  std::vector<double> speed;    // m/s, per point; 0 at the end
-  std::vector<double> time;     // s from the start, per point
-  double duration = 0.0;        // s
+  std::vector<Point2> points;  // the path resampled every `step` (first and last point kept)
+  std::vector<double> arc;     // m from the start, per point
+  std::vector<double> speed;   // m/s, per point; 0 at the end
+  std::vector<double> time;    // s from the start, per point
+  double duration = 0.0;       // s
 };
 
 // Throws navd::Error(kInvalidArgument) naming the limit for non-positive or non-finite limits.

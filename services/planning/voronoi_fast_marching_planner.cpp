@@ -22,7 +22,7 @@ std::vector<double> FastMarch(int w, int h, double res, const std::vector<double
   const size_t pn = static_cast<size_t>(pw) * (h + 2);
   constexpr float kFar = std::numeric_limits<float>::infinity();
   std::vector<float> t(pn, kFar);
-  std::vector<float> step(pn, 0.0f);   // res / speed: the time to cross a cell; 0 = impassable
+  std::vector<float> step(pn, 0.0f);  // res / speed: the time to cross a cell; 0 = impassable
   std::vector<uint8_t> frozen(pn, 1);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -159,7 +159,8 @@ CellPath VoronoiFastMarchingPlanner::Plan(const Costmap& costmap, const CellInde
   result.points.push_back(grid.CellCenter(goal));
   result.speed_limits.push_back(speed[goal.y * w + goal.x]);
   result.keep_shape = true;
-  result.expansions = static_cast<uint64_t>(std::count_if(t.begin(), t.end(), [](double v) { return std::isfinite(v); }));
+  result.expansions =
+      static_cast<uint64_t>(std::count_if(t.begin(), t.end(), [](double v) { return std::isfinite(v); }));
   return result;
 }
 

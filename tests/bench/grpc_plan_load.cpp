@@ -83,7 +83,8 @@ int main(int argc, char** argv) {
         } catch (const ClientError&) {
           ++errors;  // NOT_FOUND for the odd unreachable pair; still a served request
         }
-        latencies[t].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        latencies[t].push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       }
     });
   }
@@ -92,12 +93,15 @@ int main(int argc, char** argv) {
   std::vector<double> all;
   for (const auto& l : latencies) all.insert(all.end(), l.begin(), l.end());
   std::sort(all.begin(), all.end());
-  auto pct = [&](double q) { return all.empty() ? 0.0 : all[std::min(all.size() - 1, static_cast<size_t>(q * all.size()))]; };
+  auto pct = [&](double q) {
+    return all.empty() ? 0.0 : all[std::min(all.size() - 1, static_cast<size_t>(q * all.size()))];
+  };
   double planning_total = 0;
   for (double v : planning_ms) planning_total += v;
-  std::printf("ComputePath on the warehouse: %d clients, %zu requests in %.2f s = %.0f req/s; latency p50 %.3f ms, "
-              "p90 %.3f ms, p99 %.3f ms; mean planning time in navd %.3f ms; %ld errors (unreachable pairs)\n",
-              clients, all.size(), elapsed, all.size() / elapsed, pct(0.5), pct(0.9), pct(0.99),
-              planning_total / std::max<size_t>(1, all.size()), errors.load());
+  std::printf(
+      "ComputePath on the warehouse: %d clients, %zu requests in %.2f s = %.0f req/s; latency p50 %.3f ms, "
+      "p90 %.3f ms, p99 %.3f ms; mean planning time in navd %.3f ms; %ld errors (unreachable pairs)\n",
+      clients, all.size(), elapsed, all.size() / elapsed, pct(0.5), pct(0.9), pct(0.99),
+      planning_total / std::max<size_t>(1, all.size()), errors.load());
   return 0;
 }

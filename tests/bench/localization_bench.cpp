@@ -63,7 +63,8 @@ void CorrectionBench(benchmark::State& state, Make make) {
     state.PauseTiming();
     t += 1.0;
     localizer->AddOdometry({{0, 0, 0}, Eigen::Matrix3d::Zero(), t});
-    localizer->SetPose({world.start.x + 0.05, world.start.y, world.start.theta + 0.05}, Eigen::Matrix3d::Identity() * 0.01);
+    localizer->SetPose({world.start.x + 0.05, world.start.y, world.start.theta + 0.05},
+                       Eigen::Matrix3d::Identity() * 0.01);
     localizer->AddOdometry({{0.06, 0, 0}, Eigen::Matrix3d::Zero(), t + 0.1});
     scan.stamp = t + 0.1;
     state.ResumeTiming();
@@ -75,7 +76,8 @@ void BM_EkfCorrection(benchmark::State& state) {
 }
 BENCHMARK(BM_EkfCorrection)->Unit(benchmark::kMillisecond);
 void BM_CalibrationSearch(benchmark::State& state) {
-  CorrectionBench(state, [](const World& w) { return std::make_unique<localization::OdometricCalibrationLocalizer>(w.map); });
+  CorrectionBench(state,
+                  [](const World& w) { return std::make_unique<localization::OdometricCalibrationLocalizer>(w.map); });
 }
 BENCHMARK(BM_CalibrationSearch)->Unit(benchmark::kMillisecond);
 

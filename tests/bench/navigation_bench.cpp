@@ -31,7 +31,8 @@ void BM_CrowdRrtPlan(benchmark::State& state) {
   OccupancyGrid g(1000, 80, 0.1, Point2::Zero());
   g.FillBox({0.0, 0.0}, {100.0, 0.1});
   g.FillBox({0.0, 7.9}, {100.0, 8.0});
-  const planning::Costmap cm(std::make_shared<const OccupancyGrid>(std::move(g)), planning::CostmapOptions{0.4, true, 0.5, 3.0});
+  const planning::Costmap cm(std::make_shared<const OccupancyGrid>(std::move(g)),
+                             planning::CostmapOptions{0.4, true, 0.5, 3.0});
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> x(20.0, 80.0), y(0.6, 7.4), dir(0.0, 1.0);
   planning::CrowdRrtRequest r;

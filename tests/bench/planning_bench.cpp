@@ -39,7 +39,8 @@ BENCHMARK(BM_CostmapInflation)->Unit(benchmark::kMicrosecond);
 void BM_Plan(benchmark::State& state, const std::string& planner, double decay) {
   MapStore maps;
   maps.Set(Warehouse().map, "warehouse");
-  planning::PlanningEngine engine(maps, {.costmap = {0.30, true, decay}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  planning::PlanningEngine engine(
+      maps, {.costmap = {0.30, true, decay}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   planning::RegisterDefaultPlanners(engine);
   engine.CurrentCostmap();
   const Point2 start = Warehouse().start.translation();
@@ -97,11 +98,14 @@ std::shared_ptr<const OccupancyGrid> Maze512() {
 void BM_MazeSearch(benchmark::State& state, const std::string& name) {
   planning::Costmap costmap(Maze512(), {0.0, true});
   std::unique_ptr<planning::GlobalPlanner> planner;
-  if (name == "thetastar") planner = std::make_unique<planning::ThetaStarPlanner>();
-  else planner = std::make_unique<planning::GridAStarPlanner>(name == "dijkstra");
+  if (name == "thetastar")
+    planner = std::make_unique<planning::ThetaStarPlanner>();
+  else
+    planner = std::make_unique<planning::GridAStarPlanner>(name == "dijkstra");
   uint64_t expansions = 0;
   for (auto _ : state) {
-    const auto path = planner->Plan(costmap, {1, 1}, {509, 509}, {{"diagonal", 1.0}, {"cost_weight", 0.0}, {"smooth", 0.0}}, {});
+    const auto path =
+        planner->Plan(costmap, {1, 1}, {509, 509}, {{"diagonal", 1.0}, {"cost_weight", 0.0}, {"smooth", 0.0}}, {});
     expansions += path.expansions;
     benchmark::DoNotOptimize(path);
   }
@@ -135,14 +139,16 @@ QueryBatch& Maze32(bool decay) {
   const OccupancyGrid& g = b.snapshot->grid;
   std::mt19937 rng(32);
   std::uniform_int_distribution<int> coord(0, 511);
-  planning::PlanningEngine engine(b.maps, {.costmap = b.costmap, .default_planner = "dijkstra", .start_recovery_radius = 0.0, .velocity = {}});
+  planning::PlanningEngine engine(
+      b.maps, {.costmap = b.costmap, .default_planner = "dijkstra", .start_recovery_radius = 0.0, .velocity = {}});
   planning::RegisterDefaultPlanners(engine);
   while (b.scenarios.size() < 1000) {
     MovingAiScenario s;
     s.start_x = coord(rng), s.start_row = coord(rng), s.goal_x = coord(rng), s.goal_row = coord(rng);
     const CellIndex a{s.start_x, g.height() - 1 - s.start_row}, z{s.goal_x, g.height() - 1 - s.goal_row};
     if (costmap.IsLethal(a) || costmap.IsLethal(z)) continue;
-    if (!decay) s.optimal_length = engine.ComputePath(g.CellCenter(a), g.CellCenter(z), "dijkstra", {{"smooth", 0.0}}).length;
+    if (!decay)
+      s.optimal_length = engine.ComputePath(g.CellCenter(a), g.CellCenter(z), "dijkstra", {{"smooth", 0.0}}).length;
     s.decimals = 8;
     b.scenarios.push_back(s);
   }
@@ -160,7 +166,8 @@ QueryBatch& Arena() {
 }
 
 void RunBatch(benchmark::State& state, QueryBatch& batch, const std::string& planner) {
-  planning::PlanningEngine engine(batch.maps, {.costmap = batch.costmap, .default_planner = planner, .start_recovery_radius = 0.0, .velocity = {}});
+  planning::PlanningEngine engine(
+      batch.maps, {.costmap = batch.costmap, .default_planner = planner, .start_recovery_radius = 0.0, .velocity = {}});
   planning::RegisterDefaultPlanners(engine);
   engine.CurrentCostmap();
   planning::ScenarioReport report;
@@ -172,7 +179,9 @@ void RunBatch(benchmark::State& state, QueryBatch& batch, const std::string& pla
 }
 
 void BM_Maze32Queries(benchmark::State& state, const std::string& planner) { RunBatch(state, Maze32(false), planner); }
-void BM_Maze32DecayQueries(benchmark::State& state, const std::string& planner) { RunBatch(state, Maze32(true), planner); }
+void BM_Maze32DecayQueries(benchmark::State& state, const std::string& planner) {
+  RunBatch(state, Maze32(true), planner);
+}
 void BM_ArenaQueries(benchmark::State& state, const std::string& planner) { RunBatch(state, Arena(), planner); }
 BENCHMARK_CAPTURE(BM_Maze32Queries, astar, std::string("astar"))->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_Maze32Queries, dijkstra, std::string("dijkstra"))->Iterations(1)->Unit(benchmark::kSecond);
@@ -199,7 +208,7 @@ enum class Change { kSpread, kLocal, kObstacle, kDrive };
 struct ReplanCase {
   std::shared_ptr<OccupancyGrid> before;
   std::vector<std::vector<std::pair<CellIndex, bool>>> finds;   // the changes before each replan
-  std::vector<CellIndex> starts;                                 // the robot at each replan
+  std::vector<CellIndex> starts;                                // the robot at each replan
   std::vector<std::shared_ptr<const planning::Costmap>> after;  // the map after each find
   CellIndex start{0, 0}, goal{511, 511};
 };
@@ -329,7 +338,7 @@ void BM_Replan_DStarLiteRepair(benchmark::State& state, Change kind) {
   state.counters["states_processed"] = static_cast<double>(expansions) / std::max<size_t>(1, rc.finds.size());
 }
 
-#define NAVD_REPLAN_BENCHMARKS(bm)                                             \
+#define NAVD_REPLAN_BENCHMARKS(bm)                                                   \
   BENCHMARK_CAPTURE(bm, spread, Change::kSpread)->Unit(benchmark::kMillisecond);     \
   BENCHMARK_CAPTURE(bm, local, Change::kLocal)->Unit(benchmark::kMillisecond);       \
   BENCHMARK_CAPTURE(bm, obstacle, Change::kObstacle)->Unit(benchmark::kMillisecond); \
@@ -353,7 +362,8 @@ void BM_FastMarching1000(benchmark::State& state) {
   const DistanceField evt(g);
   std::vector<double> speed(evt.values().size());
   for (size_t i = 0; i < speed.size(); ++i)
-    speed[i] = evt.values()[i] <= 0.0 ? 0.0 : std::max(0.05, std::log1p(std::min(evt.values()[i], 2.0)) / std::log1p(2.0));
+    speed[i] =
+        evt.values()[i] <= 0.0 ? 0.0 : std::max(0.05, std::log1p(std::min(evt.values()[i], 2.0)) / std::log1p(2.0));
   for (auto _ : state) benchmark::DoNotOptimize(planning::FastMarch(n, n, 0.05, speed, {500, 500}));
 }
 BENCHMARK(BM_FastMarching1000)->Unit(benchmark::kMillisecond);

@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
   app.add_option("--runs", runs)->check(CLI::Range(1, 10000));
   app.add_option("--seed", seed);
   std::string method = "amcl";
-  app.add_option("--localizer", method, "amcl (particle filter) or histogram (grid)")->check(CLI::IsMember({"amcl", "histogram"}));
+  app.add_option("--localizer", method, "amcl (particle filter) or histogram (grid)")
+      ->check(CLI::IsMember({"amcl", "histogram"}));
   CLI11_PARSE(app, argc, argv);
 
   const World base = DefaultWorld();
@@ -57,7 +58,8 @@ int main(int argc, char** argv) {
     while (s.now() < 13.0) {
       s.Command(0, {0.0, 0.0, s.now() < 12.0 ? 0.6 : 0.0});
       const auto out = s.Step();
-      if (out.robots[0].odom) pf.AddOdometry({s.robot().base().odom_pose(), s.robot().base().odom_covariance(), s.now()});
+      if (out.robots[0].odom)
+        pf.AddOdometry({s.robot().base().odom_pose(), s.robot().base().odom_covariance(), s.now()});
       if (out.robots[0].scan) {
         // Stamped now: the filter moves particles to the odometry of the scan's own time.
         pf.AddScan(localization::ToScan(s, *out.robots[0].scan));
@@ -69,7 +71,8 @@ int main(int argc, char** argv) {
     if (err < 0.1 && herr < 0.1) {
       ++success;
     } else {
-      std::fprintf(stderr, "\n  run %d from (%.2f, %.2f, %.2f): error %.3f m, %.3f rad\n", run, t.x, t.y, t.theta, err, herr);
+      std::fprintf(stderr, "\n  run %d from (%.2f, %.2f, %.2f): error %.3f m, %.3f rad\n", run, t.x, t.y, t.theta, err,
+                   herr);
     }
     std::fprintf(stderr, "\r  %d/%d runs, %d found", run + 1, runs, success);
   }

@@ -73,11 +73,13 @@ void BM_LaserScanRays(benchmark::State& state) {
   std::mt19937_64 rng(4);
   size_t i = 0;
   for (auto _ : state) {
-    const Pose2 pose(rays.origins[i & 255].x(), rays.origins[i & 255].y(), std::atan2(rays.directions[i & 255].y(), rays.directions[i & 255].x()));
+    const Pose2 pose(rays.origins[i & 255].x(), rays.origins[i & 255].y(),
+                     std::atan2(rays.directions[i & 255].y(), rays.directions[i & 255].x()));
     benchmark::DoNotOptimize(laser.Scan(pose, caster, {}, -1, rng));
     ++i;
   }
-  state.counters["rays/s"] = benchmark::Counter(static_cast<double>(state.iterations()) * urg.beams, benchmark::Counter::kIsRate);
+  state.counters["rays/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * urg.beams, benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_LaserScanRays);
 
@@ -121,8 +123,8 @@ BENCHMARK(BM_OneRobotLaser683At10HzOdom50Hz);
 
 void BM_TenRobotsTwentyPeopleWarehouse(benchmark::State& state) {
   Scenario s = ScenarioFromWorld(DefaultWorld());
-  const Pose2 starts[10] = {{0.8, 1.0, 1.57}, {0.8, 4.0, 1.57}, {0.8, 7.0, 1.57}, {3.0, 2.6, 0.0}, {5.0, 5.0, 0.0},
-                            {8.8, 8.8, 3.14}, {8.5, 3.3, 0.0}, {4.5, 9.2, 0.0}, {8.6, 5.6, 3.14}, {3.5, 7.1, 0.0}};
+  const Pose2 starts[10] = {{0.8, 1.0, 1.57}, {0.8, 4.0, 1.57}, {0.8, 7.0, 1.57}, {3.0, 2.6, 0.0},  {5.0, 5.0, 0.0},
+                            {8.8, 8.8, 3.14}, {8.5, 3.3, 0.0},  {4.5, 9.2, 0.0},  {8.6, 5.6, 3.14}, {3.5, 7.1, 0.0}};
   s.robots.clear();
   for (int i = 0; i < 10; ++i) {
     RobotSpec r;

@@ -20,8 +20,10 @@
 // or stepped aside for someone). With laser people, also how good the tracking was near the robot
 // (within 8 m): how far each detection and track was from the person's centre, how far off each
 // track's velocity was from the velocity the person walks with, and the tracks' own velocity σ.
-//   build/tests/street_bench [--runs N] [--first-seed S] [--people MODE] [--speed V] [--straight-walkers] [--collisions]
-//     [--approach-deceleration A] [--escape-time T] [--clearance-growth G] [--walking-clearance M] (the crowd RRT options)
+//   build/tests/street_bench [--runs N] [--first-seed S] [--people MODE] [--speed V] [--straight-walkers]
+//   [--collisions]
+//     [--approach-deceleration A] [--escape-time T] [--clearance-growth G] [--walking-clearance M] (the crowd RRT
+//     options)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -63,10 +65,10 @@ struct RunFigures {
   // detection's distance from the person's centre, and each confirmed track's position and
   // velocity error (against the velocity the person walks with, towards their goal), every control period.
   std::vector<double> detection_errors, position_errors, velocity_errors;
-  std::vector<double> velocity_stds;  // the tracks' own velocity σ (the larger axis), m/s
+  std::vector<double> velocity_stds;                          // the tracks' own velocity σ (the larger axis), m/s
   std::vector<double> coasting_errors, seen_velocity_errors;  // tracks unseen for a scan or more; the others' velocity
 };
-constexpr double kTrackedRange = 8.0;  // m
+constexpr double kTrackedRange = 8.0;                      // m
 constexpr double kCloseCall = 0.70, kCloseCallEnd = 0.90;  // m, centre to centre (contact: 0.55)
 
 enum class Knowledge { kTruth, kTruthAll, kLaser, kLaserTrueVelocity };
@@ -90,14 +92,15 @@ std::string Quantiles(std::vector<double>& values) {
   if (values.empty()) return "none";
   std::sort(values.begin(), values.end());
   char text[80];
-  std::snprintf(text, sizeof text, "median %.3f, 90%% %.3f, 99%% %.3f", values[values.size() / 2], values[values.size() * 9 / 10],
-                values[values.size() * 99 / 100]);
+  std::snprintf(text, sizeof text, "median %.3f, 90%% %.3f, 99%% %.3f", values[values.size() / 2],
+                values[values.size() * 9 / 10], values[values.size() * 99 / 100]);
   return text;
 }
 
 // `planner`: navd's crowd RRT options with the command line's changes; speed and radius are set here.
-RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge, double distance, bool print_contacts, double speed,
-               const planning::CrowdRrtOptions& planner, const navigation::PersonTrackerOptions& tracking) {
+RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge, double distance, bool print_contacts,
+               double speed, const planning::CrowdRrtOptions& planner,
+               const navigation::PersonTrackerOptions& tracking) {
   const bool truth_people = knowledge == Knowledge::kTruth || knowledge == Knowledge::kTruthAll;
   sim::SimulationOptions so;
   so.seed = seed;
@@ -126,7 +129,7 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
   const double control_period = 0.05, dt = s.options().physics_step;
   double next_control = 0.0;
   RunFigures f;
-  bool close = false;  // within a close call
+  bool close = false;   // within a close call
   double driven = 0.0;  // m/s before the step: a collision stalls the robot
   // The plans of the last 2.5 s, for --collisions: what each was, what it knew of the people, and
   // where each person truly was and walked then.
@@ -194,9 +197,11 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
                       "    plan at %.2f s, robot at %.2f m/s: %s for %.2f s, first input (%.2f m/s², %.2f rad/s²), "
                       "ends at %.2f m/s; nearest rim %.2f m",
                       s.now(), s.robot().base().true_twist().vx,
-                      plan.escape ? "escape" : plan.braking ? "braking" : "driving", plan.states.back().t,
-                      plan.inputs.empty() ? 0.0 : plan.inputs[0].accel, plan.inputs.empty() ? 0.0 : plan.inputs[0].yaw_accel,
-                      plan.states.back().v, nearest_gap);
+                      plan.escape    ? "escape"
+                      : plan.braking ? "braking"
+                                     : "driving",
+                      plan.states.back().t, plan.inputs.empty() ? 0.0 : plan.inputs[0].accel,
+                      plan.inputs.empty() ? 0.0 : plan.inputs[0].yaw_accel, plan.states.back().v, nearest_gap);
         recent_plans.push_back({s.now(), line, plan, bodies, s.people()});
         while (recent_plans.front().time < s.now() - 2.5) recent_plans.pop_front();
       }
@@ -214,7 +219,8 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
           std::printf("%s\n", r.line.c_str());
           // What the plan made of the person it later touched: their nearest body, and the least gap
           // (rim to rim) between the plan's way and that body's prediction.
-          const auto who = std::find_if(r.people.begin(), r.people.end(), [&](const sim::Person& p) { return p.id == touched; });
+          const auto who =
+              std::find_if(r.people.begin(), r.people.end(), [&](const sim::Person& p) { return p.id == touched; });
           if (who == r.people.end()) continue;
           const planning::MovingBody* body = nullptr;
           for (const planning::MovingBody& b : r.bodies)
@@ -225,42 +231,53 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
           }
           double least = std::numeric_limits<double>::infinity(), least_t = 0.0;
           for (const planning::UnicycleState& st : r.plan.states) {
-            const double gap = Distance(st.position(), body->position + st.t * body->velocity) - body->radius - world.robot.radius;
+            const double gap =
+                Distance(st.position(), body->position + st.t * body->velocity) - body->radius - world.robot.radius;
             if (gap < least) {
               least = gap;
               least_t = st.t;
             }
           }
           const Point2 v = WalkingVelocity(*who);
-          std::printf("      the person touched later: %.2f m off, velocity (%.2f, %.2f), true (%.2f, %.2f); "
-                      "planned gap %.2f m at +%.2f s\n",
-                      Distance(body->position, who->position), body->velocity.x(), body->velocity.y(), v.x(), v.y(), least, least_t);
+          std::printf(
+              "      the person touched later: %.2f m off, velocity (%.2f, %.2f), true (%.2f, %.2f); "
+              "planned gap %.2f m at +%.2f s\n",
+              Distance(body->position, who->position), body->velocity.x(), body->velocity.y(), v.x(), v.y(), least,
+              least_t);
         }
-        std::printf("  collision at %.2f s with %s, robot at (%.2f, %.2f) driven at %.2f m/s, closing at %.2f m/s, the other at "
-                    "%.2f m/s; plan %s, cost %.1f\n",
-                    e.time, e.other.c_str(), rp.x, rp.y, driven, e.robot_closing, e.other_closing,
-                    controller.plan().escape ? "escape" : controller.plan().braking ? "braking" : "driving",
-                    controller.plan().cost);
+        std::printf(
+            "  collision at %.2f s with %s, robot at (%.2f, %.2f) driven at %.2f m/s, closing at %.2f m/s, the other "
+            "at "
+            "%.2f m/s; plan %s, cost %.1f\n",
+            e.time, e.other.c_str(), rp.x, rp.y, driven, e.robot_closing, e.other_closing,
+            controller.plan().escape    ? "escape"
+            : controller.plan().braking ? "braking"
+                                        : "driving",
+            controller.plan().cost);
         for (const sim::Person& p : s.people()) {
           if (Distance(p.position, rp.translation()) > 0.6) continue;
           const Point2 rel = rp.inverse() * p.position;
-          std::printf("    person %d at (%.2f, %.2f) in the robot's frame; new goal %.2f s ago, stepped aside %.2f s ago\n", p.id,
-                      rel.x(), rel.y(), s.now() - p.last_goal_change, s.now() - p.last_step_aside);
+          std::printf(
+              "    person %d at (%.2f, %.2f) in the robot's frame; new goal %.2f s ago, stepped aside %.2f s ago\n",
+              p.id, rel.x(), rel.y(), s.now() - p.last_goal_change, s.now() - p.last_step_aside);
           if (truth_people) continue;
           // What the tracker made of them: the nearest track, as the planner last saw it.
           const navigation::TrackedPerson* track = nullptr;
           for (const navigation::TrackedPerson& t : tracker.tracks())
-            if (Distance(t.position, p.position) < 0.6 && (!track || Distance(t.position, p.position) < Distance(track->position, p.position)))
+            if (Distance(t.position, p.position) < 0.6 &&
+                (!track || Distance(t.position, p.position) < Distance(track->position, p.position)))
               track = &t;
           if (!track) {
             std::printf("      no track within 0.6 m\n");
             continue;
           }
           const Point2 v = WalkingVelocity(p);
-          std::printf("      track %d%s, %d hits, seen %.2f-%.2f s, %.2f m off; velocity (%.2f, %.2f) sigma %.2f, true (%.2f, %.2f)\n",
-                      track->id, track->confirmed ? "" : " (unconfirmed)", track->hits, track->first_seen, track->last_seen,
-                      Distance(track->position, p.position), track->velocity.x(), track->velocity.y(),
-                      navigation::VelocityStd(*track), v.x(), v.y());
+          std::printf(
+              "      track %d%s, %d hits, seen %.2f-%.2f s, %.2f m off; velocity (%.2f, %.2f) sigma %.2f, true (%.2f, "
+              "%.2f)\n",
+              track->id, track->confirmed ? "" : " (unconfirmed)", track->hits, track->first_seen, track->last_seen,
+              Distance(track->position, p.position), track->velocity.x(), track->velocity.y(),
+              navigation::VelocityStd(*track), v.x(), v.y());
         }
       }
     }
@@ -310,8 +327,9 @@ int main(int argc, char** argv) {
   double speed = 1.5;
   app.add_option("--speed", speed, "desired speed among people, m/s (navd --crowd-speed)")->check(CLI::Range(0.1, 5.0));
   planning::CrowdRrtOptions planner = navigation::PeopleAwareOptions{}.control.planner;
-  app.add_option("--approach-deceleration", planner.approach_deceleration,
-                 "m/s²: plans too fast to stop short of someone ahead are pruned unless braking (0: off, navd's default)")
+  app.add_option(
+         "--approach-deceleration", planner.approach_deceleration,
+         "m/s²: plans too fast to stop short of someone ahead are pruned unless braking (0: off, navd's default)")
       ->check(CLI::Range(0.0, 10.0));
   app.add_option("--escape-time", planner.escape_time, "s: how long each escape manoeuvre is judged for")
       ->capture_default_str()
@@ -327,13 +345,16 @@ int main(int argc, char** argv) {
   app.add_option("--track-measurement-std", tracking.measurement_std, "m: the person tracker's detection noise")
       ->capture_default_str()
       ->check(CLI::Range(0.001, 1.0));
-  app.add_option("--track-acceleration-std", tracking.acceleration_std, "m/s²: the person tracker's walker acceleration noise")
+  app.add_option("--track-acceleration-std", tracking.acceleration_std,
+                 "m/s²: the person tracker's walker acceleration noise")
       ->capture_default_str()
       ->check(CLI::Range(0.01, 20.0));
   bool straight = false;
   app.add_flag("--straight-walkers", straight, "walkers keep one goal far down the street, no Brownian motion");
   bool print_contacts = false;
-  app.add_flag("--collisions", print_contacts, "print each collision (with a person or a wall): the robot's speed, the plans of the 2.5 s before, who was near");
+  app.add_flag(
+      "--collisions", print_contacts,
+      "print each collision (with a person or a wall): the robot's speed, the plans of the 2.5 s before, who was near");
   CLI11_PARSE(app, argc, argv);
 
   sim::Scenario scenario;
@@ -360,13 +381,16 @@ int main(int argc, char** argv) {
   double time = 0.0, outside = 0.0, turned = 0.0, nearest = std::numeric_limits<double>::infinity();
   uint32_t collisions = 0, close_calls = 0, plans = 0, escapes = 0;
   int reached = 0, clean = 0;
-  std::vector<double> shares, detection_errors, position_errors, velocity_errors, coasting_errors, seen_velocity_errors, velocity_stds;
+  std::vector<double> shares, detection_errors, position_errors, velocity_errors, coasting_errors, seen_velocity_errors,
+      velocity_stds;
   for (int i = 0; i < runs; ++i) {
     const uint64_t seed = first + static_cast<uint64_t>(i);
     const RunFigures f = Run(scenario, seed, knowledge, distance, print_contacts, speed, planner, tracking);
-    std::printf("seed %lu: %s, %.1f s, collisions %u, close calls %u, outside personal %.3f, nearest %.2f m, escapes %u of %u plans\n",
-                static_cast<unsigned long>(seed), f.reached ? "reached" : "timed out", f.time, f.collisions,
-                f.close_calls, f.outside_personal / f.time, f.nearest, f.escapes, f.plans);
+    std::printf(
+        "seed %lu: %s, %.1f s, collisions %u, close calls %u, outside personal %.3f, nearest %.2f m, escapes %u of %u "
+        "plans\n",
+        static_cast<unsigned long>(seed), f.reached ? "reached" : "timed out", f.time, f.collisions, f.close_calls,
+        f.outside_personal / f.time, f.nearest, f.escapes, f.plans);
     std::fflush(stdout);
     time += f.time;
     outside += f.outside_personal;
@@ -384,20 +408,24 @@ int main(int argc, char** argv) {
     velocity_errors.insert(velocity_errors.end(), f.velocity_errors.begin(), f.velocity_errors.end());
     velocity_stds.insert(velocity_stds.end(), f.velocity_stds.begin(), f.velocity_stds.end());
     coasting_errors.insert(coasting_errors.end(), f.coasting_errors.begin(), f.coasting_errors.end());
-    seen_velocity_errors.insert(seen_velocity_errors.end(), f.seen_velocity_errors.begin(), f.seen_velocity_errors.end());
+    seen_velocity_errors.insert(seen_velocity_errors.end(), f.seen_velocity_errors.begin(),
+                                f.seen_velocity_errors.end());
   }
   std::sort(shares.begin(), shares.end());
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("street bench (%s people): %d/%d reached, %u collisions (%d runs without), %u close calls (within %.2f m), "
-              "%.1f s simulated; outside the personal zone %.2f%% of the time (per run: min %.1f%%, median %.1f%%); closest "
-              "%.2f m; mean |yaw rate| %.2f rad/s; escapes %u of %u plans; %.0f s wall\n",
-              people.c_str(), reached, runs, collisions, clean, close_calls, kCloseCall, time, 100.0 * outside / time, 100.0 * shares.front(),
-              100.0 * shares[shares.size() / 2], nearest, turned / time, escapes, plans, wall);
+  std::printf(
+      "street bench (%s people): %d/%d reached, %u collisions (%d runs without), %u close calls (within %.2f m), "
+      "%.1f s simulated; outside the personal zone %.2f%% of the time (per run: min %.1f%%, median %.1f%%); closest "
+      "%.2f m; mean |yaw rate| %.2f rad/s; escapes %u of %u plans; %.0f s wall\n",
+      people.c_str(), reached, runs, collisions, clean, close_calls, kCloseCall, time, 100.0 * outside / time,
+      100.0 * shares.front(), 100.0 * shares[shares.size() / 2], nearest, turned / time, escapes, plans, wall);
   if (!position_errors.empty()) {
-    std::printf("tracking within %.0f m: detections off by %s m; tracks off by %s m, their velocity by %s m/s\n", kTrackedRange,
-                Quantiles(detection_errors).c_str(), Quantiles(position_errors).c_str(), Quantiles(velocity_errors).c_str());
+    std::printf("tracking within %.0f m: detections off by %s m; tracks off by %s m, their velocity by %s m/s\n",
+                kTrackedRange, Quantiles(detection_errors).c_str(), Quantiles(position_errors).c_str(),
+                Quantiles(velocity_errors).c_str());
     std::printf("  tracks seen in the last scan: velocity off by %s m/s; unseen (%zu of %zu): off by %s m\n",
-                Quantiles(seen_velocity_errors).c_str(), coasting_errors.size(), position_errors.size(), Quantiles(coasting_errors).c_str());
+                Quantiles(seen_velocity_errors).c_str(), coasting_errors.size(), position_errors.size(),
+                Quantiles(coasting_errors).c_str());
     std::printf("  the tracks' own velocity sigma: %s m/s\n", Quantiles(velocity_stds).c_str());
   }
   return 0;

@@ -66,7 +66,8 @@ TEST_F(BadInput, NonFiniteCoordinates) {
 TEST_F(BadInput, SetPoseOffTheMapOrInAWallIsRefusedAndTheEstimateKept) {
   const auto before = client().GetPose();
   ExpectError([&] { client().SetPose(-3, 2, 0); }, grpc::StatusCode::INVALID_ARGUMENT, {"pose", "outside the map"});
-  ExpectError([&] { client().SetPose(0.02, 5, 0); }, grpc::StatusCode::INVALID_ARGUMENT, {"pose", "inside an obstacle"});
+  ExpectError([&] { client().SetPose(0.02, 5, 0); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"pose", "inside an obstacle"});
   const auto after = client().GetPose();
   EXPECT_NEAR(after.pose().x(), before.pose().x(), 0.05);
   EXPECT_NEAR(after.pose().y(), before.pose().y(), 0.05);
@@ -109,8 +110,11 @@ TEST(LargeMaps, FourThousandSquareMapTravelsInChunks) {
 }
 
 TEST_F(BadInput, WaypointInsideAnObstacleIsNamed) {
-  ExpectError([&] { client().ComputePathThroughPoses(0.8, 1, {{3.0, 2.6}, {8.5, 1.5}, {8.8, 8.8}}); },
-              grpc::StatusCode::INVALID_ARGUMENT, {"waypoints[1]", "inside an obstacle"});
+  ExpectError(
+      [&] {
+        client().ComputePathThroughPoses(0.8, 1, {{3.0, 2.6}, {8.5, 1.5}, {8.8, 8.8}});
+      },
+      grpc::StatusCode::INVALID_ARGUMENT, {"waypoints[1]", "inside an obstacle"});
   const auto ok = client().ComputePathThroughPoses(0.8, 1, {{3.0, 2.6}, {8.8, 8.8}});
   EXPECT_GT(ok.length(), 10.0);
   // Every plan carries its time-optimal velocity profile: at rest at both ends, never above the
@@ -199,26 +203,33 @@ TEST_F(BadInput, MovingBodiesReachTheKinodynamicPlannerAndBadOnesAreNamed) {
   person.mutable_velocity();
   person.set_radius(0.25);
   person.set_person(true);
-  const auto plan = client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {{"time_limit", 10.0}, {"algorithm", 2}}, {person});
+  const auto plan =
+      client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {{"time_limit", 10.0}, {"algorithm", 2}}, {person});
   EXPECT_EQ(plan.planner(), "kinodynamic");
   ASSERT_GT(plan.path_size(), 10);
   EXPECT_EQ(plan.speed_limits_size(), plan.path_size());
-  for (const auto& p : plan.path()) EXPECT_GT(std::hypot(p.x() - 2.5, p.y() - 2.2), 0.25 + 0.3) << p.x() << ", " << p.y();
+  for (const auto& p : plan.path())
+    EXPECT_GT(std::hypot(p.x() - 2.5, p.y() - 2.2), 0.25 + 0.3) << p.x() << ", " << p.y();
   // The chapter's own planner, the crowd RRT in its MPC loop rolled out along an A* route, across
   // the warehouse past someone standing on the way.
   v1::MovingBody standing = person;
   standing.mutable_position()->set_x(4.8);
   standing.mutable_position()->set_y(4.8);
-  const auto rolled = client().ComputePath(0.8, 1, 8.8, 8.8, "kinodynamic", {{"algorithm", 3}, {"time_limit", 10.0}}, {standing});
+  const auto rolled =
+      client().ComputePath(0.8, 1, 8.8, 8.8, "kinodynamic", {{"algorithm", 3}, {"time_limit", 10.0}}, {standing});
   ASSERT_GT(rolled.path_size(), 20);
   EXPECT_EQ(rolled.speed_limits_size(), rolled.path_size());
   const auto& end = rolled.path(rolled.path_size() - 1);
   EXPECT_LT(std::hypot(end.x() - 8.8, end.y() - 8.8), 0.3);
-  for (const auto& p : rolled.path()) EXPECT_GT(std::hypot(p.x() - 4.8, p.y() - 4.8), 0.25 + 0.3) << p.x() << ", " << p.y();
+  for (const auto& p : rolled.path())
+    EXPECT_GT(std::hypot(p.x() - 4.8, p.y() - 4.8), 0.25 + 0.3) << p.x() << ", " << p.y();
   EXPECT_GT(rolled.expansions(), 2000u);
   // A goal next to someone who stands there for good is not reached, and the reason says why.
-  ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {{"algorithm", 3}, {"time_limit", 10.0}}, {person}); },
-              grpc::StatusCode::NOT_FOUND, {"people's space"});
+  ExpectError(
+      [&] {
+        client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {{"algorithm", 3}, {"time_limit", 10.0}}, {person});
+      },
+      grpc::StatusCode::NOT_FOUND, {"people's space"});
   person.set_radius(-1);
   ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "kinodynamic", {}, {person}); },
               grpc::StatusCode::INVALID_ARGUMENT, {"moving[0].radius"});
@@ -231,8 +242,11 @@ TEST_F(BadInput, MovingBodiesReachTheKinodynamicPlannerAndBadOnesAreNamed) {
 TEST_F(BadInput, UnknownPlanner) {
   ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "warp_drive"); }, grpc::StatusCode::INVALID_ARGUMENT,
               {"planner", "warp_drive", "astar"});
-  ExpectError([&] { client().ComputePath(0.8, 1, 3, 2.6, "astar", {{"bogus", 1}}); },
-              grpc::StatusCode::INVALID_ARGUMENT, {"options", "bogus"});
+  ExpectError(
+      [&] {
+        client().ComputePath(0.8, 1, 3, 2.6, "astar", {{"bogus", 1}});
+      },
+      grpc::StatusCode::INVALID_ARGUMENT, {"options", "bogus"});
 }
 
 TEST_F(BadInput, MissingMalformedAndUnreadableMapFiles) {
@@ -278,7 +292,8 @@ TEST_F(BadInput, LocalisationMethodsCanBeListedSelectedAndStreamed) {
   ASSERT_EQ(methods.methods_size(), 7);
   EXPECT_EQ(methods.methods(6), "auto");
   EXPECT_EQ(methods.selected(), "amcl");
-  ExpectError([&] { client().SelectMethod("gps"); }, grpc::StatusCode::INVALID_ARGUMENT, {"method", "gps", "amcl", "auto"});
+  ExpectError([&] { client().SelectMethod("gps"); }, grpc::StatusCode::INVALID_ARGUMENT,
+              {"method", "gps", "amcl", "auto"});
   client().SelectMethod("odometry");
   EXPECT_EQ(client().GetPose().localizer(), "odometry");
   for (const char* method : {"ekf", "calibration", "histogram"}) {
@@ -290,7 +305,8 @@ TEST_F(BadInput, LocalisationMethodsCanBeListedSelectedAndStreamed) {
   EXPECT_NE(chosen, "auto");
   client().SelectMethod("amcl");
   int poses = 0;
-  client().StreamPose(20.0, [&](const v1::GetPoseResponse& p) { return ++poses < 5 && p.localizer() == "amcl"; }, 5.0);
+  client().StreamPose(
+      20.0, [&](const v1::GetPoseResponse& p) { return ++poses < 5 && p.localizer() == "amcl"; }, 5.0);
   EXPECT_EQ(poses, 5);
   EXPECT_NO_THROW(client().GlobalRelocalize());
   EXPECT_TRUE(std::isfinite(client().GetPose().pose().x()));

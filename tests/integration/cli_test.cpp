@@ -36,9 +36,12 @@ TEST(Navctl, UnreachableServerIsOneLineAndNonZero) {
 // past two oncoming walkers ends in the goal's disc on its first pass: before its rounds knew the
 // goal as an end, this trajectory swept past it and came back round (57 m for 38).
 TEST(Navctl, OfflineCrowdRouteEndsAtTheGoalAsJson) {
-  const auto r = RunCommand({NavctlBinary(), "plan", "--map", SourceDir() + "/worlds/street.yaml", "--from", "2,4", "--to",
-                             "40,4", "--planner", "kinodynamic", "--option", "algorithm=3", "--option", "max_speed=1.5",
-                             "--option", "max_accel=1", "--person", "20,4.2,-1.3,0", "--person", "30,3,-1.2,0.1", "--json"});
+  const auto r = RunCommand({NavctlBinary(), "plan",          "--map",    SourceDir() + "/worlds/street.yaml",
+                             "--from",       "2,4",           "--to",     "40,4",
+                             "--planner",    "kinodynamic",   "--option", "algorithm=3",
+                             "--option",     "max_speed=1.5", "--option", "max_accel=1",
+                             "--person",     "20,4.2,-1.3,0", "--person", "30,3,-1.2,0.1",
+                             "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   EXPECT_EQ(j["planner"], "kinodynamic");
@@ -76,8 +79,8 @@ TEST(Navctl, HealthPlanPoseNavigateAgainstRealDaemons) {
   EXPECT_EQ(Lines(bad.output), 1) << bad.output;
   EXPECT_NE(bad.output.find("outside the map"), std::string::npos) << bad.output;
 
-  auto unknown = RunCommand({NavctlBinary(), "--server", server, "plan", "--from", "0.8,1", "--to", "3,2.6",
-                             "--planner", "nope"});
+  auto unknown =
+      RunCommand({NavctlBinary(), "--server", server, "plan", "--from", "0.8,1", "--to", "3,2.6", "--planner", "nope"});
   EXPECT_NE(unknown.exit_code, 0);
   EXPECT_NE(unknown.output.find("unknown planner 'nope'"), std::string::npos) << unknown.output;
 
@@ -88,12 +91,13 @@ TEST(Navctl, HealthPlanPoseNavigateAgainstRealDaemons) {
   EXPECT_EQ(p["covariance"].size(), 9u);
 
   // Mapping while the robot drives: start, status, stop, save the built map.
-  auto start = RunCommand({NavctlBinary(), "--server", server, "mapping", "start", "--mode", "known_poses", "--size", "12"});
+  auto start =
+      RunCommand({NavctlBinary(), "--server", server, "mapping", "start", "--mode", "known_poses", "--size", "12"});
   EXPECT_EQ(start.exit_code, 0) << start.output;
   EXPECT_NE(start.output.find("mapping active"), std::string::npos) << start.output;
 
-  auto nav = RunCommand({NavctlBinary(), "--server", server, "navigate", "--to", "0.8,2.5,1.57", "--timeout", "60"},
-                        90.0);
+  auto nav =
+      RunCommand({NavctlBinary(), "--server", server, "navigate", "--to", "0.8,2.5,1.57", "--timeout", "60"}, 90.0);
   EXPECT_EQ(nav.exit_code, 0) << nav.output << stack.Logs();
   EXPECT_NE(nav.output.find("succeeded"), std::string::npos) << nav.output;
   auto mapping = RunCommand({NavctlBinary(), "--server", server, "mapping", "stop", "--json"});
@@ -153,7 +157,8 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   EXPECT_TRUE(map.IsOccupied(map.CellOf({2.02, 0.5})));
   EXPECT_EQ(map.at(map.CellOf({0.5, 0.5})), OccupancyGrid::kFree);
 
-  const auto strict = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--out", dir + "/x.yaml", "--strict"});
+  const auto strict =
+      RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--out", dir + "/x.yaml", "--strict"});
   EXPECT_NE(strict.exit_code, 0);
   EXPECT_NE(strict.output.find("room.log:9"), std::string::npos) << strict.output;
   const auto missing = RunCommand({NavdReplayBinary(), "--log", dir + "/none.log", "--out", dir + "/x.yaml"});
@@ -178,15 +183,16 @@ TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
       log << " 9 9 0 9 9 0 " << stamp << " host " << stamp << "\n";  // pose fields say nothing true here
     }
   }
-  const auto r = RunCommand({NavdReplayBinary(), "--log", dir + "/raw.log", "--mode", "slam", "--odometry", "log", "--out",
-                             dir + "/raw.tum"});
+  const auto r = RunCommand({NavdReplayBinary(), "--log", dir + "/raw.log", "--mode", "slam", "--odometry", "log",
+                             "--out", dir + "/raw.tum"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream tum(dir + "/raw.tum");
   std::vector<double> headings;
   double x0 = 0, y0 = 0;
   for (std::string line; std::getline(tum, line);) {
     double t, x, y, z, qx, qy, qz, qw;
-    ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x, &y, &z, &qx, &qy, &qz, &qw), 8) << line;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x, &y, &z, &qx, &qy, &qz, &qw), 8)
+        << line;
     if (headings.empty()) x0 = x, y0 = y;
     EXPECT_NEAR(std::hypot(x - x0, y - y0), 0.0, 0.05) << line;  // turning on the spot, as the ODOM lines say
     headings.push_back(2 * std::atan2(qz, qw));
@@ -212,12 +218,31 @@ TEST(Realdata, TwoLogsOneSeedOfflineAndOnlineWithinTheirThresholds) {
   const std::string dir = MakeTempDir();
   const std::string replay = NavdReplayBinary();
   const std::string build_dir = replay.substr(0, replay.rfind("/tools/"));
-  const auto r = RunCommand({"/usr/bin/env", "NAVD_REALDATA_DOMAIN=" + std::to_string(ReserveDomain()),
-                             "NAVD_BUILD_DIR=" + build_dir, SourceDir() + "/scripts/realdata",
-                             data, "--logs", "intel,freiburg-101", "--seeds", "1-1", "--online", "--online-rate", "25", "--jobs", "1", "--out", dir,
-                             "--max-slam-ate", "0.10", "--max-localize-rmse", "0.06", "--max-online-rmse", "0.15"},
+  const auto r = RunCommand({"/usr/bin/env",
+                             "NAVD_REALDATA_DOMAIN=" + std::to_string(ReserveDomain()),
+                             "NAVD_BUILD_DIR=" + build_dir,
+                             SourceDir() + "/scripts/realdata",
+                             data,
+                             "--logs",
+                             "intel,freiburg-101",
+                             "--seeds",
+                             "1-1",
+                             "--online",
+                             "--online-rate",
+                             "25",
+                             "--jobs",
+                             "1",
+                             "--out",
+                             dir,
+                             "--max-slam-ate",
+                             "0.10",
+                             "--max-localize-rmse",
+                             "0.06",
+                             "--max-online-rmse",
+                             "0.15"},
                             280.0);
-  std::printf("%s\n", r.output.substr(r.output.find("\nlog ") == std::string::npos ? 0 : r.output.find("\nlog ")).c_str());
+  std::printf("%s\n",
+              r.output.substr(r.output.find("\nlog ") == std::string::npos ? 0 : r.output.find("\nlog ")).c_str());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("intel-corrected             910 |"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("freiburg-101-corrected      292 |"), std::string::npos) << r.output;
@@ -232,8 +257,9 @@ TEST_P(NavdReplayLocalisation, LocalisesOnTheIntelLog) {
   const std::string log = SourceDir() + "/../shared/data/carmen/intel-corrected.log.gz";
   if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
   const std::string dir = MakeTempDir();
-  const auto r = RunCommand({NavdReplayBinary(), "--log", log, "--mode", "localize", "--localizer", GetParam(), "--out",
-                             dir + "/est.tum"}, 120.0);
+  const auto r = RunCommand(
+      {NavdReplayBinary(), "--log", log, "--mode", "localize", "--localizer", GetParam(), "--out", dir + "/est.tum"},
+      120.0);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   double rmse = -1, heading = -1;
   const size_t at = r.output.find("position RMSE ");
@@ -260,7 +286,8 @@ TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
   if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
   const std::string dir = MakeTempDir();
   const auto r = RunCommand({NavdReplayBinary(), "--log", log, "--mode", "slam", "--seed", "3", "--out",
-                             dir + "/est.tum", "--map-out", dir + "/map.yaml"}, 180.0);
+                             dir + "/est.tum", "--map-out", dir + "/map.yaml"},
+                            180.0);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   int closures = -1, wrong = -1;
   double ate = -1;
@@ -304,12 +331,14 @@ TEST_P(NavdExplore, MapsTheWarehouseFromNothing) {
   ASSERT_EQ(std::sscanf(r.output.c_str() + at + ending.size(), "%lf%%", &mapped), 1) << r.output;
   const size_t sim = r.output.find(" s simulated, ", at);
   ASSERT_NE(sim, std::string::npos);
-  ASSERT_EQ(std::sscanf(r.output.c_str() + r.output.rfind(", ", sim) + 2, "%lf s simulated, %lf m driven", &simulated, &driven), 2);
+  ASSERT_EQ(std::sscanf(r.output.c_str() + r.output.rfind(", ", sim) + 2, "%lf s simulated, %lf m driven", &simulated,
+                        &driven),
+            2);
   const size_t col = r.output.find(" collisions", at);
   ASSERT_NE(col, std::string::npos);
   ASSERT_EQ(std::sscanf(r.output.c_str() + r.output.rfind(", ", col) + 2, "%d collisions", &collisions), 1);
-  std::printf("explore (%s): %.1f%% mapped, %.1f s simulated, %.1f m driven, %d collisions\n", GetParam().c_str(), mapped,
-              simulated, driven, collisions);
+  std::printf("explore (%s): %.1f%% mapped, %.1f s simulated, %.1f m driven, %d collisions\n", GetParam().c_str(),
+              mapped, simulated, driven, collisions);
   EXPECT_GE(mapped, 95.0);
   EXPECT_EQ(collisions, 0);
 }
@@ -328,7 +357,9 @@ class NavctlReplay : public ::testing::Test {
   // Builds the log's map and starts navd on it.
   void StartNavdOnMapOf(const std::string& log) {
     log_ = log;
-    ASSERT_EQ(RunCommand({NavdReplayBinary(), "--log", log, "--mode", "map", "--out", dir_ + "/map.yaml"}, 60.0).exit_code, 0);
+    ASSERT_EQ(
+        RunCommand({NavdReplayBinary(), "--log", log, "--mode", "map", "--out", dir_ + "/map.yaml"}, 60.0).exit_code,
+        0);
     StackOptions o;
     o.start_sim = false;
     o.navd_args = {"--map", dir_ + "/map.yaml"};
@@ -336,8 +367,9 @@ class NavctlReplay : public ::testing::Test {
   }
   // navctl replay of the log to navd, with `args` after the log, domain and server.
   CommandResult Replay(const std::vector<std::string>& args, double timeout = 120.0) const {
-    std::vector<std::string> argv = {NavctlBinary(), "replay", "--log", log_, "--domain", std::to_string(stack_->domain()),
-                                     "--server", stack_->address()};
+    std::vector<std::string> argv = {NavctlBinary(), "replay",         "--log",
+                                     log_,           "--domain",       std::to_string(stack_->domain()),
+                                     "--server",     stack_->address()};
     argv.insert(argv.end(), args.begin(), args.end());
     return RunCommand(argv, timeout);
   }
@@ -350,7 +382,9 @@ class NavctlReplay : public ::testing::Test {
     const size_t at = output.find("navd: ");
     ASSERT_NE(at, std::string::npos) << output;
     ASSERT_EQ(std::sscanf(output.c_str() + at, "navd: %d poses, position RMSE %lf m, heading RMSE %lf rad", &v->poses,
-                          &v->rmse, &v->heading), 3) << output;
+                          &v->rmse, &v->heading),
+              3)
+        << output;
   }
 
   const std::string dir_ = MakeTempDir();
@@ -371,7 +405,8 @@ TEST_F(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
   ASSERT_EQ(r.exit_code, 0) << r.output << stack.Logs();
   Verdict v;
   ASSERT_NO_FATAL_FAILURE(ReadVerdict(r.output, &v));
-  std::printf("online Intel replay: %d poses, position RMSE %.4f m, heading RMSE %.4f rad\n", v.poses, v.rmse, v.heading);
+  std::printf("online Intel replay: %d poses, position RMSE %.4f m, heading RMSE %.4f rad\n", v.poses, v.rmse,
+              v.heading);
   EXPECT_GT(v.poses, 200);
   EXPECT_LE(v.rmse, 0.15) << stack.Logs();
   EXPECT_LE(v.heading, 0.06);
@@ -400,7 +435,8 @@ TEST_F(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
   }
   // No navd on the domain: one line, non-zero.
   const auto lonely = RunCommand({NavctlBinary(), "replay", "--log", log, "--domain", std::to_string(ReserveDomain()),
-                                  "--server", "", "--max-scans", "5", "--wait", "1"}, 60.0);
+                                  "--server", "", "--max-scans", "5", "--wait", "1"},
+                                 60.0);
   EXPECT_NE(lonely.exit_code, 0);
   EXPECT_EQ(Lines(lonely.output), 1) << lonely.output;
 }

@@ -56,9 +56,9 @@ TEST(DdsSecurity, AParticipantWithoutCredentialsNeitherReadsScansNorDrivesTheRob
   const Keystore keys;
   const int domain = ReserveDomain();
   const std::string dir = MakeTempDir();
-  Process navsim({NavsimBinary(), "--domain", std::to_string(domain), "--rate", "5", "--dds-security",
-                  keys.enclave("navsim")},
-                 dir + "/navsim.log");
+  Process navsim(
+      {NavsimBinary(), "--domain", std::to_string(domain), "--rate", "5", "--dds-security", keys.enclave("navsim")},
+      dir + "/navsim.log");
   Station operator_station(domain, "navctl", keys.enclave("navctl"));
   Station intruder(domain, "intruder", "");
 
@@ -96,8 +96,8 @@ TEST(DdsSecurity, SecuredNavdAndNavsimNavigate) {
   EXPECT_EQ(r.outcome(), v1::SUCCEEDED) << r.ShortDebugString() << "\n" << stack.Logs();
 
   // navctl's DDS commands join with the keystore's navctl enclave, and only with it.
-  const std::vector<std::string> truth{NavctlBinary(), "--dds-security", keys.enclave("navctl"), "truth", "--domain",
-                                       std::to_string(stack.domain())};
+  const std::vector<std::string> truth{NavctlBinary(), "--dds-security", keys.enclave("navctl"),
+                                       "truth",        "--domain",       std::to_string(stack.domain())};
   CommandResult t = RunCommand(truth, 30.0);
   EXPECT_EQ(t.exit_code, 0) << t.output;
   t = RunCommand({NavctlBinary(), "truth", "--domain", std::to_string(stack.domain()), "--wait", "2"}, 30.0);
@@ -108,7 +108,8 @@ TEST(DdsSecurity, SecuredNavdAndNavsimNavigate) {
 TEST(DdsSecurity, AnIncompleteEnclaveIsRefusedInOneLine) {
   const std::string empty = MakeTempDir();
   for (const std::string& binary : {NavdBinary(), NavsimBinary()}) {
-    const CommandResult r = RunCommand({binary, "--domain", std::to_string(ReserveDomain()), "--dds-security", empty}, 20.0);
+    const CommandResult r =
+        RunCommand({binary, "--domain", std::to_string(ReserveDomain()), "--dds-security", empty}, 20.0);
     EXPECT_NE(r.exit_code, 0) << binary;
     EXPECT_NE(r.output.find("DDS security enclave " + empty + " lacks a readable identity_ca.cert.pem"),
               std::string::npos)

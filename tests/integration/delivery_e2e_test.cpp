@@ -90,7 +90,8 @@ TEST(DeliveryE2E, PauseHoldsTheRobotResumeFinishesAndFeedbackExplains) {
   ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
   Client& client = stack.client();
   // No mission: nothing to pause or resume, and cancel reports there was nothing active.
-  for (const auto& call : {std::function<void()>([&] { client.Pause(); }), std::function<void()>([&] { client.Resume(); })}) {
+  for (const auto& call :
+       {std::function<void()>([&] { client.Pause(); }), std::function<void()>([&] { client.Resume(); })}) {
     try {
       call();
       ADD_FAILURE() << "pause/resume without a mission was accepted";
@@ -101,7 +102,8 @@ TEST(DeliveryE2E, PauseHoldsTheRobotResumeFinishesAndFeedbackExplains) {
   EXPECT_FALSE(client.Cancel());
 
   std::thread operator_thread([&] {
-    for (int i = 0; i < 300 && !client.GetStatus().active(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    for (int i = 0; i < 300 && !client.GetStatus().active(); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
     Client other({stack.address(), 5.0});
     other.Pause();
@@ -118,8 +120,8 @@ TEST(DeliveryE2E, PauseHoldsTheRobotResumeFinishesAndFeedbackExplains) {
     w->set_y(y);
   }
   std::vector<v1::NavigationFeedback> feedback;
-  const auto result =
-      client.FollowWaypoints(req, [&](const v1::NavigationFeedback& f) { feedback.push_back(f); }, 150.0);
+  const auto result = client.FollowWaypoints(
+      req, [&](const v1::NavigationFeedback& f) { feedback.push_back(f); }, 150.0);
   operator_thread.join();
   ASSERT_EQ(result.outcome(), v1::SUCCEEDED) << result.message() << stack.Logs();
   EXPECT_EQ(result.waypoints_reached(), 3u);

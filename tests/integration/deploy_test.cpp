@@ -70,7 +70,8 @@ TEST(Deploy, RuntimeStageInstallsExactlyThePackagesTheBinariesLoad) {
   const auto loaded = PackagesLoadedBy({NavdBinary(), NavsimBinary(), NavctlBinary()});
   ASSERT_GE(loaded.size(), 10u) << "ldd/dpkg found too few packages";
   EXPECT_EQ(loaded.count("?"), 0u) << "libraries no Debian package owns or ldd cannot find: "
-                                   << ::testing::PrintToString(loaded.count("?") ? loaded.at("?") : std::set<std::string>{});
+                                   << ::testing::PrintToString(loaded.count("?") ? loaded.at("?")
+                                                                                 : std::set<std::string>{});
   for (const auto& [package, libraries] : loaded) {
     if (package == "?") continue;
     EXPECT_TRUE(listed.count(package)) << "the runtime stage lacks " << package << ", which provides "
@@ -139,7 +140,8 @@ TEST(Deploy, ComposeRunsBothDaemonsFromTheDockerfile) {
   EXPECT_NE(compose.find("dockerfile: deploy/Dockerfile"), std::string::npos);
   for (const char* binary : {"navd", "navsim"}) {
     EXPECT_NE(compose.find(std::string("\"") + binary + "\""), std::string::npos) << binary;
-    EXPECT_TRUE(std::filesystem::exists(std::string(NAVD_BUILD_DIR) + (std::string(binary) == "navd" ? "/server/navd" : "/simulator/navsim")));
+    EXPECT_TRUE(std::filesystem::exists(std::string(NAVD_BUILD_DIR) +
+                                        (std::string(binary) == "navd" ? "/server/navd" : "/simulator/navsim")));
   }
   // Containers talk over a real network, so they must opt out of loopback-only DDS and listen
   // beyond 127.0.0.1.
@@ -201,7 +203,8 @@ int PortOf(const std::string& host_port) { return std::stoi(host_port.substr(hos
 
 bool Selects(const YAML::Node& selector, const YAML::Node& labels) {
   for (const auto& kv : selector) {
-    if (!labels[kv.first.as<std::string>()] || labels[kv.first.as<std::string>()].as<std::string>() != kv.second.as<std::string>())
+    if (!labels[kv.first.as<std::string>()] ||
+        labels[kv.first.as<std::string>()].as<std::string>() != kv.second.as<std::string>())
       return false;
   }
   return selector.size() > 0;
@@ -224,7 +227,8 @@ TEST(Deploy, KubernetesManifestsAgreeWithThePrograms) {
           EXPECT_TRUE(std::filesystem::exists(keys.dir() + "/" + file.substr(11)))
               << file << " is not a file scripts/make-keystore makes";
         } else {
-          EXPECT_NE(prepare.find("$files/" + file.substr(6)), std::string::npos) << file << " is not written by prepare";
+          EXPECT_NE(prepare.find("$files/" + file.substr(6)), std::string::npos)
+              << file << " is not written by prepare";
         }
       }
     }
@@ -259,7 +263,8 @@ TEST(Deploy, KubernetesManifestsAgreeWithThePrograms) {
 
     const auto check_container = [&](const YAML::Node& c, bool init) {
       const std::string where = name + "/" + c["name"].as<std::string>();
-      EXPECT_TRUE(c["resources"]["requests"]["cpu"] && c["resources"]["requests"]["memory"]) << where << " lacks requests";
+      EXPECT_TRUE(c["resources"]["requests"]["cpu"] && c["resources"]["requests"]["memory"])
+          << where << " lacks requests";
       // Each file a flag names is mounted, from a generated key or a file an init container writes.
       const auto check_files = [&](const std::vector<std::string>& argv) {
         for (size_t i = 1; i < argv.size(); ++i) {
@@ -283,7 +288,8 @@ TEST(Deploy, KubernetesManifestsAgreeWithThePrograms) {
           if (volume["configMap"] || volume["secret"]) {
             const std::string source = volume["configMap"] ? volume["configMap"]["name"].as<std::string>()
                                                            : volume["secret"]["secretName"].as<std::string>();
-            EXPECT_TRUE(generated[source].count(key)) << where << ": " << a << " is not key '" << key << "' of " << source;
+            EXPECT_TRUE(generated[source].count(key))
+                << where << ": " << a << " is not key '" << key << "' of " << source;
           } else if (volume["emptyDir"] && !init) {
             EXPECT_NE(std::find(init_commands.begin(), init_commands.end(), a), init_commands.end())
                 << where << ": no init container writes " << a;
@@ -307,7 +313,8 @@ TEST(Deploy, KubernetesManifestsAgreeWithThePrograms) {
       check_files(command);
       const auto flags = FlagValues(command);
       if (command[0] == "navd" || command[0] == "navsim") {
-        (command[0] == "navd" ? navd_namespaces : navsim_namespaces)[flags.count("--namespace") ? flags.at("--namespace") : ""]++;
+        (command[0] == "navd" ? navd_namespaces
+                              : navsim_namespaces)[flags.count("--namespace") ? flags.at("--namespace") : ""]++;
       }
       if (flags.count("--dds-discovery-server")) {
         const std::string server = flags.at("--dds-discovery-server");

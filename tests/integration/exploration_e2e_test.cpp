@@ -32,20 +32,21 @@ TEST(ExplorationE2E, FrontierExplorationMapsTheWarehouseThroughNavdWithoutCollis
   options.rate = 4.0;
   NavdStack stack(options);
   ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
-  const auto run = RunCommand({NavctlBinary(), "--server", stack.address(), "explore", "start", "--method", "frontier",
-                               "--size", "40", "--max-time", "900", "--wait", "--measure", "--domain",
-                               std::to_string(stack.domain()), "--json"},
-                              280.0);
+  const auto run = RunCommand(
+      {NavctlBinary(), "--server", stack.address(), "explore", "start", "--method", "frontier", "--size", "40",
+       "--max-time", "900", "--wait", "--measure", "--domain", std::to_string(stack.domain()), "--json"},
+      280.0);
   ASSERT_EQ(run.exit_code, 0) << run.output << stack.Logs();
   const auto j = nlohmann::json::parse(run.output.substr(run.output.find('{')));
   const auto& truth = j["truth"];
-  std::printf("exploration (frontier, through navd): %.1f%% of the reachable free space mapped (%.1f%% free), "
-              "%.1f s simulated, %.1f m driven, %d collisions, %d goals (%d given up), SLAM position error mean "
-              "%.3f m max %.3f m\n",
-              100.0 * truth["reachable_mapped"].get<double>(), 100.0 * truth["reachable_mapped_free"].get<double>(),
-              j["elapsed"].get<double>(), truth["distance_travelled"].get<double>(), truth["collisions"].get<int>(),
-              j["goals"].get<int>(), j["goals_given_up"].get<int>(), truth["mean_position_error"].get<double>(),
-              truth["max_position_error"].get<double>());
+  std::printf(
+      "exploration (frontier, through navd): %.1f%% of the reachable free space mapped (%.1f%% free), "
+      "%.1f s simulated, %.1f m driven, %d collisions, %d goals (%d given up), SLAM position error mean "
+      "%.3f m max %.3f m\n",
+      100.0 * truth["reachable_mapped"].get<double>(), 100.0 * truth["reachable_mapped_free"].get<double>(),
+      j["elapsed"].get<double>(), truth["distance_travelled"].get<double>(), truth["collisions"].get<int>(),
+      j["goals"].get<int>(), j["goals_given_up"].get<int>(), truth["mean_position_error"].get<double>(),
+      truth["max_position_error"].get<double>());
   EXPECT_EQ(j["state"], "complete") << j.dump();
   EXPECT_GE(truth["reachable_mapped"].get<double>(), 0.95) << j.dump();
   EXPECT_EQ(truth["collisions"].get<int>(), 0) << j.dump() << stack.Logs();
@@ -71,8 +72,9 @@ TEST(ExplorationE2E, BadRequestsAreRefusedAndStopEndsTheRunKeepingItsMap) {
     edit(r);
     return r;
   };
-  ExpectError([&] { client.StartExploration(request([](auto& r) { r.set_method(static_cast<v1::ExplorationMethod>(7)); })); },
-              grpc::StatusCode::INVALID_ARGUMENT, "method");
+  ExpectError(
+      [&] { client.StartExploration(request([](auto& r) { r.set_method(static_cast<v1::ExplorationMethod>(7)); })); },
+      grpc::StatusCode::INVALID_ARGUMENT, "method");
   ExpectError([&] { client.StartExploration(request([](auto& r) { r.set_max_time(-1.0); })); },
               grpc::StatusCode::INVALID_ARGUMENT, "max_time");
   ExpectError([&] { client.StartExploration(request([](auto& r) { r.set_planner("nope"); })); },

@@ -102,7 +102,8 @@ TEST(MappingE2E, SlamWhileDrivingStreamsUpdatesAndSavesAMapThatLoadsBack) {
   EXPECT_GT(running.nodes(), 10u);
   // rt/map carried the map being built (400 x 400), in nav_msgs/OccupancyGrid layout.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (std::chrono::steady_clock::now() < deadline && (!telemetry->LatestMap() || telemetry->LatestMap()->info().width() != 400u))
+  while (std::chrono::steady_clock::now() < deadline &&
+         (!telemetry->LatestMap() || telemetry->LatestMap()->info().width() != 400u))
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(telemetry->LatestMap());
   EXPECT_EQ(telemetry->LatestMap()->info().width(), 400u);
@@ -146,7 +147,8 @@ TEST(MappingE2E, SlamWhileDrivingStreamsUpdatesAndSavesAMapThatLoadsBack) {
 
   // Saved atomically as map_server YAML + PGM and as PNG; loaded back as the served map.
   const std::string dir = stack.dir();
-  const v1::SaveMapResponse saved = client.SaveMap(dir + "/built.yaml", v1::MAP_FORMAT_MAP_SERVER, v1::MAP_SOURCE_MAPPING);
+  const v1::SaveMapResponse saved =
+      client.SaveMap(dir + "/built.yaml", v1::MAP_FORMAT_MAP_SERVER, v1::MAP_SOURCE_MAPPING);
   ASSERT_EQ(saved.files_size(), 2);
   EXPECT_TRUE(std::filesystem::exists(dir + "/built.pgm"));
   client.SaveMap(dir + "/built.png", v1::MAP_FORMAT_PNG, v1::MAP_SOURCE_MAPPING);

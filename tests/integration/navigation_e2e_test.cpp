@@ -237,7 +237,8 @@ TEST(NavigationE2E, SpeedZonesSlowTheRobotWhereTheWorldSaysAndClientsChangeThem)
   });
   double limit_seen = 0.0;
   const auto result = client.NavigateTo(
-      0.8, 8.5, std::nullopt, [&](const v1::NavigationFeedback& f) {
+      0.8, 8.5, std::nullopt,
+      [&](const v1::NavigationFeedback& f) {
         if (std::abs(f.speed_limit() - 0.15) < 1e-9) limit_seen = f.speed_limit();
       },
       120.0);
@@ -318,8 +319,8 @@ TEST(NavigationE2E, DeliveryMissionSchedulesPickupsAndDropoffsAndDrivesThem) {
   EXPECT_FALSE(stack.client().GetStatus().active());
 
   const auto run = RunCommand({NavctlBinary(), "--server", server, "deliver", "--task", "tools:8.8,8.8:0.8,5.0",
-                               "--task", "parts:8.6,5.6:0.8,8.5", "--task", "mail:5.0,5.0:3.0,2.6:1", "--capacity",
-                               "2", "--return", "--json", "--timeout", "250"},
+                               "--task", "parts:8.6,5.6:0.8,8.5", "--task", "mail:5.0,5.0:3.0,2.6:1", "--capacity", "2",
+                               "--return", "--json", "--timeout", "250"},
                               270.0);
   ASSERT_NE(run.output.find('{'), std::string::npos) << run.output << stack.Logs();
   const auto j = nlohmann::json::parse(run.output.substr(run.output.find('{')));

@@ -94,8 +94,8 @@ TEST(OfficeE2E, TwentyRandomGoalsAmongUnknownObstaclesAreAllReached) {
 // sonar ring finds. The reflexes steer off them and the leg plans go round them. (The ring's angles
 // are given as a user with another robot would, here the Pioneer's own.)
 TEST(OfficeE2E, SonarReflexesKeepTheRobotOffGlassTheLaserSeesThrough) {
-  const OfficeRun run =
-      RunOffice("office_glass", 10, {"--sonar-angles", "90,50,30,10,-10,-30,-50,-90,-90,-130,-150,-170,170,150,130,90"});
+  const OfficeRun run = RunOffice("office_glass", 10,
+                                  {"--sonar-angles", "90,50,30,10,-10,-30,-50,-90,-90,-130,-150,-170,170,150,130,90"});
   EXPECT_EQ(run.reached, run.goals);
   EXPECT_GT(run.reflexes, 0);
 }

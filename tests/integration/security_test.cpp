@@ -32,8 +32,7 @@ std::string ReadIfPresent(const std::string& path) {
 StackOptions SecuredStack(const Keystore& keys, bool client_ca, const std::string& client_role = "admin",
                           const std::string& client_cert = "") {
   StackOptions o;
-  o.navd_args = {"--tls-cert", keys.tls("navd.pem"), "--tls-key", keys.tls("navd.key"), "--auth-tokens",
-                 keys.tokens()};
+  o.navd_args = {"--tls-cert", keys.tls("navd.pem"), "--tls-key", keys.tls("navd.key"), "--auth-tokens", keys.tokens()};
   if (client_ca) o.navd_args.insert(o.navd_args.end(), {"--tls-client-ca", keys.tls("ca.pem")});
   o.client = keys.Client(client_role, client_cert);
   return o;
@@ -176,13 +175,12 @@ TEST(GrpcSecurity, NavdRefusesPlainTextBeyondLoopbackAndOpenTokenFiles) {
                   "--tls-key", keys.tls("navd.key"), "--auth-tokens", keys.tokens()},
                  20.0);
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_EQ(r.output, "navd: auth tokens file " + keys.tokens() + " is open to group or others (mode 0640); chmod 600 " +
-                          keys.tokens() + "\n");
+  EXPECT_EQ(r.output, "navd: auth tokens file " + keys.tokens() +
+                          " is open to group or others (mode 0640); chmod 600 " + keys.tokens() + "\n");
 
   // Said explicitly, plain text beyond loopback starts, with a warning.
   const std::string dir = MakeTempDir();
-  Process navd({NavdBinary(), "--domain", domain, "--listen", "0.0.0.0:0", "--insecure", "--port-file",
-                dir + "/port"},
+  Process navd({NavdBinary(), "--domain", domain, "--listen", "0.0.0.0:0", "--insecure", "--port-file", dir + "/port"},
                dir + "/navd.log");
   ASSERT_TRUE(WaitUntil([&] { return !Trimmed(ReadIfPresent(dir + "/port")).empty() || !navd.running(); }, 20.0));
   ASSERT_TRUE(navd.running()) << navd.Log();
@@ -200,7 +198,8 @@ TEST(GrpcSecurity, SighupReloadsTheTokensAndABadFileKeepsThePreviousOnes) {
   const std::string navctl_prefix = NavctlBinary() + " --server " + stack.address() + " --tls-ca " + keys.tls("ca.pem");
 
   // navctl: the token from NAVD_TOKEN or --token; a refusal is one line and a non-zero exit.
-  CommandResult r = RunCommand({"/bin/bash", "-c", "NAVD_TOKEN=" + keys.token("viewer") + " " + navctl_prefix + " planners"});
+  CommandResult r =
+      RunCommand({"/bin/bash", "-c", "NAVD_TOKEN=" + keys.token("viewer") + " " + navctl_prefix + " planners"});
   EXPECT_EQ(r.exit_code, 0) << r.output;
   r = RunCommand({"/bin/bash", "-c", navctl_prefix + " --token " + keys.token("viewer") + " navigate --to 3,4"});
   EXPECT_EQ(r.exit_code, 1);
@@ -235,8 +234,8 @@ TEST(GrpcSecurity, SighupReloadsTheTokensAndABadFileKeepsThePreviousOnes) {
   WriteFileAtomically(keys.tokens(), fresh + " root\n");
   ASSERT_EQ(::chmod(keys.tokens().c_str(), 0600), 0);
   ASSERT_EQ(::kill(stack.navd().pid(), SIGHUP), 0);
-  EXPECT_TRUE(WaitUntil([&] { return stack.navd().Log().find("kept the previous credentials") != std::string::npos; },
-                        10.0))
+  EXPECT_TRUE(
+      WaitUntil([&] { return stack.navd().Log().find("kept the previous credentials") != std::string::npos; }, 10.0))
       << stack.Logs();
   EXPECT_NO_THROW(newcomer->ListPlanners());
   EXPECT_EQ(stack.navd().Log().find(fresh), std::string::npos) << "navd logged a token";

@@ -124,7 +124,7 @@ TEST(NavsimScenario, TwoRobotsAndPeopleOverDdsWithNamespacesTruthAndCollisions) 
   ASSERT_EQ(alpha_joints.Latest()->name().size(), 2u);
   EXPECT_EQ(alpha_joints.Latest()->name()[0], "left_wheel");
   EXPECT_GT(alpha_joints.Latest()->position()[0], 10.0);  // 1.5 m on a 5 cm wheel is ~5 turns
-  EXPECT_EQ(bare_scan.count(), 0u);                        // nothing leaks outside the namespaces
+  EXPECT_EQ(bare_scan.count(), 0u);                       // nothing leaks outside the namespaces
 
   // Stopping navsim closes the recording: a CARMEN log of alpha's run.
   EXPECT_EQ(navsim.Stop(SIGINT, 10.0), 0) << navsim.Log();
@@ -145,7 +145,8 @@ TEST(NavsimScenario, BareMapServerMapRunsTheDefaultRobotAndBadStartsAreRefused) 
   }
   std::ofstream(dir + "/room.pgm", std::ios::binary) << "P5 80 60 255\n" << pixels;
   std::ofstream(dir + "/room.yaml") << "image: room.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\n";
-  Process navsim({NavsimBinary(), "--world", dir + "/room.yaml", "--domain", std::to_string(domain)}, dir + "/navsim.log");
+  Process navsim({NavsimBinary(), "--world", dir + "/room.yaml", "--domain", std::to_string(domain)},
+                 dir + "/navsim.log");
   dds::Participant p({domain, dds::Network::kLoopback, "driver", {}, {}, {}});
   dds::Reader<Odometry> truth(p, dds::TopicName("", dds::kGroundTruth), dds::Reliability::kBestEffort);
   dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(p, dds::TopicName("", dds::kScan),
@@ -161,7 +162,8 @@ TEST(NavsimScenario, BareMapServerMapRunsTheDefaultRobotAndBadStartsAreRefused) 
   ASSERT_EQ(s.ranges().size(), 683u);
   EXPECT_NEAR(s.ranges()[341], 1.95, 0.1);
 
-  const auto bad = RunCommand({NavsimBinary(), "--world", dir + "/room.yaml", "--start", "0.02,1.5", "--duration", "1"});
+  const auto bad =
+      RunCommand({NavsimBinary(), "--world", dir + "/room.yaml", "--start", "0.02,1.5", "--duration", "1"});
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("--start '0.02,1.5' puts the robot off the map or inside a wall"), std::string::npos)
       << bad.output;
@@ -170,19 +172,20 @@ TEST(NavsimScenario, BareMapServerMapRunsTheDefaultRobotAndBadStartsAreRefused) 
 TEST(NavsimScenario, NavctlClosesAndOpensADoorTheLaserSeesIt) {
   const int domain = ReserveDomain();
   const std::string dir = MakeTempDir();
-  Process navsim({NavsimBinary(), "--scenario", SourceDir() + "/worlds/scenarios/office.yaml", "--rate", "5", "--domain",
-                  std::to_string(domain), "--command-timeout", "1000"},
+  Process navsim({NavsimBinary(), "--scenario", SourceDir() + "/worlds/scenarios/office.yaml", "--rate", "5",
+                  "--domain", std::to_string(domain), "--command-timeout", "1000"},
                  dir + "/navsim.log");
   dds::Participant p({domain, dds::Network::kLoopback, "driver", {}, {}, {}});
   std::mutex scans_mutex;
   std::vector<float> last_ranges;
   int scans = 0;
-  dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(
-      p, dds::TopicName("", dds::kScan), dds::Reliability::kBestEffort, [&](const sensor_msgs::msg::dds_::LaserScan_& m) {
-        std::lock_guard<std::mutex> lock(scans_mutex);
-        last_ranges = m.ranges();
-        ++scans;
-      });
+  dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(p, dds::TopicName("", dds::kScan),
+                                                                 dds::Reliability::kBestEffort,
+                                                                 [&](const sensor_msgs::msg::dds_::LaserScan_& m) {
+                                                                   std::lock_guard<std::mutex> lock(scans_mutex);
+                                                                   last_ranges = m.ranges();
+                                                                   ++scans;
+                                                                 });
   dds::Reader<navsim_msgs::msg::dds_::WorldState_PubSubType> world(p, dds::kWorldState, dds::Reliability::kBestEffort);
   // The beam from the start (1, 6, 0) through the middle of door s1 (2.5, 4.95) of the office.
   const double angle = std::atan2(4.95 - 6.0, 2.5 - 1.0);

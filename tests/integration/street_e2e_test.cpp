@@ -30,10 +30,10 @@ TEST(StreetE2E, PeopleAwareNavigationDrivesDownTheStreetOutOfPeoplesWay) {
   NavdStack stack(options);
   ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
   // 45 m towards the far end of the street (the mission ends there, succeeded).
-  const auto run = RunCommand({NavctlBinary(), "--server", stack.address(), "follow", "--waypoints", "99,4",
-                               "--max-distance", "45", "--measure", "--domain", std::to_string(stack.domain()),
-                               "--json", "--timeout", "200"},
-                              230.0);
+  const auto run =
+      RunCommand({NavctlBinary(), "--server", stack.address(), "follow", "--waypoints", "99,4", "--max-distance", "45",
+                  "--measure", "--domain", std::to_string(stack.domain()), "--json", "--timeout", "200"},
+                 230.0);
   const std::string logs = stack.Logs();
   ASSERT_NE(run.output.find('{'), std::string::npos) << run.output << logs;
   const auto j = nlohmann::json::parse(run.output.substr(run.output.find('{')));
@@ -43,10 +43,11 @@ TEST(StreetE2E, PeopleAwareNavigationDrivesDownTheStreetOutOfPeoplesWay) {
   const double outside = people.at("outside_personal_zone").get<double>();
   const double sim_time = truth.at("sim_time").get<double>();
   const double distance = truth.at("distance_travelled").get<double>();
-  std::printf("street: %.1f m in %.1f s of simulated time, nearest person outside the personal zone %.1f%% of the "
-              "time, outside the intimate zone %.1f%%, closest %.2f m, collisions %d\n",
-              distance, sim_time, 100.0 * outside, 100.0 * people.at("outside_intimate_zone").get<double>(),
-              people.at("nearest").get<double>(), truth.at("collisions").get<int>());
+  std::printf(
+      "street: %.1f m in %.1f s of simulated time, nearest person outside the personal zone %.1f%% of the "
+      "time, outside the intimate zone %.1f%%, closest %.2f m, collisions %d\n",
+      distance, sim_time, 100.0 * outside, 100.0 * people.at("outside_intimate_zone").get<double>(),
+      people.at("nearest").get<double>(), truth.at("collisions").get<int>());
   EXPECT_EQ(run.exit_code, 0) << run.output << logs;
   EXPECT_GE(distance, 40.0);
   // At speed among the crowd: on average at least 0.8 m/s (the desired speed is 1.5 m/s).
@@ -109,18 +110,19 @@ TEST(StreetE2E, PeopleFromAPeopleDetectorTopicAreWhereTheSimulatorHasThem) {
   telemetry_options.dds.domain = stack.domain();
   telemetry_options.dds.name = "navd-test";
   Telemetry telemetry(telemetry_options, on_status, {}, {}, on_world);
-  const auto run = RunCommand({NavctlBinary(), "--server", stack.address(), "follow", "--waypoints", "99,4",
-                               "--max-distance", "30", "--measure", "--domain", std::to_string(stack.domain()),
-                               "--json", "--timeout", "150"},
-                              180.0);
+  const auto run =
+      RunCommand({NavctlBinary(), "--server", stack.address(), "follow", "--waypoints", "99,4", "--max-distance", "30",
+                  "--measure", "--domain", std::to_string(stack.domain()), "--json", "--timeout", "150"},
+                 180.0);
   EXPECT_EQ(run.exit_code, 0) << run.output << stack.Logs();
   std::lock_guard<std::mutex> lock(mutex);
   ASSERT_GT(errors.size(), 50u) << statuses << " statuses set beside the truth";
   std::sort(errors.begin(), errors.end());
   const double median = errors[errors.size() / 2], p90 = errors[errors.size() * 9 / 10];
-  std::printf("street (people from rt/people): %zu people within 4 m in %d statuses; navd had them %.3f m off (median), "
-              "%.3f m (90th percentile); %d not within 0.3 m\n",
-              errors.size(), statuses, median, p90, missed);
+  std::printf(
+      "street (people from rt/people): %zu people within 4 m in %d statuses; navd had them %.3f m off (median), "
+      "%.3f m (90th percentile); %d not within 0.3 m\n",
+      errors.size(), statuses, median, p90, missed);
   EXPECT_LT(median, 0.10);
   EXPECT_LT(p90, 0.25);
   EXPECT_LE(missed, static_cast<int>(errors.size() / 20));

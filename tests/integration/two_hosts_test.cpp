@@ -28,9 +28,13 @@ class TwoHosts : public ::testing::Test {
 
   // navd on its host with TLS and roles, and `dds_args`; returns once it listens.
   void StartNavd(const std::vector<std::string>& dds_args) {
-    std::vector<std::string> argv{NavdBinary(), "--use-sim-time", "--listen", Server(), "--port-file",
-                                  dir_ + "/navd.port", "--tls-cert", keys_->tls("navd.pem"), "--tls-key",
-                                  keys_->tls("navd.key"), "--auth-tokens", keys_->tokens(), "--dds-network", "all"};
+    std::vector<std::string> argv{NavdBinary(),    "--use-sim-time",
+                                  "--listen",      Server(),
+                                  "--port-file",   dir_ + "/navd.port",
+                                  "--tls-cert",    keys_->tls("navd.pem"),
+                                  "--tls-key",     keys_->tls("navd.key"),
+                                  "--auth-tokens", keys_->tokens(),
+                                  "--dds-network", "all"};
     argv.insert(argv.end(), dds_args.begin(), dds_args.end());
     navd_.emplace(lan_->On(kNavdHost, argv), dir_ + "/navd.log");
     for (int i = 0; i < 400 && !std::ifstream(dir_ + "/navd.port").good(); ++i) {
@@ -50,8 +54,8 @@ class TwoHosts : public ::testing::Test {
 
   // navctl on the client host, over TLS with the operator's token.
   CommandResult Navctl(const std::vector<std::string>& command, double timeout) {
-    std::vector<std::string> argv{NavctlBinary(), "--server", Server(), "--tls-ca", keys_->tls("ca.pem"), "--token",
-                                  keys_->token("operator")};
+    std::vector<std::string> argv{
+        NavctlBinary(), "--server", Server(), "--tls-ca", keys_->tls("ca.pem"), "--token", keys_->token("operator")};
     argv.insert(argv.end(), command.begin(), command.end());
     return RunCommand(lan_->On(kClientHost, argv), timeout);
   }

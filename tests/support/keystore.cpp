@@ -37,7 +37,8 @@ std::string Keystore::ExtraClientCertificate(const std::string& name, const std:
                                              int days) const {
   const std::string base = dir_ + "/" + name;
   std::string script = "set -e; cd " + dir_ + "; openssl genpkey -algorithm EC -pkeyopt ec_paramgen_curve:P-256 -out " +
-                       base + ".key; openssl req -new -key " + base + ".key -subj /CN=" + cn + " -out " + base + ".csr;";
+                       base + ".key; openssl req -new -key " + base + ".key -subj /CN=" + cn + " -out " + base +
+                       ".csr;";
   std::string ca = tls("ca.pem"), ca_key = tls("ca.key");
   if (foreign) {
     ca = base + "-ca.pem";

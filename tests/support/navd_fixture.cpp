@@ -36,11 +36,12 @@ std::string SourceDir() { return NAVD_SOURCE_DIR; }
   if (!a) return ::testing::AssertionFailure() << "no simulator status over DDS";
   const double from = dds::FromTime(a->header().stamp());
   const auto b = sample_after(from, gap);
-  if (!b) return ::testing::AssertionFailure() << "no simulator status over DDS " << gap << " s after t=" << from << " s";
+  if (!b)
+    return ::testing::AssertionFailure() << "no simulator status over DDS " << gap << " s after t=" << from << " s";
   const double moved = std::hypot(a->x() - b->x(), a->y() - b->y());
   if (moved >= 1e-3)
-    return ::testing::AssertionFailure() << "the robot moved " << moved << " m from t=" << from << " s to t="
-                                         << dds::FromTime(b->header().stamp()) << " s (simulated)";
+    return ::testing::AssertionFailure() << "the robot moved " << moved << " m from t=" << from
+                                         << " s to t=" << dds::FromTime(b->header().stamp()) << " s (simulated)";
   return ::testing::AssertionSuccess();
 }
 

@@ -14,13 +14,13 @@
 namespace navd::testing {
 
 struct StackOptions {
-  double rate = 5.0;                   // navsim --rate
-  bool use_sim_time = true;            // navd --use-sim-time
-  bool lockstep = true;                // navsim --lockstep: figures in simulated time do not depend on load
+  double rate = 5.0;         // navsim --rate
+  bool use_sim_time = true;  // navd --use-sim-time
+  bool lockstep = true;      // navsim --lockstep: figures in simulated time do not depend on load
   bool start_sim = true;
   std::vector<std::string> navd_args;  // extra arguments
   std::vector<std::string> sim_args;
-  ClientOptions client;                // the stack's client; its server is set to navd's address
+  ClientOptions client;  // the stack's client; its server is set to navd's address
 };
 
 class NavdStack {

@@ -42,7 +42,7 @@ inline ScanReading ToScan(const sim::Simulation& s, const std::vector<float>& ra
 }
 
 struct Errors {
-  double position = 0, heading = 0;        // worst over the settle window
+  double position = 0, heading = 0;  // worst over the settle window
   double mean_position = 0, mean_heading = 0;
 };
 
@@ -118,7 +118,12 @@ inline const Pose2 kValidationEstimate{2.25, 4.20, 3.0};
 inline Errors RunSeedZeroValidation(sim::Simulation& s, Localizer& localizer) {
   localizer.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
   localizer.SetPose(kValidationEstimate, Eigen::Vector3d(0.04, 0.04, 0.04).asDiagonal());
-  return Drive(s, localizer, 13.0, [](double t) { return Twist2{0.0, t < 6 ? 0.3 : t < 12 ? -0.3 : 0.0}; }, 0.5);
+  return Drive(
+      s, localizer, 13.0,
+      [](double t) {
+        return Twist2{0.0, t < 6 ? 0.3 : t < 12 ? -0.3 : 0.0};
+      },
+      0.5);
 }
 
 }  // namespace navd::localization

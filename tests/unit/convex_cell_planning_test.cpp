@@ -14,8 +14,8 @@ namespace navd::planning {
 namespace {
 
 std::shared_ptr<const Costmap> WarehouseCostmap() {
-  static const auto costmap = std::make_shared<const Costmap>(
-      std::make_shared<const OccupancyGrid>(DefaultWorld().map), CostmapOptions{0.30, true});
+  static const auto costmap = std::make_shared<const Costmap>(std::make_shared<const OccupancyGrid>(DefaultWorld().map),
+                                                              CostmapOptions{0.30, true});
   return costmap;
 }
 
@@ -77,7 +77,8 @@ std::shared_ptr<const Costmap> RoomWithBlock() {
     g.FillBox({0.0, 0.0}, {0.1, 6.0});
     g.FillBox({9.9, 0.0}, {10.0, 6.0});
     g.FillBox({4.0, 2.0}, {6.0, 4.0});
-    return std::make_shared<const Costmap>(std::make_shared<const OccupancyGrid>(std::move(g)), CostmapOptions{0.30, true});
+    return std::make_shared<const Costmap>(std::make_shared<const OccupancyGrid>(std::move(g)),
+                                           CostmapOptions{0.30, true});
   }();
   return costmap;
 }
@@ -147,7 +148,8 @@ TEST(ConvexGrid, StartInTheMarginJoinsTheGridAndFarPointsAreRefused) {
 TEST(MeadowMap, AStarOverBorderMidpointsIsCollisionFreeAndNearTheShortest) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  PlanningEngine engine(
+      maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(engine);
   const auto cm = engine.CurrentCostmap();
   const Point2 s(0.8, 1.0), g(8.8, 8.8);
@@ -168,7 +170,8 @@ TEST(MeadowMap, AStarOverBorderMidpointsIsCollisionFreeAndNearTheShortest) {
 TEST(TopologicalGraph, RoutesComeFromTheTableAfterTheFirstQueryFromAPlace) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  PlanningEngine engine(
+      maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   auto cells = std::make_shared<ConvexCellMapCache>();
   auto owned = std::make_unique<TopologicalGraphPlanner>(cells);
   const TopologicalGraphPlanner& topo = *owned;

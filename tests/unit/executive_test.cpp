@@ -235,7 +235,7 @@ TEST(NavigatorMission, PauseStopsTheRobotAndResumeReplans) {
   }
   nav.Pause(t);
   EXPECT_THROW(nav.Pause(t), Error);  // already paused
-  for (int i = 0; i < 2000; ++i) {  // 100 s paused: longer than the progress timeout, and no failure
+  for (int i = 0; i < 2000; ++i) {    // 100 s paused: longer than the progress timeout, and no failure
     const WheelSpeeds w = nav.Step(pose, t, true);
     EXPECT_EQ(w.left, 0.0);
     EXPECT_EQ(w.right, 0.0);
@@ -319,8 +319,8 @@ struct ReleaseRun {
   std::vector<WheelSpeeds> pressed;  // the commands while pressed
   double backed = 0.0;               // m backed away after the release
   int backing_steps = 0;
-  double driven_on = 0.0;            // m beyond the pressed point two seconds later
-  bool active = false;               // the mission still on
+  double driven_on = 0.0;  // m beyond the pressed point two seconds later
+  bool active = false;     // the mission still on
 };
 ReleaseRun PressTheBumperWhileDriving(OpenFloor& floor, const std::function<void(const Pose2&)>& while_pressed = {}) {
   auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
@@ -443,7 +443,8 @@ TEST(NavigationExecutive, AStuckRobotRunsTheRecoveriesInTurnThenGivesUp) {
   EXPECT_EQ(run.result->outcome, Outcome::kFailed);
   EXPECT_NE(run.result->message.find("after 4 recoveries on this leg"), std::string::npos) << run.result->message;
   EXPECT_EQ(run.recoveries_reported, 4u);
-  const std::vector<std::string> expected = {"stuck: recovery 'clear' (1 so far)", "stuck: recovery 'back up' (2 so far)",
+  const std::vector<std::string> expected = {"stuck: recovery 'clear' (1 so far)",
+                                             "stuck: recovery 'back up' (2 so far)",
                                              "stuck: recovery 'spin' (3 so far)", "stuck: recovery 'wait' (4 so far)"};
   for (const std::string& e : expected) EXPECT_TRUE(run.recoveries.count(e)) << e;
   EXPECT_NEAR(run.backed, 0.15, 0.03);
@@ -668,7 +669,7 @@ TEST(NavigationExecutive, GetsRoundAPostOnlyTheLaserSeesAcrossThePath) {
 // mission up after give_up_after, saying why.
 struct ReentryRun {
   std::optional<NavigationResult> result;
-  std::string reason;               // the first hold reason outside the grid
+  std::string reason;  // the first hold reason outside the grid
   double turned_before_driving = 0.0, least_x = 1e9;
   bool accepted = false;
 };
@@ -715,7 +716,8 @@ ReentryRun DriveBackOntoTheGrid(bool boxed_in) {
     in.scan = &scan;
     const WheelSpeeds w = executive.Step(in, t);
     const NavigationStatus s = executive.navigator().Status();
-    if (s.hold_reason.find("outside the navigation grid") != std::string::npos && run.reason.empty()) run.reason = s.hold_reason;
+    if (s.hold_reason.find("outside the navigation grid") != std::string::npos && run.reason.empty())
+      run.reason = s.hold_reason;
     const Pose2 before = localizer.Estimate().pose;
     odom = IntegrateDiffDrive(odom, w.left * 0.05, w.right * 0.05, options.follower.wheel_base);
     driven = driven || w.left + w.right > 0.01;
@@ -752,7 +754,7 @@ TEST(NavigationExecutive, BoxedInOutsideTheGridItGivesTheMissionUpSayingWhy) {
   ASSERT_TRUE(run.result);
   EXPECT_EQ(run.result->outcome, Outcome::kFailed);
   EXPECT_NE(run.result->message.find("outside the navigation grid for 20 s"), std::string::npos) << run.result->message;
-  EXPECT_GT(run.turned_before_driving, 3.0);  // turning in place all along
+  EXPECT_GT(run.turned_before_driving, 3.0);         // turning in place all along
   EXPECT_NEAR(run.result->final_pose.x, 0.7, 1e-6);  // it never drove: the way was never clear
 }
 
@@ -794,8 +796,8 @@ TEST(NavigationExecutive, NamesNavigationWhileItDrivesWithNothingAheadToAvoid) {
 // whole map.
 struct CorridorLoss {
   bool lost = false, found = false;
-  double error = 0.0;                     // m from the truth when found
-  std::vector<std::string> searches;      // the wake-up's messages, in turn
+  double error = 0.0;                 // m from the truth when found
+  std::vector<std::string> searches;  // the wake-up's messages, in turn
 };
 CorridorLoss LoseThePoseInACorridor(double crowded_for) {
   OccupancyGrid corridor(800, 60, 0.05, Point2(0.0, 0.0));
@@ -830,8 +832,11 @@ CorridorLoss LoseThePoseInACorridor(double crowded_for) {
     scan.stamp = t;
     const bool crowded = t >= 2.0 && t < 2.0 + crowded_for;
     for (int i = 0; i < 180; ++i) {
-      const double r = caster.CastOpenEdge(truth.translation(), truth.theta + scan.angle_min + i * scan.angle_increment, 8.0);
-      scan.ranges.push_back(static_cast<float>(crowded && i % 5 != 0 ? std::min(r, 0.5 + 0.1 * (i % 6)) : r >= 8.0 ? 9.0 : r));
+      const double r =
+          caster.CastOpenEdge(truth.translation(), truth.theta + scan.angle_min + i * scan.angle_increment, 8.0);
+      scan.ranges.push_back(static_cast<float>(crowded && i % 5 != 0 ? std::min(r, 0.5 + 0.1 * (i % 6))
+                                               : r >= 8.0            ? 9.0
+                                                                     : r));
     }
     localizer.AddScan(scan);
     ExecutiveInputs in;
@@ -840,7 +845,8 @@ CorridorLoss LoseThePoseInACorridor(double crowded_for) {
     const WheelSpeeds w = executive.Step(in, t);
     truth = IntegrateDiffDrive(truth, w.left * 0.1, w.right * 0.1, wheel_base);
     const std::string message = executive.navigator().Status().hold_reason;
-    if (executive.searching() && (out.searches.empty() || out.searches.back() != message)) out.searches.push_back(message);
+    if (executive.searching() && (out.searches.empty() || out.searches.back() != message))
+      out.searches.push_back(message);
     out.lost |= executive.localization_lost();
     if (out.lost && !executive.localization_lost()) {
       out.found = true;
@@ -900,7 +906,8 @@ TEST(NavigationExecutive, LongTermMemoryHandsANewMapToTheLocalisers) {
     scan.range_max = 8.0;
     scan.stamp = t;
     for (int i = 0; i < 180; ++i)
-      scan.ranges.push_back(static_cast<float>(caster.Cast(truth.translation(), scan.angle_min + i * scan.angle_increment, 8.0)));
+      scan.ranges.push_back(
+          static_cast<float>(caster.Cast(truth.translation(), scan.angle_min + i * scan.angle_increment, 8.0)));
     localizer.AddScan(scan);
     executive.Step(ExecutiveInputs{}, t);
     t += 0.1;

@@ -37,7 +37,8 @@ TEST(GlobalScanSearch, FindsRandomWarehousePosesFromOneScan) {
     }
     const std::vector<PoseCandidate> found = search.Search(points);
     auto near = [&](const PoseCandidate& c) {
-      return std::hypot(c.pose.x - truth.x, c.pose.y - truth.y) < 0.3 && std::abs(NormalizeAngle(c.pose.theta - truth.theta)) < 0.1;
+      return std::hypot(c.pose.x - truth.x, c.pose.y - truth.y) < 0.3 &&
+             std::abs(NormalizeAngle(c.pose.theta - truth.theta)) < 0.1;
     };
     if (!found.empty() && near(found.front())) ++first;
     if (std::any_of(found.begin(), found.end(), near)) ++among;

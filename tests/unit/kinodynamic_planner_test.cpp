@@ -74,7 +74,7 @@ TEST(Kinodynamic, KeepsOutOfAStandingPersonsPersonalZone) {
   ExpectDynamicallyFeasible(cm, blind, without);
   const double near_aware = ClosestApproach(with_comfort, person), near_blind = ClosestApproach(without, person);
   EXPECT_GE(near_blind, person.radius + cm.options().inflation_radius);  // never touches
-  EXPECT_GT(near_aware, 1.0) << "blind: " << near_blind;  // outside most of the personal zone (1.2 m)
+  EXPECT_GT(near_aware, 1.0) << "blind: " << near_blind;                 // outside most of the personal zone (1.2 m)
   // The comfort costs what it saves: the aware trajectory is cheaper under the aware cost.
   EXPECT_LT(TrajectoryCost(cm, aware, {person}, with_comfort.points, with_comfort.times),
             TrajectoryCost(cm, aware, {person}, without.points, without.times) + 1e-9);

@@ -47,7 +47,7 @@ TEST(MapServerFormat, DecodesBinaryPgmWithThresholdsAndFlip) {
   EXPECT_EQ(g.height(), 2);
   EXPECT_EQ(g.at({0, 1}), OccupancyGrid::kOccupied);  // top-left pixel is the upper row
   EXPECT_EQ(g.at({1, 1}), OccupancyGrid::kFree);
-  EXPECT_EQ(g.at({2, 1}), OccupancyGrid::kUnknown);   // occupancy 0.5: between thresholds
+  EXPECT_EQ(g.at({2, 1}), OccupancyGrid::kUnknown);  // occupancy 0.5: between thresholds
   EXPECT_EQ(g.at({2, 0}), OccupancyGrid::kOccupied);
   EXPECT_EQ(g.CellOf({-0.9, 2.1}), (CellIndex{0, 0}));
 }
@@ -175,7 +175,10 @@ TEST(World, DefaultWarehouseParsesAndItsGoalsAreReachable) {
   EXPECT_TRUE(w.map.IsOccupied(w.map.CellOf({8.5, 1.5})));
   MapStore maps;
   maps.Set(w.map, w.name);
-  planning::PlanningEngine engine(maps, {.costmap = {w.robot.radius + 0.1, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  planning::PlanningEngine engine(maps, {.costmap = {w.robot.radius + 0.1, true},
+                                         .default_planner = "astar",
+                                         .start_recovery_radius = 0.5,
+                                         .velocity = {}});
   engine.Register(std::make_unique<planning::GridAStarPlanner>());
   Point2 from = w.start.translation();
   for (const auto& g : w.goals) {
@@ -194,15 +197,18 @@ TEST(World, BadWorldFilesNameTheField) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("'map'"), std::string::npos) << msg;
 
-  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "b.yaml", "map: {size: [5, 5]}\nrobot: {radius: -1}\n")); });
+  std::tie(code, msg) =
+      ErrorOf([&] { LoadWorldFile(Write(dir, "b.yaml", "map: {size: [5, 5]}\nrobot: {radius: -1}\n")); });
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("robot.radius"), std::string::npos) << msg;
 
-  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "c.yaml", "map: {size: [5, 5], boxes: [[1, 2, 3]]}\n")); });
+  std::tie(code, msg) =
+      ErrorOf([&] { LoadWorldFile(Write(dir, "c.yaml", "map: {size: [5, 5], boxes: [[1, 2, 3]]}\n")); });
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("map.boxes[0]"), std::string::npos) << msg;
 
-  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "d.yaml", "map: {size: [5, 5]}\nrobot: {start: [9, 9]}\n")); });
+  std::tie(code, msg) =
+      ErrorOf([&] { LoadWorldFile(Write(dir, "d.yaml", "map: {size: [5, 5]}\nrobot: {start: [9, 9]}\n")); });
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("robot.start"), std::string::npos) << msg;
 
@@ -214,12 +220,14 @@ TEST(World, BadWorldFilesNameTheField) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("map.size[1]"), std::string::npos) << msg;
 
-  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "k.yaml", "map: {size: [5, 5]}\nrobot: {radious: 0.3}\n")); });
+  std::tie(code, msg) =
+      ErrorOf([&] { LoadWorldFile(Write(dir, "k.yaml", "map: {size: [5, 5]}\nrobot: {radious: 0.3}\n")); });
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("robot.radious"), std::string::npos) << msg;
   EXPECT_NE(msg.find("radius"), std::string::npos) << msg;  // says what is allowed
 
-  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "l.yaml", "map: {size: [5, 5]}\nsonar: {count: 16}\n")); });
+  std::tie(code, msg) =
+      ErrorOf([&] { LoadWorldFile(Write(dir, "l.yaml", "map: {size: [5, 5]}\nsonar: {count: 16}\n")); });
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("'sonar'"), std::string::npos) << msg;
 
@@ -233,7 +241,8 @@ TEST(World, BadWorldFilesNameTheField) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("robot.encoder_ticks_per_rev"), std::string::npos) << msg;
 
-  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "i.yaml", "map: {size: [5, 5]}\nlaser: {beams: 1e12}\n")); });
+  std::tie(code, msg) =
+      ErrorOf([&] { LoadWorldFile(Write(dir, "i.yaml", "map: {size: [5, 5]}\nlaser: {beams: 1e12}\n")); });
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("laser.beams"), std::string::npos) << msg;
 
@@ -259,8 +268,8 @@ TEST(TextFile, WritesAtomically) {
 // are the map north up, in map_server's trinary shades.
 TEST(MapPng, WritesTheMapNorthUpAsGreyPixels) {
   OccupancyGrid grid(5, 3, 0.1, {0, 0}, OccupancyGrid::kFree);
-  grid.set({0, 2}, OccupancyGrid::kOccupied);   // top-left in the image
-  grid.set({4, 0}, OccupancyGrid::kUnknown);    // bottom-right
+  grid.set({0, 2}, OccupancyGrid::kOccupied);  // top-left in the image
+  grid.set({4, 0}, OccupancyGrid::kUnknown);   // bottom-right
   const std::string path = ::testing::TempDir() + "/map.png";
   SaveMapPng(grid, path);
   std::ifstream in(path, std::ios::binary);
@@ -288,10 +297,12 @@ TEST(MapPng, WritesTheMapNorthUpAsGreyPixels) {
   EXPECT_EQ(types, "IHDR IDAT IEND ");
   std::string raw(3 * 6, '\0');
   uLongf size = raw.size();
-  ASSERT_EQ(uncompress(reinterpret_cast<Bytef*>(raw.data()), &size, reinterpret_cast<const Bytef*>(idat.data()), idat.size()), Z_OK);
+  ASSERT_EQ(
+      uncompress(reinterpret_cast<Bytef*>(raw.data()), &size, reinterpret_cast<const Bytef*>(idat.data()), idat.size()),
+      Z_OK);
   ASSERT_EQ(size, 18u);
-  EXPECT_EQ(uint8_t(raw[1]), 0);          // row 0 (top, y = 2), x = 0: occupied
-  EXPECT_EQ(uint8_t(raw[2]), 254);        // free
+  EXPECT_EQ(uint8_t(raw[1]), 0);            // row 0 (top, y = 2), x = 0: occupied
+  EXPECT_EQ(uint8_t(raw[2]), 254);          // free
   EXPECT_EQ(uint8_t(raw[2 * 6 + 5]), 205);  // row 2 (bottom, y = 0), x = 4: unknown
   EXPECT_THROW(SaveMapPng(OccupancyGrid(), path), Error);
 }

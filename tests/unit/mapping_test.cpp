@@ -43,9 +43,9 @@ TEST(OccupancyGridMapper, RebuildsTheWarehouseFromKnownPoses) {
       (v >= 65) == world.map.IsOccupied({x, y}) ? ++agree : ++disagree;
     }
   EXPECT_GT(agree, 5000);
-  EXPECT_LT(disagree, agree / 50);  // under 2% (wall faces seen at grazing angles)
-  EXPECT_LT(g.at(g.CellOf({0.8, 3.0})), 20);    // corridor: free
-  EXPECT_GE(g.at(g.CellOf({1.55, 3.0})), 65);   // corridor wall: occupied
+  EXPECT_LT(disagree, agree / 50);             // under 2% (wall faces seen at grazing angles)
+  EXPECT_LT(g.at(g.CellOf({0.8, 3.0})), 20);   // corridor: free
+  EXPECT_GE(g.at(g.CellOf({1.55, 3.0})), 65);  // corridor wall: occupied
 }
 
 TEST(MapServerFormat, SavesAtomicallyAndReadsBack) {
@@ -108,8 +108,7 @@ TEST(CarmenLog, ReadsScansAndOdometryFromGzipAndReportsBadLines) {
 // reader makes it the scans' range_max. A log without such a pile has none.
 TEST(CarmenLog, InfersTheNoReturnReadingFromWhereReadingsPileUp) {
   std::string text;
-  for (int k = 0; k < 4; ++k)
-    text += "FLASER 4 1.0 81.83 2.5 81.83 0 0 0 0 0 0 " + std::to_string(k) + " host 0\n";
+  for (int k = 0; k < 4; ++k) text += "FLASER 4 1.0 81.83 2.5 81.83 0 0 0 0 0 0 " + std::to_string(k) + " host 0\n";
   CarmenLog log = ParseCarmenLog(text, "piles");
   EXPECT_NEAR(log.scans[0].range_max, 0.99 * 81.83, 1e-4);
   text = "FLASER 4 1.0 30.5 2.5 7.0 0 0 0 0 0 0 1 host 0\n";
@@ -124,12 +123,12 @@ TEST(CarmenOdometry, InterpolatesOdomLinesToEachScanAndFollowsTheFileWhenStampsR
   const std::string text =
       "ODOM 7 7 1 0 0 0 9.0 h 9.0\n"
       "ODOM 0 0 0 0 0 0 10.0 h 10.0\n"
-      "FLASER 1 1.0 9 9 1 5 5 0.5 11.5 h 11.5\n"     // between its neighbours by stamp: 3/4 of the way
-      "ODOM 9 9 1 0 0 0 0 h 0\n"                     // an echo of the corrected pose: not odometry
+      "FLASER 1 1.0 9 9 1 5 5 0.5 11.5 h 11.5\n"  // between its neighbours by stamp: 3/4 of the way
+      "ODOM 9 9 1 0 0 0 0 h 0\n"                  // an echo of the corrected pose: not odometry
       "ODOM 2 0 0.2 0 0 0 12.0 h 12.0\n"
       "ODOM 4 0 0.4 0 0 0 13.0 h 13.0\n"
       "ODOM 5 0 0.4 0 0 0 13.0 h 13.0\n"
-      "FLASER 1 1.0 9 9 1 5 5 0.5 13.0 h 13.0\n"     // repeated stamps: the line before it
+      "FLASER 1 1.0 9 9 1 5 5 0.5 13.0 h 13.0\n"  // repeated stamps: the line before it
       "ODOM 6 0 0.4 0 0 0 13.0 h 13.0\n";
   const CarmenLog log = ParseCarmenLog(text, "raw");
   const std::vector<Pose2> odometry = OdometryAtScans(log);
@@ -149,9 +148,9 @@ TEST(CarmenOdometry, InterpolatesOdomLinesToEachScanAndFollowsTheFileWhenStampsR
 TEST(CarmenLogStamps, CoarseStampsArePacedFromOdometry) {
   const std::string text =
       "FLASER 1 1.0 0 0 0 0 0 0 1.13486e+09 h 1.13486e+09\n"
-      "FLASER 1 1.0 1 0 0 1 0 0 1.13486e+09 h 1.13486e+09\n"       // 1 m: 2 s at 0.5 m/s
-      "FLASER 1 1.0 1 0 1 1 0 1 1.13486e+09 h 1.13486e+09\n"       // 1 rad: 2 s at 0.5 rad/s
-      "FLASER 1 1.0 1 0 1 1 0 1 1.13487e+09 h 1.13487e+09\n"       // still: the least gap
+      "FLASER 1 1.0 1 0 0 1 0 0 1.13486e+09 h 1.13486e+09\n"         // 1 m: 2 s at 0.5 m/s
+      "FLASER 1 1.0 1 0 1 1 0 1 1.13486e+09 h 1.13486e+09\n"         // 1 rad: 2 s at 0.5 rad/s
+      "FLASER 1 1.0 1 0 1 1 0 1 1.13487e+09 h 1.13487e+09\n"         // still: the least gap
       "FLASER 1 1.0 1 0.05 1 1 0.05 1 1.13487e+09 h 1.13487e+09\n";  // 5 cm: 0.1 s, raised to the least gap
   CarmenLog log = ParseCarmenLog(text, "coarse");
   ASSERT_TRUE(PaceScansWhenStampsAreCoarse(log));
@@ -161,8 +160,10 @@ TEST(CarmenLogStamps, CoarseStampsArePacedFromOdometry) {
   EXPECT_NEAR(log.scans[2].timestamp - t0, 4.0, 1e-6);
   EXPECT_NEAR(log.scans[3].timestamp - t0, 4.2, 1e-6);
   EXPECT_NEAR(log.scans[4].timestamp - t0, 4.4, 1e-6);
-  CarmenLog fine = ParseCarmenLog("FLASER 1 1.0 0 0 0 0 0 0 10.0 h 10.0\nFLASER 1 1.0 1 0 0 1 0 0 10.5 h 10.5\n"
-                                  "FLASER 1 1.0 2 0 0 2 0 0 10.5 h 10.5\n", "fine");
+  CarmenLog fine = ParseCarmenLog(
+      "FLASER 1 1.0 0 0 0 0 0 0 10.0 h 10.0\nFLASER 1 1.0 1 0 0 1 0 0 10.5 h 10.5\n"
+      "FLASER 1 1.0 2 0 0 2 0 0 10.5 h 10.5\n",
+      "fine");
   EXPECT_FALSE(PaceScansWhenStampsAreCoarse(fine));
   EXPECT_DOUBLE_EQ(fine.scans[2].timestamp, 10.5);
 }
@@ -215,9 +216,9 @@ TEST(MapperRules, SonarConeClearsInsideAndMarksTheArc) {
   const double half_angle = 15.0 * M_PI / 180.0;
   for (int i = 0; i < 5; ++i) mapper.AddSonar(sensor, 3.0, half_angle, 5.0);
   const OccupancyGrid g = mapper.ToGrid();
-  EXPECT_TRUE(g.IsOccupied(g.CellOf({3.5, 2.5})));       // on the axis, at the reading
-  EXPECT_GT(g.at(g.CellOf({3.45, 2.9})), 50);            // on the arc, off axis
-  EXPECT_LT(g.at(g.CellOf({2.0, 2.5})), 30);             // inside: free
+  EXPECT_TRUE(g.IsOccupied(g.CellOf({3.5, 2.5})));                 // on the axis, at the reading
+  EXPECT_GT(g.at(g.CellOf({3.45, 2.9})), 50);                      // on the arc, off axis
+  EXPECT_LT(g.at(g.CellOf({2.0, 2.5})), 30);                       // inside: free
   EXPECT_EQ(g.at(g.CellOf({2.0, 4.0})), OccupancyGrid::kUnknown);  // outside the cone
   EXPECT_EQ(g.at(g.CellOf({4.5, 2.5})), OccupancyGrid::kUnknown);  // beyond the reading
   // A no-return only clears.
@@ -231,15 +232,15 @@ TEST(MapperRules, SonarConeClearsInsideAndMarksTheArc) {
 // global map where it belongs.
 TEST(MapperRules, LocalMapsFuseIntoTheGlobalMapByInterpolation) {
   OccupancyGrid local(40, 40, 0.05, Point2::Zero(), OccupancyGrid::kUnknown);
-  local.FillBox({0.0, 0.0}, {2.0, 2.0}, 10);           // seen free
-  local.FillBox({1.5, 0.0}, {1.6, 2.0}, 95);           // a wall 1.5 m ahead
+  local.FillBox({0.0, 0.0}, {2.0, 2.0}, 10);  // seen free
+  local.FillBox({1.5, 0.0}, {1.6, 2.0}, 95);  // a wall 1.5 m ahead
   OccupancyGridMapper global({0.0, 0.0}, {6.0, 6.0}, {});
-  const Pose2 where{3.0, 1.0, M_PI / 2};                // the local x axis points up the map
+  const Pose2 where{3.0, 1.0, M_PI / 2};  // the local x axis points up the map
   global.FuseLocalMap(local, where);
   global.FuseLocalMap(local, where);
   const OccupancyGrid g = global.ToGrid();
-  EXPECT_TRUE(g.IsOccupied(g.CellOf({2.0, 2.55})));     // the wall, 1.5 m up from y = 1
-  EXPECT_LT(g.at(g.CellOf({2.0, 1.8})), 10);            // free before it
+  EXPECT_TRUE(g.IsOccupied(g.CellOf({2.0, 2.55})));                // the wall, 1.5 m up from y = 1
+  EXPECT_LT(g.at(g.CellOf({2.0, 1.8})), 10);                       // free before it
   EXPECT_EQ(g.at(g.CellOf({4.0, 2.0})), OccupancyGrid::kUnknown);  // right of the footprint
   MapperOptions himm;
   himm.rule = MapUpdateRule::kHimm;
@@ -256,7 +257,7 @@ TEST(MapperRules, NoReturnReadingsMarkNothingAndClearOnlyTheMissingDataRayLength
   const Pose2 pose{0.5, 2.0, 0.0};
   mapper.AddScan(pose, {81.83f}, 0.0, 0.01, 81.0);
   const OccupancyGrid g = mapper.ToGrid();
-  EXPECT_LT(g.at(g.CellOf({2.0, 2.0})), 50);                        // cleared within 3 m
+  EXPECT_LT(g.at(g.CellOf({2.0, 2.0})), 50);                       // cleared within 3 m
   EXPECT_EQ(g.at(g.CellOf({4.0, 2.0})), OccupancyGrid::kUnknown);  // nothing said beyond
   for (int x = 0; x < g.width(); ++x) EXPECT_FALSE(g.IsOccupied({x, g.CellOf({0, 2.0}).y}));
 }

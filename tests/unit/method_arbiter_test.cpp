@@ -16,7 +16,7 @@ TEST(MethodArbiter, TableOneGatesBeatTheBestWeightedMethod) {
   const std::vector<MethodContext> methods = {{"1", 0 * 1, {4, 3, 1}},
                                               {"2", 1 * 1, {1, 1, 3}},
                                               {"3", 1 * 1, {2, 2, 2}},
-                                              {"4", 1 * 0, {5, 5, 1}},   // 5.0 were it not gated
+                                              {"4", 1 * 0, {5, 5, 1}},  // 5.0 were it not gated
                                               {"5", 0 * 0, {2, 2, 2}}};
   const std::vector<double> weights = {0.5, 0.25, 0.25};
   const auto s = MethodArbiter::Suitability(methods, weights);
@@ -31,8 +31,8 @@ TEST(MethodArbiter, TableOneGatesBeatTheBestWeightedMethod) {
 struct Area {
   const char* name;
   std::vector<double> weights;
-  double dgps_gate;                 // GPS signal: four satellites or more
-  std::vector<double> luminosity;   // O, G, K, V
+  double dgps_gate;                // GPS signal: four satellites or more
+  std::vector<double> luminosity;  // O, G, K, V
   std::vector<double> precision;
   std::vector<double> book_scores;
   size_t book_winner;
@@ -52,7 +52,13 @@ const std::vector<Area>& BookAreas() {
   static const std::vector<Area> areas = {
       {"a: wide open space", {0.25, 0.25, 0.25, 0.25}, 1, {5, 5, 5, 5}, {2, 5, 3, 3}, {4.5, 5, 4.5, 4.75}, 1},
       {"b: narrow way under trees, faster", {0.4, 0.2, 0.2, 0.2}, 0, {5, 5, 5, 5}, {2, 2, 3, 4}, {4.8, 0, 4, 5}, 3},
-      {"c: open space near buildings, slower", {0.1, 0.3, 0.3, 0.3}, 1, {5, 5, 5, 5}, {2, 3, 3, 3}, {4.2, 4.8, 5, 4.7}, 2},
+      {"c: open space near buildings, slower",
+       {0.1, 0.3, 0.3, 0.3},
+       1,
+       {5, 5, 5, 5},
+       {2, 3, 3, 3},
+       {4.2, 4.8, 5, 4.7},
+       2},
       {"d: inside the library", {0.25, 0.25, 0.25, 0.25}, 0, {5, 5, 5, 4}, {3, 1, 3, 3}, {4.75, 0, 4.5, 4.5}, 0}};
   return areas;
 }

@@ -120,7 +120,7 @@ TEST(GridReentry, TurnsWhileTheSectorAheadIsBlockedAndDrivesOnceClear) {
   o.sector_width = 1.0;
   o.sector_radius = 0.6;
   EXPECT_TRUE(GridReentry::SectorClear({{0.7, 0.0}, {0.3, 0.4}, {-0.2, 0.0}}, 1.0, 0.6));  // beyond r_c, beside, behind
-  EXPECT_FALSE(GridReentry::SectorClear({{0.5, 0.2}}, 1.0, 0.6));                         // 0.38 rad off, 0.54 m
+  EXPECT_FALSE(GridReentry::SectorClear({{0.5, 0.2}}, 1.0, 0.6));                          // 0.38 rad off, 0.54 m
   GridReentry r(o);
   EXPECT_EQ(r.Step(Pose2(), {}, std::nullopt, 0.0).left, 0.0);  // not started: no command
   r.Start(0.0);
@@ -182,7 +182,7 @@ TEST(GridReentry, TurnsTowardsTheGridBeforeDrivingAndTakesAnyClearWayAfterAWhole
     blocked.Step(pose, wall(), Point2(-2.0, 0.0), t += 0.05);
   }
   EXPECT_NEAR(driven, blocked.options().relaxed_distance, 0.02);  // then it turns back towards the grid
-  EXPECT_GT(std::cos(pose.theta), 0.5);  // away from the wall, not into it
+  EXPECT_GT(std::cos(pose.theta), 0.5);                           // away from the wall, not into it
 }
 
 TEST(Navigator, RejectsASecondGoalUnlessPreempting) {
@@ -288,7 +288,7 @@ TEST(Navigator, RecoveriesSpentFurtherBackDoNotCountAgainstANewPlace) {
   hold(0.5, 2.5);  // stuck at the first pane: a recovery
   EXPECT_EQ(recoveries, 1);
   for (double x = 0.5; x < 3.0; x += 0.1) hold(x, 0.05);  // freed, on 2.5 m
-  hold(3.0, 2.5);  // stuck at the second: a recovery there too
+  hold(3.0, 2.5);                                         // stuck at the second: a recovery there too
   EXPECT_EQ(recoveries, 2);
   ASSERT_TRUE(nav.Status().active);
   hold(3.1, 2.5);  // stuck there again: it gives up
@@ -406,8 +406,9 @@ TEST(SpeedZones, BadZonesAreRefusedNamingTheField) {
 
 TEST(SpeedZones, WorldFilesDeclareThemAndBadOnesAreNamed) {
   const std::string map = "map: {size: [10, 10]}\nrobot: {start: [1, 1]}\n";
-  const World w = ParseWorld(map + "speed_zones:\n  - {name: bay, box: [2, 2, 4, 3], max_speed: 0.2}\n"
-                                   "  - {polygon: [[5, 5], [7, 5], [6, 7]], max_speed: 0.1}\n",
+  const World w = ParseWorld(map +
+                                 "speed_zones:\n  - {name: bay, box: [2, 2, 4, 3], max_speed: 0.2}\n"
+                                 "  - {polygon: [[5, 5], [7, 5], [6, 7]], max_speed: 0.1}\n",
                              "zones.yaml", ".");
   ASSERT_EQ(w.speed_zones.size(), 2u);
   EXPECT_EQ(w.speed_zones[0].name, "bay");

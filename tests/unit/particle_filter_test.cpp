@@ -94,8 +94,8 @@ TEST(ParticleFilter, TracksADriveWhileOdometryDrifts) {
   const Errors e = Drive(s, pf, 50.0, UpTheCorridorAndBack, 50.0);
   const Pose2 odom = world.start * s.robot().base().odom_pose();
   const Pose2 truth = s.robot().base().true_pose();
-  std::printf("drive: filter worst error %.3f m / %.3f rad; odometry error at the end %.3f m\n", e.position,
-              e.heading, std::hypot(odom.x - truth.x, odom.y - truth.y));
+  std::printf("drive: filter worst error %.3f m / %.3f rad; odometry error at the end %.3f m\n", e.position, e.heading,
+              std::hypot(odom.x - truth.x, odom.y - truth.y));
   EXPECT_LT(e.position, 0.10);
   EXPECT_LT(e.heading, 0.05);
 }
@@ -111,7 +111,12 @@ TEST(ParticleFilter, RelocalisesGloballyWithoutAPrior) {
     sim::Simulation& s = sc.sim;
     ParticleFilterLocalizer& pf = *sc.pf;
     pf.GlobalRelocalize();
-    const Errors e = Drive(s, pf, 14.0, [](double t) { return Twist2{0.0, t < 12 ? 0.6 : 0.0}; }, 1.0);
+    const Errors e = Drive(
+        s, pf, 14.0,
+        [](double t) {
+          return Twist2{0.0, t < 12 ? 0.6 : 0.0};
+        },
+        1.0);
     std::printf("global relocalisation run %d: error %.3f m, %.3f rad, %zu particles\n", run, e.position, e.heading,
                 pf.particle_count());
     // Found = settled on the true place (a wrong mode is metres away); the residual error while
@@ -162,7 +167,8 @@ TEST(ParticleFilter, OmniModelSlidesSidewaysWithoutSmearingHeadings) {
   EXPECT_LT(omni, 0.2);
   EXPECT_GT(diff, 0.5);
   // The slide itself: 0.8 m to the robot's left in the map frame.
-  const Point2 left = world.start.translation() + 0.8 * Point2(-std::sin(world.start.theta), std::cos(world.start.theta));
+  const Point2 left =
+      world.start.translation() + 0.8 * Point2(-std::sin(world.start.theta), std::cos(world.start.theta));
   EXPECT_LT((omni_mean.translation() - left).norm(), 0.05);
   EXPECT_NEAR(NormalizeAngle(omni_mean.theta - world.start.theta), 0.0, 0.05);
 }
@@ -180,7 +186,12 @@ TEST(LocalizerSelector, AWholeMapSearchRunsBesideTheEstimate) {
     selector.SetPose(told, Eigen::Matrix3d::Identity() * 1e-3);
     EXPECT_FALSE(selector.SearchEstimate().valid);
     ASSERT_TRUE(selector.StartSearch());
-    Drive(sc.sim, selector, 14.0, [](double t) { return Twist2{0.0, t < 12 ? 0.6 : 0.0}; }, 1.0);
+    Drive(
+        sc.sim, selector, 14.0,
+        [](double t) {
+          return Twist2{0.0, t < 12 ? 0.6 : 0.0};
+        },
+        1.0);
     const Pose2 at = sc.sim.robot().base().true_pose();
     const PoseEstimate found = selector.SearchEstimate();
     ASSERT_TRUE(found.valid);
@@ -238,7 +249,8 @@ TEST(LocalizerSelector, AutoFollowsTheLaserWithTheChapterTenArbiter) {
     while (s.now() < end) {
       s.Command(0, {0.2, 0.0, 0.2});
       const auto out = s.Step();
-      if (out.robots[0].odom) selector.AddOdometry({s.robot().base().odom_pose(), s.robot().base().odom_covariance(), s.now()});
+      if (out.robots[0].odom)
+        selector.AddOdometry({s.robot().base().odom_pose(), s.robot().base().odom_covariance(), s.now()});
       if (laser && out.robots[0].scan) selector.AddScan(ToScan(s, *out.robots[0].scan));
     }
     return selector.name();
@@ -246,7 +258,7 @@ TEST(LocalizerSelector, AutoFollowsTheLaserWithTheChapterTenArbiter) {
   EXPECT_EQ(run(1.5, true), "odometry");  // no laser yet at the first evaluation; 10 wins needed
   EXPECT_EQ(run(2.0, true), amcl);
   EXPECT_GT(filter.Suitability(true).criteria[2], 3.0) << filter.Estimate().quality;  // a good fit
-  EXPECT_EQ(run(2.5, false), amcl);       // silent for 1 s, then 1.5 s of odometry wins
+  EXPECT_EQ(run(2.5, false), amcl);  // silent for 1 s, then 1.5 s of odometry wins
   EXPECT_EQ(run(1.0, false), "odometry");
   EXPECT_EQ(run(3.0, true), amcl) << "filter quality " << filter.Estimate().quality;
   try {

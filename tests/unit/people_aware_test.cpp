@@ -28,7 +28,8 @@ planning::Costmap Street() {
   OccupancyGrid g(300, 80, 0.1, Point2::Zero());
   g.FillBox({0.0, 0.0}, {30.0, 0.1});
   g.FillBox({0.0, 7.9}, {30.0, 8.0});
-  return planning::Costmap(std::make_shared<const OccupancyGrid>(std::move(g)), planning::CostmapOptions{0.4, true, 0.5, 3.0});
+  return planning::Costmap(std::make_shared<const OccupancyGrid>(std::move(g)),
+                           planning::CostmapOptions{0.4, true, 0.5, 3.0});
 }
 
 CrowdRrtRequest DownTheStreet(double speed) {
@@ -186,7 +187,8 @@ TEST(CrowdRrt, AnEscapeThatTouchesNoOneKeepsTheMostRoom) {
 
 // `t` as an escape is judged: its inputs for escape_time, then full braking until the robot stands,
 // with the people walking on until they would touch it and standing there.
-planning::StopShortRollout DrivenThenBraked(const CrowdTrajectory& t, const CrowdRrtRequest& r, const CrowdRrtOptions& o) {
+planning::StopShortRollout DrivenThenBraked(const CrowdTrajectory& t, const CrowdRrtRequest& r,
+                                            const CrowdRrtOptions& o) {
   const auto then_brake = [&](const planning::UnicycleState& s) -> planning::UnicycleInput {
     const size_t i = static_cast<size_t>(std::floor(s.t / o.step + 1e-9));
     if (i < t.inputs.size() && s.t < o.escape_time - 1e-9) return t.inputs[i];
@@ -216,17 +218,19 @@ TEST(CrowdRrt, WhenNothingLivesLongTheRobotDrivesIntoNoOne) {
         for (const double slant : {0.0, 0.3, 0.6}) {
           CrowdRrtRequest r = DownTheStreet(speed);
           // Walking back down the street, slanting towards the robot's line from either side.
-          const MovingBody walker{{r.start.x + ahead, r.start.y + offset}, {-1.3, offset > 0 ? -slant : slant}, 0.25, true};
-          const MovingBody other{{r.start.x + ahead + 0.8, r.start.y - offset}, {-1.3, offset > 0 ? slant : -slant}, 0.25, true};
+          const MovingBody walker{
+              {r.start.x + ahead, r.start.y + offset}, {-1.3, offset > 0 ? -slant : slant}, 0.25, true};
+          const MovingBody other{
+              {r.start.x + ahead + 0.8, r.start.y - offset}, {-1.3, offset > 0 ? slant : -slant}, 0.25, true};
           r.people = {walker, other};
           const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, o);
           ASSERT_GE(t.states.size(), 2u);
           if (t.states.back().t >= o.min_select_time - 1e-6) continue;
           ++cornered;
           const auto run = DrivenThenBraked(t, r, o);
-          EXPECT_FALSE(std::isfinite(run.touch)) << "speed " << speed << ", " << ahead << " m ahead, offset " << offset
-                                                 << ", slant " << slant << (t.escape ? ", escape" : ", plan")
-                                                 << ": touches at " << run.touch << " s";
+          EXPECT_FALSE(std::isfinite(run.touch))
+              << "speed " << speed << ", " << ahead << " m ahead, offset " << offset << ", slant " << slant
+              << (t.escape ? ", escape" : ", plan") << ": touches at " << run.touch << " s";
         }
       }
     }
@@ -247,8 +251,8 @@ TEST(CrowdRrt, AnEscapeLeavesTheRobotAbleToStopShortOfEveryone) {
                 {{r.start.x + 2.8, r.start.y - 0.7 * side}, {-1.3, 0.0}, 0.25, true}};
     const CrowdTrajectory t = planning::PlanCrowdRrt(cm, r, o);
     const auto run = DrivenThenBraked(t, r, o);
-    EXPECT_FALSE(std::isfinite(run.touch)) << "side " << side << (t.escape ? ", escape" : ", plan") << ": touches at "
-                                           << run.touch << " s";
+    EXPECT_FALSE(std::isfinite(run.touch))
+        << "side " << side << (t.escape ? ", escape" : ", plan") << ": touches at " << run.touch << " s";
   }
 }
 
@@ -309,8 +313,8 @@ TEST(CrowdRrt, AnEscapeCanStillStopShortOfTheWall) {
         while (s.v > 1e-9) {
           s = planning::Propagate(s, planning::Braking(s, r.limits, 0.25), 0.05, r.limits);
           EXPECT_FALSE(cm.IsLethal(cm.grid().CellOf(s.position())))
-              << "y0 " << y0 << ", dx " << dx << ", chase " << chase << ": braking after the escape reaches ("
-              << s.x << ", " << s.y << ")";
+              << "y0 " << y0 << ", dx " << dx << ", chase " << chase << ": braking after the escape reaches (" << s.x
+              << ", " << s.y << ")";
           if (cm.IsLethal(cm.grid().CellOf(s.position()))) break;
         }
       }
@@ -402,7 +406,8 @@ TEST(CrowdRrt, PassesSomeoneCloseAheadNoFasterThanItCouldStopShortOfThem) {
   OccupancyGrid g(300, 80, 0.1, Point2::Zero());
   g.FillBox({0.0, 0.0}, {30.0, 2.6});
   g.FillBox({0.0, 5.4}, {30.0, 8.0});
-  const planning::Costmap cm(std::make_shared<const OccupancyGrid>(std::move(g)), planning::CostmapOptions{0.4, true, 0.5, 3.0});
+  const planning::Costmap cm(std::make_shared<const OccupancyGrid>(std::move(g)),
+                             planning::CostmapOptions{0.4, true, 0.5, 3.0});
   const MovingBody person{{7.0, 4.3}, {0.0, 0.0}, 0.25, true};
   CrowdRrtOptions o = Options();
   o.approach_deceleration = 1.0;
@@ -419,7 +424,8 @@ TEST(CrowdRrt, PassesSomeoneCloseAheadNoFasterThanItCouldStopShortOfThem) {
       if ((person.position - s.position()).dot(heading) <= 0.0) continue;  // passed
       const double gap = Distance(s.position(), person.position) - person.radius - o.robot_radius;
       if (t.inputs[i - 1].accel <= -0.5 * r.limits.max_accel) continue;  // braking
-      EXPECT_LE(s.v * s.v, 2.0 * o.approach_deceleration * gap + 1e-9) << "seed " << r.seed << " at " << s.t << " s, gap " << gap;
+      EXPECT_LE(s.v * s.v, 2.0 * o.approach_deceleration * gap + 1e-9)
+          << "seed " << r.seed << " at " << s.t << " s, gap " << gap;
     }
   }
 }
@@ -511,7 +517,8 @@ TEST(CrowdRoute, RollsTheLoopOutToTheGoalPastWalkersAndSaysWhenItCannot) {
   r.start = {2.0, 4.0, 0.0, 0.0, 0.0, 0.0};
   r.goal = {28.0, 4.0};
   for (double x = 2.0; x <= 28.0 + 1e-9; x += 0.1) r.route.push_back({x, 4.0});
-  r.people = {{{12.0, 4.2}, {-1.3, 0.0}, 0.25, true}, {{18.0, 3.0}, {-1.2, 0.1}, 0.25, true},
+  r.people = {{{12.0, 4.2}, {-1.3, 0.0}, 0.25, true},
+              {{18.0, 3.0}, {-1.2, 0.1}, 0.25, true},
               {{24.0, 5.5}, {-1.4, -0.1}, 0.25, true}};
   r.limits = {1.5, 2.0, 1.0, 4.0};
   for (uint64_t seed = 1; seed <= 6; ++seed) {
@@ -529,7 +536,8 @@ TEST(CrowdRoute, RollsTheLoopOutToTheGoalPastWalkersAndSaysWhenItCannot) {
       EXPECT_LE(std::abs(b.v - a.v), r.limits.max_accel * (b.t - a.t) + 1e-9) << i;
       EXPECT_FALSE(cm.IsLethal(cm.grid().CellOf(b.position()))) << i;
       for (const MovingBody& p : r.people)
-        EXPECT_GT(Distance(b.position(), p.position + b.t * p.velocity), 0.25 + 0.3) << "state " << i << " at t " << b.t;
+        EXPECT_GT(Distance(b.position(), p.position + b.t * p.velocity), 0.25 + 0.3)
+            << "state " << i << " at t " << b.t;
     }
   }
   // Boxed in for good (a line of standing people across the street): not found, and said so.
@@ -668,7 +676,7 @@ TEST(ReportedPeople, KeptInTheRobotsFramePredictedOnAndForgotten) {
   const Pose2 robot{1.0, 2.0, M_PI / 2};  // facing +y
   navigation::PeopleReport report;
   report.stamp = 10.0;
-  report.people = {{"ann", {2.0, 0.0}, {1.0, 0.0}},  // 2 m ahead, walking ahead
+  report.people = {{"ann", {2.0, 0.0}, {1.0, 0.0}},   // 2 m ahead, walking ahead
                    {"bob", {0.0, -1.0}, {0.0, 0.0}},  // 1 m to the right, standing
                    {"nan", {std::nan(""), 0.0}, {0.0, 0.0}}};
   people.Update(report, robot, report.stamp);

@@ -62,8 +62,9 @@ TEST_P(ScenarioTest, ArenaScenariosAreSolvedOptimally) {
   EXPECT_EQ(r.total, 160u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Planners, ScenarioTest, ::testing::Values("astar", "dijkstra", "jps", "thetastar", "dstar_lite",
-                                                              "distance_transform", "path_transform"));
+INSTANTIATE_TEST_SUITE_P(Planners, ScenarioTest,
+                         ::testing::Values("astar", "dijkstra", "jps", "thetastar", "dstar_lite", "distance_transform",
+                                           "path_transform"));
 
 // Random maps: obstacles as random rectangles on a 60 x 60 grid of 0.1 m cells.
 std::shared_ptr<const MapSnapshot> RandomMap(MapStore& maps, std::mt19937& rng) {
@@ -105,7 +106,8 @@ TEST(PlannerProperties, RandomMapsCollisionFreeEndpointsAndUnreachable) {
   for (int m = 0; m < 30; ++m) {
     MapStore maps;
     RandomMap(maps, rng);
-    PlanningEngine engine(maps, {.costmap = {0.15, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+    PlanningEngine engine(
+        maps, {.costmap = {0.15, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
     RegisterDefaultPlanners(engine);
     const auto cm = engine.CurrentCostmap();
     for (int q = 0; q < 10; ++q) {
@@ -181,7 +183,8 @@ double GridPathLength(const Costmap& cm, const std::vector<CellIndex>& cells) {
   for (size_t i = 1; i < cells.size(); ++i) {
     const int dx = cells[i].x - cells[i - 1].x, dy = cells[i].y - cells[i - 1].y;
     if (std::abs(dx) > 1 || std::abs(dy) > 1 || (dx == 0 && dy == 0) || !free(cells[i].x, cells[i].y)) return -1;
-    if (dx != 0 && dy != 0 && (!free(cells[i - 1].x + dx, cells[i - 1].y) || !free(cells[i - 1].x, cells[i - 1].y + dy)))
+    if (dx != 0 && dy != 0 &&
+        (!free(cells[i - 1].x + dx, cells[i - 1].y) || !free(cells[i - 1].x, cells[i - 1].y + dy)))
       return -1;
     length += dx != 0 && dy != 0 ? M_SQRT2 : 1.0;
   }
@@ -221,7 +224,8 @@ TEST(JumpPointSearch, MatchesAStarOnRandomGridsAndMazes) {
     for (int i = 0; i < density * w * h; ++i) grid->set({x(rng), y(rng)}, OccupancyGrid::kOccupied);
     for (int i = 0; i < m % 6; ++i) {
       const Point2 c(x(rng), y(rng));
-      grid->FillBox(c, c + Point2(std::uniform_int_distribution<int>(1, 12)(rng), std::uniform_int_distribution<int>(1, 12)(rng)));
+      grid->FillBox(c, c + Point2(std::uniform_int_distribution<int>(1, 12)(rng),
+                                  std::uniform_int_distribution<int>(1, 12)(rng)));
     }
     const Costmap cm(grid, {0.0, true});
     for (int q = 0; q < 40; ++q) {
@@ -319,8 +323,11 @@ TEST(DistanceField, MatchesBruteForce) {
 TEST(CostAwareAStar, KeepsClearanceInTheWarehouse) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine plain(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
-  PlanningEngine aware(maps, {.costmap = {0.30, true, 0.5, 3.0}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  PlanningEngine plain(
+      maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  PlanningEngine aware(
+      maps,
+      {.costmap = {0.30, true, 0.5, 3.0}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(plain);
   RegisterDefaultPlanners(aware);
   const DistanceField field(plain.CurrentCostmap()->grid());
@@ -337,7 +344,8 @@ TEST(CostAwareAStar, KeepsClearanceInTheWarehouse) {
   EXPECT_GT(mean_clearance(b), mean_clearance(a) + 0.05);
   EXPECT_LT(b.length, 1.25 * a.length);
   EXPECT_NEAR(c.length, a_raw.length, 1e-9);  // weight 0: the plain shortest cell path
-  for (size_t i = 1; i < b.points.size(); ++i) EXPECT_TRUE(aware.CurrentCostmap()->SegmentFree(b.points[i - 1], b.points[i]));
+  for (size_t i = 1; i < b.points.size(); ++i)
+    EXPECT_TRUE(aware.CurrentCostmap()->SegmentFree(b.points[i - 1], b.points[i]));
 }
 
 TEST(PathTransform, KeepsClearanceThatTheShortestPathDoesNot) {
@@ -345,7 +353,8 @@ TEST(PathTransform, KeepsClearanceThatTheShortestPathDoesNot) {
   OccupancyGrid g(100, 60, 0.1, Point2::Zero());
   g.FillBox({4.8, 2.6}, {5.2, 3.4});  // a pillar just above the straight line y = 2.5
   maps.Set(std::move(g), "room");
-  PlanningEngine engine(maps, {.costmap = {0.0, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  PlanningEngine engine(
+      maps, {.costmap = {0.0, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(engine);
   const DistanceField field(engine.CurrentCostmap()->grid());
   auto min_clearance = [&](const PathPlan& p) {
@@ -369,7 +378,8 @@ TEST(PathTransform, KeepsClearanceThatTheShortestPathDoesNot) {
 TEST(OmplPlanners, FindCollisionFreePathsInTheWarehouse) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  PlanningEngine engine(
+      maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(engine);
   const auto cm = engine.CurrentCostmap();
   const Point2 s(0.8, 1.0), g(8.8, 8.8);
@@ -385,7 +395,9 @@ TEST(OmplPlanners, FindCollisionFreePathsInTheWarehouse) {
   }
   // Reeds-Shepp with a turning radius: a feasible curve sampled along its length.
   const PathPlan rs = engine.ComputePath({0.8, 2.0}, {0.8, 8.0}, "rrt_connect",
-                                         {{"space", 2}, {"turning_radius", 0.3}, {"start_yaw", M_PI / 2},
+                                         {{"space", 2},
+                                          {"turning_radius", 0.3},
+                                          {"start_yaw", M_PI / 2},
                                           {"goal_yaw", M_PI / 2}});  // smoothing must leave curves alone
   EXPECT_GT(rs.points.size(), 10u);
   EXPECT_GE(rs.length, 6.0 - 1e-6);
@@ -422,7 +434,8 @@ TEST(FastMarching, ArrivalTimesApproximateEuclideanDistance) {
 TEST(VoronoiFastMarching, SmoothSafePathWithSpeedLimits) {
   MapStore maps;
   maps.Set(DefaultWorld().map, "warehouse");
-  PlanningEngine engine(maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
+  PlanningEngine engine(
+      maps, {.costmap = {0.30, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}});
   RegisterDefaultPlanners(engine);
   const auto cm = engine.CurrentCostmap();
   const DistanceField field(cm->grid());

@@ -50,7 +50,7 @@ TEST(Costmap, CostDecaysExponentiallyBeyondTheInflation) {
   EXPECT_FALSE(cm.IsLethal({4, 0}));
   EXPECT_EQ(cm.cost({4, 0}), std::lround(252 * std::exp(-3.0 * 0.1)));
   EXPECT_EQ(cm.cost({7, 0}), std::lround(252 * std::exp(-3.0 * 0.4)));
-  EXPECT_EQ(cm.cost({8, 0}), 0);  // 0.8 m: beyond inflation + decay
+  EXPECT_EQ(cm.cost({8, 0}), 0);                          // 0.8 m: beyond inflation + decay
   EXPECT_EQ(Costmap(grid, {0.3, true}).cost({4, 0}), 0);  // no decay layer by default
 }
 
@@ -108,7 +108,8 @@ TEST(GridAStar, StopsWhenAsked) {
   auto g = Grid(300, 300);
   Costmap cm(g, {0.0, true});
   try {
-    GridAStarPlanner().Plan(cm, {0, 0}, {299, 299}, {{"diagonal", 1}, {"cost_weight", 0}, {"smooth", 0}}, [] { return true; });
+    GridAStarPlanner().Plan(cm, {0, 0}, {299, 299}, {{"diagonal", 1}, {"cost_weight", 0}, {"smooth", 0}},
+                            [] { return true; });
     FAIL() << "expected a deadline error";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kDeadlineExceeded);
@@ -133,7 +134,9 @@ class EngineTest : public ::testing::Test {
     return ErrorCode::kInternal;
   }
   MapStore maps;
-  PlanningEngine engine{maps, PlanningEngineOptions{.costmap = {0.3, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}}};
+  PlanningEngine engine{
+      maps, PlanningEngineOptions{
+                .costmap = {0.3, true}, .default_planner = "astar", .start_recovery_radius = 0.5, .velocity = {}}};
   std::string message;
 };
 
@@ -166,7 +169,10 @@ TEST_F(EngineTest, ElasticBandRoundsTheTurnsAndTheRobotGetsThroughFaster) {
   EXPECT_GT(MaxTurn(sharp.points), 0.9);
   EXPECT_LT(band.length, sharp.length * 1.05);
   EXPECT_LT(band.duration, sharp.duration);
-  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "", {{"elastic_band", 2.0}}); }), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(CodeOf([&] {
+              engine.ComputePath({1, 1}, {8, 1}, "", {{"elastic_band", 2.0}});
+            }),
+            ErrorCode::kInvalidArgument);
   EXPECT_NE(message.find("elastic_band"), std::string::npos) << message;
 }
 
@@ -199,7 +205,9 @@ TEST_F(EngineTest, RejectsUnknownPlannerAndOption) {
 }
 
 TEST_F(EngineTest, RejectsOptionValuesOutsideTheirDomain) {
-  EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "astar", {{"diagonal", 0.5}}); }),
+  EXPECT_EQ(CodeOf([&] {
+              engine.ComputePath({1, 1}, {8, 1}, "astar", {{"diagonal", 0.5}});
+            }),
             ErrorCode::kInvalidArgument);
   EXPECT_NE(message.find("diagonal"), std::string::npos) << message;
   EXPECT_EQ(CodeOf([&] { engine.ComputePath({1, 1}, {8, 1}, "astar", {{"smooth", 7}}); }), ErrorCode::kInvalidArgument);
@@ -225,7 +233,9 @@ TEST_F(EngineTest, PlansThroughWaypointsAndNamesTheBadOne) {
   const PathPlan through = engine.ComputePathThroughPoses({1, 1}, {{8, 1}, {8, 9}}, "", {});
   EXPECT_NEAR(through.length, a.length + b.length, 1e-9);
   EXPECT_EQ(through.points.size(), a.points.size() + b.points.size() - 1);
-  EXPECT_EQ(CodeOf([&] { engine.ComputePathThroughPoses({1, 1}, {{8, 1}, {4.1, 3}, {8, 9}}, "", {}); }),
+  EXPECT_EQ(CodeOf([&] {
+              engine.ComputePathThroughPoses({1, 1}, {{8, 1}, {4.1, 3}, {8, 9}}, "", {});
+            }),
             ErrorCode::kInvalidArgument);
   EXPECT_NE(message.find("waypoints[1]"), std::string::npos) << message;
   EXPECT_EQ(CodeOf([&] { engine.ComputePathThroughPoses({1, 1}, {}, "", {}); }), ErrorCode::kInvalidArgument);
@@ -295,7 +305,8 @@ TEST(VelocityProfile, CurvesAreTakenAtTheFrictionLimit) {
   const double friction_speed = std::sqrt(9.81 * 0.02 * 1.0);
   double on_arc_max = 0.0, before_arc = 0.0;
   for (size_t i = 0; i < p.points.size(); ++i) {
-    if (p.points[i].x() > 0.2 && p.points[i].y() > 0.5 && p.points[i].y() < 1.5) on_arc_max = std::max(on_arc_max, p.speed[i]);
+    if (p.points[i].x() > 0.2 && p.points[i].y() > 0.5 && p.points[i].y() < 1.5)
+      on_arc_max = std::max(on_arc_max, p.speed[i]);
     if (p.points[i].x() < -1.5) before_arc = std::max(before_arc, p.speed[i]);
   }
   EXPECT_NEAR(on_arc_max, friction_speed, 0.02 * friction_speed);

@@ -178,11 +178,13 @@ TEST(OdometricCalibration, KeepsThePoseWhileOdometryDrifts) {
   sim::Simulation s(world, {});
   OdometricCalibrationLocalizer calibration(world.map, {}, world.start);
   calibration.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
-  const Errors e = Drive(s, calibration, 56.0, [](double t) {
-    if (t < 20) return Twist2{0.3, 0.0};
-    if (t < 36) return Twist2{0.0, M_PI / 16};  // 0.065 m/s of wheel speed difference < T_dv
-    return Twist2{0.3, 0.0};
-  }, 56.0, {0.03, 0.04});
+  const Errors e = Drive(s, calibration, 56.0,
+                         [](double t) {
+                           if (t < 20) return Twist2{0.3, 0.0};
+                           if (t < 36) return Twist2{0.0, M_PI / 16};  // 0.065 m/s of wheel speed difference < T_dv
+                           return Twist2{0.3, 0.0};
+                         },
+                         56.0, {0.03, 0.04});
   std::printf("calibration drive: worst %.3f m / %.3f rad, mean %.4f m / %.4f rad, %d searches\n", e.position,
               e.heading, e.mean_position, e.mean_heading, calibration.searches());
   EXPECT_LT(e.position, 0.06);
@@ -219,7 +221,12 @@ TEST(Histogram, FindsTheRobotWithNoPrior) {
     sim::Simulation s(world, Seeded(900 + run));
     HistogramLocalizer h(world.map);
     h.AddOdometry({s.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
-    const Errors e = Drive(s, h, 14.0, [](double t) { return Twist2{0.0, t < 12 ? 0.6 : 0.0}; }, 1.0);
+    const Errors e = Drive(
+        s, h, 14.0,
+        [](double t) {
+          return Twist2{0.0, t < 12 ? 0.6 : 0.0};
+        },
+        1.0);
     std::printf("histogram global run %d: error %.3f m, %.3f rad\n", run, e.position, e.heading);
     EXPECT_LT(e.position, 0.1) << "run " << run;
     EXPECT_LT(e.heading, 0.1) << "run " << run;

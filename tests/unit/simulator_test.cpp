@@ -73,7 +73,7 @@ TEST(RayCaster, MeasuresDistancesToWalls) {
   EXPECT_NEAR(walls.Cast({2, 2}, 0.0, 4.0), 1.9, 1e-9);
   EXPECT_NEAR(walls.Cast({2, 2}, M_PI, 4.0), 1.9, 1e-9);
   EXPECT_NEAR(walls.Cast({2, 2}, M_PI / 4, 4.0), 1.9 * std::sqrt(2.0), 1e-9);  // into the corner
-  EXPECT_NEAR(walls.Cast({2, 2}, 0.0, 1.0), 1.0, 1e-9);                         // max range
+  EXPECT_NEAR(walls.Cast({2, 2}, 0.0, 1.0), 1.0, 1e-9);                        // max range
 }
 
 // To a sensor the map's edge is open: rays that leave the grid read max_range, while walls on the
@@ -88,8 +88,8 @@ TEST(RayCaster, TheMapsEdgeIsOpenToSensors) {
   EXPECT_EQ(caster.CastOpenEdge({0.5, 2.0}, M_PI, 30.0), 30.0);
   EXPECT_EQ(caster.CastOpenEdge({5.0, 2.0}, M_PI / 2, 30.0), 30.0);
   EXPECT_NEAR(caster.CastOpenEdge({2.0, 2.0}, -M_PI / 2, 30.0), 1.9, 1e-9);
-  EXPECT_NEAR(caster.CastOpenEdge({5.0, 0.05}, M_PI, 30.0), 1.0, 1e-9);  // the wall's end, from inside the edge row
-  EXPECT_EQ(caster.CastOpenEdge({5.0, 0.05}, 0.0, 30.0), 30.0);           // out through the gap at x = 10
+  EXPECT_NEAR(caster.CastOpenEdge({5.0, 0.05}, M_PI, 30.0), 1.0, 1e-9);      // the wall's end, from inside the edge row
+  EXPECT_EQ(caster.CastOpenEdge({5.0, 0.05}, 0.0, 30.0), 30.0);              // out through the gap at x = 10
   EXPECT_NEAR(caster.CastOpenEdge({9.95, 0.5}, M_PI / 2, 30.0), 0.5, 1e-9);  // up the edge column into its wall
   // Grazing the edge walls at 5 degrees: the wall along y = 0.1 (up to x = 4) or the one along
   // x = 9.9 (from y = 1), or out of the grid past them.
@@ -221,8 +221,10 @@ TEST(LaserScanner, ScanHasUrg04lxGeometry) {
   EXPECT_NEAR(laser.angle_max() - laser.angle_min(), 240 * M_PI / 180, 1e-9);
   int returns = 0;
   for (float r : ranges) {
-    if (r < 4.0f) ++returns;
-    else EXPECT_EQ(r, 5.0f);  // no return reads range_max + 1
+    if (r < 4.0f)
+      ++returns;
+    else
+      EXPECT_EQ(r, 5.0f);  // no return reads range_max + 1
   }
   EXPECT_GT(returns, 400);
   // Beam at +90 degrees sees the corridor's left wall at x = 0.1 from x = 0.8.
@@ -237,7 +239,7 @@ TEST(LaserScanner, SeesDiscsButNotItsOwnRobot) {
   std::mt19937_64 rng(1);
   const std::vector<Disc> discs = {{{2, 2}, 0.2, 0}, {{3, 2}, 0.25, 7}};
   const auto ranges = laser.Scan({2, 2, 0}, RayCaster(w.map), discs, 0, rng);
-  EXPECT_NEAR(ranges[120], 0.75, 1e-6);  // person's near edge at x = 2.75
+  EXPECT_NEAR(ranges[120], 0.75, 1e-6);                    // person's near edge at x = 2.75
   EXPECT_NEAR(ranges[0], 1.9 / std::sin(M_PI / 3), 1e-3);  // -120 degrees: the wall y = 0.1, unobstructed
 }
 
@@ -245,7 +247,7 @@ TEST(LaserScanner, SeesDiscsButNotItsOwnRobot) {
 // nothing out of the open end (the ray caster's edge of the map is no wall to a sensor), while a
 // wall on the map's edge row is seen as any other.
 TEST(LaserScanner, SeesNothingBeyondTheMapsOpenEdge) {
-  OccupancyGrid street(100, 40, 0.1, {0, 0});  // 10 m x 4 m
+  OccupancyGrid street(100, 40, 0.1, {0, 0});                                  // 10 m x 4 m
   for (int x = 0; x < 100; ++x) street.set({x, 0}, OccupancyGrid::kOccupied);  // a wall along y in [0, 0.1]
   LaserDescription d;
   d.fov = 2 * M_PI;
@@ -255,10 +257,10 @@ TEST(LaserScanner, SeesNothingBeyondTheMapsOpenEdge) {
   LaserScanner laser(d);
   std::mt19937_64 rng(1);
   const auto ranges = laser.Scan({0.5, 2.0, 0.0}, RayCaster(street), {}, -1, rng);
-  const float none = 31.0f;  // no return reads range_max + 1
-  EXPECT_EQ(ranges[0], none);    // -180 degrees: out of the open end 0.5 m behind
-  EXPECT_EQ(ranges[180], none);  // ahead: out of the far end, 9.5 m on
-  EXPECT_EQ(ranges[270], none);  // +90 degrees: the map's edge at y = 4, no wall there
+  const float none = 31.0f;            // no return reads range_max + 1
+  EXPECT_EQ(ranges[0], none);          // -180 degrees: out of the open end 0.5 m behind
+  EXPECT_EQ(ranges[180], none);        // ahead: out of the far end, 9.5 m on
+  EXPECT_EQ(ranges[270], none);        // +90 degrees: the map's edge at y = 4, no wall there
   EXPECT_NEAR(ranges[90], 1.9, 1e-6);  // -90 degrees: the wall on the edge row
   // A person standing in the open end is seen.
   const auto with_person = laser.Scan({0.5, 2.0, 0.0}, RayCaster(street), {{{0.2, 2.0}, 0.1, 3}}, -1, rng);
@@ -302,8 +304,8 @@ TEST(Scenarios, GlassIsSeenBySonarButNotByTheLaser) {
     if (out.robots[0].sonar) sonar = out.robots[0].sonar;
   }
   const size_t ahead = static_cast<size_t>(s.robots[0].laser->beams - 1) / 2;
-  EXPECT_GT((*scan)[ahead], 1.5f);           // through the pane to the wall at 3.9
-  EXPECT_NEAR((*sonar)[3], 0.8, 0.1);        // sonar_3 (10 degrees left) echoes off the pane at x = 3.0
+  EXPECT_GT((*scan)[ahead], 1.5f);     // through the pane to the wall at 3.9
+  EXPECT_NEAR((*sonar)[3], 0.8, 0.1);  // sonar_3 (10 degrees left) echoes off the pane at x = 3.0
   EXPECT_TRUE(sim.truth().DiscHitsWall({3.05, 2.0}, 0.01));
   EXPECT_FALSE(sim.laser_truth().DiscHitsWall({3.05, 2.0}, 0.01));
   EXPECT_TRUE(sim.laser_truth().DiscHitsWall({1.1, 1.0}, 0.01));  // the box is no glass
@@ -563,8 +565,8 @@ TEST(MovingObstacles, LoopAtTheirSpeedAndWaitForRobots) {
 
 // A wide open 200 m street, walls far away, for motion statistics.
 Scenario OpenStreet(const std::string& people) {
-  const std::string world = WriteFile(
-      "open.yaml", "map: {resolution: 0.2, size: [200, 20]}\nrobot: {start: [1, 1, 0]}\n");
+  const std::string world =
+      WriteFile("open.yaml", "map: {resolution: 0.2, size: [200, 20]}\nrobot: {start: [1, 1, 0]}\n");
   return ParseScenario("world: " + world + "\nseed: 11\npeople:\n" + people, "street.yaml", ".");
 }
 
@@ -669,7 +671,8 @@ TEST(Pedestrians, ThePeopleSensorReportsEveryoneInRangeInTheRobotsFrame) {
     }
     ASSERT_EQ(out.robots[0].people->size(), expected) << "at t=" << sim.now();
     for (const PersonReading& r : *out.robots[0].people) {
-      const auto truth = std::find_if(sim.people().begin(), sim.people().end(), [&](const Person& p) { return p.id == r.id; });
+      const auto truth =
+          std::find_if(sim.people().begin(), sim.people().end(), [&](const Person& p) { return p.id == r.id; });
       ASSERT_NE(truth, sim.people().end());
       EXPECT_LT(Distance(robot * r.position, truth->position), 1e-9);
       const Point2 v = truth->velocity.isZero() ? Point2::Zero() : WalkingVelocity(*truth);
@@ -695,7 +698,8 @@ TEST(Scenarios, ShippedScenariosLoad) {
   const Scenario office = LoadScenarioFile(std::string(NAVD_SOURCE_DIR) + "/worlds/scenarios/office.yaml");
   EXPECT_EQ(office.hidden_obstacles, 15);
   int differ = 0;  // the hidden obstacles are in the truth, not in the robot's map
-  for (size_t i = 0; i < office.truth.cells().size(); ++i) differ += office.truth.cells()[i] != office.world.map.cells()[i];
+  for (size_t i = 0; i < office.truth.cells().size(); ++i)
+    differ += office.truth.cells()[i] != office.world.map.cells()[i];
   EXPECT_GT(differ, 15);
 }
 
@@ -711,10 +715,13 @@ void ExpectScenarioError(const std::string& text, const std::string& expected) {
 
 TEST(Scenarios, BadInputNamesFileLineAndField) {
   ExpectScenarioError("robots: [{start: [0.05, 2.0, 0.0]}]\n", "field 'robots[0].start' puts the robot inside");
-  ExpectScenarioError("robots: [{start: [2, 2], sensors: [{type: radar}]}]\n", "'robots[0].sensors[0].type' is not a known sensor type 'radar'");
-  ExpectScenarioError("robots: [{start: [2, 2], sensors: [{type: laser, rate_hz: -10}]}]\n", "'robots[0].sensors[0].rate_hz' must be positive");
+  ExpectScenarioError("robots: [{start: [2, 2], sensors: [{type: radar}]}]\n",
+                      "'robots[0].sensors[0].type' is not a known sensor type 'radar'");
+  ExpectScenarioError("robots: [{start: [2, 2], sensors: [{type: laser, rate_hz: -10}]}]\n",
+                      "'robots[0].sensors[0].rate_hz' must be positive");
   ExpectScenarioError("robots:\n  - {name: a, start: [1, 1]}\n  - {start: [2, 2]}\n", "'robots[1].name' is required");
-  ExpectScenarioError("robots: [{start: [2, 2], drive: hovercraft}]\n", "'robots[0].drive' must be diff_drive, omni or unicycle");
+  ExpectScenarioError("robots: [{start: [2, 2], drive: hovercraft}]\n",
+                      "'robots[0].drive' must be diff_drive, omni or unicycle");
   ExpectScenarioError("moving_obstacles: [{loop: [[0.5, 0.5], [5, 0.5]]}]\n", "runs into a wall");
   ExpectScenarioError("people: {mode: street}\n", "'people.area' is missing");
   ExpectScenarioError("robotz: []\n", "'robotz' is not a known field");
@@ -733,9 +740,9 @@ TEST(Worlds, PolygonWorldsRasteriseAndRejectSelfIntersection) {
       "  polygons:\n    - [[4, 4], [6, 4], [5, 6]]\n"
       "robot: {start: [2, 2, 0]}\n",
       "poly.yaml", ".");
-  EXPECT_TRUE(w.map.IsOccupied(w.map.CellOf({0.2, 5})));   // outside the boundary
-  EXPECT_FALSE(w.map.IsOccupied(w.map.CellOf({2, 5})));    // inside it
-  EXPECT_TRUE(w.map.IsOccupied(w.map.CellOf({5, 4.5})));   // inside the triangle
+  EXPECT_TRUE(w.map.IsOccupied(w.map.CellOf({0.2, 5})));  // outside the boundary
+  EXPECT_FALSE(w.map.IsOccupied(w.map.CellOf({2, 5})));   // inside it
+  EXPECT_TRUE(w.map.IsOccupied(w.map.CellOf({5, 4.5})));  // inside the triangle
   EXPECT_FALSE(w.map.IsOccupied(w.map.CellOf({4.2, 5.8})));
   EXPECT_NEAR(RayCaster(w.map).Cast({2, 4.1}, 0.0, 10), 2.0, 0.05);
   try {
@@ -869,9 +876,11 @@ TEST(LockstepGate, WhileHeldTheWaitRepeatsItsCallbackUntilTheControllerAnswers) 
   LockstepGate gate(1, 5.0);
   int repeats = 0;
   const auto start = std::chrono::steady_clock::now();
-  EXPECT_TRUE(gate.WaitUntilAllowed(0.0, [&] {
-                    if (++repeats == 3) gate.Report(0, 0.05);  // the third clock got through
-                  }).empty());
+  EXPECT_TRUE(gate.WaitUntilAllowed(0.0,
+                                    [&] {
+                                      if (++repeats == 3) gate.Report(0, 0.05);  // the third clock got through
+                                    })
+                  .empty());
   EXPECT_EQ(repeats, 3);
   const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_GE(waited, 3 * LockstepGate::kRepeatPeriod - 0.01);

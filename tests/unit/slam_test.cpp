@@ -94,7 +94,8 @@ TEST(PoseGraph, ALoopClosureRemovesTheOdometryDrift) {
   graph.AddEdge({2, 10, Pose2{0.0, 0.0, 0.0}, Eigen::Matrix3d::Identity() * 1000.0, true});
   graph.Optimize();
   double worst = 0.0;
-  for (int i = 0; i < 16; ++i) worst = std::max(worst, Distance(graph.nodes()[i].translation(), truth[i].translation()));
+  for (int i = 0; i < 16; ++i)
+    worst = std::max(worst, Distance(graph.nodes()[i].translation(), truth[i].translation()));
   EXPECT_LT(worst, 0.5 * drift_before) << "drift before " << drift_before;
   EXPECT_LT(Distance(graph.nodes()[15].translation(), truth[15].translation()), 0.05);
   EXPECT_NEAR(graph.nodes()[0].x, 0.0, 1e-9);  // the anchor stays
@@ -138,7 +139,8 @@ GraphSlamOptions RoomSlamOptions() {
 
 double PositionRmse(const std::vector<Pose2>& estimate, const std::vector<Pose2>& truth) {
   double sq = 0.0;
-  for (size_t i = 0; i < truth.size(); ++i) sq += std::pow(Distance(estimate[i].translation(), truth[i].translation()), 2);
+  for (size_t i = 0; i < truth.size(); ++i)
+    sq += std::pow(Distance(estimate[i].translation(), truth[i].translation()), 2);
   return std::sqrt(sq / truth.size());
 }
 

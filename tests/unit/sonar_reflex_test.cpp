@@ -25,9 +25,9 @@ TEST(SonarReflex, ThePioneerRingsFrontHalfFormsFiveGroups) {
   std::vector<SonarGroup> groups;
   for (double a : PioneerSonarAngles()) groups.push_back(reflex.GroupOf(a));
   using G = SonarGroup;
-  const std::vector<SonarGroup> expected = {G::kLeft,  G::kFrontLeft, G::kFrontLeft, G::kFront, G::kFront, G::kFrontRight,
-                                            G::kFrontRight, G::kRight, G::kRight, G::kNone, G::kNone, G::kNone,
-                                            G::kNone,  G::kNone,      G::kNone,      G::kLeft};
+  const std::vector<SonarGroup> expected = {
+      G::kLeft,  G::kFrontLeft, G::kFrontLeft, G::kFront, G::kFront, G::kFrontRight, G::kFrontRight, G::kRight,
+      G::kRight, G::kNone,      G::kNone,      G::kNone,  G::kNone,  G::kNone,       G::kNone,       G::kLeft};
   EXPECT_EQ(groups, expected);
 }
 
@@ -68,7 +68,8 @@ TEST(SonarReflex, TheVectorSumSteersAwayAndSlowsOnlyWhenThereIsAStimulus) {
   // A weak stimulus on the left nudges right at full speed.
   const WheelSpeeds nudge = SonarReflex::Blend(ahead, 0.0, reflex.Respond({{90 * kDeg, 0.6}}, 0.0), 1.0, 0.5);
   EXPECT_GT(nudge.left, nudge.right);
-  EXPECT_NEAR(ToTwist(nudge, 0.33).omega, ToTwist(ClampWheels({0.5 + 0.5 * std::atan(0.3), 0.5 - 0.5 * std::atan(0.3)}, 0.5), 0.33).omega, 1e-9);
+  EXPECT_NEAR(ToTwist(nudge, 0.33).omega,
+              ToTwist(ClampWheels({0.5 + 0.5 * std::atan(0.3), 0.5 - 0.5 * std::atan(0.3)}, 0.5), 0.33).omega, 1e-9);
   // Something urgent front-left: the sum points back and right; the robot turns right on the spot.
   const WheelSpeeds urgent = SonarReflex::Blend(ahead, 0.0, reflex.Respond({{30 * kDeg, 0.2}}, 0.0), 1.0, 0.5);
   EXPECT_NEAR(ToTwist(urgent, 0.33).v, 0.0, 1e-9);
@@ -111,7 +112,7 @@ PaneRun DriveAtAPane(bool reflexes) {
     clock.Set(t);
     localizer.AddOdometry({odom, Eigen::Matrix3d::Zero(), t});
     const Pose2 pose = localizer.Estimate().pose;  // exact: odometry without noise
-    if (i % 2 == 0) {  // the ring at 10 Hz
+    if (i % 2 == 0) {                              // the ring at 10 Hz
       const std::vector<float> ranges = ring.Read(pose, truth, {}, -1, rng);
       echoes.clear();
       for (size_t k = 0; k < ranges.size(); ++k)
