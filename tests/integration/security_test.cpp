@@ -19,16 +19,6 @@ namespace {
 
 using grpc::StatusCode;
 
-std::string Trimmed(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  return s;
-}
-
-std::string ReadIfPresent(const std::string& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 StackOptions SecuredStack(const Keystore& keys, bool client_ca, const std::string& client_role = "admin",
                           const std::string& client_cert = "") {
   StackOptions o;
@@ -182,9 +172,7 @@ TEST(GrpcSecurity, NavdRefusesPlainTextBeyondLoopbackAndOpenTokenFiles) {
   const std::string dir = MakeTempDir();
   Process navd({NavdBinary(), "--domain", domain, "--listen", "0.0.0.0:0", "--insecure", "--port-file", dir + "/port"},
                dir + "/navd.log");
-  ASSERT_TRUE(WaitUntil([&] { return !Trimmed(ReadIfPresent(dir + "/port")).empty() || !navd.running(); }, 20.0));
-  ASSERT_TRUE(navd.running()) << navd.Log();
-  Client plain(ClientOptions{"127.0.0.1:" + Trimmed(ReadIfPresent(dir + "/port")), 5.0});
+  Client plain(ClientOptions{"127.0.0.1:" + WaitForPortFile(dir + "/port", navd, 20.0), 5.0});
   EXPECT_NO_THROW(plain.ListPlanners());
   EXPECT_NE(navd.Log().find("--insecure: gRPC in plain text on 0.0.0.0:0, without authentication"), std::string::npos)
       << navd.Log();

@@ -37,11 +37,7 @@ class TwoHosts : public ::testing::Test {
                                   "--dds-network", "all"};
     argv.insert(argv.end(), dds_args.begin(), dds_args.end());
     navd_.emplace(lan_->On(kNavdHost, argv), dir_ + "/navd.log");
-    for (int i = 0; i < 400 && !std::ifstream(dir_ + "/navd.port").good(); ++i) {
-      ASSERT_TRUE(navd_->running()) << navd_->Log();
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    ASSERT_TRUE(std::ifstream(dir_ + "/navd.port").good()) << navd_->Log();
+    WaitForPortFile(dir_ + "/navd.port", *navd_, 20.0);
   }
 
   void StartNavsim(const std::vector<std::string>& dds_args) {

@@ -59,17 +59,11 @@ NavdStack::NavdStack(const StackOptions& o) : domain_(ReserveDomain()), dir_(Mak
   args.insert(args.end(), o.navd_args.begin(), o.navd_args.end());
   navd_ = std::make_unique<Process>(args, dir_ + "/navd.log");
 
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  std::string port;
-  while (port.empty()) {
-    std::ifstream in(port_file);
-    if (in) in >> port;
-    if (!port.empty()) break;
-    if (!navd_->running()) throw std::runtime_error("navd exited during start-up:\n" + Logs());
-    if (std::chrono::steady_clock::now() > end) throw std::runtime_error("navd did not start:\n" + Logs());
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  try {
+    address_ = "127.0.0.1:" + WaitForPortFile(port_file, *navd_, 20.0);
+  } catch (const std::runtime_error&) {
+    throw std::runtime_error("navd did not start (" + navd_->Status() + "):\n" + Logs());
   }
-  address_ = "127.0.0.1:" + port;
   client_ = MakeClient(o.client);
   if (!client_->WaitForConnected(10.0)) throw std::runtime_error("cannot connect to navd at " + address_);
 }

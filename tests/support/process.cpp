@@ -83,6 +83,18 @@ std::string Process::Log() const {
   return ss.str();
 }
 
+std::string WaitForPortFile(const std::string& path, Process& server, double timeout) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
+  while (true) {
+    std::string port;
+    if (std::ifstream in(path); in) in >> port;
+    if (!port.empty()) return port;
+    if (!server.running()) throw std::runtime_error("the server exited during start-up:\n" + server.Log());
+    if (std::chrono::steady_clock::now() > end) throw std::runtime_error("the server did not start:\n" + server.Log());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
+
 CommandResult RunCommand(const std::vector<std::string>& argv, double timeout) {
   const std::string log = MakeTempDir() + "/output.txt";
   Process p(argv, log);

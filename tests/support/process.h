@@ -42,6 +42,11 @@ struct CommandResult {
 // Runs a command to completion (bounded by `timeout` seconds) and returns its exit code and output.
 CommandResult RunCommand(const std::vector<std::string>& argv, double timeout = 30.0);
 
+// Waits up to `timeout` seconds for the port a server wrote to `path` (navd --port-file) and
+// returns it. Throws std::runtime_error, with the server's log, when `server` exits first or the
+// time runs out.
+std::string WaitForPortFile(const std::string& path, Process& server, double timeout);
+
 // A DDS domain id no other test process on this machine holds, reserved by an flock on a file
 // in /tmp until the process exits. Integration tests run in parallel, one domain each.
 int ReserveDomain();
