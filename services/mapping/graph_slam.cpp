@@ -63,12 +63,13 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
 
   // Front end: the scan against the local map of recent nodes, around the odometry's prediction.
   std::vector<Point2> points = Returns(scan);
-  const CorrelationGrid local(NodePointsInMap(last - o_.local_map_nodes + 1, last), o_.sequential.resolution,
-                              o_.sequential.sigma);
-  const ScanMatch match = MatchScan(local, ThinPoints(points, o_.match_point_spacing), predicted, o_.sequential);
+  std::vector<Point2> local_points = NodePointsInMap(last - o_.local_map_nodes + 1, last);
+  const CorrelationGrid local(local_points, o_.sequential.resolution, o_.sequential.sigma);
+  const std::vector<Point2> thinned = ThinPoints(points, o_.match_point_spacing);
+  const ScanMatch match = MatchScan(local, thinned, predicted, o_.sequential);
   // A scan that explains too little of the local map (empty scan, a new room seen through a door)
   // keeps the odometry's prediction.
-  const Pose2 pose = match.score > 0.1 ? match.pose : predicted;
+  const Pose2 pose = match.score > 0.1 ? Polish(std::move(local_points), thinned, match.pose) : predicted;
 
   travel_since_closure_ += Distance(pose.translation(), graph_.nodes()[last].translation());
   const int node = graph_.AddNode(pose);
@@ -119,9 +120,10 @@ void GraphSlam::TryLoopClosure(int node) {
   fine.prior_sigma_xy = fine.prior_sigma_theta = 0.0;
   fine.window_xy = 2.0 * coarse.resolution;
   fine.window_theta = 2.0 * coarse.angle_step;
-  const ScanMatch match = MatchScan(CorrelationGrid(reference, fine.resolution, fine.sigma), scan, rough.pose, fine);
+  ScanMatch match = MatchScan(CorrelationGrid(reference, fine.resolution, fine.sigma), scan, rough.pose, fine);
   if (match.score < o_.loop_min_score) return;
   if (rough.coarse_elsewhere > o_.loop_max_ambiguity * rough.coarse_best) return;
+  match.pose = Polish(reference, scan, match.pose);
   if (Distance(match.pose.translation(), here.translation()) > allowance) return;
 
   const Pose2 relative = graph_.nodes()[candidate].inverse() * match.pose;
@@ -133,9 +135,19 @@ void GraphSlam::TryLoopClosure(int node) {
 
 bool GraphSlam::MatchAgainst(const std::vector<Point2>& scan, int first, int last, const Pose2& guess,
                              const ScanMatchOptions& window, ScanMatch* match) const {
-  const CorrelationGrid reference(NodePointsInMap(first, last), window.resolution, window.sigma);
-  *match = MatchScan(reference, scan, guess, window);
-  return match->score >= o_.loop_min_score && match->coarse_spread <= o_.refine_max_spread;
+  std::vector<Point2> points = NodePointsInMap(first, last);
+  *match = MatchScan(CorrelationGrid(points, window.resolution, window.sigma), scan, guess, window);
+  if (match->score < o_.loop_min_score || match->coarse_spread > o_.refine_max_spread) return false;
+  match->pose = Polish(std::move(points), scan, match->pose);
+  return true;
+}
+
+Pose2 GraphSlam::Polish(std::vector<Point2> reference, const std::vector<Point2>& scan, const Pose2& guess) const {
+  const PointToLineResult polished = PointToLineMatcher(std::move(reference), o_.polish).Match(scan, guess);
+  if (!polished.ok || Distance(polished.pose.translation(), guess.translation()) > o_.polish_max_shift_xy ||
+      std::abs(NormalizeAngle(polished.pose.theta - guess.theta)) > o_.polish_max_shift_theta)
+    return guess;
+  return polished.pose;
 }
 
 bool GraphSlam::TurnedOnTheSpot(int node) const {

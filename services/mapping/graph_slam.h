@@ -8,6 +8,8 @@
 //    local map reaches) within a search radius; the new scan is matched against that node's
 //    neighbourhood over a wide window, coarse (10 cm) then fine (5 cm); a match that explains
 //    enough of the scan becomes a robust (Cauchy) edge and the graph is optimised;
+//  - every match is polished by point-to-line matching against the same reference points
+//    (PointToLineMatcher), which holds it to the walls closer than the correlative grid's cells;
 //  - the map re-renders from the optimised poses (OccupancyGridMapper).
 // Map frame: the first scan sits at options.first_pose (the origin by default); metres, radians.
 #include <limits>
@@ -17,6 +19,7 @@
 #include "services/common/pose2.h"
 #include "services/mapping/correlative_scan_matcher.h"
 #include "services/mapping/occupancy_grid_mapper.h"
+#include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
 
 namespace navd::mapping {
@@ -45,6 +48,12 @@ struct GraphSlamOptions {
     return s;
   }();
   double sequential_sigma_xy = 0.03, sequential_sigma_theta = 0.01;  // edge uncertainty
+  // Every match (front end, loop closure, refinement) is polished by point-to-line matching
+  // against the same reference points; a polish that moves the pose farther than this paired
+  // points with the wrong walls, and the correlative pose stands.
+  PointToLineOptions polish;
+  double polish_max_shift_xy = 0.05;     // m
+  double polish_max_shift_theta = 0.03;  // rad
   // Loop closing.
   double loop_search_radius = 4.0;  // m between the new node and a candidate
   int loop_min_node_gap = 30;       // nodes back along the chain, at least
@@ -125,6 +134,8 @@ class GraphSlam {
   std::vector<Point2> NodePointsInMap(int first, int last) const;
   void TryLoopClosure(int node);
   bool TurnedOnTheSpot(int node) const;
+  // `guess` polished by point-to-line matching of `scan` (robot frame) on `reference` (map frame).
+  Pose2 Polish(std::vector<Point2> reference, const std::vector<Point2>& scan, const Pose2& guess) const;
   // A scan's points (robot frame, thinned) matched against the map of nodes [first, last] around
   // `guess`; false when the match is weak or slides along a corridor.
   bool MatchAgainst(const std::vector<Point2>& scan, int first, int last, const Pose2& guess,

@@ -1,4 +1,4 @@
-// The parts of graph SLAM: the correlative scan matcher and the SE(2) pose graph.
+// The parts of graph SLAM: the correlative and point-to-line scan matchers and the SE(2) pose graph.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -6,6 +6,7 @@
 #include "services/common/ray_caster.h"
 #include "services/mapping/correlative_scan_matcher.h"
 #include "services/mapping/graph_slam.h"
+#include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
 
 namespace navd::mapping {
@@ -65,6 +66,82 @@ TEST(CorrelativeScanMatcher, RecoversThePoseFromAnOffsetPrior) {
   // Outside the window the true pose cannot be found: the score says so.
   const ScanMatch far = MatchScan(grid, scan, {truth.x + 1.0, truth.y, truth.theta}, {});
   EXPECT_LT(far.score, 0.6 * m.score);
+}
+
+// End points (robot frame) of 360 beams from `pose` to the nearest of `walls` (segments, world
+// frame), with 1 cm of range noise: exact geometry, so only the noise limits a match.
+std::vector<Point2> ScanOfWalls(const std::vector<std::pair<Point2, Point2>>& walls, const Pose2& pose,
+                                std::mt19937& noise) {
+  std::normal_distribution<double> n(0.0, 0.01);
+  std::vector<Point2> out;
+  for (int i = 0; i < 360; ++i) {
+    const double a = -M_PI + i * M_PI / 180.0;
+    const Point2 d = Rotate({1.0, 0.0}, pose.theta + a);
+    double nearest = 1e9;
+    for (const auto& [p, q] : walls) {
+      // pose + t d = p + u (q - p), t > 0, u in [0, 1].
+      const Point2 e = q - p, w = p - pose.translation();
+      const double det = d.x() * -e.y() + e.x() * d.y();
+      if (std::abs(det) < 1e-12) continue;
+      const double t = (w.x() * -e.y() + e.x() * w.y()) / det, u = (d.x() * w.y() - d.y() * w.x()) / det;
+      if (t > 0.0 && u >= 0.0 && u <= 1.0) nearest = std::min(nearest, t);
+    }
+    if (nearest < 20.0) out.push_back((nearest + n(noise)) * Point2(std::cos(a), std::sin(a)));
+  }
+  return out;
+}
+
+TEST(PointToLineMatcher, PolishesTheCorrelativePoseBeyondItsCells) {
+  // A 10 x 8 m room with a 2 m wall jutting in and a box.
+  const std::vector<std::pair<Point2, Point2>> walls = {
+      {{0, 0}, {10, 0}},  {{10, 0}, {10, 8}},     {{10, 8}, {0, 8}},      {{0, 8}, {0, 0}},  {{6, 8}, {6, 6}},
+      {{3, 3}, {3.6, 3}}, {{3.6, 3}, {3.6, 3.4}}, {{3.6, 3.4}, {3, 3.4}}, {{3, 3.4}, {3, 3}}};
+  std::mt19937 noise(7);
+  const Pose2 reference_pose{2.0, 2.0, 0.3}, truth{2.63, 2.41, 0.517};
+  std::vector<Point2> reference;
+  for (const Point2& p : ScanOfWalls(walls, reference_pose, noise)) reference.push_back(reference_pose * p);
+  const std::vector<Point2> scan = ThinPoints(ScanOfWalls(walls, truth, noise), 0.1);
+  const Pose2 coarse = MatchScan(CorrelationGrid(reference, 0.05, 0.05), scan, {2.6, 2.4, 0.5}, {}).pose;
+  const PointToLineResult fit = PointToLineMatcher(reference).Match(scan, coarse);
+  ASSERT_TRUE(fit.ok);
+  EXPECT_GT(fit.pairs, 100);
+  EXPECT_LT(fit.rms, 0.02);
+  const double error = Distance(fit.pose.translation(), truth.translation());
+  const double heading_error = std::abs(NormalizeAngle(fit.pose.theta - truth.theta));
+  // The correlative pose is off by millimetres and milliradians (its cells and angle steps).
+  EXPECT_LT(error, 0.003);
+  EXPECT_LT(heading_error, 0.001);
+}
+
+TEST(PointToLineMatcher, LeavesADirectionNoWallConstrainsWhereItStarted) {
+  // Two parallel walls along x: a corridor says nothing about x.
+  std::vector<Point2> reference, scan;
+  for (double x = -5.0; x <= 5.0; x += 0.05) {
+    reference.emplace_back(x, 1.0);
+    reference.emplace_back(x, -1.0);
+  }
+  for (double x = -3.0; x <= 3.0; x += 0.1) {
+    scan.emplace_back(x, 1.0);
+    scan.emplace_back(x, -1.0);
+  }
+  const PointToLineResult fit = PointToLineMatcher(reference).Match(scan, {0.07, 0.04, 0.02});
+  ASSERT_TRUE(fit.ok);
+  EXPECT_NEAR(fit.pose.y, 0.0, 0.002);
+  EXPECT_NEAR(fit.pose.theta, 0.0, 0.002);
+  EXPECT_NEAR(fit.pose.x, 0.07, 0.01);
+}
+
+TEST(PointToLineMatcher, RefusesWhenTooFewPointsPairWithALine) {
+  // Scattered points have no lines; a scan far from the reference pairs with nothing.
+  std::vector<Point2> scattered;
+  for (int i = 0; i < 50; ++i) scattered.emplace_back(i * 0.5, (i % 7) * 0.45);
+  std::vector<Point2> wall;
+  for (double x = 0.0; x <= 3.0; x += 0.05) wall.emplace_back(x, 0.0);
+  const Pose2 start{0.0, 0.01, 0.0};
+  EXPECT_FALSE(PointToLineMatcher(scattered).Match(wall, start).ok);
+  EXPECT_FALSE(PointToLineMatcher(wall).Match(wall, {0.0, 5.0, 0.0}).ok);
+  EXPECT_FALSE(PointToLineMatcher({}).Match(wall, start).ok);
+  EXPECT_TRUE(PointToLineMatcher(wall).Match(wall, start).ok);
 }
 
 TEST(PoseGraph, ALoopClosureRemovesTheOdometryDrift) {

@@ -1,0 +1,128 @@
+#include "services/mapping/point_to_line_matcher.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace navd::mapping {
+
+PointToLineMatcher::PointToLineMatcher(std::vector<Point2> reference, const PointToLineOptions& options)
+    : o_(options), cell_(std::max(options.max_pair_distance, options.normal_radius)), reference_(std::move(reference)) {
+  // Bucket the points by cell: sort indices by key, then record each key's run.
+  std::vector<std::pair<long long, int>> keyed;
+  keyed.reserve(reference_.size());
+  for (size_t i = 0; i < reference_.size(); ++i)
+    keyed.emplace_back(Key(Cell(reference_[i].x()), Cell(reference_[i].y())), static_cast<int>(i));
+  std::sort(keyed.begin(), keyed.end());
+  order_.reserve(keyed.size());
+  for (size_t i = 0; i < keyed.size(); ++i) {
+    if (i == 0 || keyed[i].first != keyed[i - 1].first)
+      cells_.push_back({keyed[i].first, {static_cast<int>(i), static_cast<int>(i)}});
+    order_.push_back(keyed[i].second);
+    cells_.back().second.second = static_cast<int>(i) + 1;
+  }
+
+  // Each point's line: the principal direction of its neighbours.
+  normals_.assign(reference_.size(), Point2::Zero());
+  const double r2 = o_.normal_radius * o_.normal_radius;
+  for (size_t i = 0; i < reference_.size(); ++i) {
+    const Point2& p = reference_[i];
+    Point2 sum = Point2::Zero();
+    Eigen::Matrix2d outer = Eigen::Matrix2d::Zero();
+    int n = 0;
+    ForEachNear(p, [&](int j) {
+      const Point2 d = reference_[j] - p;
+      if (d.squaredNorm() > r2) return;
+      sum += d;
+      outer += d * d.transpose();
+      ++n;
+    });
+    if (n < 3) continue;
+    const Point2 mean = sum / n;
+    const Eigen::Matrix2d cov = outer / n - mean * mean.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+    const double small = eig.eigenvalues()(0), large = eig.eigenvalues()(1);
+    if (large <= 0.0 || small > o_.max_flatness * large) continue;
+    normals_[i] = eig.eigenvectors().col(0).normalized();
+  }
+}
+
+template <typename Visit>
+void PointToLineMatcher::ForEachNear(const Point2& p, Visit&& visit) const {
+  const int cx = Cell(p.x()), cy = Cell(p.y());
+  for (int y = cy - 1; y <= cy + 1; ++y) {
+    for (int x = cx - 1; x <= cx + 1; ++x) {
+      const long long key = Key(x, y);
+      const auto it = std::lower_bound(cells_.begin(), cells_.end(), key,
+                                       [](const auto& cell, long long k) { return cell.first < k; });
+      if (it == cells_.end() || it->first != key) continue;
+      for (int k = it->second.first; k < it->second.second; ++k) visit(order_[k]);
+    }
+  }
+}
+
+int PointToLineMatcher::Nearest(const Point2& p) const {
+  int best = -1;
+  double best_d2 = o_.max_pair_distance * o_.max_pair_distance;
+  ForEachNear(p, [&](int j) {
+    if (normals_[j].isZero()) return;
+    const double d2 = (reference_[j] - p).squaredNorm();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = j;
+    }
+  });
+  return best;
+}
+
+PointToLineResult PointToLineMatcher::Match(const std::vector<Point2>& points, const Pose2& initial) const {
+  PointToLineResult result;
+  result.pose = initial;
+  if (points.empty() || reference_.empty() || !initial.finite()) return result;
+  const Eigen::Vector3d prior_information(1.0 / (o_.prior_sigma_xy * o_.prior_sigma_xy),
+                                          1.0 / (o_.prior_sigma_xy * o_.prior_sigma_xy),
+                                          1.0 / (o_.prior_sigma_theta * o_.prior_sigma_theta));
+  const double point_information = 1.0 / (o_.point_sigma * o_.point_sigma);
+  const double c2 = o_.cauchy_scale * o_.cauchy_scale;
+  Pose2 pose = initial;
+  for (int it = 0; it < o_.max_iterations; ++it) {
+    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    double squared = 0.0;
+    int pairs = 0;
+    for (const Point2& p : points) {
+      const Point2 w(pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y());
+      const int j = Nearest(w);
+      if (j < 0) continue;
+      const Point2& n = normals_[j];
+      const double r = n.dot(w - reference_[j]);
+      const double weight = 1.0 / (1.0 + r * r / c2);
+      // d(world point)/d(theta) = R'(theta) p.
+      const Eigen::Vector3d jac(n.x(), n.y(), n.x() * (-s * p.x() - c * p.y()) + n.y() * (c * p.x() - s * p.y()));
+      h += weight * jac * jac.transpose();
+      g += weight * r * jac;
+      squared += r * r;
+      ++pairs;
+    }
+    result.pairs = pairs;
+    if (pairs < o_.min_pairs) return result;
+    result.rms = std::sqrt(squared / pairs);
+    // The point terms as their mean, so the prior weighs the same however many points there are.
+    const double scale = point_information / pairs;
+    const Eigen::Vector3d offset(pose.x - initial.x, pose.y - initial.y, NormalizeAngle(pose.theta - initial.theta));
+    Eigen::Matrix3d a = scale * h;
+    a.diagonal() += prior_information;
+    const Eigen::Vector3d b = scale * g + prior_information.cwiseProduct(offset);
+    const Eigen::Vector3d step = a.ldlt().solve(-b);
+    if (!step.allFinite()) return result;
+    pose = {pose.x + step.x(), pose.y + step.y(), NormalizeAngle(pose.theta + step.z())};
+    if (step.head<2>().norm() < 1e-5 && std::abs(step.z()) < 1e-5) break;
+  }
+  result.ok = true;
+  result.pose = pose;
+  return result;
+}
+
+}  // namespace navd::mapping
