@@ -375,7 +375,7 @@ int Run(int argc, char** argv) {
     World world = world_path.empty() ? DefaultWorld() : LoadWorldOrMapFile(world_path);
     if (!start.empty()) {
       const auto p = ParseTuple(start, "--start", 2, 3);
-      world.start = Pose2(p[0], p[1], p.size() == 3 ? p[2] : 0.0);
+      world.start = Pose2{p[0], p[1], p.size() == 3 ? p[2] : 0.0};
       if (!world.start.translation().allFinite() || !std::isfinite(world.start.theta) ||
           !world.map.ContainsPoint(world.start.translation()) ||
           world.map.DiscHitsObstacle(world.start.translation(), world.robot.radius)) {

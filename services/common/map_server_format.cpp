@@ -141,7 +141,15 @@ void SaveMapServerMap(const OccupancyGrid& grid, const std::string& yaml_path) {
 }
 
 OccupancyGrid LoadMapServerMap(const std::string& yaml_path) {
-  const std::string text = ReadTextFile(yaml_path, "map file");
+  std::string image;
+  const MapServerParams p = ParseMapServerYaml(ReadTextFile(yaml_path, "map file"), yaml_path, &image);
+  std::filesystem::path image_path(image);
+  if (image_path.is_relative()) image_path = std::filesystem::path(yaml_path).parent_path() / image_path;
+  const std::string bytes = ReadTextFile(image_path.string(), "map image");
+  return DecodeMapServerImage(bytes, p, image_path.string());
+}
+
+MapServerParams ParseMapServerYaml(const std::string& text, const std::string& yaml_path, std::string* image_out) {
   const YAML::Node doc = ParseYamlMapping(text, yaml_path);
   auto require = [&](const char* key) {
     if (!doc[key]) throw Error(ErrorCode::kInvalidArgument, yaml_path + ": missing field '" + key + "'");
@@ -178,10 +186,8 @@ OccupancyGrid LoadMapServerMap(const std::string& yaml_path) {
   if (p.mode != "trinary" && p.mode != "scale" && p.mode != "raw") {
     throw Error(ErrorCode::kInvalidArgument, yaml_path + ": field 'mode' must be trinary, scale or raw");
   }
-  std::filesystem::path image_path(image);
-  if (image_path.is_relative()) image_path = std::filesystem::path(yaml_path).parent_path() / image_path;
-  const std::string bytes = ReadTextFile(image_path.string(), "map image");
-  return DecodeMapServerImage(bytes, p, image_path.string());
+  *image_out = image;
+  return p;
 }
 
 }  // namespace navd

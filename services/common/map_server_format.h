@@ -31,6 +31,8 @@ struct MapServerParams {
   double free_thresh = 0.196;
   std::string mode = "trinary";
 };
+// The YAML's fields, checked; `image` gets the image path as written. `source` names the file.
+MapServerParams ParseMapServerYaml(const std::string& text, const std::string& source, std::string* image);
 OccupancyGrid DecodeMapServerImage(const std::string& pgm_bytes, const MapServerParams& params,
                                    const std::string& source);
 

@@ -61,7 +61,11 @@ OccupancyGrid LoadMovingAiMap(const std::string& path) {
 }
 
 std::vector<MovingAiScenario> LoadMovingAiScenarios(const std::string& path) {
-  std::istringstream in(ReadTextFile(path, "scenario file"));
+  return ParseMovingAiScenarios(ReadTextFile(path, "scenario file"), path);
+}
+
+std::vector<MovingAiScenario> ParseMovingAiScenarios(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
   std::vector<MovingAiScenario> out;
   std::string line;
   int line_no = 0;

@@ -23,6 +23,8 @@ struct MovingAiScenario {
   int decimals = 0;  // digits after the point in the file's optimal length
 };
 
+// `source` names the file in error messages.
+std::vector<MovingAiScenario> ParseMovingAiScenarios(const std::string& text, const std::string& source);
 std::vector<MovingAiScenario> LoadMovingAiScenarios(const std::string& path);
 
 // Map-frame centre of MovingAI cell (x, row) in `grid`, which was loaded from a `.map`.

@@ -272,7 +272,7 @@ Pose2 FreeSpotNearCentre(const OccupancyGrid& map, double radius, const std::str
     throw Error(ErrorCode::kInvalidArgument,
                 path + ": no free spot where a robot of radius " + std::to_string(radius).substr(0, 4) + " m fits");
   }
-  return Pose2(spot.x(), spot.y(), 0.0);
+  return Pose2{spot.x(), spot.y(), 0.0};
 }
 
 }  // namespace

@@ -33,7 +33,8 @@ void YamlFields::ExpectMap(const YAML::Node& n, const std::string& field) const 
 }
 
 void YamlFields::ExpectSequence(const YAML::Node& n, const std::string& field, const std::string& of) const {
-  if (!n.IsSequence()) Fail(field, "must be a list of " + of, n);
+  // A missing field is an invalid node, whose IsSequence() throws instead of answering.
+  if (!n || !n.IsSequence()) Fail(field, "must be a list of " + of, n);
 }
 
 double YamlFields::Number(const YAML::Node& n, const std::string& field) const {

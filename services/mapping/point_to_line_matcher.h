@@ -57,8 +57,8 @@ class PointToLineMatcher {
   PointToLineOptions o_;
   double cell_;
   std::vector<Point2> reference_;
-  std::vector<Point2> normals_;  // unit; zero where a point has none
-  std::vector<int> order_;       // reference indices grouped by cell
+  std::vector<Point2> normals_;                                   // unit; zero where a point has none
+  std::vector<int> order_;                                        // reference indices grouped by cell
   std::vector<std::pair<long long, std::pair<int, int>>> cells_;  // sorted: key, [begin, end) in order_
 };
 

@@ -151,6 +151,9 @@ TEST(BrainFile, ErrorsNameTheFileLineAndField) {
   EXPECT_NE(message("state_variables: [a]\nprocesses:\n  - {name: n, kind: cognitive}\n").find("motor"),
             std::string::npos);
   EXPECT_NE(message("state_variables: [a]\nprocesses: []\nextra: 1\n").find("extra"), std::string::npos);
+  // A missing list is refused by name, not by yaml-cpp's "invalid node" escaping.
+  EXPECT_NE(message("processes: []\n").find("'state_variables' must be a list"), std::string::npos);
+  EXPECT_NE(message("state_variables: [a]\n").find("'processes' must be a list"), std::string::npos);
 }
 
 // Drives a navigator's mission on exact kinematics; returns the number of control steps.
