@@ -10,7 +10,9 @@
 
 namespace navd::fuzz {
 
-inline std::string Text(const uint8_t* data, size_t size) { return std::string(reinterpret_cast<const char*>(data), size); }
+inline std::string Text(const uint8_t* data, size_t size) {
+  return std::string(reinterpret_cast<const char*>(data), size);
+}
 
 // Runs `parse`, accepting navd::Error as the answer to bad input.
 template <typename Parse>
