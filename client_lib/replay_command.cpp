@@ -98,6 +98,39 @@ void HoldOdometryWhileCarried(const DisturbancePlan& plan, std::vector<Pose2>* o
 
 // The first log time at or after `from` when navd's error is back within `within` m to stay: the
 // median error of the next `hold` s of poses within it. -1 if never.
+// The pose navd holds right after each scan: the last it published within a second of log time
+// of the scan's stamp (before the next scan), against the corrected pose at its stamp. Offline
+// localisation is judged at the scans; between them navd carries the pose on with the noisy
+// odometry, where only the corrected poses' straight-line interpolation tells the truth.
+struct AtScans {
+  int judged = 0;
+  double sq_pos = 0.0, worst = 0.0;
+};
+AtScans JudgeAtScans(const CarmenLog& log, const std::vector<StampedPose>& sorted, const DisturbancePlan& kidnap) {
+  constexpr double kWithin = 1.0;  // s of log
+  AtScans a;
+  size_t p = 0;
+  for (size_t k = 0; k < log.scans.size(); ++k) {
+    if (kidnap.drop > 0 && k > kidnap.pick && k < kidnap.drop) continue;  // navd never saw it
+    const double from = log.scans[k].timestamp;
+    const double until = k + 1 < log.scans.size() ? std::min(from + kWithin, log.scans[k + 1].timestamp) : from + kWithin;
+    while (p < sorted.size() && sorted[p].stamp < from) ++p;
+    const StampedPose* last = nullptr;
+    for (size_t q = p; q < sorted.size() && sorted[q].stamp < until; ++q) last = &sorted[q];
+    if (!last) continue;
+    const CarmenScan& b = log.scans[k];
+    const CarmenScan& c = k + 1 < log.scans.size() ? log.scans[k + 1] : b;
+    const double span = c.timestamp - b.timestamp;
+    const Pose2 truth =
+        Interpolate(b.pose, c.pose, span > 0 ? std::clamp((last->stamp - b.timestamp) / span, 0.0, 1.0) : 0.0);
+    const double e = std::hypot(last->pose.x - truth.x, last->pose.y - truth.y);
+    a.sq_pos += e * e;
+    a.worst = std::max(a.worst, e);
+    ++a.judged;
+  }
+  return a;
+}
+
 double BackWithin(const std::vector<std::pair<double, double>>& errors, double from, double within, double hold) {
   for (size_t i = 0; i < errors.size(); ++i) {
     if (errors[i].first < from || errors[i].second > within) continue;
@@ -305,7 +338,8 @@ int RunReplay(const ReplayOptions& o) {
   std::vector<std::pair<double, double>> errors;  // (stamp, position error)
   std::string tum;
   size_t k = 1;
-  std::sort(got.begin(), got.end(), [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
+  // Stable: of poses with one stamp, the last received is navd's latest word on that instant.
+  std::stable_sort(got.begin(), got.end(), [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
   for (const StampedPose& p : got) {
     if (p.stamp < t0 || p.stamp > t_end) continue;
     while (k + 1 < log.scans.size() && log.scans[k].timestamp < p.stamp) ++k;
@@ -327,6 +361,7 @@ int RunReplay(const ReplayOptions& o) {
     tum += line;
   }
   if (!o.out.empty()) WriteFileAtomically(o.out, tum);
+  const AtScans at_scans = JudgeAtScans(log, got, o.disturbance == Disturbance::kKidnap ? plan : DisturbancePlan{});
   std::printf("replay: %zu scans, %.0f s of log in %.1f s (%.0fx real time)\n", log.scans.size(), t_end - t0, wall,
               wall > 0 ? (t_end - t0) / wall : 0.0);
   if (judged == 0) {
@@ -336,6 +371,10 @@ int RunReplay(const ReplayOptions& o) {
   std::printf("navd: %d poses, position RMSE %.4f m, heading RMSE %.4f rad, worst %.3f m%s\n", judged,
               std::sqrt(sq_pos / judged), std::sqrt(sq_head / judged), worst,
               worst > 0.5 ? " (lost at times)" : ", never lost");
+  if (at_scans.judged > 0) {
+    std::printf("navd at scans: %d scans, position RMSE %.4f m, worst %.3f m\n", at_scans.judged,
+                std::sqrt(at_scans.sq_pos / at_scans.judged), at_scans.worst);
+  }
   if (lost_watch) {
     double peak = 0.0;
     for (const auto& [stamp, error] : errors)

@@ -8,6 +8,9 @@
 
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
+#include "services/localization/global_scan_search.h"
+#include "services/localization/likelihood_field.h"
+#include "services/localization/scan_points.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/particle_filter.h"
 #include "tests/support/simulated_drive.h"
@@ -82,5 +85,27 @@ void BM_CalibrationSearch(benchmark::State& state) {
 BENCHMARK(BM_CalibrationSearch)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+// One whole-map scan search (the first step of a global relocalisation) from a warehouse pose,
+// exhaustive over every finest block (pyramid_levels 1) or best first down the block pyramid.
+void BM_GlobalScanSearch(benchmark::State& state) {
+  const World world = DefaultWorld();
+  const localization::LikelihoodField field(world.map);
+  localization::GlobalScanSearchOptions o;
+  o.pyramid_levels = static_cast<int>(state.range(0));
+  o.blocks_refined = static_cast<int>(state.range(1));
+  const localization::GlobalScanSearch search(world.map, field, o);
+  std::mt19937_64 rng(1);
+  const localization::ScanReading scan = localization::SimulatedScan(world, world.start, rng);
+  const std::vector<Point2> points = localization::ScanEndPoints(scan, 0);
+  for (auto _ : state) benchmark::DoNotOptimize(search.Search(points));
+  state.counters["block_scores"] = static_cast<double>(search.last_block_scores());
+}
+BENCHMARK(BM_GlobalScanSearch)
+    ->ArgNames({"pyramid_levels", "blocks_refined"})
+    ->Args({1, 300})
+    ->Args({4, 300})
+    ->Args({4, 30})
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
