@@ -113,7 +113,8 @@ AtScans JudgeAtScans(const CarmenLog& log, const std::vector<StampedPose>& sorte
   for (size_t k = 0; k < log.scans.size(); ++k) {
     if (kidnap.drop > 0 && k > kidnap.pick && k < kidnap.drop) continue;  // navd never saw it
     const double from = log.scans[k].timestamp;
-    const double until = k + 1 < log.scans.size() ? std::min(from + kWithin, log.scans[k + 1].timestamp) : from + kWithin;
+    const double until =
+        k + 1 < log.scans.size() ? std::min(from + kWithin, log.scans[k + 1].timestamp) : from + kWithin;
     while (p < sorted.size() && sorted[p].stamp < from) ++p;
     const StampedPose* last = nullptr;
     for (size_t q = p; q < sorted.size() && sorted[q].stamp < until; ++q) last = &sorted[q];
@@ -339,7 +340,8 @@ int RunReplay(const ReplayOptions& o) {
   std::string tum;
   size_t k = 1;
   // Stable: of poses with one stamp, the last received is navd's latest word on that instant.
-  std::stable_sort(got.begin(), got.end(), [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
+  std::stable_sort(got.begin(), got.end(),
+                   [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
   for (const StampedPose& p : got) {
     if (p.stamp < t0 || p.stamp > t_end) continue;
     while (k + 1 < log.scans.size() && log.scans[k].timestamp < p.stamp) ++k;

@@ -61,8 +61,7 @@ GlobalScanSearch::GlobalScanSearch(const OccupancyGrid& map, const LikelihoodFie
     // pose inside it; with the roundings of both, half its width and two cells bound them all.
     level.half = k == 0 ? level.cells / 2 + 1 : (level.cells + 1) / 2 + 2;
     level.clamp = k > 0;
-    level.bound =
-        SlidingMax(SlidingMax(score, width_, height_, level.half, true), width_, height_, level.half, false);
+    level.bound = SlidingMax(SlidingMax(score, width_, height_, level.half, true), width_, height_, level.half, false);
     level.free.assign(static_cast<size_t>(level.blocks_x) * level.blocks_y, 0);
     if (k == 0) {
       for (int y = 0; y < height_; ++y)
