@@ -79,6 +79,8 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   localization::ParticleFilterOptions filter_options;
   if (robot.drive == DriveType::kOmni) filter_options.motion_model = localization::MotionModel::kOmni;
   if (o.laser_model == "beam") filter_options.sensor_model = localization::SensorModel::kBeam;
+  if (o.odom_alpha > 0.0)
+    filter_options.alpha1 = filter_options.alpha2 = filter_options.alpha3 = filter_options.alpha4 = o.odom_alpha;
   localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid, filter_options));
   localizer.Add(std::make_unique<localization::OdometryLocalizer>());
   localizer.Add(std::make_unique<localization::EkfLocalizer>(map->grid));

@@ -20,7 +20,10 @@ struct DaemonOptions {
   std::string localizer = "amcl";                // amcl | ekf | calibration | histogram | odometry | auto
   std::string odometry = "odom";                 // odom: the robot's rt/odom; encoders: navd integrates joint_states
   std::string laser_model = "likelihood_field";  // the particle filter's: likelihood_field | beam
-  std::string brain_path;                        // utility-function brain YAML; empty: the built-in default
+  // The particle filter's odometry noise, AMCL's odom_alpha1..4 (variance per unit of motion
+  // squared); 0: the filter's default, which suits navsim's robots. Better odometry wants less.
+  double odom_alpha = 0.0;
+  std::string brain_path;  // utility-function brain YAML; empty: the built-in default
   std::string rear_range_frame = "ir_2";
   bool sonar_reflexes = true;           // seed 004's reflexes on the sonar ring of rt/<ns>/sonar
   std::vector<double> sonar_angles;     // rad, mounting angle of sonar_<i>; empty: a Pioneer ring
