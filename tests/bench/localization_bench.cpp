@@ -4,15 +4,10 @@
 //   build/tests/localization_bench
 #include <benchmark/benchmark.h>
 
-#include <cstdlib>
 #include <memory>
 
-#include "services/common/ray_caster.h"
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
-#include "services/localization/global_scan_search.h"
-#include "services/localization/likelihood_field.h"
-#include "services/localization/scan_points.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/particle_filter.h"
 #include "tests/support/simulated_drive.h"
@@ -87,44 +82,5 @@ void BM_CalibrationSearch(benchmark::State& state) {
 BENCHMARK(BM_CalibrationSearch)->Unit(benchmark::kMillisecond);
 
 }  // namespace
-
-// One whole-map scan search (the first step of a global relocalisation), exhaustive over every
-// finest block (pyramid_levels 1) or best first down the block pyramid, on the warehouse with a
-// scan of navsim's laser, or on the map NAVD_BENCH_MAP names (e.g. one navd-replay --mode map
-// built from a real log) with a 360-degree 10 m scan ray-cast at a free pose near its middle.
-void BM_GlobalScanSearch(benchmark::State& state) {
-  const char* path = std::getenv("NAVD_BENCH_MAP");
-  const OccupancyGrid map = path ? LoadAnyMapFile(path) : DefaultWorld().map;
-  const localization::LikelihoodField field(map);
-  localization::GlobalScanSearchOptions o;
-  o.pyramid_levels = static_cast<int>(state.range(0));
-  o.blocks_refined = static_cast<int>(state.range(1));
-  const localization::GlobalScanSearch search(map, field, o);
-  std::vector<Point2> points;
-  if (path) {
-    const RayCaster caster(map);
-    CellIndex cell{map.width() / 2, map.height() / 2};
-    for (int r = 0; map.at(cell) != OccupancyGrid::kFree && r < 97 * 97; ++r)
-      cell = {std::min(map.width() - 1, map.width() / 2 + r % 97),
-              std::min(map.height() - 1, map.height() / 2 + r / 97)};
-    const Point2 at = map.CellCenter(cell);
-    for (int i = 0; i < 360; ++i) {
-      const double a = i * M_PI / 180.0, range = caster.CastOpenEdge(at, 0.3 + a, 10.0);
-      if (range < 10.0) points.emplace_back(range * std::cos(a), range * std::sin(a));
-    }
-  } else {
-    const World world = DefaultWorld();
-    std::mt19937_64 rng(1);
-    points = localization::ScanEndPoints(localization::SimulatedScan(world, world.start, rng), 0);
-  }
-  for (auto _ : state) benchmark::DoNotOptimize(search.Search(points));
-  state.counters["block_scores"] = static_cast<double>(search.last_block_scores());
-}
-BENCHMARK(BM_GlobalScanSearch)
-    ->ArgNames({"pyramid_levels", "blocks_refined"})
-    ->Args({1, 300})
-    ->Args({4, 300})
-    ->Args({4, 30})
-    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
