@@ -96,22 +96,33 @@ void HoldOdometryWhileCarried(const DisturbancePlan& plan, std::vector<Pose2>* o
     (*odometry)[j] = j < plan.drop ? held : held * (from_drop * (*odometry)[j]);
 }
 
-// The first log time at or after `from` when navd's error is back within `within` m to stay: the
-// median error of the next `hold` s of poses within it. -1 if never.
 // The pose navd holds right after each scan: the last it published within a second of log time
 // of the scan's stamp (before the next scan), against the corrected pose at its stamp. Offline
 // localisation is judged at the scans; between them navd carries the pose on with the noisy
 // odometry, where only the corrected poses' straight-line interpolation tells the truth.
+// The corrected pose at `stamp` on the straight line from scan a to scan b (the log has no truth
+// between its scans).
+Pose2 CorrectedBetween(const CarmenScan& a, const CarmenScan& b, double stamp) {
+  const double span = b.timestamp - a.timestamp;
+  return Interpolate(a.pose, b.pose, span > 0 ? std::clamp((stamp - a.timestamp) / span, 0.0, 1.0) : 1.0);
+}
+
+// Scan `k` is one the kidnapped robot's laser never showed navd (it was being carried).
+bool Carried(const ReplayOptions& o, const DisturbancePlan& plan, size_t k) {
+  return o.disturbance == Disturbance::kKidnap && k > plan.pick && k < plan.drop;
+}
+
 struct AtScans {
   int judged = 0;
   double sq_pos = 0.0, worst = 0.0;
 };
-AtScans JudgeAtScans(const CarmenLog& log, const std::vector<StampedPose>& sorted, const DisturbancePlan& kidnap) {
+AtScans JudgeAtScans(const CarmenLog& log, const std::vector<StampedPose>& sorted, const ReplayOptions& o,
+                     const DisturbancePlan& plan) {
   constexpr double kWithin = 1.0;  // s of log
   AtScans a;
   size_t p = 0;
   for (size_t k = 0; k < log.scans.size(); ++k) {
-    if (kidnap.drop > 0 && k > kidnap.pick && k < kidnap.drop) continue;  // navd never saw it
+    if (Carried(o, plan, k)) continue;  // navd never saw it
     const double from = log.scans[k].timestamp;
     const double until =
         k + 1 < log.scans.size() ? std::min(from + kWithin, log.scans[k + 1].timestamp) : from + kWithin;
@@ -119,11 +130,7 @@ AtScans JudgeAtScans(const CarmenLog& log, const std::vector<StampedPose>& sorte
     const StampedPose* last = nullptr;
     for (size_t q = p; q < sorted.size() && sorted[q].stamp < until; ++q) last = &sorted[q];
     if (!last) continue;
-    const CarmenScan& b = log.scans[k];
-    const CarmenScan& c = k + 1 < log.scans.size() ? log.scans[k + 1] : b;
-    const double span = c.timestamp - b.timestamp;
-    const Pose2 truth =
-        Interpolate(b.pose, c.pose, span > 0 ? std::clamp((last->stamp - b.timestamp) / span, 0.0, 1.0) : 0.0);
+    const Pose2 truth = CorrectedBetween(log.scans[k], log.scans[std::min(k + 1, log.scans.size() - 1)], last->stamp);
     const double e = std::hypot(last->pose.x - truth.x, last->pose.y - truth.y);
     a.sq_pos += e * e;
     a.worst = std::max(a.worst, e);
@@ -132,6 +139,8 @@ AtScans JudgeAtScans(const CarmenLog& log, const std::vector<StampedPose>& sorte
   return a;
 }
 
+// The first log time at or after `from` when navd's error is back within `within` m to stay: the
+// median error of the next `hold` s of poses within it. -1 if never.
 double BackWithin(const std::vector<std::pair<double, double>>& errors, double from, double within, double hold) {
   for (size_t i = 0; i < errors.size(); ++i) {
     if (errors[i].first < from || errors[i].second > within) continue;
@@ -308,8 +317,7 @@ int RunReplay(const ReplayOptions& o) {
       // The scan at its own time, the odometry of that instant just before it.
       pace(s.timestamp);
       publish_odometry(s.timestamp, odometry[next]);
-      const bool carried = o.disturbance == Disturbance::kKidnap && next > plan.pick && next < plan.drop;
-      if (!carried) publish_scan(s);
+      if (!Carried(o, plan, next)) publish_scan(s);
       ++next;
       if (next % 100 == 0 || next == log.scans.size()) {
         std::fprintf(stderr, "\r  replayed %zu/%zu scans", next, log.scans.size());
@@ -345,11 +353,7 @@ int RunReplay(const ReplayOptions& o) {
   for (const StampedPose& p : got) {
     if (p.stamp < t0 || p.stamp > t_end) continue;
     while (k + 1 < log.scans.size() && log.scans[k].timestamp < p.stamp) ++k;
-    const CarmenScan& a = log.scans[k - 1];
-    const CarmenScan& b = log.scans[k];
-    const double span = b.timestamp - a.timestamp;
-    const Pose2 truth =
-        Interpolate(a.pose, b.pose, span > 0 ? std::clamp((p.stamp - a.timestamp) / span, 0.0, 1.0) : 1.0);
+    const Pose2 truth = CorrectedBetween(log.scans[k - 1], log.scans[k], p.stamp);
     const double ep = std::hypot(p.pose.x - truth.x, p.pose.y - truth.y);
     const double eh = std::abs(NormalizeAngle(p.pose.theta - truth.theta));
     sq_pos += ep * ep;
@@ -363,7 +367,7 @@ int RunReplay(const ReplayOptions& o) {
     tum += line;
   }
   if (!o.out.empty()) WriteFileAtomically(o.out, tum);
-  const AtScans at_scans = JudgeAtScans(log, got, o.disturbance == Disturbance::kKidnap ? plan : DisturbancePlan{});
+  const AtScans at_scans = JudgeAtScans(log, got, o, plan);
   std::printf("replay: %zu scans, %.0f s of log in %.1f s (%.0fx real time)\n", log.scans.size(), t_end - t0, wall,
               wall > 0 ? (t_end - t0) / wall : 0.0);
   if (judged == 0) {
