@@ -58,7 +58,8 @@ int main(int argc, char** argv) {
                  "The particle filter's sensor model: likelihood_field (default) or beam (ray casts per particle)")
       ->check(CLI::IsMember({"likelihood_field", "beam"}));
   app.add_option("--odom-alpha", o.odom_alpha,
-                 "The particle filter's odometry noise, AMCL's odom_alpha1..4 (default 0.1, for navsim's robots)")
+                 "The particle filter's odometry noise, AMCL's odom_alpha1..4 (default 0.1, for navsim's robots; the "
+                 "real logs: 0.01)")
       ->check(CLI::Range(1e-6, 10.0));
   app.add_option("--brain", o.brain_path, "Utility-function brain YAML (default: built in, as config/brain.yaml)");
   app.add_option("--rear-range-frame", o.rear_range_frame,

@@ -10,7 +10,12 @@
 namespace navd::localization {
 
 namespace {
-constexpr double kScanlessSteps = 4.0;  // x the update thresholds
+// The motion model's noise grows with the square of each step, so a move cut into k steps spreads
+// the cloud sqrt(k) times less than the same move made at once: scans move the particles by the
+// whole motion since the last update (as AMCL's update does), and only without scans for a metre
+// or a radian (at the default thresholds) does the cloud follow the odometry on its own. A laser
+// that scans every 0.5-1 m of travel (as the real logs do) needs a cloud spread by the whole step.
+constexpr double kScanlessSteps = 20.0;  // x the update thresholds
 }  // namespace
 
 ParticleFilterLocalizer::MapModel::MapModel(const OccupancyGrid& grid, const ParticleFilterOptions& o)

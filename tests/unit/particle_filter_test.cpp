@@ -152,6 +152,8 @@ TEST(ParticleFilter, OmniModelSlidesSidewaysWithoutSmearingHeadings) {
     ParticleFilterOptions o;
     o.motion_model = model;
     o.seed = 3;
+    // Without scans the cloud follows the odometry in steps of 20 update thresholds: 0.2 m here.
+    o.update_min_distance = o.update_min_angle = 0.01;
     ParticleFilterLocalizer pf(world.map, o);
     pf.AddOdometry({Pose2(0, 0, 0), Eigen::Matrix3d::Zero(), 0.0});
     pf.SetPose(world.start, Eigen::Matrix3d::Zero());
