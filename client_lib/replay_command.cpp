@@ -154,7 +154,7 @@ double BackWithin(const std::vector<std::pair<double, double>>& errors, double f
 }
 
 // Polls navd's GetStatus while the log plays and keeps the first log time at or after `from` at
-// which navd said its pose was lost.
+// which navd said its pose was lost: lost now, or lost (and found) since the last poll.
 class LostWatch {
  public:
   LostWatch(const std::string& server, double from, const std::atomic<double>& log_time)
@@ -175,7 +175,12 @@ class LostWatch {
     while (!stop_) {
       const double now = log_time_.load();
       try {
-        if (now >= from_ && first_lost_ < 0.0 && client_->GetStatus().localization_lost()) first_lost_ = now;
+        const auto status = client_->GetStatus();
+        if (now < from_) {
+          losses_before_ = status.localization_losses();
+        } else if (first_lost_ < 0.0 && (status.localization_lost() || status.localization_losses() > losses_before_)) {
+          first_lost_ = now;
+        }
       } catch (const std::exception&) {
         // navd busy or gone for a moment: the next poll tells.
       }
@@ -187,6 +192,7 @@ class LostWatch {
   std::unique_ptr<Client> client_;
   std::atomic<bool> stop_{false};
   std::atomic<double> first_lost_{-1.0};
+  uint64_t losses_before_ = 0;  // navd's count of losses before `from`
   std::thread thread_;
 };
 

@@ -193,7 +193,14 @@ void ControlLoop::Tick(uint64_t tick, double now) {
     was_lost_ = executive_.localization_lost();
     spdlog::info("t={:.2f}s pose {}: the scans fit the map at {:.2f}, position spread {:.2f} m", now,
                  was_lost_ ? "lost" : "found again", e.quality, e.PositionSpread());
+  } else if (executive_.localization_losses() != losses_seen_) {
+    const localization::PoseEstimate e = localizer_.Estimate();
+    spdlog::info(
+        "t={:.2f}s pose lost and found again: the localiser moved it to ({:.2f}, {:.2f}, {:.2f}), "
+        "where the scans fit the map at {:.2f}",
+        now, e.pose.x, e.pose.y, e.pose.theta, e.quality);
   }
+  losses_seen_ = executive_.localization_losses();
   if (spdlog::should_log(spdlog::level::debug) && executive_.crowd().plans() != crowd_plans_seen_)
     LogCrowdPlan(wheels, now);
   was_searching_ = executive_.searching();

@@ -45,6 +45,7 @@ class ControlLoop {
   int odometry_jumps_seen_ = 0;
   bool was_searching_ = false;  // the wake-up behaviour drove the robot last tick
   bool was_lost_ = false;       // the executive counted the pose lost last tick (for the log)
+  uint64_t losses_seen_ = 0;    // the executive's count of losses last tick (for the log)
   navigation::NavigationExecutive& executive_;
   mapping::MapBuilder& map_builder_;
   std::atomic<bool> stop_{false};

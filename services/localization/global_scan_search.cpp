@@ -58,7 +58,7 @@ GlobalScanSearch::GlobalScanSearch(const OccupancyGrid& map, const LikelihoodFie
   }
 }
 
-std::vector<PoseCandidate> GlobalScanSearch::Search(const std::vector<Point2>& all_points) const {
+std::vector<Point2> GlobalScanSearch::Scored(const std::vector<Point2>& all_points) const {
   std::vector<Point2> points;
   for (const Point2& p : all_points)
     if (p.allFinite() && p.norm() <= o_.max_range) points.push_back(p);
@@ -67,10 +67,25 @@ std::vector<PoseCandidate> GlobalScanSearch::Search(const std::vector<Point2>& a
     for (int i = 0; i < o_.points; ++i) thinned.push_back(points[i * points.size() / o_.points]);
     points.swap(thinned);
   }
+  return points;
+}
+
+double GlobalScanSearch::Score(const Pose2& pose, const std::vector<Point2>& all_points) const {
+  const std::vector<Point2> points = Scored(all_points);
+  return points.empty() ? 0.0 : field_.Agreement(pose, points);
+}
+
+std::vector<PoseCandidate> GlobalScanSearch::Search(const std::vector<Point2>& all_points,
+                                                    const SearchWindow* window) const {
+  const std::vector<Point2> points = Scored(all_points);
   if (points.size() < 5 || blocks_.empty()) return {};
 
-  // Coarse: every block and heading against the bound, in cells.
+  // Coarse: every block and heading (in the window, if any) against the bound, in cells.
   const int headings = std::max(1, static_cast<int>(std::lround(2.0 * M_PI / o_.angle_step)));
+  std::vector<int> searched_blocks;
+  for (size_t b = 0; b < blocks_.size(); ++b)
+    if (!window || (blocks_[b] - window->centre.translation()).norm() <= window->radius)
+      searched_blocks.push_back(static_cast<int>(b));
   struct Coarse {
     float score;
     int block, heading;
@@ -81,11 +96,13 @@ std::vector<PoseCandidate> GlobalScanSearch::Search(const std::vector<Point2>& a
   const double inv = 1.0 / resolution_;
   for (int h = 0; h < headings; ++h) {
     const double theta = h * 2.0 * M_PI / headings, c = std::cos(theta), s = std::sin(theta);
+    if (window && std::abs(NormalizeAngle(theta - window->centre.theta)) > window->max_turn + 0.5 * o_.angle_step)
+      continue;
     for (size_t j = 0; j < points.size(); ++j) {
       rx[j] = static_cast<float>((c * points[j].x() - s * points[j].y()) * inv);
       ry[j] = static_cast<float>((s * points[j].x() + c * points[j].y()) * inv);
     }
-    for (size_t b = 0; b < blocks_.size(); ++b) {
+    for (const int b : searched_blocks) {
       const float cx = static_cast<float>((blocks_[b].x() - origin_.x()) * inv - 0.5);
       const float cy = static_cast<float>((blocks_[b].y() - origin_.y()) * inv - 0.5);
       float sum = 0.0f;
@@ -93,9 +110,10 @@ std::vector<PoseCandidate> GlobalScanSearch::Search(const std::vector<Point2>& a
         const int x = static_cast<int>(std::lround(cx + rx[j])), y = static_cast<int>(std::lround(cy + ry[j]));
         if (x >= 0 && y >= 0 && x < width_ && y < height_) sum += bound_[static_cast<size_t>(y) * width_ + x];
       }
-      coarse.push_back({sum / points.size(), static_cast<int>(b), h});
+      coarse.push_back({sum / points.size(), b, h});
     }
   }
+  if (coarse.empty()) return {};
   const size_t keep = std::min(coarse.size(), static_cast<size_t>(std::max(1, o_.blocks_refined)));
   std::nth_element(coarse.begin(), coarse.begin() + (keep - 1), coarse.end(),
                    [](const Coarse& a, const Coarse& b) { return a.score > b.score; });

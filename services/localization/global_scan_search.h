@@ -27,6 +27,14 @@ struct GlobalScanSearchOptions {
   double distinct_theta = 0.3;             // rad
 };
 
+// Where a search looks: positions within `radius` of `centre` and headings within `max_turn` of its
+// heading. A whole-map search has none.
+struct SearchWindow {
+  Pose2 centre;
+  double radius = 5.0;    // m
+  double max_turn = 0.6;  // rad
+};
+
 struct PoseCandidate {
   Pose2 pose;
   double score = 0.0;  // 0..1: the mean over the points of each one's likelihood relative to a perfect fit
@@ -36,10 +44,16 @@ class GlobalScanSearch {
  public:
   // Keeps a reference to `field`, which must outlive the search and be built on `map`.
   GlobalScanSearch(const OccupancyGrid& map, const LikelihoodField& field, const GlobalScanSearchOptions& options = {});
-  // The best distinct poses for a scan's end points, best first; empty for fewer than 5 points.
-  std::vector<PoseCandidate> Search(const std::vector<Point2>& points) const;
+  // The best distinct poses for a scan's end points (robot frame), best first, on the whole map or
+  // within `window`; empty for fewer than 5 usable points.
+  std::vector<PoseCandidate> Search(const std::vector<Point2>& points, const SearchWindow* window = nullptr) const;
+  // How well the same points fit at `pose`, on the candidates' scale.
+  double Score(const Pose2& pose, const std::vector<Point2>& points) const;
 
  private:
+  // The points scored: finite, within max_range, thinned to o_.points.
+  std::vector<Point2> Scored(const std::vector<Point2>& all_points) const;
+
   GlobalScanSearchOptions o_;
   const LikelihoodField& field_;
   int width_ = 0, height_ = 0;

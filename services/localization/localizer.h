@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,6 +41,9 @@ struct PoseEstimate {
   bool valid = false;  // false until the first reading
   // How well the sensors agree with the map, 0 (lost) to 1; 1 for pure odometry, which cannot tell.
   double quality = 1.0;
+  // Times the localiser moved its estimate on its own to where the scans fit decisively better
+  // than where it was: a pose lost (carried off, left behind) and found again.
+  uint64_t relocations = 0;
   // m: how widely the position is spread, sqrt(var x + var y).
   double PositionSpread() const { return std::sqrt(std::max(0.0, covariance(0, 0) + covariance(1, 1))); }
 };

@@ -88,6 +88,7 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   initialised_ = true;
   global_mode_ = false;
   scan_search_due_ = false;
+  share_drawn_.reset();
   UpdateEstimate();
 }
 
@@ -117,6 +118,7 @@ void ParticleFilterLocalizer::ScatterUniformly() {
   for (auto& p : particles_) p = {RandomFreePose(), 1.0 / o_.global_particles};
   global_mode_ = true;
   scan_search_due_ = o_.scan_search;
+  share_drawn_.reset();
   last_odom_ = latest_odom_;
   moved_since_scan_ = true;
   w_slow_ = w_fast_ = 0.0;
@@ -206,6 +208,11 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!initialised_ || !have_odom_ || !moved_since_scan_) return false;
   const Pose2 at_scan = odom_history_.At(scan.stamp);
+  // Where the odometry alone puts the estimate, and the nearby reset's draws.
+  const Pose2 step = last_odom_.inverse() * at_scan;
+  const Pose2 carried = estimate_.pose * step;
+  const std::optional<Pose2> drawn = share_drawn_ ? std::optional<Pose2>(*share_drawn_ * step) : std::nullopt;
+  share_drawn_.reset();
   MoveParticles(last_odom_, at_scan);
   last_odom_ = at_scan;
   if (candidates && scan_search_due_ && searched == model_) DrawAround(*candidates);
@@ -223,7 +230,37 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
     WeighByLikelihoodField(ends, sensor);
   }
   Reweigh(ends, sensor, beam_count);
+  // Relocated: the scan moved the estimate far from where the odometry put it, to the draws.
+  const double moved = Distance(estimate_.pose.translation(), carried.translation());
+  if (drawn && moved > o_.nearby_reset.relocated_jump &&
+      Distance(estimate_.pose.translation(), drawn->translation()) < moved)
+    ++estimate_.relocations;
+  if (!global_mode_ && o_.nearby_reset.enabled) {
+    const NearbyReset reset(o_.nearby_reset);
+    if (const auto found = reset.Check(model_->scan_search(o_.scan_search_options), estimate_.pose, estimate_.quality,
+                                       ScanEndPoints(scan, 0)))
+      DrawShareAround(found->pose);
+  }
   return true;
+}
+
+void ParticleFilterLocalizer::DrawShareAround(const Pose2& pose) {
+  const NearbyResetOptions& r = o_.nearby_reset;
+  const size_t count = static_cast<size_t>(std::lround(r.share * particles_.size()));
+  if (count == 0) return;
+  const ZigguratNormal n;
+  // Every k-th particle, so the cloud keeps its shape; each drawn one gets the mean weight.
+  const size_t every = std::max<size_t>(1, particles_.size() / count);
+  share_drawn_ = pose;
+  const double weight = 1.0 / particles_.size();
+  for (size_t k = 0; k < particles_.size(); k += every) {
+    particles_[k] = {{pose.x + r.sigma_xy * n(rng_), pose.y + r.sigma_xy * n(rng_),
+                      NormalizeAngle(pose.theta + r.sigma_theta * n(rng_))},
+                     weight};
+  }
+  double total = 0.0;
+  for (const auto& p : particles_) total += p.weight;
+  for (auto& p : particles_) p.weight /= total;
 }
 
 void ParticleFilterLocalizer::WeighByLikelihoodField(const std::vector<Point2>& ends,

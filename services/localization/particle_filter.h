@@ -9,7 +9,9 @@
 //    z_hit N(z - z*), z_short exponential, z_max at no-returns and z_rand), AMCL's "beam",
 //  - KLD-sampling to size the particle set to the spread of the belief,
 //  - augmented MCL (w_slow, w_fast) to inject uniformly drawn particles when the sensors stop
-//    agreeing with the map (recovery from a wrong pose or a kidnapping).
+//    agreeing with the map (recovery from a wrong pose or a kidnapping; off by default),
+//  - sensor resetting within reach (NearbyReset): a share of the particles drawn where the scan
+//    fits decisively better within a few metres of a poorly fitting estimate.
 // Units: metres, radians; poses in the map frame; odometry in the odom frame.
 #include <algorithm>
 #include <atomic>
@@ -25,6 +27,7 @@
 #include "services/localization/global_scan_search.h"
 #include "services/localization/likelihood_field.h"
 #include "services/localization/localizer.h"
+#include "services/localization/nearby_reset.h"
 #include "services/localization/odometry_history.h"
 #include "services/localization/scan_points.h"
 
@@ -91,6 +94,9 @@ struct ParticleFilterOptions {
   bool scan_search = true;
   GlobalScanSearchOptions scan_search_options;
   double scan_search_sigma_xy = 0.1, scan_search_sigma_theta = 0.05;
+  // Particles drawn where a scan fits decisively better within a few metres of a poorly fitting
+  // estimate (searched with scan_search_options' scoring).
+  NearbyResetOptions nearby_reset;
   // Initial spread around a SetPose without covariance.
   double initial_sigma_xy = 0.1, initial_sigma_theta = 0.1;
   uint64_t seed = 1;
@@ -137,6 +143,9 @@ class ParticleFilterLocalizer : public Localizer {
   // Replaces the particles by draws around a whole-map search's candidates, when there are any;
   // with the mutex held.
   void DrawAround(const std::vector<PoseCandidate>& candidates);
+  // Replaces a share of the particles by draws around `pose`; the estimate stays until the next
+  // scan weighs them. With the mutex held.
+  void DrawShareAround(const Pose2& pose);
   // Posterior weights from the sensor log-likelihoods (summed over `beams` beams), resampling,
   // estimate; with the mutex held.
   void Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams);
@@ -171,6 +180,7 @@ class ParticleFilterLocalizer : public Localizer {
   bool moved_since_scan_ = true;
   double w_slow_ = 0.0, w_fast_ = 0.0;
   PoseEstimate estimate_;
+  std::optional<Pose2> share_drawn_;  // where the nearby reset drew particles after the last scan
   bool initialised_ = false;
   bool global_mode_ = false;  // relocalising globally: likelihood tempered
   // Scattered for a global relocalisation, no scan searched yet; read outside the lock by AddScan.

@@ -616,6 +616,10 @@ void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e,
   const double spread = e.PositionSpread();
   const bool new_scan = scans != last_scans_;
   last_scans_ = scans;
+  if (e.relocations != relocations_seen_) {
+    if (e.relocations > relocations_seen_ && !lost_) ++losses_;
+    relocations_seen_ = e.relocations;
+  }
   if (lost_) {
     if (e.quality >= watch_.found_quality && spread <= watch_.max_spread) lost_ = false;
     poor_fit_since_ = -1.0;
@@ -626,7 +630,10 @@ void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e,
     if (poor_fit_since_ < 0.0) poor_fit_since_ = now;
     if (new_scan) ++poor_scans_;
     const bool enough_scans = scans == 0 || poor_scans_ >= watch_.lost_scans;
-    if (now - poor_fit_since_ >= watch_.lost_after && enough_scans) lost_ = true;
+    if (now - poor_fit_since_ >= watch_.lost_after && enough_scans) {
+      lost_ = true;
+      ++losses_;
+    }
   } else {
     poor_fit_since_ = -1.0;
     poor_scans_ = 0;

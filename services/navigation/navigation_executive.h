@@ -229,6 +229,9 @@ class NavigationExecutive {
   const CrowdController& crowd() const { return crowd_; }
   bool crowd_steering() const { return crowd_steering_; }
   bool localization_lost() const { return lost_; }
+  // Times the pose has been lost since start: declared lost by the watch, or relocated by the
+  // localiser on its own to where the scans fit (lost and found within a scan or two).
+  uint64_t localization_losses() const { return losses_; }
   // The wake-up behaviour has the robot (its pose is lost): it turns the robot in place whether or
   // not a mission is active, since an idle robot that stands still can never be found again.
   bool searching() const { return wake_up_ >= 0 && static_cast<long>(brain_.active_motor()) == wake_up_; }
@@ -387,9 +390,11 @@ class NavigationExecutive {
   int search_fits_ = 0;
   double search_stamp_ = -1.0;
   uint64_t last_scans_ = 0;
-  int poor_scans_ = 0;              // scans in a row that fitted poorly
-  std::atomic<bool> lost_{false};   // read by gRPC threads
-  mutable std::mutex zones_mutex_;  // set by gRPC threads
+  int poor_scans_ = 0;               // scans in a row that fitted poorly
+  std::atomic<bool> lost_{false};    // read by gRPC threads
+  std::atomic<uint64_t> losses_{0};  // likewise
+  uint64_t relocations_seen_ = 0;    // the localiser's count, at the last watch
+  mutable std::mutex zones_mutex_;   // set by gRPC threads
   SpeedZones zones_;
   SpeedZoneOptions zone_options_;
 };

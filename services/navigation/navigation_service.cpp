@@ -221,6 +221,7 @@ grpc::Status NavigationService::GetStatus(grpc::ServerContext*, const v1::GetSta
     ToProto(s, response->mutable_feedback());
     response->set_paused(s.paused);
     response->set_localization_lost(executive_.localization_lost());
+    response->set_localization_losses(executive_.localization_losses());
     if (s.last_result) ToProto(*s.last_result, response->mutable_last_result());
   });
 }

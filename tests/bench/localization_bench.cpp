@@ -1,6 +1,7 @@
 // Localiser speed on the warehouse with scans from navsim's laser model: one particle filter update
 // (likelihood field on 60 or 90 beams, or the beam model's ray casts on 30; resampling when due)
-// with 2,000 particles, one EKF correction (scan-to-map fit) and one calibration check.
+// with 2,000 particles, one EKF correction (scan-to-map fit) and one calibration check; and the
+// scan search, within the nearby reset's 5 m window and over the whole map.
 //   build/tests/localization_bench
 #include <benchmark/benchmark.h>
 
@@ -8,6 +9,7 @@
 
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
+#include "services/localization/nearby_reset.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/particle_filter.h"
 #include "tests/support/simulated_drive.h"
@@ -80,6 +82,32 @@ void BM_CalibrationSearch(benchmark::State& state) {
                   [](const World& w) { return std::make_unique<localization::OdometricCalibrationLocalizer>(w.map); });
 }
 BENCHMARK(BM_CalibrationSearch)->Unit(benchmark::kMillisecond);
+
+// One scan searched for, as the nearby reset does (an estimate 2.5 m off, every heading within
+// 5 m) and as the wake-up's whole-map search does; the scan's end points in the robot frame.
+void ScanSearchBench(benchmark::State& state, bool whole_map) {
+  const World world = DefaultWorld();
+  const localization::LikelihoodField field(world.map);
+  const localization::GlobalScanSearch search(world.map, field);
+  std::mt19937_64 rng(1);
+  const localization::ScanReading scan = localization::SimulatedScan(world, world.start, rng);
+  const std::vector<Point2> points = localization::ScanEndPoints(scan, 0);
+  const Pose2 off{world.start.x, world.start.y - 2.5, world.start.theta + 0.5};
+  const localization::NearbyReset reset;
+  size_t found = 0;
+  for (auto _ : state) {
+    if (whole_map) {
+      found += search.Search(points).size();
+    } else {
+      found += reset.Check(search, off, 0.5, points).has_value();
+    }
+  }
+  benchmark::DoNotOptimize(found);
+}
+void BM_NearbyResetCheck(benchmark::State& state) { ScanSearchBench(state, false); }
+BENCHMARK(BM_NearbyResetCheck)->Unit(benchmark::kMillisecond);
+void BM_WholeMapScanSearch(benchmark::State& state) { ScanSearchBench(state, true); }
+BENCHMARK(BM_WholeMapScanSearch)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -412,17 +412,23 @@ TEST_F(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
   EXPECT_LE(v.heading, 0.06);
   EXPECT_TRUE(std::filesystem::exists(dir_ + "/online.tum"));
   // A slip: 100 s into the log the odometry slips 3 m over a second while the scans go on; navd
-  // follows the scans and is back within 0.1 m of the truth within 20 s of log time.
-  const auto k = Replay({"--rate", "50", "--max-scans", "200", "--slip", "100,3,0"});
-  ASSERT_EQ(k.exit_code, 0) << k.output << stack.Logs();
-  const size_t slip = k.output.find("slip: ");
-  ASSERT_NE(slip, std::string::npos) << k.output;
-  const size_t back = k.output.find("back within 0.1 m ", slip);
-  ASSERT_NE(back, std::string::npos) << k.output;
-  double back_after = -1;
-  ASSERT_EQ(std::sscanf(k.output.c_str() + back, "back within 0.1 m %lf s", &back_after), 1) << k.output;
-  std::printf("%s", k.output.substr(slip).c_str());
-  EXPECT_LE(back_after, 20.0) << k.output;
+  // follows the scans, never counts the pose lost, and is back within 0.1 m of the truth within
+  // 20 s of log time. A kidnap: the robot is carried 3 m (the scans skip ahead, the odometry stands
+  // still); navd counts the pose lost and is back within 0.1 m within 20 s of log time.
+  for (const std::string kind : {"slip", "kidnap"}) {
+    const auto k = Replay({"--rate", "50", "--max-scans", "200", "--" + kind, "100,3,0"});
+    ASSERT_EQ(k.exit_code, 0) << k.output << stack.Logs();
+    const size_t line = k.output.find(kind + ": ");
+    ASSERT_NE(line, std::string::npos) << k.output;
+    const size_t back = k.output.find("back within 0.1 m ", line);
+    ASSERT_NE(back, std::string::npos) << k.output;
+    double back_after = -1;
+    ASSERT_EQ(std::sscanf(k.output.c_str() + back, "back within 0.1 m %lf s", &back_after), 1) << k.output;
+    std::printf("%s", k.output.substr(line).c_str());
+    EXPECT_LE(back_after, 20.0) << k.output;
+    const bool lost = k.output.find("navd declared the pose lost", line) != std::string::npos;
+    EXPECT_EQ(lost, kind == "kidnap") << k.output;
+  }
   for (const std::vector<std::string>& bad : {std::vector<std::string>{"--kidnap", "100,3"},
                                               std::vector<std::string>{"--slip", "100,3,0", "--kidnap", "100,3,0"},
                                               std::vector<std::string>{"--kidnap", "100,300,0"}}) {

@@ -10,7 +10,9 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -120,9 +122,40 @@ int ReserveDomain() {
   throw std::runtime_error("no free DDS test domain in 100..199");
 }
 
+namespace {
+
+// The directories MakeTempDir made, removed when the test program exits, after every process it
+// started has stopped; NAVD_KEEP_TEST_DIRS=1 keeps them to look at.
+class TempDirs {
+ public:
+  void Add(const std::string& dir) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    dirs_.push_back(dir);
+  }
+  ~TempDirs() {
+    if (std::getenv("NAVD_KEEP_TEST_DIRS")) return;
+    for (const std::string& dir : dirs_) {
+      std::error_code ignored;
+      std::filesystem::remove_all(dir, ignored);
+    }
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::string> dirs_;
+};
+
+TempDirs& MadeDirs() {
+  static TempDirs dirs;
+  return dirs;
+}
+
+}  // namespace
+
 std::string MakeTempDir() {
   std::string tmpl = "/tmp/navd-test-XXXXXX";
   if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
+  MadeDirs().Add(tmpl);
   return tmpl;
 }
 

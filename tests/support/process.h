@@ -51,7 +51,8 @@ std::string WaitForPortFile(const std::string& path, Process& server, double tim
 // in /tmp until the process exits. Integration tests run in parallel, one domain each.
 int ReserveDomain();
 
-// A fresh temporary directory for the test's files.
+// A fresh temporary directory for the test's files, removed when the test program exits
+// (NAVD_KEEP_TEST_DIRS=1 keeps it).
 std::string MakeTempDir();
 
 }  // namespace navd::testing

@@ -801,6 +801,7 @@ struct CorridorLoss {
   bool lost = false, found = false;
   double error = 0.0;                 // m from the truth when found
   std::vector<std::string> searches;  // the wake-up's messages, in turn
+  uint64_t losses = 0;                // the executive's count at the end
 };
 CorridorLoss LoseThePoseInACorridor(double crowded_for) {
   OccupancyGrid corridor(800, 60, 0.05, Point2(0.0, 0.0));
@@ -851,6 +852,7 @@ CorridorLoss LoseThePoseInACorridor(double crowded_for) {
     if (executive.searching() && (out.searches.empty() || out.searches.back() != message))
       out.searches.push_back(message);
     out.lost |= executive.localization_lost();
+    out.losses = executive.localization_losses();
     if (out.lost && !executive.localization_lost()) {
       out.found = true;
       out.error = Distance(localizer.Estimate().pose.translation(), truth.translation());
@@ -866,12 +868,14 @@ TEST(NavigationExecutive, AWakeUpSearchesWhereThePoseWasLostFirst) {
   const CorridorLoss brief = LoseThePoseInACorridor(4.0);
   EXPECT_TRUE(brief.lost);
   EXPECT_TRUE(brief.found);
+  EXPECT_EQ(brief.losses, 1u);
   EXPECT_LT(brief.error, 0.3);
   EXPECT_EQ(brief.searches, std::vector<std::string>{"localization lost: searching nearby"});
   // Crowded for good: not found nearby, then the whole map is searched.
   const CorridorLoss lasting = LoseThePoseInACorridor(60.0);
   EXPECT_TRUE(lasting.lost);
   EXPECT_FALSE(lasting.found);
+  EXPECT_EQ(lasting.losses, 1u);
   EXPECT_EQ(lasting.searches,
             (std::vector<std::string>{"localization lost: searching nearby", "localization lost: searching the map"}));
 }

@@ -49,5 +49,34 @@ TEST(GlobalScanSearch, FindsRandomWarehousePosesFromOneScan) {
   EXPECT_TRUE(search.Search({{1.0, 0.0}, {0.0, 1.0}}).empty());
 }
 
+// A window keeps the search to poses near a centre: from a scan taken at a pose, a window around
+// that pose finds it first; a window elsewhere finds nothing within it (every candidate is
+// inside), and Score rates the true pose as the search does.
+TEST(GlobalScanSearch, AWindowKeepsTheSearchNearItsCentre) {
+  const World world = DefaultWorld();
+  const LikelihoodField field(world.map);
+  const GlobalScanSearch search(world.map, field);
+  const RayCaster caster(world.map);
+  const Pose2 truth{4.0, 5.0, 0.3};
+  std::vector<Point2> points;
+  for (int i = 0; i < 360; ++i) {
+    const double a = i * M_PI / 180.0, r = caster.CastOpenEdge(truth.translation(), truth.theta + a, 8.0);
+    if (r < 8.0) points.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  const SearchWindow near{{5.5, 6.0, 1.0}, 3.0, 1.0};
+  const std::vector<PoseCandidate> found = search.Search(points, &near);
+  ASSERT_FALSE(found.empty());
+  EXPECT_LT(std::hypot(found.front().pose.x - truth.x, found.front().pose.y - truth.y), 0.1);
+  EXPECT_LT(std::abs(NormalizeAngle(found.front().pose.theta - truth.theta)), 0.05);
+  EXPECT_NEAR(search.Score(found.front().pose, points), found.front().score, 1e-9);
+  EXPECT_GT(search.Score(truth, points), 0.9);
+  const SearchWindow away{{truth.x + 6.0, truth.y, 0.0}, 2.0, 0.3};
+  for (const PoseCandidate& c : search.Search(points, &away)) {
+    EXPECT_LE(std::hypot(c.pose.x - away.centre.x, c.pose.y - away.centre.y), 2.0 + 0.3);
+    EXPECT_LE(std::abs(NormalizeAngle(c.pose.theta - away.centre.theta)), 0.3 + 0.1);
+    EXPECT_LT(c.score, search.Score(truth, points));
+  }
+}
+
 }  // namespace
 }  // namespace navd::localization

@@ -1,0 +1,51 @@
+#pragma once
+// Sensor resetting within reach (after Lenser and Veloso, "Sensor resetting localization for poorly
+// modeled mobile robots", ICRA 2000): when a scan fits the estimate poorly, a correlative search of
+// the scan around the estimate; a pose there that the scan fits decisively better is where a share
+// of the particles is drawn, and the next scans choose between it and the cloud. A robot carried or
+// pushed a few metres, or a cloud left a few metres behind along a corridor, fits again within a
+// scan or two, long before the fit is poor for long enough to call the pose lost; where the place
+// is ambiguous (a featureless corridor), no pose fits decisively better and nothing is drawn.
+// Units: metres, radians; poses in the map frame, scan points in the robot frame.
+#include <cmath>
+#include <optional>
+#include <vector>
+
+#include "services/common/pose2.h"
+#include "services/localization/global_scan_search.h"
+
+namespace navd::localization {
+
+struct NearbyResetOptions {
+  bool enabled = true;
+  // The estimate's fit (the filter's quality, 0..1) under which the search runs; a well-localised
+  // estimate fits real scans at 0.9 and more.
+  double below_quality = 0.75;
+  double radius = 5.0;    // m around the estimate
+  double max_turn = M_PI;  // rad either side of its heading: a robot carried off may be turned too
+  // A pose is drawn around only if the scan fits it at least this well, and by margin better than
+  // the estimate (scores of GlobalScanSearch::Score). Real scans fit their true pose at 0.9 and
+  // more; a map that lacks a wall lets a wrong pose fit at 0.7 or so.
+  double min_score = 0.85;
+  double margin = 0.2;
+  double share = 0.1;  // of the particles drawn around it
+  double sigma_xy = 0.1, sigma_theta = 0.05;
+  // m: an estimate that the scan after a draw moves this far from where the odometry put it, and
+  // nearer the draws than that, has been relocated.
+  double relocated_jump = 0.5;
+};
+
+class NearbyReset {
+ public:
+  explicit NearbyReset(const NearbyResetOptions& options = {}) : o_(options) {}
+  const NearbyResetOptions& options() const { return o_; }
+  // Where a share of the particles should go for a scan with `points` whose estimate is
+  // `estimate` and fits at `quality`, if anywhere.
+  std::optional<PoseCandidate> Check(const GlobalScanSearch& search, const Pose2& estimate, double quality,
+                                     const std::vector<Point2>& points) const;
+
+ private:
+  NearbyResetOptions o_;
+};
+
+}  // namespace navd::localization
