@@ -81,6 +81,9 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   if (o.laser_model == "beam") filter_options.sensor_model = localization::SensorModel::kBeam;
   if (o.odom_alpha > 0.0)
     filter_options.alpha1 = filter_options.alpha2 = filter_options.alpha3 = filter_options.alpha4 = o.odom_alpha;
+  // The control loop never waits for the nearby reset's search (tens of ms): a scan that comes
+  // while it runs is weighed without it.
+  filter_options.nearby_reset.wait_for_search = false;
   localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid, filter_options));
   localizer.Add(std::make_unique<localization::OdometryLocalizer>());
   localizer.Add(std::make_unique<localization::EkfLocalizer>(map->grid));

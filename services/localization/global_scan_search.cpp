@@ -114,7 +114,8 @@ std::vector<PoseCandidate> GlobalScanSearch::Search(const std::vector<Point2>& a
     }
   }
   if (coarse.empty()) return {};
-  const size_t keep = std::min(coarse.size(), static_cast<size_t>(std::max(1, o_.blocks_refined)));
+  const size_t keep =
+      std::min(coarse.size(), static_cast<size_t>(std::max(1, window ? window->blocks_refined : o_.blocks_refined)));
   std::nth_element(coarse.begin(), coarse.begin() + (keep - 1), coarse.end(),
                    [](const Coarse& a, const Coarse& b) { return a.score > b.score; });
   coarse.resize(keep);

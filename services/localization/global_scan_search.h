@@ -28,11 +28,12 @@ struct GlobalScanSearchOptions {
 };
 
 // Where a search looks: positions within `radius` of `centre` and headings within `max_turn` of its
-// heading. A whole-map search has none.
+// heading. A whole-map search has none. A window holds few places, so fewer are refined.
 struct SearchWindow {
   Pose2 centre;
-  double radius = 5.0;    // m
-  double max_turn = 0.6;  // rad
+  double radius = 5.0;      // m
+  double max_turn = 0.6;    // rad
+  int blocks_refined = 30;  // best coarse (block, heading) pairs searched finely
 };
 
 struct PoseCandidate {

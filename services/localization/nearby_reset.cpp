@@ -5,7 +5,7 @@ namespace navd::localization {
 std::optional<PoseCandidate> NearbyReset::Check(const GlobalScanSearch& search, const Pose2& estimate, double quality,
                                                 const std::vector<Point2>& points) const {
   if (!o_.enabled || !(quality < o_.below_quality)) return std::nullopt;
-  const SearchWindow window{estimate, o_.radius, o_.max_turn};
+  const SearchWindow window{estimate, o_.radius, o_.max_turn, o_.blocks_refined};
   const std::vector<PoseCandidate> candidates = search.Search(points, &window);
   if (candidates.empty() || candidates.front().score < o_.min_score) return std::nullopt;
   if (candidates.front().score < search.Score(estimate, points) + o_.margin) return std::nullopt;

@@ -21,7 +21,7 @@ struct NearbyResetOptions {
   // The estimate's fit (the filter's quality, 0..1) under which the search runs; a well-localised
   // estimate fits real scans at 0.9 and more.
   double below_quality = 0.75;
-  double radius = 5.0;    // m around the estimate
+  double radius = 5.0;     // m around the estimate
   double max_turn = M_PI;  // rad either side of its heading: a robot carried off may be turned too
   // A pose is drawn around only if the scan fits it at least this well, and by margin better than
   // the estimate (scores of GlobalScanSearch::Score). Real scans fit their true pose at 0.9 and
@@ -30,6 +30,11 @@ struct NearbyResetOptions {
   double margin = 0.2;
   double share = 0.1;  // of the particles drawn around it
   double sigma_xy = 0.1, sigma_theta = 0.05;
+  int blocks_refined = 30;  // coarse places searched finely (GlobalScanSearch)
+  // Whether the next scan waits for a search still running (each run the same, as offline
+  // evaluation needs) or is weighed without it (a control loop that must not stall: the search's
+  // pose is carried on by the odometry to the first scan after it ends).
+  bool wait_for_search = true;
   // m: an estimate that the scan after a draw moves this far from where the odometry put it, and
   // nearer the draws than that, has been relocated.
   double relocated_jump = 0.5;

@@ -1,6 +1,7 @@
 #include "services/localization/particle_filter.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <unordered_set>
 
@@ -88,7 +89,7 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   initialised_ = true;
   global_mode_ = false;
   scan_search_due_ = false;
-  share_drawn_.reset();
+  nearby_reset_.reset();  // searched for the pose left behind
   UpdateEstimate();
 }
 
@@ -118,7 +119,7 @@ void ParticleFilterLocalizer::ScatterUniformly() {
   for (auto& p : particles_) p = {RandomFreePose(), 1.0 / o_.global_particles};
   global_mode_ = true;
   scan_search_due_ = o_.scan_search;
-  share_drawn_.reset();
+  nearby_reset_.reset();  // searched for the pose left behind
   last_odom_ = latest_odom_;
   moved_since_scan_ = true;
   w_slow_ = w_fast_ = 0.0;
@@ -208,14 +209,12 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!initialised_ || !have_odom_ || !moved_since_scan_) return false;
   const Pose2 at_scan = odom_history_.At(scan.stamp);
-  // Where the odometry alone puts the estimate, and the nearby reset's draws.
-  const Pose2 step = last_odom_.inverse() * at_scan;
-  const Pose2 carried = estimate_.pose * step;
-  const std::optional<Pose2> drawn = share_drawn_ ? std::optional<Pose2>(*share_drawn_ * step) : std::nullopt;
-  share_drawn_.reset();
+  const Pose2 carried = estimate_.pose * (last_odom_.inverse() * at_scan);  // by the odometry alone
   MoveParticles(last_odom_, at_scan);
   last_odom_ = at_scan;
   if (candidates && scan_search_due_ && searched == model_) DrawAround(*candidates);
+  const std::optional<Pose2> drawn = TakeNearbyReset(at_scan);
+  if (drawn) DrawShareAround(*drawn);
   const std::vector<Point2> ends = ScanEndPoints(scan, o_.beams);
   if (ends.size() < 5) return false;  // too little to judge by
   std::vector<double> sensor(particles_.size());
@@ -235,13 +234,34 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   if (drawn && moved > o_.nearby_reset.relocated_jump &&
       Distance(estimate_.pose.translation(), drawn->translation()) < moved)
     ++estimate_.relocations;
-  if (!global_mode_ && o_.nearby_reset.enabled) {
-    const NearbyReset reset(o_.nearby_reset);
-    if (const auto found = reset.Check(model_->scan_search(o_.scan_search_options), estimate_.pose, estimate_.quality,
-                                       ScanEndPoints(scan, 0)))
-      DrawShareAround(found->pose);
-  }
+  StartNearbyReset(scan);
   return true;
+}
+
+void ParticleFilterLocalizer::StartNearbyReset(const ScanReading& scan) {
+  if (global_mode_ || !o_.nearby_reset.enabled || nearby_reset_ || !(estimate_.quality < o_.nearby_reset.below_quality))
+    return;
+  // The search holds the map model it searches, whatever SetMap does meanwhile.
+  nearby_reset_ =
+      PendingReset{std::async(std::launch::async,
+                              [model = model_, options = o_, estimate = estimate_.pose, quality = estimate_.quality,
+                               points = ScanEndPoints(scan, 0)] {
+                                return NearbyReset(options.nearby_reset)
+                                    .Check(model->scan_search(options.scan_search_options), estimate, quality, points);
+                              }),
+                   last_odom_};
+}
+
+std::optional<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_scan) {
+  if (!nearby_reset_) return std::nullopt;
+  if (!o_.nearby_reset.wait_for_search &&
+      nearby_reset_->found.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return std::nullopt;
+  const std::optional<PoseCandidate> found = nearby_reset_->found.get();
+  const Pose2 odometry = nearby_reset_->odometry;
+  nearby_reset_.reset();
+  if (!found) return std::nullopt;
+  return found->pose * (odometry.inverse() * at_scan);
 }
 
 void ParticleFilterLocalizer::DrawShareAround(const Pose2& pose) {
@@ -251,7 +271,6 @@ void ParticleFilterLocalizer::DrawShareAround(const Pose2& pose) {
   const ZigguratNormal n;
   // Every k-th particle, so the cloud keeps its shape; each drawn one gets the mean weight.
   const size_t every = std::max<size_t>(1, particles_.size() / count);
-  share_drawn_ = pose;
   const double weight = 1.0 / particles_.size();
   for (size_t k = 0; k < particles_.size(); k += every) {
     particles_[k] = {{pose.x + r.sigma_xy * n(rng_), pose.y + r.sigma_xy * n(rng_),

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -143,9 +144,14 @@ class ParticleFilterLocalizer : public Localizer {
   // Replaces the particles by draws around a whole-map search's candidates, when there are any;
   // with the mutex held.
   void DrawAround(const std::vector<PoseCandidate>& candidates);
-  // Replaces a share of the particles by draws around `pose`; the estimate stays until the next
-  // scan weighs them. With the mutex held.
+  // Replaces a share of the particles by draws around `pose`, before a scan weighs them. With the
+  // mutex held.
   void DrawShareAround(const Pose2& pose);
+  // The nearby reset: a search of the scan just weighed, started beside the filter when it fits
+  // poorly; and, at a later scan (odometry `at_scan`), the pose it found carried on to that scan by
+  // the odometry since. With the mutex held.
+  void StartNearbyReset(const ScanReading& scan);
+  std::optional<Pose2> TakeNearbyReset(const Pose2& at_scan);
   // Posterior weights from the sensor log-likelihoods (summed over `beams` beams), resampling,
   // estimate; with the mutex held.
   void Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams);
@@ -180,7 +186,11 @@ class ParticleFilterLocalizer : public Localizer {
   bool moved_since_scan_ = true;
   double w_slow_ = 0.0, w_fast_ = 0.0;
   PoseEstimate estimate_;
-  std::optional<Pose2> share_drawn_;  // where the nearby reset drew particles after the last scan
+  struct PendingReset {
+    std::future<std::optional<PoseCandidate>> found;
+    Pose2 odometry;  // at the searched scan
+  };
+  std::optional<PendingReset> nearby_reset_;
   bool initialised_ = false;
   bool global_mode_ = false;  // relocalising globally: likelihood tempered
   // Scattered for a global relocalisation, no scan searched yet; read outside the lock by AddScan.
