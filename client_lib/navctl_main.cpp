@@ -580,13 +580,19 @@ int main(int argc, char** argv) {
                                  {"goal", PoseJson(s.goal())},
                                  {"pose", PoseJson(s.feedback().pose())},
                                  {"distance_remaining", s.feedback().distance_remaining()},
-                                 {"sensors_stale", s.sensors_stale()}}
+                                 {"sensors_stale", s.sensors_stale()},
+                                 {"localization_lost", s.localization_lost()},
+                                 {"localization_losses", s.localization_losses()}}
                                 .dump()
                                 .c_str());
       } else {
-        std::printf("%s%s, pose (%.2f, %.2f, %.2f)%s\n", StateText(s.state()), s.active() ? " (goal active)" : "",
+        const std::string losses = s.localization_losses() > 0
+                                       ? ", pose lost " + std::to_string(s.localization_losses()) + "x since start"
+                                       : "";
+        std::printf("%s%s, pose (%.2f, %.2f, %.2f)%s%s%s\n", StateText(s.state()), s.active() ? " (goal active)" : "",
                     s.feedback().pose().x(), s.feedback().pose().y(), s.feedback().pose().theta(),
-                    s.sensors_stale() ? ", sensors stale" : "");
+                    s.sensors_stale() ? ", sensors stale" : "", s.localization_lost() ? ", pose lost now" : "",
+                    losses.c_str());
       }
       return 0;
     }

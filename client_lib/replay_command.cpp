@@ -72,16 +72,21 @@ DisturbancePlan PlanDisturbance(const CarmenLog& log, const ReplayOptions& o) {
   if (o.disturbance == Disturbance::kSlip) plan.over += o.slip_ramp;
   if (o.disturbance != Disturbance::kKidnap) return plan;
   while (plan.pick + 1 < log.scans.size() && log.scans[plan.pick].timestamp < t0 + o.disturb_at) ++plan.pick;
-  const Pose2& picked = log.scans[plan.pick].pose;
-  const Point2 target = picked * Point2(o.disturb_dx, o.disturb_dy);
-  double nearest = std::numeric_limits<double>::infinity();
-  for (size_t j = plan.pick + 1; j < log.scans.size(); ++j) {
-    const double d = Distance(log.scans[j].pose.translation(), target);
-    if (d < nearest) nearest = d, plan.drop = j;
+  // The first pick-up at or after T whose drop-off point the robot passes later in the log.
+  for (; plan.pick + 1 < log.scans.size(); ++plan.pick) {
+    const Point2 target = log.scans[plan.pick].pose * Point2(o.disturb_dx, o.disturb_dy);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (size_t j = plan.pick + 1; j < log.scans.size(); ++j) {
+      const double d = Distance(log.scans[j].pose.translation(), target);
+      if (d < nearest) nearest = d, plan.drop = j;
+    }
+    if (nearest <= o.carry_tolerance) break;
   }
-  if (!(nearest <= o.carry_tolerance))
-    throw std::runtime_error("--kidnap " + Seconds(o.disturb_at) + ",...: the log has the robot nowhere within " +
+  if (plan.pick + 1 >= log.scans.size())
+    throw std::runtime_error("--kidnap " + Seconds(o.disturb_at) +
+                             ",...: from no scan after it does the log have the robot within " +
                              Seconds(o.carry_tolerance) + " m of the drop-off point later on; pick another T or DX,DY");
+  const Pose2& picked = log.scans[plan.pick].pose;
   plan.shown = plan.over = log.scans[plan.drop].timestamp;
   plan.moved = Distance(log.scans[plan.drop].pose.translation(), picked.translation());
   return plan;

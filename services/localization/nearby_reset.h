@@ -35,6 +35,15 @@ struct NearbyResetOptions {
   // evaluation needs) or is weighed without it (a control loop that must not stall: the search's
   // pose is carried on by the odometry to the first scan after it ends).
   bool wait_for_search = true;
+  // Only a pose lost suddenly is searched for: within this many scans of one that fitted at
+  // good_quality or better since the pose was last set. A pose told wrong, or one lost long ago,
+  // is left to the wake-up's searches, which look beyond the few metres where a warehouse's
+  // look-alike racks may fit as well as the true one.
+  int within_scans = 10;
+  double good_quality = 0.8;
+  // A pose farther than relocated_jump from the estimate is drawn around only once a second search
+  // finds it again within this much of where the odometry since has carried it (m, rad).
+  double confirm_xy = 0.3, confirm_theta = 0.15;
   // m: an estimate that the scan after a draw moves this far from where the odometry put it, and
   // nearer the draws than that, has been relocated.
   double relocated_jump = 0.5;

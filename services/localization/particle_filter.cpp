@@ -89,7 +89,8 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   initialised_ = true;
   global_mode_ = false;
   scan_search_due_ = false;
-  nearby_reset_.reset();  // searched for the pose left behind
+  scans_since_good_fit_ = std::numeric_limits<int>::max();
+  unconfirmed_.reset();
   UpdateEstimate();
 }
 
@@ -113,13 +114,32 @@ void ParticleFilterLocalizer::DrawAround(const std::vector<PoseCandidate>& candi
   particles_.swap(drawn);
 }
 
+bool ParticleFilterLocalizer::SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) {
+  int since = 0;
+  std::optional<Pose2> unconfirmed;
+  Pose2 unconfirmed_at;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    since = scans_since_good_fit_;
+    unconfirmed = unconfirmed_;
+    unconfirmed_at = unconfirmed_at_;
+  }
+  if (!Localizer::SearchAround(pose, covariance)) return false;
+  std::lock_guard<std::mutex> lock(mutex_);
+  scans_since_good_fit_ = since;
+  unconfirmed_ = unconfirmed;
+  unconfirmed_at_ = unconfirmed_at;
+  return true;
+}
+
 void ParticleFilterLocalizer::ScatterUniformly() {
   std::lock_guard<std::mutex> lock(mutex_);
   particles_.assign(o_.global_particles, {});
   for (auto& p : particles_) p = {RandomFreePose(), 1.0 / o_.global_particles};
   global_mode_ = true;
   scan_search_due_ = o_.scan_search;
-  nearby_reset_.reset();  // searched for the pose left behind
+  scans_since_good_fit_ = std::numeric_limits<int>::max();
+  unconfirmed_.reset();
   last_odom_ = latest_odom_;
   moved_since_scan_ = true;
   w_slow_ = w_fast_ = 0.0;
@@ -207,7 +227,9 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
     candidates = searched->scan_search(o_.scan_search_options).Search(ScanEndPoints(scan, 0));
   }
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!initialised_ || !have_odom_ || !moved_since_scan_) return false;
+  // A robot standing still adds nothing new with each scan, unless the nearby reset has a pose to
+  // try: a robot set down and left standing must still be found.
+  if (!initialised_ || !have_odom_ || (!moved_since_scan_ && !NearbyResetReady())) return false;
   const Pose2 at_scan = odom_history_.At(scan.stamp);
   const Pose2 carried = estimate_.pose * (last_odom_.inverse() * at_scan);  // by the odometry alone
   MoveParticles(last_odom_, at_scan);
@@ -239,6 +261,13 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
 }
 
 void ParticleFilterLocalizer::StartNearbyReset(const ScanReading& scan) {
+  if (!(estimate_.quality < o_.nearby_reset.below_quality)) unconfirmed_.reset();  // fits again as it is
+  if (estimate_.quality >= o_.nearby_reset.good_quality) {
+    scans_since_good_fit_ = 0;
+  } else if (scans_since_good_fit_ < std::numeric_limits<int>::max()) {
+    ++scans_since_good_fit_;
+  }
+  if (scans_since_good_fit_ > o_.nearby_reset.within_scans) return;
   if (global_mode_ || !o_.nearby_reset.enabled || nearby_reset_ || !(estimate_.quality < o_.nearby_reset.below_quality))
     return;
   // The search holds the map model it searches, whatever SetMap does meanwhile.
@@ -249,19 +278,33 @@ void ParticleFilterLocalizer::StartNearbyReset(const ScanReading& scan) {
                                 return NearbyReset(options.nearby_reset)
                                     .Check(model->scan_search(options.scan_search_options), estimate, quality, points);
                               }),
-                   last_odom_};
+                   last_odom_, estimate_.pose};
+}
+
+bool ParticleFilterLocalizer::NearbyResetReady() const {
+  return nearby_reset_ && (o_.nearby_reset.wait_for_search ||
+                           nearby_reset_->found.wait_for(std::chrono::seconds(0)) == std::future_status::ready);
 }
 
 std::optional<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_scan) {
-  if (!nearby_reset_) return std::nullopt;
-  if (!o_.nearby_reset.wait_for_search &&
-      nearby_reset_->found.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
-    return std::nullopt;
+  if (!NearbyResetReady()) return std::nullopt;
   const std::optional<PoseCandidate> found = nearby_reset_->found.get();
-  const Pose2 odometry = nearby_reset_->odometry;
+  const Pose2 odometry = nearby_reset_->odometry, estimate = nearby_reset_->estimate;
   nearby_reset_.reset();
   if (!found) return std::nullopt;
-  return found->pose * (odometry.inverse() * at_scan);
+  const Pose2 here = found->pose * (odometry.inverse() * at_scan);
+  if (Distance(found->pose.translation(), estimate.translation()) <= o_.nearby_reset.relocated_jump) return here;
+  if (unconfirmed_) {
+    const Pose2 before = *unconfirmed_ * (unconfirmed_at_.inverse() * at_scan);
+    if (Distance(before.translation(), here.translation()) < o_.nearby_reset.confirm_xy &&
+        std::abs(NormalizeAngle(before.theta - here.theta)) < o_.nearby_reset.confirm_theta) {
+      unconfirmed_.reset();
+      return here;
+    }
+  }
+  unconfirmed_ = found->pose;
+  unconfirmed_at_ = odometry;
+  return std::nullopt;
 }
 
 void ParticleFilterLocalizer::DrawShareAround(const Pose2& pose) {

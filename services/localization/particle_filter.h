@@ -17,6 +17,7 @@
 #include <atomic>
 #include <cmath>
 #include <future>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -124,6 +125,9 @@ class ParticleFilterLocalizer : public Localizer {
     ScatterUniformly();
     return true;
   }
+  // The wake-up's search near where the pose was lost: as Localizer's, but a pose lost suddenly
+  // stays one, so the nearby reset goes on searching for it (a pose set by SetPose ends that).
+  bool SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
   // Shares this filter's map model (the likelihood field is not built again).
   std::unique_ptr<Localizer> Fresh() const override;
   size_t particle_count() const;
@@ -149,8 +153,10 @@ class ParticleFilterLocalizer : public Localizer {
   void DrawShareAround(const Pose2& pose);
   // The nearby reset: a search of the scan just weighed, started beside the filter when it fits
   // poorly; and, at a later scan (odometry `at_scan`), the pose it found carried on to that scan by
-  // the odometry since. With the mutex held.
+  // the odometry since. A new pose or a global search leaves a running search be: the pose it
+  // finds is where the scans fit, whatever the filter was told meanwhile. With the mutex held.
   void StartNearbyReset(const ScanReading& scan);
+  bool NearbyResetReady() const;  // a search has ended (or is to be waited for)
   std::optional<Pose2> TakeNearbyReset(const Pose2& at_scan);
   // Posterior weights from the sensor log-likelihoods (summed over `beams` beams), resampling,
   // estimate; with the mutex held.
@@ -189,8 +195,15 @@ class ParticleFilterLocalizer : public Localizer {
   struct PendingReset {
     std::future<std::optional<PoseCandidate>> found;
     Pose2 odometry;  // at the searched scan
+    Pose2 estimate;  // then
   };
   std::optional<PendingReset> nearby_reset_;
+  // A pose found farther than relocated_jump from the estimate waits to be found again by the next
+  // search where the odometry since puts it: a map that lacks a wall lets a wrong pose fit one scan
+  // well, seldom the same wrong pose two scans running. Map frame at the odometry `unconfirmed_at_`.
+  std::optional<Pose2> unconfirmed_;
+  Pose2 unconfirmed_at_;
+  int scans_since_good_fit_ = std::numeric_limits<int>::max();  // since the pose was last set
   bool initialised_ = false;
   bool global_mode_ = false;  // relocalising globally: likelihood tempered
   // Scattered for a global relocalisation, no scan searched yet; read outside the lock by AddScan.

@@ -126,28 +126,49 @@ TEST(ParticleFilter, RelocalisesGloballyWithoutAPrior) {
   EXPECT_EQ(found, 3);
 }
 
-// A robot carried off (or a cloud left behind) a few metres: the filter holds a pose 2.5 m and a
-// quarter turn from the truth, its spread small. The nearby reset finds where the scans fit and the
-// filter is back on the truth within a few scans, counting one relocation; without it, the filter
-// stays where it was.
-TEST(ParticleFilter, FindsARobotCarriedAFewMetresWithinAFewScans) {
+// The odometry a localiser is fed, moved by `offset` (odom frame) from when it is set: a robot
+// whose odometry jumps while it stands, as if carried off and set down where it was.
+class OffsetOdometry : public Localizer {
+ public:
+  explicit OffsetOdometry(Localizer& inner) : inner_(inner) {}
+  std::string name() const override { return inner_.name(); }
+  void AddOdometry(const OdometryReading& reading) override {
+    OdometryReading r = reading;
+    r.pose = offset * reading.pose;
+    inner_.AddOdometry(r);
+  }
+  bool AddScan(const ScanReading& scan) override { return inner_.AddScan(scan); }
+  PoseEstimate Estimate() const override { return inner_.Estimate(); }
+  MethodContext Suitability(bool laser_fresh) const override { return inner_.Suitability(laser_fresh); }
+  Pose2 offset;
+
+ private:
+  void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override { inner_.SetPose(pose, covariance); }
+  Localizer& inner_;
+};
+
+// A pose lost suddenly a few metres away: the filter tracks the robot turning in place, then its
+// odometry jumps 2.5 m while the robot stands. The nearby reset finds where the scans fit and the
+// filter is back on the truth within a few scans, counting one relocation; without it, the
+// filter stays away. A pose told wrong by SetPose is not searched for (the wake-up's business).
+TEST(ParticleFilter, FindsAPoseLostSuddenlyAFewMetresAway) {
   const Pose2 truth{4.0, 5.0, 0.0};
-  const Pose2 believed{4.0, 2.5, M_PI / 4};
+  auto turn = [](double) { return Twist2{0.0, 0.4}; };
   for (const bool reset : {true, false}) {
     Scenario sc(truth, 500);
     ParticleFilterOptions po;
     po.nearby_reset.enabled = reset;
     sc.pf = std::make_unique<ParticleFilterLocalizer>(sc.world.map, po);
-    sc.pf->AddOdometry({sc.sim.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
-    sc.pf->SetPose(believed, Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal());
-    const Errors e = Drive(
-        sc.sim, *sc.pf, 4.0,
-        [](double) {
-          return Twist2{0.0, 0.4};
-        },
-        1.0);
+    OffsetOdometry fed(*sc.pf);
+    fed.AddOdometry({sc.sim.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
+    fed.SetPose(truth, Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal());
+    const Errors tracked = Drive(sc.sim, fed, 2.0, turn, 1.0);
+    EXPECT_LT(tracked.position, 0.05);
+    fed.offset =
+        sc.sim.robot().base().odom_pose() * Pose2(0.0, -2.5, 0.0) * sc.sim.robot().base().odom_pose().inverse();
+    const Errors e = Drive(sc.sim, fed, 4.0, turn, 1.0);
     const uint64_t relocations = sc.pf->Estimate().relocations;
-    std::printf("carried 2.5 m, nearby reset %s: error after 3 s %.3f m, %.3f rad; %llu relocations\n",
+    std::printf("odometry jumped 2.5 m, nearby reset %s: error after 3 s %.3f m, %.3f rad; %llu relocations\n",
                 reset ? "on" : "off", e.position, e.heading, static_cast<unsigned long long>(relocations));
     if (reset) {
       EXPECT_LT(e.position, 0.1);
@@ -158,6 +179,13 @@ TEST(ParticleFilter, FindsARobotCarriedAFewMetresWithinAFewScans) {
       EXPECT_EQ(relocations, 0u);
     }
   }
+  // Told a pose 2.5 m off: no reset; the filter stays where it was told.
+  Scenario sc(truth, 502);
+  sc.pf->SetPose({4.0, 2.5, 0.0}, Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal());
+  const Errors told = Drive(sc.sim, *sc.pf, 3.0, turn, 1.0);
+  std::printf("told 2.5 m off: error after 2 s %.3f m, %llu relocations\n", told.position,
+              static_cast<unsigned long long>(sc.pf->Estimate().relocations));
+  EXPECT_EQ(sc.pf->Estimate().relocations, 0u);
 }
 
 TEST(ParticleFilter, IgnoresMalformedInput) {
