@@ -24,7 +24,7 @@ void Localizer::SetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
 bool Localizer::SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   if (!CanSearch() || !pose.finite() || !covariance.allFinite() || (covariance.diagonal().array() < 0).any())
     return false;
-  ResetPose({pose.x, pose.y, NormalizeAngle(pose.theta)}, covariance);
+  ResetForSearch({pose.x, pose.y, NormalizeAngle(pose.theta)}, covariance);
   return true;
 }
 

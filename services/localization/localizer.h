@@ -93,6 +93,9 @@ class Localizer {
  protected:
   // Called by SetPose with checked values; theta already in (-pi, pi].
   virtual void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) = 0;
+  // Called by SearchAround with checked values: re-anchoring to search, which a localiser may tell
+  // from a pose it is told (what it knows of how the pose was lost can still help). ResetPose here.
+  virtual void ResetForSearch(const Pose2& pose, const Eigen::Matrix3d& covariance) { ResetPose(pose, covariance); }
   // Whether SearchAround re-anchors this localiser at the search's cloud: those that hold many
   // hypotheses (a Gaussian estimate re-anchored at the cloud's mean would just forget its own).
   virtual bool CanSearch() const { return false; }

@@ -73,6 +73,17 @@ Pose2 ParticleFilterLocalizer::RandomFreePose() {
 
 void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   std::lock_guard<std::mutex> lock(mutex_);
+  Reanchor(pose, covariance);
+  scans_since_good_fit_ = std::numeric_limits<int>::max();
+  unconfirmed_.reset();
+}
+
+void ParticleFilterLocalizer::ResetForSearch(const Pose2& pose, const Eigen::Matrix3d& covariance) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Reanchor(pose, covariance);
+}
+
+void ParticleFilterLocalizer::Reanchor(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   const double sx = covariance(0, 0) > 0 ? std::sqrt(covariance(0, 0)) : o_.initial_sigma_xy;
   const double sy = covariance(1, 1) > 0 ? std::sqrt(covariance(1, 1)) : o_.initial_sigma_xy;
   const double st = covariance(2, 2) > 0 ? std::sqrt(covariance(2, 2)) : o_.initial_sigma_theta;
@@ -89,8 +100,6 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   initialised_ = true;
   global_mode_ = false;
   scan_search_due_ = false;
-  scans_since_good_fit_ = std::numeric_limits<int>::max();
-  unconfirmed_.reset();
   UpdateEstimate();
 }
 
@@ -112,24 +121,6 @@ void ParticleFilterLocalizer::DrawAround(const std::vector<PoseCandidate>& candi
   }
   for (auto& p : drawn) p.weight = 1.0 / drawn.size();
   particles_.swap(drawn);
-}
-
-bool ParticleFilterLocalizer::SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) {
-  int since = 0;
-  std::optional<Pose2> unconfirmed;
-  Pose2 unconfirmed_at;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    since = scans_since_good_fit_;
-    unconfirmed = unconfirmed_;
-    unconfirmed_at = unconfirmed_at_;
-  }
-  if (!Localizer::SearchAround(pose, covariance)) return false;
-  std::lock_guard<std::mutex> lock(mutex_);
-  scans_since_good_fit_ = since;
-  unconfirmed_ = unconfirmed;
-  unconfirmed_at_ = unconfirmed_at;
-  return true;
 }
 
 void ParticleFilterLocalizer::ScatterUniformly() {

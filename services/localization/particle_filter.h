@@ -125,9 +125,6 @@ class ParticleFilterLocalizer : public Localizer {
     ScatterUniformly();
     return true;
   }
-  // The wake-up's search near where the pose was lost: as Localizer's, but a pose lost suddenly
-  // stays one, so the nearby reset goes on searching for it (a pose set by SetPose ends that).
-  bool SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
   // Shares this filter's map model (the likelihood field is not built again).
   std::unique_ptr<Localizer> Fresh() const override;
   size_t particle_count() const;
@@ -137,7 +134,12 @@ class ParticleFilterLocalizer : public Localizer {
     Pose2 pose;
     double weight;
   };
+  // A pose told ends the nearby reset's watch for a sudden loss; the wake-up's search near where
+  // the pose was lost keeps it, so the reset goes on searching for that loss.
   void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+  void ResetForSearch(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+  // The particles drawn around `pose`, with the mutex held.
+  void Reanchor(const Pose2& pose, const Eigen::Matrix3d& covariance);
   bool CanSearch() const override { return true; }
   void MoveParticles(const Pose2& from, const Pose2& to);
   void Resample();
