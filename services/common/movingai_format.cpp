@@ -36,7 +36,9 @@ OccupancyGrid ParseMovingAiMap(const std::string& text, const std::string& sourc
   }
   if (key != "map") fail("missing 'map' line: not a MovingAI map");
   if (type != "octile") fail("map type '" + type + "' is not octile");
-  if (height < 1 || width < 1 || height * width > OccupancyGrid::kMaxCells) {
+  // Each side bounded before the product, which could overflow.
+  if (height < 1 || width < 1 || height > OccupancyGrid::kMaxCells || width > OccupancyGrid::kMaxCells ||
+      height * width > OccupancyGrid::kMaxCells) {
     fail("width and height must be positive, at most " + std::to_string(OccupancyGrid::kMaxCells) + " cells");
   }
   OccupancyGrid grid(static_cast<int>(width), static_cast<int>(height), 1.0, Point2::Zero(), OccupancyGrid::kFree);
