@@ -33,6 +33,7 @@ void ControlLoop::Stop() {
   if (stop_.exchange(true)) return;  // already stopped
   if (thread_.joinable()) thread_.join();
   bridge_.StopRobot();
+  spdlog::info("control loop: {}", timing_.Summary());
 }
 
 void ControlLoop::Run() {
@@ -109,6 +110,7 @@ void ControlLoop::StaleTick(double now) {
 }
 
 void ControlLoop::Tick(uint64_t tick, double now) {
+  timing_.TickStarted(std::chrono::steady_clock::now());
   if (auto odom = bridge_.LatestOdometry()) {
     localizer_.AddOdometry(*odom);
     if (localizer_.odometry_jumps() != odometry_jumps_seen_) {
@@ -119,8 +121,10 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   }
   std::optional<localization::ScanReading> scan;  // the scan that arrived since the last tick
   std::optional<Pose2> odom_at_scan;
+  std::chrono::steady_clock::time_point scan_wall_arrival;
   if (bridge_.scan_count() != scans_seen_) {
     scans_seen_ = bridge_.scan_count();
+    scan_wall_arrival = bridge_.last_scan_wall_arrival();
     scan = bridge_.LatestScan();
     if (scan && executive_.localization_active()) localizer_.AddScan(*scan);
     odom_at_scan = scan ? bridge_.OdometryAt(scan->stamp) : std::nullopt;
@@ -206,6 +210,7 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   was_searching_ = executive_.searching();
   if (status.active || was_searching_) {
     bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));
+    if (scan) timing_.CommandAfterScan(scan_wall_arrival, std::chrono::steady_clock::now());
     zero_commands_left_ = kZeroCommandsAfterGoal;
   } else if (was_active || zero_commands_left_ > 0) {
     bridge_.PublishCommand({});

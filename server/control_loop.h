@@ -5,6 +5,7 @@
 #include <atomic>
 #include <thread>
 
+#include "server/control_loop_timing.h"
 #include "server/dds_bridge.h"
 #include "services/localization/localizer_selector.h"
 #include "services/mapping/map_builder.h"
@@ -50,6 +51,7 @@ class ControlLoop {
   mapping::MapBuilder& map_builder_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
+  ControlLoopTiming timing_;
   int zero_commands_left_ = 0;
   uint64_t scans_seen_ = 0;
   uint64_t people_seen_ = 0;

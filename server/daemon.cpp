@@ -11,6 +11,7 @@
 #include "server/dds_bridge.h"
 #include "server/map_publisher.h"
 #include "server/security/grpc_security.h"
+#include "server/view_feed.h"
 #include "services/common/error.h"
 #include "services/common/map_store.h"
 #include "services/common/sonar_ring.h"
@@ -30,8 +31,54 @@
 #include "services/planning/planner_catalog.h"
 #include "services/planning/planning_engine.h"
 #include "services/planning/planning_service.h"
+#include "view/view_page.h"
 
 namespace navd::server {
+namespace {
+
+// The live view of --view, or null for "off". Throws navd::Error naming --view for an address that
+// is not HOST:PORT, or one beyond loopback without --insecure (the view is plain HTTP and
+// WebSocket: anyone on the path could read the tokens, and without tokens drive the robot).
+std::unique_ptr<ViewFeed> MakeViewFeed(const DaemonOptions& o, const security::GrpcSecurity& security,
+                                       const ViewSources& sources) {
+  if (o.view == "off") return nullptr;
+  ViewFeedOptions options;
+  view::ParseListenAddress("--view", o.view, options.server);
+  if (!security::IsLoopbackAddress(o.view) && !o.grpc_security.insecure) {
+    throw Error(ErrorCode::kInvalidArgument, "--view: " + o.view +
+                                                 " is beyond loopback and the view is plain text: "
+                                                 "add --insecure to serve it there anyway");
+  }
+  options.server.name = o.robot_namespace.empty() ? "navd" : "navd " + o.robot_namespace;
+  options.server.page = view::ViewPage();
+  if (security.has_roles()) {
+    options.server.access = [&security](std::string_view token) {
+      const std::optional<security::Role> role = security.RoleOfToken(token);
+      if (!role) return view::Access::kNone;
+      return *role >= security::Role::kOperator ? view::Access::kCommand : view::Access::kWatch;
+    };
+  }
+  return std::make_unique<ViewFeed>(std::move(options), sources);
+}
+
+// Starts the view. A default address that is taken (another navd on this host) leaves navd without
+// one, with a warning; an address asked for with --view must bind.
+void StartViewFeed(const DaemonOptions& o, std::unique_ptr<ViewFeed>& view) {
+  if (!view) return;
+  try {
+    view->Start();
+  } catch (const Error& e) {
+    if (o.view_asked) throw;
+    spdlog::warn("navd: {}; running without the live view (choose another with --view HOST:PORT)", e.what());
+    view.reset();
+    return;
+  }
+  const std::string host = o.view.substr(0, o.view.rfind(':'));
+  if (!o.view_port_file.empty()) WriteFileAtomically(o.view_port_file, std::to_string(view->port()) + "\n");
+  spdlog::info("navd: live view at http://{}:{}/ (Foxglove: ws://{}:{})", host, view->port(), host, view->port());
+}
+
+}  // namespace
 
 int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   // Refused before anything starts: a daemon that would listen unprotected must not come up.
@@ -157,6 +204,8 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
                    map_builder);
   MapPublisher map_publisher(bridge, maps, map_builder, *clock);
+  std::unique_ptr<ViewFeed> view =
+      MakeViewFeed(o, grpc_security, {maps, map_builder, planning, localizer, executive, &bridge, *clock});
 
   planning::PlanningService planning_service(planning);
   localization::LocalizationService localization_service(localizer, maps);
@@ -192,6 +241,7 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
                            "navd.v1.NavigationService"}) {
     health->SetServingStatus(name, true);
   }
+  StartViewFeed(o, view);
   const std::string host = o.listen.substr(0, o.listen.rfind(':'));
   if (!o.port_file.empty()) WriteFileAtomically(o.port_file, std::to_string(port) + "\n");
   loop.Start();
@@ -220,6 +270,7 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   executive.Cancel();
   loop.Stop();  // also publishes a zero command
   map_publisher.Stop();
+  if (view) view->Stop();
   health->Shutdown();
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));
   spdlog::info("navd: stopped");

@@ -13,6 +13,11 @@ struct DaemonOptions {
   std::string map_path;    // map_server YAML or world YAML (map only)
   std::string listen = "127.0.0.1:50051";
   std::string port_file;  // when set, the bound port is written here (atomically)
+  // The live view's listener (view_feed.h), "off" for none. The default port may be taken (another
+  // navd on this host): then navd runs without a view and says so; a port asked for must bind.
+  std::string view = "127.0.0.1:8765";
+  bool view_asked = false;     // --view was given
+  std::string view_port_file;  // when set, the bound view port is written here (atomically)
   security::GrpcSecurityOptions grpc_security;
   dds::ParticipantOptions dds;
   std::string robot_namespace;

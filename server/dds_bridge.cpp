@@ -118,7 +118,11 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
   scan_topic_ = dds::TopicName(ns, dds::kScan);
   scan_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
       participant_, scan_topic_, Reliability::kBestEffort,
-      [this](const sensor_msgs::msg::dds_::LaserScan_&) { last_scan_arrival_ = arrival_clock_.Now(); }, 2);
+      [this](const sensor_msgs::msg::dds_::LaserScan_&) {
+        last_scan_arrival_ = arrival_clock_.Now();
+        last_scan_wall_ = std::chrono::steady_clock::now().time_since_epoch().count();
+      },
+      2);
   cmd_writer_ = std::make_unique<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kCmdVel), Reliability::kReliable, 5);
   status_writer_ = std::make_unique<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>>(

@@ -2,6 +2,7 @@
 // navd's side of DDS: keeps the newest odometry, scan and clock sample (the listeners only copy),
 // and publishes velocity commands and navd_msgs telemetry.
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -57,6 +58,10 @@ class DdsBridge {
   // Arrival clock time of the newest scan; very negative before the first.
   double last_scan_arrival() const { return last_scan_arrival_.load(); }
   bool scan_seen() const { return last_scan_arrival_.load() > -1e8; }
+  // Wall (steady clock) time the newest scan arrived, for the control loop's latency figures.
+  std::chrono::steady_clock::time_point last_scan_wall_arrival() const {
+    return std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(last_scan_wall_.load()));
+  }
 
   // Whether a bumper reported contact within the last `within` seconds of the arrival clock.
   bool Contact(double within = 0.5) const;
@@ -119,6 +124,7 @@ class DdsBridge {
   std::atomic<double> rear_range_{0.0};
   std::atomic<double> last_rear_arrival_{-1e9};
   std::atomic<double> last_scan_arrival_{-1e9};
+  std::atomic<std::chrono::steady_clock::rep> last_scan_wall_{0};
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>> sonar_reader_;
   struct SonarSlot {
     double angle = 0.0;

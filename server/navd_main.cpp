@@ -23,6 +23,10 @@ int main(int argc, char** argv) {
   app.add_option("--map", o.map_path, "Map file: ROS map_server YAML (+PGM) or a world YAML")->excludes(world);
   app.add_option("--listen", o.listen, "gRPC listen address HOST:PORT (port 0 picks a free one)");
   app.add_option("--port-file", o.port_file, "Write the bound gRPC port to this file");
+  auto* view = app.add_option("--view", o.view,
+                              "Live view HOST:PORT: the Foxglove WebSocket server and the page at http://HOST:PORT/ "
+                              "(port 0 picks a free one); off: none");
+  app.add_option("--view-port-file", o.view_port_file, "Write the bound view port to this file");
   navd::server::security::GrpcSecurityOptions& sec = o.grpc_security;
   app.add_option("--tls-cert", sec.tls_cert, "Serve gRPC over TLS with this PEM certificate (chain); needs --tls-key");
   app.add_option("--tls-key", sec.tls_key, "The PEM private key of --tls-cert");
@@ -106,6 +110,7 @@ int main(int argc, char** argv) {
   }
   // SPDLOG_LEVEL=debug (or e.g. "info"): the log's level, as spdlog reads it.
   spdlog::cfg::load_env_levels();
+  o.view_asked = view->count() > 0;
   for (double d : sonar_degrees) o.sonar_angles.push_back(d * M_PI / 180.0);
   if (initial.size() == 3) {
     o.initial_pose_set = true;

@@ -25,9 +25,12 @@
 #include "sensor_msgsPubSubTypes.h"
 #include "services/common/error.h"
 #include "services/common/pose_text.h"
+#include "services/common/text_file.h"
 #include "simulator/carmen_recorder.h"
 #include "simulator/lockstep_gate.h"
 #include "simulator/simulation.h"
+#include "simulator/truth_view.h"
+#include "view/view_page.h"
 
 namespace {
 
@@ -311,6 +314,30 @@ void LogGroundTruth(double t, const sim::Simulation& s) {
   spdlog::trace("{}", line);
 }
 
+// The truth view of --view, or null for "off". A default address that is taken (another navsim on
+// this host) leaves navsim without one, with a warning; an address asked for must bind. Clients
+// only watch: navsim takes no commands from its view.
+std::unique_ptr<sim::TruthView> StartTruthView(const std::string& address, bool asked, const std::string& port_file,
+                                               const sim::Simulation& simulation) {
+  if (address == "off") return nullptr;
+  navd::view::FoxgloveServerOptions options;
+  navd::view::ParseListenAddress("--view", address, options);
+  options.access = [](std::string_view) { return navd::view::Access::kWatch; };
+  options.name = "navsim (ground truth)";
+  options.page = navd::view::ViewPage();
+  std::unique_ptr<sim::TruthView> view;
+  try {
+    view = std::make_unique<sim::TruthView>(options, simulation);
+  } catch (const Error& e) {
+    if (asked) throw;
+    spdlog::warn("navsim: {}; running without the live view (choose another with --view HOST:PORT)", e.what());
+    return nullptr;
+  }
+  if (!port_file.empty()) navd::WriteFileAtomically(port_file, std::to_string(view->port()) + "\n");
+  spdlog::info("navsim: ground truth view at http://{}:{}/", options.host, view->port());
+  return view;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app{
       "navsim: 2-D simulator of wheeled robots with lasers, sonars, IR, encoders and bumpers among moving "
@@ -358,6 +385,11 @@ int Run(int argc, char** argv) {
   double command_timeout = 0.5;
   app.add_option("--command-timeout", command_timeout, "Stop a robot after this long without a command, s")
       ->check(CLI::PositiveNumber);
+  std::string view_address = "127.0.0.1:8766", view_port_file;
+  auto* view_opt = app.add_option("--view", view_address,
+                                  "Live view of the ground truth HOST:PORT: the Foxglove WebSocket server and the "
+                                  "page at http://HOST:PORT/ (port 0 picks a free one); off: none");
+  app.add_option("--view-port-file", view_port_file, "Write the bound view port to this file");
   app.add_option("--record", record_path, "Write a CARMEN log (ROBOTLASER1, ODOM, TRUEPOS) of one robot to this file");
   app.add_option("--record-robot", record_robot, "Which robot --record records (default: the first)");
   try {
@@ -429,6 +461,9 @@ int Run(int argc, char** argv) {
     topics.push_back(std::make_unique<RobotTopics>(participant, *robots[i], gate.get(), i));
   DoorCommands doors(participant);
 
+  std::unique_ptr<sim::TruthView> view =
+      StartTruthView(view_address, view_opt->count() > 0, view_port_file, simulation);
+
   const auto& w = simulation.world();
   spdlog::info(
       "navsim: scenario '{}' on world '{}' ({}x{} cells at {} m), {} robot(s), {} moving obstacle(s), {} "
@@ -483,6 +518,7 @@ int Run(int argc, char** argv) {
     // After the sensors, so that a sim-time consumer woken by the clock finds this step's readings.
     if (steps % clock_every == 0) send_clock();
     if (out.truth) world_writer.Write(MakeWorldState(t, simulation));
+    if (view) view->Update(simulation);
     if (spdlog::should_log(spdlog::level::trace)) LogGroundTruth(t, simulation);
     for (const auto& e : out.events) {
       // Where the robot stood, too: what it was doing when it touched.

@@ -97,4 +97,9 @@ void GrpcSecurity::ReloadCredentialTable() {
   }
 }
 
+std::optional<Role> GrpcSecurity::RoleOfToken(std::string_view token) const {
+  if (!authorizer_) return std::nullopt;
+  return authorizer_->RoleOfToken(token);
+}
+
 }  // namespace navd::server::security

@@ -5,7 +5,11 @@
 // Listening beyond loopback in plain text is refused unless --insecure says so: anyone who reaches
 // the port could drive the robot.
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
+
+#include "server/security/role.h"
 
 namespace grpc {
 class ServerCredentials;
@@ -39,6 +43,10 @@ class GrpcSecurity {
   // Re-reads --auth-tokens. On error the old table stays and the error is logged.
   void ReloadCredentialTable();
   bool warns_plain_text_beyond_loopback() const { return plain_text_beyond_loopback_; }
+  // Whether --auth-tokens gives roles, and the role of a bearer token in the current table
+  // (nullopt: unknown, or no table). The live view checks its clients' tokens with these.
+  bool has_roles() const { return authorizer_ != nullptr; }
+  std::optional<Role> RoleOfToken(std::string_view token) const;
 
  private:
   GrpcSecurityOptions options_;

@@ -10,6 +10,8 @@
 
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <string_view>
 
 #include "server/security/credential_table.h"
 
@@ -25,6 +27,9 @@ class RoleAuthorizer : public grpc::AuthMetadataProcessor {
                        OutputMetadata* response) override;
 
   void Replace(CredentialTable table);
+  // The role of a bearer token in the current table; nullopt for one it does not know. For the
+  // other listeners that take navd's tokens (the live view).
+  std::optional<Role> RoleOfToken(std::string_view token) const { return Table()->RoleOfToken(token); }
 
  private:
   std::shared_ptr<const CredentialTable> Table() const;

@@ -468,6 +468,18 @@ std::vector<Point2> Navigator::PathAhead(double distance) const {
   return follower_.PathAhead(distance);
 }
 
+std::vector<Point2> Navigator::LegPath() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!status_.active) return {};
+  return follower_.waypoints();
+}
+
+std::vector<NavigationGoal> Navigator::MissionWaypoints() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!status_.active) return {};
+  return mission_.waypoints;
+}
+
 NavigationStatus Navigator::Status() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return status_;

@@ -194,6 +194,10 @@ class Navigator {
   void SetExternalSteering(bool on);
   // The leg's path ahead of the robot for `distance` metres, while a leg is driven; else empty.
   std::vector<Point2> PathAhead(double distance) const;
+  // The current leg's whole path as planned (densified), while a mission is active; else empty.
+  std::vector<Point2> LegPath() const;
+  // The active mission's waypoints; empty without one.
+  std::vector<NavigationGoal> MissionWaypoints() const;
 
   NavigationStatus Status() const;
   // The result of mission `goal_id` once it has ended.
