@@ -110,7 +110,8 @@ void ControlLoop::StaleTick(double now) {
 }
 
 void ControlLoop::Tick(uint64_t tick, double now) {
-  timing_.TickStarted(std::chrono::steady_clock::now());
+  const auto tick_start = std::chrono::steady_clock::now();
+  timing_.TickStarted(tick_start);
   if (auto odom = bridge_.LatestOdometry()) {
     localizer_.AddOdometry(*odom);
     if (localizer_.odometry_jumps() != odometry_jumps_seen_) {
@@ -210,7 +211,7 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   was_searching_ = executive_.searching();
   if (status.active || was_searching_) {
     bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));
-    if (scan) timing_.CommandAfterScan(scan_wall_arrival, std::chrono::steady_clock::now());
+    if (scan) timing_.CommandAfterScan(scan_wall_arrival, tick_start, std::chrono::steady_clock::now());
     zero_commands_left_ = kZeroCommandsAfterGoal;
   } else if (was_active || zero_commands_left_ > 0) {
     bridge_.PublishCommand({});

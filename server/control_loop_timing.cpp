@@ -37,16 +37,18 @@ void ControlLoopTiming::TickStarted(Time now) {
   ++ticks_;
 }
 
-void ControlLoopTiming::CommandAfterScan(Time scan_arrival, Time now) {
+void ControlLoopTiming::CommandAfterScan(Time scan_arrival, Time tick_start, Time now) {
   Add(latencies_ms_, next_latency_, capacity_, Milliseconds(now - scan_arrival));
+  Add(work_ms_, next_work_, capacity_, Milliseconds(now - tick_start));
 }
 
 std::string ControlLoopTiming::Summary() const {
   return fmt::format(
-      "{} ticks, period median {:.2f} ms (p95 {:.2f}, max {:.2f}); scan to cmd_vel median {:.2f} ms (p95 {:.2f}) "
-      "over {} scans",
+      "{} ticks, period median {:.2f} ms (p95 {:.2f}, max {:.2f}); scan to cmd_vel median {:.2f} ms (p95 {:.2f}), "
+      "of which work median {:.3f} ms (p95 {:.3f}), over {} scans",
       ticks_, Quantile(periods_ms_, 0.5), Quantile(periods_ms_, 0.95), Quantile(periods_ms_, 1.0),
-      Quantile(latencies_ms_, 0.5), Quantile(latencies_ms_, 0.95), latencies_ms_.size());
+      Quantile(latencies_ms_, 0.5), Quantile(latencies_ms_, 0.95), Quantile(work_ms_, 0.5), Quantile(work_ms_, 0.95),
+      latencies_ms_.size());
 }
 
 }  // namespace navd::server

@@ -125,6 +125,11 @@ class FoxgloveServer::Impl {
     server_.init_asio();
     server_.set_reuse_addr(true);
     server_.set_max_message_size(options_.max_client_message_bytes);
+    server_.set_socket_init_handler([this](websocketpp::connection_hdl, boost::asio::ip::tcp::socket& socket) {
+      boost::system::error_code ignored;
+      socket.set_option(boost::asio::socket_base::send_buffer_size(options_.socket_send_buffer_bytes), ignored);
+      socket.set_option(boost::asio::ip::tcp::no_delay(true), ignored);
+    });
     server_.set_validate_handler([this](websocketpp::connection_hdl h) { return Validate(h); });
     server_.set_http_handler([this](websocketpp::connection_hdl h) { ServePage(h); });
     server_.set_open_handler([this](websocketpp::connection_hdl h) { Open(h); });
@@ -169,7 +174,19 @@ class FoxgloveServer::Impl {
         server_.close(hdl, websocketpp::close::status::going_away, "server stopping", close_ec);
       }
     });
-    // A client that never reads cannot complete the close handshake: give the others a moment.
+    // A client that never reads cannot complete the close handshake: the others get a moment,
+    // then every socket still open is closed under it.
+    for (int i = 0; i < 25 && connection_count_ > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    boost::asio::post(server_.get_io_service(), [this] {
+      for (auto& [hdl, c] : connections_) {
+        websocketpp::lib::error_code ec;
+        WsServer::connection_ptr con = server_.get_con_from_hdl(hdl, ec);
+        if (ec) continue;
+        boost::system::error_code ignored;
+        con->get_raw_socket().shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
+        con->get_raw_socket().close(ignored);
+      }
+    });
     for (int i = 0; i < 25 && connection_count_ > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     server_.stop();
     if (thread_.joinable()) thread_.join();

@@ -47,6 +47,9 @@ struct FoxgloveServerOptions {
   // A subscriber is sent a channel's message only while fewer bytes than this wait in its socket's
   // send buffer; otherwise the newest message waits for it (one per channel).
   size_t max_buffered_bytes = 256 * 1024;
+  // Each connection's kernel send buffer (SO_SNDBUF): bounds what a stalled client holds below
+  // the queue above (Linux grows it to megabytes by itself).
+  int socket_send_buffer_bytes = 128 * 1024;
   size_t max_client_message_bytes = 64 * 1024;
   std::function<Access(std::string_view token)> access;  // empty: every client may command
 };

@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 
+#include "tests/support/keystore.h"
 #include "tests/support/navd_fixture.h"
 
 namespace navd::testing {
@@ -17,11 +18,13 @@ struct ViewStack {
   std::unique_ptr<NavdStack> stack;
   std::string navd_view, navsim_view;
 
-  ViewStack() {
+  explicit ViewStack(std::vector<std::string> navd_args = {}, ClientOptions client = {}) {
     StackOptions o;
+    o.client = client;
     o.rate = 2.0;
     o.lockstep = false;
     o.navd_args = {"--view", "127.0.0.1:0", "--view-port-file", dir + "/navd-view.port"};
+    o.navd_args.insert(o.navd_args.end(), navd_args.begin(), navd_args.end());
     o.sim_args = {"--view", "127.0.0.1:0", "--view-port-file", dir + "/navsim-view.port"};
     stack = std::make_unique<NavdStack>(o);
     navd_view = WaitForPortFile(dir + "/navd-view.port", stack->navd(), 10.0);
@@ -50,6 +53,20 @@ TEST(LiveView, BrowserDrawsTheRobotWhereNavdSaysClicksAGoalAndCancelsIt) {
   const auto r = RunCommand({"/usr/bin/env", "node", Script("browser_test.mjs"), v.navd_view, v.navsim_view,
                              NavctlBinary(), v.stack->address(), shots},
                             180.0);
+  EXPECT_EQ(r.exit_code, 0) << r.output << v.stack->Logs();
+  EXPECT_NE(r.output.find("PASS"), std::string::npos) << r.output;
+}
+
+// With --auth-tokens the view takes the same tokens: none is HTTP 401, a viewer watches, an
+// operator drives.
+TEST(LiveView, TokensDecideWhoWatchesAndWhoSendsGoals) {
+  const Keystore keys;
+  ViewStack v({"--tls-cert", keys.tls("navd.pem"), "--tls-key", keys.tls("navd.key"), "--auth-tokens", keys.tokens()},
+              keys.Client("admin"));
+  ASSERT_TRUE(v.stack->WaitForPose(20.0)) << v.stack->Logs();
+  const auto r = RunCommand(
+      {"/usr/bin/env", "node", Script("access_test.mjs"), v.navd_view, keys.token("viewer"), keys.token("operator")},
+      90.0);
   EXPECT_EQ(r.exit_code, 0) << r.output << v.stack->Logs();
   EXPECT_NE(r.output.find("PASS"), std::string::npos) << r.output;
 }
