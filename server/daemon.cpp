@@ -122,7 +122,7 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   }
   // Every localiser runs; --localizer (or SelectMethod) picks the one that answers.
   mapping::MapBuilder map_builder;
-  localization::LocalizerSelector localizer;
+  localization::LocalizerSelector localizer(/*search_on_its_own_thread=*/true);
   localization::ParticleFilterOptions filter_options;
   if (robot.drive == DriveType::kOmni) filter_options.motion_model = localization::MotionModel::kOmni;
   if (o.laser_model == "beam") filter_options.sensor_model = localization::SensorModel::kBeam;

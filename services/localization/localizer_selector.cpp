@@ -67,21 +67,15 @@ void LocalizerSelector::AddOdometry(const OdometryReading& raw) {
     last_odometry_ = reading;
   }
   for (auto& l : localizers_) l->AddOdometry(reading);
-  if (const std::shared_ptr<Localizer> search = RunningSearch()) search->AddOdometry(reading);
+  if (const std::shared_ptr<BesideSearch> search = RunningSearch()) search->AddOdometry(reading);
   Arbitrate(reading.stamp);
 }
 
 bool LocalizerSelector::AddScan(const ScanReading& scan) {
   bool used = false;
   for (auto& l : localizers_) used |= l->AddScan(scan);
-  // The search is fed outside the lock (100 000 particles at first); what it makes of each scan it
-  // uses is kept for SearchEstimate, stamped with the scan, so a caller counts scans, not calls.
-  if (const std::shared_ptr<Localizer> search = RunningSearch(); search && search->AddScan(scan)) {
-    PoseEstimate e = search->Estimate();
-    e.stamp = scan.stamp;
-    std::lock_guard<std::mutex> lock(search_mutex_);
-    if (search_ == search) search_estimate_ = e;
-  }
+  // The search is fed outside the lock (100 000 particles at first).
+  if (const std::shared_ptr<BesideSearch> search = RunningSearch()) search->AddScan(scan);
   // The laser is there when scans arrive, used or not: a filter skips scans while the robot
   // stands still.
   {
@@ -120,11 +114,11 @@ bool LocalizerSelector::SetMap(const OccupancyGrid& map) {
     std::lock_guard<std::mutex> lock(search_mutex_);
     map_version_++;
   }
-  if (const std::shared_ptr<Localizer> search = RunningSearch()) search->SetMap(map);
+  if (const std::shared_ptr<BesideSearch> search = RunningSearch()) search->SetMap(map);
   return any;
 }
 
-std::shared_ptr<Localizer> LocalizerSelector::RunningSearch() const {
+std::shared_ptr<BesideSearch> LocalizerSelector::RunningSearch() const {
   std::lock_guard<std::mutex> lock(search_mutex_);
   return search_;
 }
@@ -147,17 +141,16 @@ bool LocalizerSelector::StartSearch() {
   }
   if (odometry) fresh->AddOdometry(*odometry);  // where the robot is in the odometry frame now
   if (!fresh->GlobalRelocalize()) return false;
+  auto search = std::make_shared<BesideSearch>(std::move(fresh), search_on_its_own_thread_);
   std::lock_guard<std::mutex> lock(search_mutex_);
   if (map_version_ != version) return false;  // a new map came meanwhile: the caller searches again
-  search_estimate_ = fresh->Estimate();       // scattered over the map (valid once odometry came)
-  search_estimate_.valid = true;              // a search runs
-  search_ = std::move(fresh);
+  search_ = std::move(search);
   return true;
 }
 
 PoseEstimate LocalizerSelector::SearchEstimate() const {
-  std::lock_guard<std::mutex> lock(search_mutex_);
-  return search_ ? search_estimate_ : PoseEstimate{};
+  const std::shared_ptr<BesideSearch> search = RunningSearch();
+  return search ? search->Estimate() : PoseEstimate{};
 }
 
 void LocalizerSelector::EndSearch(bool adopt) {
@@ -166,7 +159,7 @@ void LocalizerSelector::EndSearch(bool adopt) {
   {
     std::lock_guard<std::mutex> lock(search_mutex_);
     if (!search_) return;
-    found = search_estimate_;
+    found = search_->Estimate();
     search_.reset();
   }
   if (adopt && found.valid) ResetAll(found.pose, 0.5 * (found.covariance + found.covariance.transpose()));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "services/localization/beside_search.h"
 #include "services/localization/localizer.h"
 #include "services/localization/odometry_jump_filter.h"
 
@@ -15,6 +16,11 @@ namespace navd::localization {
 
 class LocalizerSelector : public Localizer {
  public:
+  // search_on_its_own_thread: the whole-map search beside the estimate (StartSearch) weighs scans
+  // on a thread of its own (navd), rather than in AddScan (offline replays, tests: deterministic).
+  explicit LocalizerSelector(bool search_on_its_own_thread = false)
+      : search_on_its_own_thread_(search_on_its_own_thread) {}
+
   // The first localiser added is selected until Select says otherwise.
   void Add(std::unique_ptr<Localizer> localizer);
   // The localisers' names, then "auto".
@@ -63,11 +69,11 @@ class LocalizerSelector : public Localizer {
   // The whole-map search beside the selected localiser, if one runs. Fed outside any lock of
   // ours (a scan on 100 000 particles must hold up neither the selection nor the control loop);
   // shared so that ending it while it is fed is safe.
+  const bool search_on_its_own_thread_;
   mutable std::mutex search_mutex_;
-  std::shared_ptr<Localizer> search_;
-  PoseEstimate search_estimate_;  // after the last scan it used
-  uint64_t map_version_ = 0;      // SetMap calls: a search started on an older map is not kept
-  std::shared_ptr<Localizer> RunningSearch() const;
+  std::shared_ptr<BesideSearch> search_;
+  uint64_t map_version_ = 0;  // SetMap calls: a search started on an older map is not kept
+  std::shared_ptr<BesideSearch> RunningSearch() const;
   // Held through a re-anchoring (SetPose, adopting a search), so two never interleave.
   std::mutex reset_mutex_;
   void ResetAll(const Pose2& pose, const Eigen::Matrix3d& covariance);

@@ -138,8 +138,8 @@ TEST(FoxgloveServer, AViewerThatNeverReadsCostsBoundedMemoryAndOthersGetTheNewes
   EXPECT_EQ(newest, messages - 1) << "the reading viewer did not get the newest message";
   EXPECT_GT(received, 0);
   EXPECT_LT(grown, 30 * 1024) << "resident memory grew by " << grown << " kB for 100 MB published";
-  std::printf("reader got %d of %d messages, the newest last; resident memory grew %ld kB\n", received.load(),
-              messages, grown);
+  std::printf("reader got %d of %d messages, the newest last; resident memory grew %ld kB\n", received.load(), messages,
+              grown);
   server.Stop();
   reading.join();
 }

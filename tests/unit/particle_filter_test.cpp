@@ -3,6 +3,9 @@
 // finds the robot with no prior.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
+
 #include <cmath>
 
 #include "services/common/error.h"
@@ -277,6 +280,62 @@ TEST(LocalizerSelector, AWholeMapSearchRunsBesideTheEstimate) {
       EXPECT_GT(error, 3.0) << "ended without adopting, the estimate is as it was";
     }
   }
+}
+
+// Hands each scan to a selector whose search runs on a thread of its own, and on every other scan
+// waits (up to 0.3 s: a filter skips scans while the robot stands still) until the search has weighed it, so that the
+// search keeps up with the drive as it would in real time and still drops scans that come while it is busy.
+class PacedForTheSearch : public Localizer {
+ public:
+  explicit PacedForTheSearch(LocalizerSelector& s) : s_(s) {}
+  std::string name() const override { return s_.name(); }
+  void AddOdometry(const OdometryReading& r) override { s_.AddOdometry(r); }
+  bool AddScan(const ScanReading& scan) override {
+    const bool used = s_.AddScan(scan);
+    if (++scans_ % 2 == 0) {
+      for (int i = 0; i < 30 && s_.SearchEstimate().stamp < scan.stamp; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return used;
+  }
+  PoseEstimate Estimate() const override { return s_.Estimate(); }
+  MethodContext Suitability(bool laser_fresh) const override { return s_.Suitability(laser_fresh); }
+
+ private:
+  void ResetPose(const Pose2& pose, const Eigen::Matrix3d& covariance) override { s_.SetPose(pose, covariance); }
+  LocalizerSelector& s_;
+  int scans_ = 0;
+};
+
+// navd's search runs on a thread of its own (BesideSearch): it is handed the scans and the
+// odometry, weighs the newest scan when it is free and carries its particles through all the
+// odometry up to it; it finds the robot as the synchronous one does, and is adopted the same way.
+TEST(LocalizerSelector, ASearchOnItsOwnThreadFindsTheRobotToo) {
+  const Pose2 truth(8.5, 8.4, M_PI), told(4.0, 5.0, 0.0);
+  Scenario sc(truth, 300);
+  ParticleFilterOptions po;
+  po.seed = 301;
+  po.nearby_reset.enabled = false;
+  sc.pf = std::make_unique<ParticleFilterLocalizer>(sc.world.map, po);
+  sc.pf->AddOdometry({sc.sim.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
+  LocalizerSelector selector(/*search_on_its_own_thread=*/true);
+  selector.Add(std::move(sc.pf));
+  selector.SetPose(told, Eigen::Matrix3d::Identity() * 1e-3);
+  ASSERT_TRUE(selector.StartSearch());
+  PacedForTheSearch paced(selector);
+  Drive(
+      sc.sim, paced, 14.0,
+      [](double t) {
+        return Twist2{0.0, t < 12 ? 0.6 : 0.0};
+      },
+      1.0);
+  const Pose2 at = sc.sim.robot().base().true_pose();
+  const PoseEstimate found = selector.SearchEstimate();
+  ASSERT_TRUE(found.valid);
+  EXPECT_LT(Distance(found.pose.translation(), at.translation()), 0.15) << "the search finds the robot";
+  EXPECT_GT(Distance(selector.Estimate().pose.translation(), at.translation()), 3.0) << "the estimate kept its own";
+  selector.EndSearch(true);
+  EXPECT_LT(Distance(selector.Estimate().pose.translation(), at.translation()), 0.15) << "adopted";
 }
 
 // With odometry answering (as "auto" picks it while the scans fit poorly) the search is still a
