@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
+#include <utility>
 #include <websocketpp/config/asio_no_tls.hpp>
 #include <websocketpp/server.hpp>
 
@@ -125,18 +126,18 @@ class FoxgloveServer::Impl {
     server_.init_asio();
     server_.set_reuse_addr(true);
     server_.set_max_message_size(options_.max_client_message_bytes);
-    server_.set_socket_init_handler([this](websocketpp::connection_hdl, boost::asio::ip::tcp::socket& socket) {
+    server_.set_socket_init_handler([this](const websocketpp::connection_hdl&, boost::asio::ip::tcp::socket& socket) {
       boost::system::error_code ignored;
       socket.set_option(boost::asio::socket_base::send_buffer_size(options_.socket_send_buffer_bytes), ignored);
       socket.set_option(boost::asio::ip::tcp::no_delay(true), ignored);
     });
-    server_.set_validate_handler([this](websocketpp::connection_hdl h) { return Validate(h); });
-    server_.set_http_handler([this](websocketpp::connection_hdl h) { ServePage(h); });
-    server_.set_open_handler([this](websocketpp::connection_hdl h) { Open(h); });
-    server_.set_close_handler([this](websocketpp::connection_hdl h) { Close(h); });
-    server_.set_fail_handler([this](websocketpp::connection_hdl h) { Close(h); });
-    server_.set_message_handler([this](websocketpp::connection_hdl h, WsServer::message_ptr m) {
-      Receive(h, m->get_opcode(), m->get_payload());
+    server_.set_validate_handler([this](websocketpp::connection_hdl h) { return Validate(std::move(h)); });
+    server_.set_http_handler([this](websocketpp::connection_hdl h) { ServePage(std::move(h)); });
+    server_.set_open_handler([this](websocketpp::connection_hdl h) { Open(std::move(h)); });
+    server_.set_close_handler([this](websocketpp::connection_hdl h) { Close(std::move(h)); });
+    server_.set_fail_handler([this](websocketpp::connection_hdl h) { Close(std::move(h)); });
+    server_.set_message_handler([this](websocketpp::connection_hdl h, const WsServer::message_ptr& m) {
+      Receive(std::move(h), m->get_opcode(), m->get_payload());
     });
 
     const std::string address = options_.host == "localhost" ? "127.0.0.1" : options_.host;
@@ -193,7 +194,7 @@ class FoxgloveServer::Impl {
   }
 
   bool Validate(websocketpp::connection_hdl h) {
-    WsServer::connection_ptr con = server_.get_con_from_hdl(h);
+    WsServer::connection_ptr con = server_.get_con_from_hdl(std::move(h));
     if (AccessOf(con->get_resource()) == Access::kNone) {
       con->set_status(websocketpp::http::status_code::unauthorized);
       return false;
@@ -210,7 +211,7 @@ class FoxgloveServer::Impl {
   }
 
   void ServePage(websocketpp::connection_hdl h) {
-    WsServer::connection_ptr con = server_.get_con_from_hdl(h);
+    WsServer::connection_ptr con = server_.get_con_from_hdl(std::move(h));
     const std::string target = con->get_resource();
     const std::string path = target.substr(0, target.find('?'));
     if (con->get_request().get_method() != "GET" || (path != "/" && path != "/index.html") || options_.page.empty()) {
@@ -229,7 +230,7 @@ class FoxgloveServer::Impl {
     con->set_body(options_.page);
   }
 
-  void Open(websocketpp::connection_hdl h) {
+  void Open(const websocketpp::connection_hdl& h) {
     WsServer::connection_ptr con = server_.get_con_from_hdl(h);
     Connection c;
     c.id = next_connection_++;
@@ -258,7 +259,7 @@ class FoxgloveServer::Impl {
     SendText(h, advertise.dump());
   }
 
-  void Close(websocketpp::connection_hdl h) {
+  void Close(const websocketpp::connection_hdl& h) {
     auto it = connections_.find(h);
     if (it == connections_.end()) return;
     for (const auto& [channel, sub] : it->second.subscription_of_channel) --subscribers_[channel];
@@ -269,14 +270,15 @@ class FoxgloveServer::Impl {
 
   void SendText(websocketpp::connection_hdl h, const std::string& text) {
     websocketpp::lib::error_code ec;
-    server_.send(h, text, websocketpp::frame::opcode::text, ec);
+    server_.send(std::move(h), text, websocketpp::frame::opcode::text, ec);
   }
 
   void SendStatusOn(websocketpp::connection_hdl h, int level, const std::string& message) {
-    SendText(h, Json{{"op", "status"}, {"level", level}, {"message", message}}.dump());
+    SendText(std::move(h), Json{{"op", "status"}, {"level", level}, {"message", message}}.dump());
   }
 
-  void Receive(websocketpp::connection_hdl h, websocketpp::frame::opcode::value opcode, const std::string& payload) {
+  void Receive(const websocketpp::connection_hdl& h, websocketpp::frame::opcode::value opcode,
+               const std::string& payload) {
     auto it = connections_.find(h);
     if (it == connections_.end()) return;
     Connection& c = it->second;
@@ -319,7 +321,7 @@ class FoxgloveServer::Impl {
     }
   }
 
-  void ReceiveBinary(websocketpp::connection_hdl h, Connection& c, const std::string& payload) {
+  void ReceiveBinary(const websocketpp::connection_hdl& h, Connection& c, const std::string& payload) {
     if (payload.size() < 5 || static_cast<uint8_t>(payload[0]) != kClientMessageDataOpcode) {
       SendStatusOn(h, 2, "binary message: unknown opcode or too short");
       return;
@@ -335,7 +337,7 @@ class FoxgloveServer::Impl {
     on_client_message_(m);
   }
 
-  void Subscribe(websocketpp::connection_hdl h, Connection& c, uint32_t id, uint32_t channel) {
+  void Subscribe(const websocketpp::connection_hdl& h, Connection& c, uint32_t id, uint32_t channel) {
     if (channel >= channels_.size()) {
       SendStatusOn(h, 2, "subscribe: no channel " + std::to_string(channel));
       return;
@@ -373,7 +375,7 @@ class FoxgloveServer::Impl {
     }
     if (!latest.payload) return;
     websocketpp::lib::error_code ec;
-    WsServer::connection_ptr con = server_.get_con_from_hdl(h, ec);
+    WsServer::connection_ptr con = server_.get_con_from_hdl(std::move(h), ec);
     if (ec || con->get_state() != websocketpp::session::state::open) return;
     if (con->get_buffered_amount() >= options_.max_buffered_bytes) {
       c.owed.insert(channel);

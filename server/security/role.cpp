@@ -75,6 +75,7 @@ std::optional<Role> RequiredRole(std::string_view method_path) {
 
 std::vector<std::string> MethodsWithRoles() {
   std::vector<std::string> paths;
+  paths.reserve(kMethodRoles.size());
   for (const MethodRole& m : kMethodRoles) paths.emplace_back(m.path);
   return paths;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace navd {
 
@@ -9,7 +10,7 @@ OccupancyGrid::OccupancyGrid(int width, int height, double resolution, Point2 or
     : width_(width),
       height_(height),
       resolution_(resolution),
-      origin_(origin),
+      origin_(std::move(origin)),
       cells_(static_cast<size_t>(width) * height, fill) {}
 
 namespace {

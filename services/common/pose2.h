@@ -21,6 +21,11 @@ struct Pose2 {
   double y = 0.0;
   double theta = 0.0;
 
+  // Spelled out, so that Pose2(x, y, theta) also builds with clang 14 (the fuzzers, clang-tidy),
+  // which lacks C++20's parenthesised aggregate initialisation.
+  constexpr Pose2() = default;
+  constexpr Pose2(double x_, double y_, double theta_) : x(x_), y(y_), theta(theta_) {}
+
   Point2 translation() const { return {x, y}; }
 
   // this ∘ other: other expressed in this pose's parent frame.

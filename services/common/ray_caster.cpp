@@ -27,7 +27,7 @@ constexpr double kMaxFirst = 268435456.0;
 // TraverseSegment's tolerance.
 constexpr Fixed kCornerFixed = 4;
 
-Fixed ToFixed(double cells) { return static_cast<Fixed>(cells * kFixedOne + 0.5); }
+Fixed ToFixed(double cells) { return static_cast<Fixed>(std::llround(cells * kFixedOne)); }
 // A value in [0, 1] as a 2.62 fixed-point number (a signed conversion: no unsigned fix-up code).
 uint64_t ToFraction(double v) { return static_cast<uint64_t>(static_cast<int64_t>(v * 4611686018427387904.0)); }
 

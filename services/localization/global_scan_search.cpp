@@ -51,8 +51,8 @@ GlobalScanSearch::GlobalScanSearch(const OccupancyGrid& map, const LikelihoodFie
         for (int x = bx * block_cells_; x < std::min(width_, (bx + 1) * block_cells_) && !free; ++x)
           free = map.cells()[static_cast<size_t>(y) * width_ + x] == OccupancyGrid::kFree;
       if (free) {
-        blocks_.push_back(origin_ + resolution_ * Point2(bx * block_cells_ + 0.5 * block_cells_,
-                                                         by * block_cells_ + 0.5 * block_cells_));
+        blocks_.emplace_back(origin_ + resolution_ * Point2(bx * block_cells_ + 0.5 * block_cells_,
+                                                            by * block_cells_ + 0.5 * block_cells_));
       }
     }
   }
@@ -64,6 +64,7 @@ std::vector<Point2> GlobalScanSearch::Scored(const std::vector<Point2>& all_poin
     if (p.allFinite() && p.norm() <= o_.max_range) points.push_back(p);
   if (points.size() > static_cast<size_t>(o_.points)) {
     std::vector<Point2> thinned;
+    thinned.reserve(o_.points);
     for (int i = 0; i < o_.points; ++i) thinned.push_back(points[i * points.size() / o_.points]);
     points.swap(thinned);
   }

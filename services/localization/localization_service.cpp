@@ -58,7 +58,7 @@ grpc::Status LocalizationService::StreamPose(grpc::ServerContext* context, const
   auto next = std::chrono::steady_clock::now();
   while (!context->IsCancelled()) {
     v1::GetPoseResponse pose;
-    const grpc::Status s = GuardedCall([&] { FillPose(localizer_, &pose); });
+    grpc::Status s = GuardedCall([&] { FillPose(localizer_, &pose); });
     if (!s.ok()) return s;
     if (!writer->Write(pose)) break;
     next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);

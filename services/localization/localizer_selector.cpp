@@ -12,7 +12,7 @@ void LocalizerSelector::Add(std::unique_ptr<Localizer> localizer) { localizers_.
 std::vector<std::string> LocalizerSelector::Methods() const {
   std::vector<std::string> names;
   for (const auto& l : localizers_) names.push_back(l->name());
-  names.push_back("auto");
+  names.emplace_back("auto");
   return names;
 }
 

@@ -39,7 +39,7 @@ std::vector<ScanBeam> SampleBeams(const ScanReading& scan, int count) {
 std::vector<Point2> ScanEndPoints(const ScanReading& scan, int count) {
   std::vector<Point2> ends;
   for (const ScanBeam& b : SampleBeams(scan, count)) {
-    if (b.hit) ends.push_back({b.range * std::cos(b.angle), b.range * std::sin(b.angle)});
+    if (b.hit) ends.emplace_back(b.range * std::cos(b.angle), b.range * std::sin(b.angle));
   }
   return ends;
 }

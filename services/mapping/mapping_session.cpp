@@ -159,7 +159,7 @@ void MappingSession::Integrate(const Item& item) {
 
 void MappingSession::MarkChanged(const MapRegion& region) {
   ++status_.version;
-  changes_.push_back({status_.version, region});
+  changes_.emplace_back(status_.version, region);
   if (changes_.size() > kKeptChanges) changes_.pop_front();
 }
 

@@ -34,27 +34,24 @@ void MovingObstacleAvoidance::Start(const Pose2& pose, const Point2& obstacle, c
   turn_sign_ = zone_ <= 2 ? -1.0 : 1.0;
   const bool rear_clear = sensing.rear_free >= options_.backup_distance + options_.back_clearance;
   const bool head_on = zone_ == 2 || zone_ == 3;
-  if (touching && rear_clear) {
+  // Touching, or beside (not head on): back away when the rear is clear.
+  if (rear_clear && (touching || !head_on)) {
     Enter(AvoidancePhase::kBackingUp, pose, now);
   } else if (head_on) {
     // Step aside, away from the obstacle when that side is open, else to the other side (it is
-    // nearly ahead: either side lets it by), else back up.
+    // nearly ahead: either side lets it by), else back up, else turn anyway.
     const double need = options_.pass_distance + options_.min_clearance;
     auto side_free = [&](double sign) {
       return sensing.free_along ? sensing.free_along(sign * options_.inner_turn) : 0.0;
     };
-    if (side_free(turn_sign_) >= need) {
-      BeginTurn(pose, options_.inner_turn, now);
-    } else if (side_free(-turn_sign_) >= need) {
+    const bool away_open = side_free(turn_sign_) >= need;
+    if (!away_open && side_free(-turn_sign_) >= need) {
       turn_sign_ = -turn_sign_;
-      BeginTurn(pose, options_.inner_turn, now);
-    } else if (rear_clear) {
+    } else if (!away_open && rear_clear) {
       Enter(AvoidancePhase::kBackingUp, pose, now);
-    } else {
-      BeginTurn(pose, options_.inner_turn, now);
+      return;
     }
-  } else if (rear_clear) {
-    Enter(AvoidancePhase::kBackingUp, pose, now);
+    BeginTurn(pose, options_.inner_turn, now);
   } else {
     BeginTurn(pose, options_.outer_turn, now);
   }

@@ -29,7 +29,7 @@ void AddPredictedRim(const DetectedObstacle& o, const Pose2& pose, std::initiali
     const Point2 centre = pose.inverse() * (o.position + t * o.velocity);
     for (int k = 0; k < 8; ++k) {
       const double a = k * M_PI / 4.0;
-      out.push_back(centre + o.radius * Point2(std::cos(a), std::sin(a)));
+      out.emplace_back(centre + o.radius * Point2(std::cos(a), std::sin(a)));
     }
   }
 }
@@ -198,10 +198,10 @@ uint64_t NavigationExecutive::Deliver(const DeliveryRequest& r, DeliverySchedule
                                       const planning::StopRequested& stop) {
   schedule = PlanDeliveries(r, stop);
   MissionRequest mission;
-  for (const DeliveryStop& s : schedule.stops) mission.waypoints.push_back(Pose2(s.at.x(), s.at.y(), 0.0));
+  for (const DeliveryStop& s : schedule.stops) mission.waypoints.emplace_back(s.at.x(), s.at.y(), 0.0);
   if (r.options.return_to_start) {
     const Point2 start = localizer_.Estimate().pose.translation();
-    mission.waypoints.push_back(Pose2(start.x(), start.y(), 0.0));
+    mission.waypoints.emplace_back(start.x(), start.y(), 0.0);
   }
   mission.planner = r.planner;
   mission.preempt = r.preempt;
@@ -999,11 +999,11 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       // People come and go across the path all the time: the crowd controller steers round them.
       if (!people_.enabled) {
         for (const DetectedObstacle& o : detector_.confirmed()) {
-          discs.push_back({o.position, o.radius + moving_.detection.robot_radius});
+          discs.emplace_back(o.position, o.radius + moving_.detection.robot_radius);
         }
       }
       for (const SensedObstacle& s : sensed_obstacles_)
-        discs.push_back({s.position, s.radius + moving_.detection.robot_radius});
+        discs.emplace_back(s.position, s.radius + moving_.detection.robot_radius);
     }
     std::shared_ptr<const planning::Costmap> costmap;
     if (const auto map = planning_.maps().Get(); map && map->version != leg_map_version_)

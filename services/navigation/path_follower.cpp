@@ -18,7 +18,7 @@ std::vector<Point2> DensifyPath(const std::vector<Point2>& path, double spacing)
   for (size_t i = 1; i < path.size(); ++i) {
     const Point2 a = path[i - 1], b = path[i];
     const int pieces = std::max(1, static_cast<int>(std::ceil(Distance(a, b) / spacing)));
-    for (int k = 1; k <= pieces; ++k) out.push_back(a + (b - a) * (static_cast<double>(k) / pieces));
+    for (int k = 1; k <= pieces; ++k) out.emplace_back(a + (b - a) * (static_cast<double>(k) / pieces));
   }
   return out;
 }
@@ -121,7 +121,7 @@ std::vector<Point2> PathFollower::PathAhead(double distance) const {
   for (; i + 1 < waypoints_.size() && distance > 0.0; ++i) {
     const double step = Distance(waypoints_[i], waypoints_[i + 1]);
     if (step >= distance) {
-      out.push_back(waypoints_[i] + (waypoints_[i + 1] - waypoints_[i]) * (distance / std::max(step, 1e-9)));
+      out.emplace_back(waypoints_[i] + (waypoints_[i + 1] - waypoints_[i]) * (distance / std::max(step, 1e-9)));
       break;
     }
     distance -= step;

@@ -200,7 +200,7 @@ CellEntry ConvexCellMap::Enter(const Costmap& costmap, const Point2& p, double r
       if (cell < 0) continue;
       const ConvexCell& c = cells_[cell];
       const Point2 q = p.cwiseMax(c.min).cwiseMin(c.max);
-      candidates.push_back({Distance(p, q), cell});
+      candidates.emplace_back(Distance(p, q), cell);
     }
   }
   std::sort(candidates.begin(), candidates.end());

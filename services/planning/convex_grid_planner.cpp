@@ -116,7 +116,7 @@ ConvexGridPath PlanOnConvexGrid(const ConvexCellMap& grid, const Costmap& costma
     best.length += len;
     best.penalised = best.penalised || penalty(way[i - 1], way[i]) > 0.0;
     const int parts = std::max(1, static_cast<int>(std::ceil(len / o.waypoint_spacing - 1e-9)));
-    for (int k = 1; k <= parts; ++k) best.points.push_back(way[i - 1] + (way[i] - way[i - 1]) * (double(k) / parts));
+    for (int k = 1; k <= parts; ++k) best.points.emplace_back(way[i - 1] + (way[i] - way[i - 1]) * (double(k) / parts));
   }
   return best;
 }

@@ -289,7 +289,7 @@ KinodynamicTrajectory PlanKinodynamic(const Costmap& costmap, const KinodynamicR
     KinodynamicTrajectory t;
     for (const ob::State* s : path.getStates()) {
       const Unicycle u = Read(s);
-      t.points.push_back({u.x, u.y});
+      t.points.emplace_back(u.x, u.y);
       t.yaws.push_back(u.yaw);
       t.speeds.push_back(u.v);
       t.times.push_back(u.t);

@@ -184,7 +184,7 @@ CellPath OmplPlanner::Plan(const Costmap& costmap, const CellIndex& start, const
   if (space_kind != 0) path.interpolate(static_cast<unsigned>(std::ceil(path.length() / grid.resolution())) + 2);
   for (const ob::State* state : path.getStates()) {
     const auto* se2 = state->as<ob::SE2StateSpace::StateType>();
-    result.points.push_back({se2->getX(), se2->getY()});
+    result.points.emplace_back(se2->getX(), se2->getY());
     result.cells.push_back(grid.CellOf(result.points.back()));
   }
   result.keep_shape = space_kind != 0;

@@ -45,7 +45,8 @@ CellPath TopologicalGraphPlanner::Plan(const Costmap& costmap, const CellIndex& 
     dist[from.cell] = 0.0;
     open.push({0.0, from.cell});
     while (!open.empty()) {
-      const auto [d, u] = open.top();
+      const double d = open.top().first;
+      const int32_t u = open.top().second;
       open.pop();
       if (d > dist[u]) continue;
       if ((++result.expansions & 255) == 0 && stop && stop())

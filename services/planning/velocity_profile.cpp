@@ -29,7 +29,7 @@ std::vector<Point2> Resample(const std::vector<Point2>& path, double step, std::
     const Point2 a = path[i - 1], b = path[i];
     const double len = (b - a).norm();
     while (len > 0.0 && next <= travelled + len - 1e-9) {
-      out.push_back(a + (b - a) * ((next - travelled) / len));
+      out.emplace_back(a + (b - a) * ((next - travelled) / len));
       arc->push_back(next);
       next += step;
     }

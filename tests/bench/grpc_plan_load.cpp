@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   const auto end = start + std::chrono::duration<double>(seconds);
   std::vector<std::thread> threads;
+  threads.reserve(clients);
   for (int t = 0; t < clients; ++t) {
     threads.emplace_back([&, t] {
       // A channel per client, as separate processes would have.

@@ -33,6 +33,7 @@ std::vector<float> Scan683(const Pose2& pose) {
   static const RayCaster caster(Floor());
   std::vector<float> ranges;
   const double fov = 240.0 * M_PI / 180.0, inc = fov / 682.0;
+  ranges.reserve(683);
   for (int i = 0; i < 683; ++i)
     ranges.push_back(static_cast<float>(caster.Cast(pose.translation(), pose.theta - fov / 2 + i * inc, 30.0)));
   return ranges;

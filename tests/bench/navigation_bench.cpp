@@ -16,6 +16,7 @@ void BM_ScheduleDeliveries(benchmark::State& state) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0.0, 20.0);
   std::vector<DeliveryTask> tasks;
+  tasks.reserve(state.range(0));
   for (int i = 0; i < state.range(0); ++i) tasks.push_back({"t", {u(rng), u(rng)}, {u(rng), u(rng)}, i % 2});
   DeliveryScheduleOptions o;
   o.capacity = 3;
@@ -38,7 +39,7 @@ void BM_CrowdRrtPlan(benchmark::State& state) {
   planning::CrowdRrtRequest r;
   r.start = {40.0, 4.0, 0.0, 1.5, 0.0, 0.0};
   r.goal = {52.0, 4.0};
-  for (double px = 40.0; px <= 52.0 + 1e-9; px += 0.25) r.path.push_back({px, 4.0});
+  for (double px = 40.0; px <= 52.0 + 1e-9; px += 0.25) r.path.emplace_back(px, 4.0);
   r.limits = {1.5, 2.0, 1.0, 4.0};
   while (static_cast<int>(r.people.size()) < state.range(0)) {
     const Point2 p(x(rng), y(rng));

@@ -77,7 +77,7 @@ std::shared_ptr<const OccupancyGrid> Maze512() {
       std::vector<std::pair<int, int>> next;
       for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
         const int nx = x + dx, ny = y + dy;
-        if (nx >= 0 && ny >= 0 && nx < n && ny < n && !seen[ny * n + nx]) next.push_back({nx, ny});
+        if (nx >= 0 && ny >= 0 && nx < n && ny < n && !seen[ny * n + nx]) next.emplace_back(nx, ny);
       }
       if (next.empty()) {
         stack.pop_back();
@@ -87,7 +87,7 @@ std::shared_ptr<const OccupancyGrid> Maze512() {
       seen[ny * n + nx] = 1;
       g->set({2 * nx + 1, 2 * ny + 1}, OccupancyGrid::kFree);
       g->set({x + nx + 1, y + ny + 1}, OccupancyGrid::kFree);
-      stack.push_back({nx, ny});
+      stack.emplace_back(nx, ny);
     }
     return g;
   }();
@@ -231,7 +231,7 @@ ReplanCase MakeReplanCase(Change kind) {
     if ((grid->at(cell) == OccupancyGrid::kFree) != block) return;
     changed[grid->Flat(cell)] = 1;
     grid->set(cell, block ? OccupancyGrid::kOccupied : OccupancyGrid::kFree);
-    changes.push_back({cell, block});
+    changes.emplace_back(cell, block);
   };
   auto replan_at = [&](const CellIndex& at) {
     rc.finds.push_back(std::move(changes));

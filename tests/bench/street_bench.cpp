@@ -151,7 +151,7 @@ RunFigures Run(const sim::Scenario& scenario, uint64_t seed, Knowledge knowledge
       next_control += control_period;
       std::vector<Point2> path;
       for (double x = std::max(pose.x, start.x); x <= std::min(goal_x + 5.0, pose.x + control.lookahead); x += 0.1)
-        path.push_back({x, y});
+        path.emplace_back(x, y);
       std::vector<planning::MovingBody> bodies;
       if (truth_people) {
         for (const sim::Person& p : s.people()) {

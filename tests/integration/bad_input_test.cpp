@@ -25,7 +25,7 @@ class BadInput : public ::testing::Test {
   Client& client() { return stack_->client(); }
 
   // Runs f, expects a ClientError with `code` whose message contains every one of `words`.
-  void ExpectError(const std::function<void()>& f, grpc::StatusCode code, std::vector<std::string> words) {
+  void ExpectError(const std::function<void()>& f, grpc::StatusCode code, const std::vector<std::string>& words) {
     try {
       f();
       ADD_FAILURE() << "no error";
@@ -165,6 +165,7 @@ TEST_F(BadInput, LongPlansEndAtTheDeadlineWhileBriefPlansGoOn) {
   std::vector<std::string> errors(kLong);
   std::vector<double> seconds(kLong, 0.0);
   std::vector<std::thread> long_plans;
+  long_plans.reserve(kLong);
   for (int i = 0; i < kLong; ++i) {
     long_plans.emplace_back([&, i] {
       Client impatient({stack_->address(), 1.5});

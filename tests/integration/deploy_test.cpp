@@ -194,7 +194,7 @@ std::vector<std::string> Strings(const YAML::Node& list) {
 std::map<std::string, std::string> FlagValues(const std::vector<std::string>& argv) {
   std::map<std::string, std::string> values;
   for (size_t i = 1; i + 1 < argv.size(); ++i) {
-    if (argv[i].rfind("-", 0) == 0 && argv[i + 1].rfind("-", 0) != 0) values[argv[i]] = argv[i + 1];
+    if (argv[i].rfind('-', 0) == 0 && argv[i + 1].rfind('-', 0) != 0) values[argv[i]] = argv[i + 1];
   }
   return values;
 }
@@ -269,7 +269,7 @@ TEST(Deploy, KubernetesManifestsAgreeWithThePrograms) {
       const auto check_files = [&](const std::vector<std::string>& argv) {
         for (size_t i = 1; i < argv.size(); ++i) {
           const std::string& a = argv[i];
-          if (a.rfind("/", 0) != 0) continue;
+          if (a.rfind('/', 0) != 0) continue;
           std::string mount;
           size_t best = 0;
           for (const auto& m : c["volumeMounts"]) {
@@ -301,7 +301,7 @@ TEST(Deploy, KubernetesManifestsAgreeWithThePrograms) {
         const std::string* text = help.Of(argv.at(0));
         if (!text) return;  // coreutils in an init container
         for (const std::string& a : argv) {
-          if (a.rfind("-", 0) == 0) {
+          if (a.rfind('-', 0) == 0) {
             EXPECT_TRUE(HelpNames(*text, a)) << where << ": " << argv[0] << " has no option " << a;
           }
         }

@@ -228,7 +228,7 @@ TEST(NavigationE2E, SpeedZonesSlowTheRobotWhereTheWorldSaysAndClientsChangeThem)
         } else if (t - std::get<0>(*last) >= 0.2) {
           const double v = std::hypot(x - std::get<1>(*last), y - std::get<2>(*last)) / (t - std::get<0>(*last));
           std::lock_guard<std::mutex> lock(mutex);
-          speeds.push_back({0.5 * (y + std::get<2>(*last)), v});
+          speeds.emplace_back(0.5 * (y + std::get<2>(*last)), v);
           last = {t, x, y};
         }
       }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <utility>
 
 #include "tests/support/keystore.h"
 #include "tests/support/navd_fixture.h"
@@ -20,7 +21,7 @@ struct ViewStack {
 
   explicit ViewStack(std::vector<std::string> navd_args = {}, ClientOptions client = {}) {
     StackOptions o;
-    o.client = client;
+    o.client = std::move(client);
     o.rate = 2.0;
     o.lockstep = false;
     o.navd_args = {"--view", "127.0.0.1:0", "--view-port-file", dir + "/navd-view.port"};

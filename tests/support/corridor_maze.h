@@ -33,7 +33,7 @@ inline OccupancyGrid CorridorMaze(int size, int corridor, uint32_t seed) {
     for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
       const int nx = rx + dx, ny = ry + dy;
       if (nx >= 0 && ny >= 0 && nx < rooms && ny < rooms && !visited[static_cast<size_t>(ny) * rooms + nx])
-        unvisited.push_back({nx, ny});
+        unvisited.emplace_back(nx, ny);
     }
     if (unvisited.empty()) {
       open.erase(open.begin() + static_cast<long>(k));
@@ -49,7 +49,7 @@ inline OccupancyGrid CorridorMaze(int size, int corridor, uint32_t seed) {
       const int y = std::max(ry, ny) * pitch;
       for (int x = rx * pitch + 1; x < std::min(size, (rx + 1) * pitch); ++x) g.set({x, y}, OccupancyGrid::kFree);
     }
-    open.push_back({nx, ny});
+    open.emplace_back(nx, ny);
   }
   return g;
 }

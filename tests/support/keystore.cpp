@@ -35,7 +35,7 @@ ClientOptions Keystore::Client(const std::string& token_role, const std::string&
 
 std::string Keystore::ExtraClientCertificate(const std::string& name, const std::string& cn, bool foreign,
                                              int days) const {
-  const std::string base = dir_ + "/" + name;
+  std::string base = dir_ + "/" + name;
   std::string script = "set -e; cd " + dir_ + "; openssl genpkey -algorithm EC -pkeyopt ec_paramgen_curve:P-256 -out " +
                        base + ".key; openssl req -new -key " + base + ".key -subj /CN=" + cn + " -out " + base +
                        ".csr;";

@@ -49,13 +49,13 @@ NavdStack::NavdStack(const StackOptions& o) : domain_(ReserveDomain()), dir_(Mak
   const std::string domain = std::to_string(domain_);
   if (o.start_sim) {
     std::vector<std::string> args{NavsimBinary(), "--domain", domain, "--rate", std::to_string(o.rate)};
-    if (o.lockstep) args.push_back("--lockstep");
+    if (o.lockstep) args.emplace_back("--lockstep");
     args.insert(args.end(), o.sim_args.begin(), o.sim_args.end());
     sim_ = std::make_unique<Process>(args, dir_ + "/navsim.log");
   }
   const std::string port_file = dir_ + "/navd.port";
   std::vector<std::string> args{NavdBinary(), "--domain", domain, "--listen", "127.0.0.1:0", "--port-file", port_file};
-  if (o.use_sim_time) args.push_back("--use-sim-time");
+  if (o.use_sim_time) args.emplace_back("--use-sim-time");
   args.insert(args.end(), o.navd_args.begin(), o.navd_args.end());
   navd_ = std::make_unique<Process>(args, dir_ + "/navd.log");
 

@@ -18,6 +18,7 @@ std::vector<DeliveryTask> RandomTasks(std::mt19937& rng, int n, int priorities) 
   std::uniform_real_distribution<double> u(0.0, 10.0);
   std::uniform_int_distribution<int> p(0, priorities - 1);
   std::vector<DeliveryTask> tasks;
+  tasks.reserve(n);
   for (int i = 0; i < n; ++i) tasks.push_back({"t" + std::to_string(i), {u(rng), u(rng)}, {u(rng), u(rng)}, p(rng)});
   return tasks;
 }

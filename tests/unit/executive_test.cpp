@@ -326,7 +326,12 @@ struct ReleaseRun {
   bool active = false;     // the mission still on
 };
 ReleaseRun PressTheBumperWhileDriving(OpenFloor& floor, const std::function<void(const Pose2&)>& while_pressed = {}) {
-  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
+  // Named one by one: lambdas below capture them (clang 14, which clang-tidy runs on, cannot capture
+  // structured bindings).
+  NavigatorOptions& options = floor.options;
+  localization::OdometryLocalizer& localizer = floor.localizer;
+  SimClock& clock = floor.clock;
+  NavigationExecutive& executive = floor.executive;
   const double wheel_base = options.follower.wheel_base;
   Pose2 pose(0.0, 0.0, 0.0);  // odometry
   double t = 0.0;
@@ -480,7 +485,12 @@ localization::ScanReading ScanOfAWallAcross(double wall, const Pose2& pose, doub
 // it, whatever the plans say, since the laser sees it.
 TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
   OpenFloor floor;
-  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
+  // Named one by one: lambdas below capture them (clang 14, which clang-tidy runs on, cannot capture
+  // structured bindings).
+  NavigatorOptions& options = floor.options;
+  localization::OdometryLocalizer& localizer = floor.localizer;
+  SimClock& clock = floor.clock;
+  NavigationExecutive& executive = floor.executive;
   Pose2 odom(0.0, 0.0, 0.0);
   double t = 0.0, farthest = 0.0;
   constexpr double kWall = 3.0;
@@ -844,7 +854,7 @@ CorridorLoss LoseThePoseInACorridor(double crowded_for) {
     }
     localizer.AddScan(scan);
     ExecutiveInputs in;
-    in.scans = static_cast<uint64_t>(step + 1);
+    in.scans = static_cast<uint64_t>(step) + 1;
     in.odometry = odometry;
     const WheelSpeeds w = executive.Step(in, t);
     truth = IntegrateDiffDrive(truth, w.left * 0.1, w.right * 0.1, wheel_base);

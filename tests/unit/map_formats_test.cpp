@@ -21,7 +21,7 @@ namespace navd {
 namespace {
 
 std::string Write(const std::string& dir, const std::string& name, const std::string& contents) {
-  const std::string path = dir + "/" + name;
+  std::string path = dir + "/" + name;
   std::ofstream(path, std::ios::binary) << contents;
   return path;
 }

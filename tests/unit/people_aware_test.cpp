@@ -36,7 +36,7 @@ CrowdRrtRequest DownTheStreet(double speed) {
   CrowdRrtRequest r;
   r.start = {2.0, 4.0, 0.0, speed, 0.0, 0.0};
   r.goal = {14.0, 4.0};
-  for (double x = 2.0; x <= 14.0 + 1e-9; x += 0.25) r.path.push_back({x, 4.0});
+  for (double x = 2.0; x <= 14.0 + 1e-9; x += 0.25) r.path.emplace_back(x, 4.0);
   r.limits = {1.5, 2.0, 1.0, 4.0};
   return r;
 }
@@ -516,7 +516,7 @@ TEST(CrowdRoute, RollsTheLoopOutToTheGoalPastWalkersAndSaysWhenItCannot) {
   planning::CrowdRouteRequest r;
   r.start = {2.0, 4.0, 0.0, 0.0, 0.0, 0.0};
   r.goal = {28.0, 4.0};
-  for (double x = 2.0; x <= 28.0 + 1e-9; x += 0.1) r.route.push_back({x, 4.0});
+  for (double x = 2.0; x <= 28.0 + 1e-9; x += 0.1) r.route.emplace_back(x, 4.0);
   r.people = {{{12.0, 4.2}, {-1.3, 0.0}, 0.25, true},
               {{18.0, 3.0}, {-1.2, 0.1}, 0.25, true},
               {{24.0, 5.5}, {-1.4, -0.1}, 0.25, true}};
@@ -562,7 +562,7 @@ TEST(CrowdController, DoesNotTurnWhileSomeoneIsAgainstItsRim) {
   o.planner = Options();
   o.limits = {1.5, 2.0, 1.0, 4.0};
   std::vector<Point2> back;
-  for (double x = 10.0; x >= 2.0; x -= 0.25) back.push_back({x, 4.0});
+  for (double x = 10.0; x >= 2.0; x -= 0.25) back.emplace_back(x, 4.0);
   const Pose2 pose(10.0, 4.0, 0.0);
   const MovingBody beside{{10.0, 4.0 + 0.3 + 0.25 + 0.02}, {0.0, 0.0}, 0.25, true};
   CrowdController controller(o);
@@ -589,7 +589,7 @@ TEST(CrowdController, DrivesPastAWalkerReplanningAsItGoes) {
   CrowdController controller(o);
   Pose2 pose(2.0, 4.0, 0.0);
   std::vector<Point2> path;
-  for (double x = 0.0; x <= 29.0; x += 0.25) path.push_back({x, 4.0});
+  for (double x = 0.0; x <= 29.0; x += 0.25) path.emplace_back(x, 4.0);
   MovingBody walker{{16.0, 4.1}, {-1.3, 0.0}, 0.25, true};
   double closest = 1e9;
   const double dt = 0.05;

@@ -162,7 +162,7 @@ std::vector<Point2> DensifyPolyline(const std::vector<Point2>& path, double spac
   std::vector<Point2> out;
   for (size_t i = 1; i < path.size(); ++i) {
     const int n = std::max(1, static_cast<int>((path[i] - path[i - 1]).norm() / spacing));
-    for (int k = 0; k < n; ++k) out.push_back(path[i - 1] + (path[i] - path[i - 1]) * (double(k) / n));
+    for (int k = 0; k < n; ++k) out.emplace_back(path[i - 1] + (path[i] - path[i - 1]) * (double(k) / n));
   }
   out.push_back(path.back());
   return out;

@@ -293,7 +293,7 @@ TEST(VelocityProfile, CurvesAreTakenAtTheFrictionLimit) {
   std::vector<Point2> path{{-3, 0}};
   for (int i = 0; i <= 300; ++i) {
     const double a = -M_PI / 2 + M_PI * i / 300.0;  // a half circle of radius 1 around (0, 1)
-    path.push_back({std::cos(a), 1.0 + std::sin(a)});
+    path.emplace_back(std::cos(a), 1.0 + std::sin(a));
   }
   path.front() = {-3, 0};
   path.insert(path.begin() + 1, Point2(0, 0));

@@ -43,7 +43,7 @@ std::string TempDir() {
 }
 
 std::string WriteFile(const std::string& name, const std::string& text) {
-  const std::string path = TempDir() + "/" + name;
+  std::string path = TempDir() + "/" + name;
   std::ofstream(path) << text;
   return path;
 }

@@ -86,7 +86,7 @@ std::vector<Point2> ScanOfWalls(const std::vector<std::pair<Point2, Point2>>& wa
       const double t = (w.x() * -e.y() + e.x() * w.y()) / det, u = (d.x() * w.y() - d.y() * w.x()) / det;
       if (t > 0.0 && u >= 0.0 && u <= 1.0) nearest = std::min(nearest, t);
     }
-    if (nearest < 20.0) out.push_back((nearest + n(noise)) * Point2(std::cos(a), std::sin(a)));
+    if (nearest < 20.0) out.emplace_back((nearest + n(noise)) * Point2(std::cos(a), std::sin(a)));
   }
   return out;
 }
@@ -134,6 +134,7 @@ TEST(PointToLineMatcher, LeavesADirectionNoWallConstrainsWhereItStarted) {
 TEST(PointToLineMatcher, RefusesWhenTooFewPointsPairWithALine) {
   // Scattered points have no lines; a scan far from the reference pairs with nothing.
   std::vector<Point2> scattered;
+  scattered.reserve(50);
   for (int i = 0; i < 50; ++i) scattered.emplace_back(i * 0.5, (i % 7) * 0.45);
   std::vector<Point2> wall;
   for (double x = 0.0; x <= 3.0; x += 0.05) wall.emplace_back(x, 0.0);
@@ -191,7 +192,7 @@ std::vector<Pose2> DriveTwoLaps(const OccupancyGrid& map, GraphSlam& slam) {
       const int steps = static_cast<int>(Distance(a, b) / 0.4);
       for (int k = 0; k < steps; ++k) {
         const Point2 q = a + (b - a) * (double(k) / steps);
-        truth.push_back({q.x(), q.y(), heading});
+        truth.emplace_back(q.x(), q.y(), heading);
       }
     }
   }
