@@ -131,13 +131,13 @@ class FoxgloveServer::Impl {
       socket.set_option(boost::asio::socket_base::send_buffer_size(options_.socket_send_buffer_bytes), ignored);
       socket.set_option(boost::asio::ip::tcp::no_delay(true), ignored);
     });
-    server_.set_validate_handler([this](websocketpp::connection_hdl h) { return Validate(std::move(h)); });
-    server_.set_http_handler([this](websocketpp::connection_hdl h) { ServePage(std::move(h)); });
-    server_.set_open_handler([this](websocketpp::connection_hdl h) { Open(std::move(h)); });
-    server_.set_close_handler([this](websocketpp::connection_hdl h) { Close(std::move(h)); });
-    server_.set_fail_handler([this](websocketpp::connection_hdl h) { Close(std::move(h)); });
-    server_.set_message_handler([this](websocketpp::connection_hdl h, const WsServer::message_ptr& m) {
-      Receive(std::move(h), m->get_opcode(), m->get_payload());
+    server_.set_validate_handler([this](const websocketpp::connection_hdl& h) { return Validate(h); });
+    server_.set_http_handler([this](const websocketpp::connection_hdl& h) { ServePage(h); });
+    server_.set_open_handler([this](const websocketpp::connection_hdl& h) { Open(h); });
+    server_.set_close_handler([this](const websocketpp::connection_hdl& h) { Close(h); });
+    server_.set_fail_handler([this](const websocketpp::connection_hdl& h) { Close(h); });
+    server_.set_message_handler([this](const websocketpp::connection_hdl& h, const WsServer::message_ptr& m) {
+      Receive(h, m->get_opcode(), m->get_payload());
     });
 
     const std::string address = options_.host == "localhost" ? "127.0.0.1" : options_.host;
@@ -193,8 +193,8 @@ class FoxgloveServer::Impl {
     if (thread_.joinable()) thread_.join();
   }
 
-  bool Validate(websocketpp::connection_hdl h) {
-    WsServer::connection_ptr con = server_.get_con_from_hdl(std::move(h));
+  bool Validate(const websocketpp::connection_hdl& h) {
+    WsServer::connection_ptr con = server_.get_con_from_hdl(h);
     if (AccessOf(con->get_resource()) == Access::kNone) {
       con->set_status(websocketpp::http::status_code::unauthorized);
       return false;
@@ -210,8 +210,8 @@ class FoxgloveServer::Impl {
     return false;
   }
 
-  void ServePage(websocketpp::connection_hdl h) {
-    WsServer::connection_ptr con = server_.get_con_from_hdl(std::move(h));
+  void ServePage(const websocketpp::connection_hdl& h) {
+    WsServer::connection_ptr con = server_.get_con_from_hdl(h);
     const std::string target = con->get_resource();
     const std::string path = target.substr(0, target.find('?'));
     if (con->get_request().get_method() != "GET" || (path != "/" && path != "/index.html") || options_.page.empty()) {
@@ -268,13 +268,13 @@ class FoxgloveServer::Impl {
     connection_count_ = connections_.size();
   }
 
-  void SendText(websocketpp::connection_hdl h, const std::string& text) {
+  void SendText(const websocketpp::connection_hdl& h, const std::string& text) {
     websocketpp::lib::error_code ec;
-    server_.send(std::move(h), text, websocketpp::frame::opcode::text, ec);
+    server_.send(h, text, websocketpp::frame::opcode::text, ec);
   }
 
-  void SendStatusOn(websocketpp::connection_hdl h, int level, const std::string& message) {
-    SendText(std::move(h), Json{{"op", "status"}, {"level", level}, {"message", message}}.dump());
+  void SendStatusOn(const websocketpp::connection_hdl& h, int level, const std::string& message) {
+    SendText(h, Json{{"op", "status"}, {"level", level}, {"message", message}}.dump());
   }
 
   void Receive(const websocketpp::connection_hdl& h, websocketpp::frame::opcode::value opcode,
@@ -365,7 +365,7 @@ class FoxgloveServer::Impl {
   }
 
   // Sends the channel's newest message to one subscriber, or owes it while its socket is full.
-  void SendNewest(websocketpp::connection_hdl h, Connection& c, uint32_t channel) {
+  void SendNewest(const websocketpp::connection_hdl& h, Connection& c, uint32_t channel) {
     auto sub = c.subscription_of_channel.find(channel);
     if (sub == c.subscription_of_channel.end()) return;
     Latest latest;
@@ -375,7 +375,7 @@ class FoxgloveServer::Impl {
     }
     if (!latest.payload) return;
     websocketpp::lib::error_code ec;
-    WsServer::connection_ptr con = server_.get_con_from_hdl(std::move(h), ec);
+    WsServer::connection_ptr con = server_.get_con_from_hdl(h, ec);
     if (ec || con->get_state() != websocketpp::session::state::open) return;
     if (con->get_buffered_amount() >= options_.max_buffered_bytes) {
       c.owed.insert(channel);

@@ -49,7 +49,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
     node_odometry_.push_back(odometry);
     node_scan_.push_back(0);
     scan_node_.push_back(0);
-    scan_offset_.push_back(Pose2{});
+    scan_offset_.emplace_back();
     return o_.first_pose;
   }
   const int last = nodes() - 1;
@@ -80,7 +80,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   node_odometry_.push_back(odometry);
   node_scan_.push_back(static_cast<int>(scan_node_.size()));
   scan_node_.push_back(node);
-  scan_offset_.push_back(Pose2{});
+  scan_offset_.emplace_back();
   TryLoopClosure(node);
   return graph_.nodes()[node];
 }

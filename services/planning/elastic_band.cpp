@@ -9,7 +9,7 @@ namespace {
 std::vector<Point2> Resample(const std::vector<Point2>& path, double spacing) {
   std::vector<Point2> out{path.front()};
   for (size_t i = 1; i < path.size(); ++i) {
-    const Point2 a = path[i - 1], b = path[i];
+    const Point2 &a = path[i - 1], &b = path[i];
     const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
     for (int k = 1; k <= pieces; ++k) out.emplace_back(a + (b - a) * (static_cast<double>(k) / pieces));
   }

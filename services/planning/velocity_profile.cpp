@@ -26,7 +26,7 @@ std::vector<Point2> Resample(const std::vector<Point2>& path, double step, std::
   arc->assign(1, 0.0);
   double travelled = 0.0, next = step;
   for (size_t i = 1; i < path.size(); ++i) {
-    const Point2 a = path[i - 1], b = path[i];
+    const Point2 &a = path[i - 1], &b = path[i];
     const double len = (b - a).norm();
     while (len > 0.0 && next <= travelled + len - 1e-9) {
       out.emplace_back(a + (b - a) * ((next - travelled) / len));

@@ -173,7 +173,7 @@ TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
   {
     std::ofstream log(dir + "/raw.log");
     for (int k = 0; k < 12; ++k) {
-      const double heading = k * M_PI / 6, stamp = 100.0 + static_cast<double>(k / 4);  // four scans share each stamp
+      const double heading = k * M_PI / 6, stamp = 100.0 + std::floor(k / 4.0);  // four scans share each stamp
       log << "ODOM 0 0 " << heading << " 0 0 0 " << stamp << " host " << stamp << "\n";
       log << "FLASER 181";
       for (int i = 0; i <= 180; ++i) {

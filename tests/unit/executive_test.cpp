@@ -417,7 +417,12 @@ StuckRun DriveAgainstAWall(int max_recoveries, int free_after_recoveries) {
   o.progress_timeout = 3.0;
   o.max_recoveries = max_recoveries;
   OpenFloor floor(o);
-  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
+  // Named one by one: lambdas below capture them (clang 14, which clang-tidy runs on, cannot capture
+  // structured bindings).
+  NavigatorOptions& options = floor.options;
+  localization::OdometryLocalizer& localizer = floor.localizer;
+  SimClock& clock = floor.clock;
+  NavigationExecutive& executive = floor.executive;
   Pose2 pose(0.0, 0.0, 0.0);  // odometry
   double t = 0.0;
   StuckRun run;
@@ -519,7 +524,12 @@ TEST(NavigationExecutive, StopsShortOfAWallOnlyTheLaserSees) {
 // is gone, it arrives.
 TEST(NavigationExecutive, TurnsWithSomethingAtItsRimAheadOnlyAsItBacksAway) {
   OpenFloor floor;
-  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
+  // Named one by one: lambdas below capture them (clang 14, which clang-tidy runs on, cannot capture
+  // structured bindings).
+  NavigatorOptions& options = floor.options;
+  localization::OdometryLocalizer& localizer = floor.localizer;
+  SimClock& clock = floor.clock;
+  NavigationExecutive& executive = floor.executive;
   Pose2 odom(0.0, 0.0, 0.0);
   double t = 0.0;
   bool box = true;
@@ -565,7 +575,12 @@ struct BumpRun {
 };
 BumpRun DriveIntoSomethingOnlyTheBumperFeels(double half_x, double half_y) {
   OpenFloor floor;
-  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
+  // Named one by one: lambdas below capture them (clang 14, which clang-tidy runs on, cannot capture
+  // structured bindings).
+  NavigatorOptions& options = floor.options;
+  localization::OdometryLocalizer& localizer = floor.localizer;
+  SimClock& clock = floor.clock;
+  NavigationExecutive& executive = floor.executive;
   const Point2 post(3.0, 2.5);
   Pose2 odom(0.0, 0.0, 0.0);
   const Pose2 offset(1.0, 2.5, 0.0);  // map pose = offset * odom
@@ -625,7 +640,12 @@ PostRun DriveTowardsAPostOnlyTheLaserSees(double post_radius, double seen_within
   NavigatorOptions o;
   o.progress_timeout = 5.0;
   OpenFloor floor(o);
-  auto& [options, brain, maps, planning, localizer, clock, executive] = floor;
+  // Named one by one: lambdas below capture them (clang 14, which clang-tidy runs on, cannot capture
+  // structured bindings).
+  NavigatorOptions& options = floor.options;
+  localization::OdometryLocalizer& localizer = floor.localizer;
+  SimClock& clock = floor.clock;
+  NavigationExecutive& executive = floor.executive;
   const Point2 post(3.0, 2.5);
   Pose2 odom(0.0, 0.0, 0.0);
   double t = 0.0;

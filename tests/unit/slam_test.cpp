@@ -187,7 +187,7 @@ std::vector<Pose2> DriveTwoLaps(const OccupancyGrid& map, GraphSlam& slam) {
   const std::vector<Point2> corners{{1.5, 1.5}, {8.5, 1.5}, {8.5, 4.0}, {4.5, 4.0}, {4.5, 6.5}, {1.5, 6.5}};
   for (int lap = 0; lap < 2; ++lap) {
     for (size_t c = 0; c < corners.size(); ++c) {
-      const Point2 a = corners[c], b = corners[(c + 1) % corners.size()];
+      const Point2 &a = corners[c], &b = corners[(c + 1) % corners.size()];
       const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
       const int steps = static_cast<int>(Distance(a, b) / 0.4);
       for (int k = 0; k < steps; ++k) {
