@@ -51,12 +51,7 @@ void BesideSearch::AddOdometry(const OdometryReading& reading) {
 
 void BesideSearch::AddScan(const ScanReading& scan) {
   if (!asynchronous_) {
-    if (!state_->localizer->AddScan(scan)) return;
-    PoseEstimate e = state_->localizer->Estimate();
-    e.stamp = scan.stamp;
-    std::lock_guard<std::mutex> lock(state_->mutex);
-    state_->estimate = e;
-    ++state_->scans_used;
+    Weigh(*state_, scan);
     return;
   }
   {
@@ -88,6 +83,15 @@ uint64_t BesideSearch::scans_used() const {
   return state_->scans_used;
 }
 
+void BesideSearch::Weigh(State& s, const ScanReading& scan) {
+  if (!s.localizer->AddScan(scan)) return;
+  PoseEstimate e = s.localizer->Estimate();
+  e.stamp = scan.stamp;
+  std::lock_guard<std::mutex> lock(s.mutex);
+  s.estimate = e;
+  ++s.scans_used;
+}
+
 void BesideSearch::Run(const std::shared_ptr<State>& s) {
   std::unique_lock<std::mutex> lock(s->mutex);
   for (;;) {
@@ -106,17 +110,8 @@ void BesideSearch::Run(const std::shared_ptr<State>& s) {
     lock.unlock();
     if (map) s->localizer->SetMap(*map);
     for (const OdometryReading& r : odometry) s->localizer->AddOdometry(r);
-    bool used = false;
-    PoseEstimate e;
-    if (scan && (used = s->localizer->AddScan(*scan))) {
-      e = s->localizer->Estimate();
-      e.stamp = scan->stamp;
-    }
+    if (scan) Weigh(*s, *scan);
     lock.lock();
-    if (used) {
-      s->estimate = e;
-      ++s->scans_used;
-    }
   }
 }
 

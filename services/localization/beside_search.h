@@ -37,6 +37,9 @@ class BesideSearch {
  private:
   struct State;
   static void Run(const std::shared_ptr<State>& state);
+  // Weighs one scan with the search's localiser (the caller's thread or the worker's, whichever
+  // owns it) and keeps what it made of it, stamped with the scan.
+  static void Weigh(State& state, const ScanReading& scan);
   std::shared_ptr<State> state_;
   bool asynchronous_;
 };

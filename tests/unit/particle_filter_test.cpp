@@ -240,6 +240,29 @@ TEST(ParticleFilter, OmniModelSlidesSidewaysWithoutSmearingHeadings) {
   EXPECT_NEAR(NormalizeAngle(omni_mean.theta - world.start.theta), 0.0, 0.05);
 }
 
+// The scenario's particle filter, told the robot is at `told`, as the selector's one method. The
+// estimate is to keep that wrong pose: without the filter's own nearby reset, which finds a robot
+// this near by itself (FindsARobotCarriedAFewMetresWithinAFewScans).
+void AddAFilterTold(Scenario& sc, LocalizerSelector& selector, const Pose2& told) {
+  ParticleFilterOptions po;
+  po.seed = 301;
+  po.nearby_reset.enabled = false;
+  sc.pf = std::make_unique<ParticleFilterLocalizer>(sc.world.map, po);
+  sc.pf->AddOdometry({sc.sim.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
+  selector.Add(std::move(sc.pf));
+  selector.SetPose(told, Eigen::Matrix3d::Identity() * 1e-3);
+}
+
+// 12 s turning on the spot at 0.6 rad/s, then 2 s standing (the last second judged).
+void TurnOnTheSpot(sim::Simulation& sim, Localizer& localizer) {
+  Drive(
+      sim, localizer, 14.0,
+      [](double t) {
+        return Twist2{0.0, t < 12 ? 0.6 : 0.0};
+      },
+      1.0);
+}
+
 // The wake-up's whole-map search beside the estimate (Localizer::StartSearch): the estimate goes on
 // tracking what it had (here a pose 5.5 m off) while a second filter searches the whole map; the
 // search finds the robot (as RelocalisesGloballyWithoutAPrior does) and ending it either keeps the
@@ -248,24 +271,11 @@ TEST(LocalizerSelector, AWholeMapSearchRunsBesideTheEstimate) {
   const Pose2 truth(8.5, 8.4, M_PI), told(4.0, 5.0, 0.0);
   for (const bool adopt : {false, true}) {
     Scenario sc(truth, 300);
-    // The estimate is to keep its wrong pose: without the filter's own nearby reset, which finds a
-    // robot this near by itself (FindsARobotCarriedAFewMetresWithinAFewScans).
-    ParticleFilterOptions po;
-    po.seed = 301;
-    po.nearby_reset.enabled = false;
-    sc.pf = std::make_unique<ParticleFilterLocalizer>(sc.world.map, po);
-    sc.pf->AddOdometry({sc.sim.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
     LocalizerSelector selector;
-    selector.Add(std::move(sc.pf));
-    selector.SetPose(told, Eigen::Matrix3d::Identity() * 1e-3);
+    AddAFilterTold(sc, selector, told);
     EXPECT_FALSE(selector.SearchEstimate().valid);
     ASSERT_TRUE(selector.StartSearch());
-    Drive(
-        sc.sim, selector, 14.0,
-        [](double t) {
-          return Twist2{0.0, t < 12 ? 0.6 : 0.0};
-        },
-        1.0);
+    TurnOnTheSpot(sc.sim, selector);
     const Pose2 at = sc.sim.robot().base().true_pose();
     const PoseEstimate found = selector.SearchEstimate();
     ASSERT_TRUE(found.valid);
@@ -313,22 +323,11 @@ class PacedForTheSearch : public Localizer {
 TEST(LocalizerSelector, ASearchOnItsOwnThreadFindsTheRobotToo) {
   const Pose2 truth(8.5, 8.4, M_PI), told(4.0, 5.0, 0.0);
   Scenario sc(truth, 300);
-  ParticleFilterOptions po;
-  po.seed = 301;
-  po.nearby_reset.enabled = false;
-  sc.pf = std::make_unique<ParticleFilterLocalizer>(sc.world.map, po);
-  sc.pf->AddOdometry({sc.sim.robot().base().odom_pose(), Eigen::Matrix3d::Zero(), 0.0});
   LocalizerSelector selector(/*search_on_its_own_thread=*/true);
-  selector.Add(std::move(sc.pf));
-  selector.SetPose(told, Eigen::Matrix3d::Identity() * 1e-3);
+  AddAFilterTold(sc, selector, told);
   ASSERT_TRUE(selector.StartSearch());
   PacedForTheSearch paced(selector);
-  Drive(
-      sc.sim, paced, 14.0,
-      [](double t) {
-        return Twist2{0.0, t < 12 ? 0.6 : 0.0};
-      },
-      1.0);
+  TurnOnTheSpot(sc.sim, paced);
   const Pose2 at = sc.sim.robot().base().true_pose();
   const PoseEstimate found = selector.SearchEstimate();
   ASSERT_TRUE(found.valid);
