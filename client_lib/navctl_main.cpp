@@ -98,7 +98,7 @@ int RunOfflinePlan(const std::string& map_path, const std::string& scen_path, co
     if (from.empty() || to.empty()) throw std::invalid_argument("plan --map needs --scen, or --from and --to");
     const auto a = ParseTuple(from, "--from", 2, 2), b = ParseTuple(to, "--to", 2, 2);
     for (const auto& p : planners) {
-      const auto r = engine.ComputePath({a[0], a[1]}, {b[0], b[1]}, p, planner_options, {}, {moving});
+      const auto r = engine.ComputePath({a[0], a[1]}, {b[0], b[1]}, p, planner_options, {}, {moving, {}});
       if (json_out) {
         std::printf("%s\n", PlanJson(r.planner, r.length, r.planning_time, r.expansions, r.points).dump().c_str());
       } else {

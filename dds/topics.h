@@ -27,5 +27,7 @@ inline constexpr const char* kNavStatus = "navd/status";            // navd_msgs
 inline constexpr const char* kMap = "map";                          // nav_msgs/OccupancyGrid, map frame
 inline constexpr const char* kNextTick = "navd/next_tick";  // rosgraph_msgs/Clock: navd's next control tick (lockstep)
 inline constexpr const char* kPose = "pose";                // geometry_msgs/PoseWithCovarianceStamped, map frame
+inline constexpr const char* kCameraPoints = "camera/points";  // sensor_msgs/PointCloud2, camera's optical frame
+inline constexpr const char* kCostmap = "navd/costmap";        // nav_msgs/OccupancyGrid: the map and what sensors add
 
 }  // namespace navd::dds

@@ -15,13 +15,14 @@ constexpr int kZeroCommandsAfterGoal = 5;
 
 ControlLoop::ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
                          localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive,
-                         mapping::MapBuilder& map_builder)
+                         mapping::MapBuilder& map_builder, CameraPerception* camera)
     : options_(options),
       clock_(clock),
       bridge_(bridge),
       localizer_(localizer),
       executive_(executive),
-      map_builder_(map_builder) {}
+      map_builder_(map_builder),
+      camera_(camera) {}
 
 ControlLoop::~ControlLoop() { Stop(); }
 
@@ -166,6 +167,7 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   inputs.scan_odometry = odom_at_scan;
   inputs.odometry = bridge_.OdometryAt(localizer_.Estimate().stamp);
   inputs.rear_free = bridge_.RearFree(options_.sensor_timeout);
+  if (camera_) inputs.sensed_cells = camera_->Step(now);
   const std::vector<navigation::SonarEcho> sonar = bridge_.SonarEchoes(options_.sensor_timeout);
   inputs.sonar = &sonar;
   inputs.people = people ? &*people : nullptr;

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <thread>
 
+#include "server/camera_perception.h"
 #include "server/control_loop_timing.h"
 #include "server/dds_bridge.h"
 #include "services/localization/localizer_selector.h"
@@ -23,7 +24,7 @@ class ControlLoop {
  public:
   ControlLoop(const ControlLoopOptions& options, Clock& clock, DdsBridge& bridge,
               localization::LocalizerSelector& localizer, navigation::NavigationExecutive& executive,
-              mapping::MapBuilder& map_builder);
+              mapping::MapBuilder& map_builder, CameraPerception* camera = nullptr);
   ~ControlLoop();
   void Start();
   // Stops the loop and sends the robot a zero command.
@@ -49,6 +50,7 @@ class ControlLoop {
   uint64_t losses_seen_ = 0;    // the executive's count of losses last tick (for the log)
   navigation::NavigationExecutive& executive_;
   mapping::MapBuilder& map_builder_;
+  CameraPerception* camera_;  // null: no depth camera
   std::atomic<bool> stop_{false};
   std::thread thread_;
   ControlLoopTiming timing_;

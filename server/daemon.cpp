@@ -4,12 +4,16 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <thread>
 
+#include "server/camera_perception.h"
 #include "server/control_loop.h"
 #include "server/dds_bridge.h"
 #include "server/map_publisher.h"
+#include "dds/topics.h"
 #include "server/security/grpc_security.h"
 #include "server/view_feed.h"
 #include "services/common/error.h"
@@ -88,6 +92,7 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   RobotDescription robot;
   Pose2 initial_pose;
   std::vector<SpeedZone> speed_zones;
+  std::optional<DepthCameraDescription> camera;
   if (!o.map_path.empty()) {
     std::string name;
     OccupancyGrid grid = LoadAnyMapFile(o.map_path, &name);
@@ -97,6 +102,7 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
     robot = world.robot;
     initial_pose = world.start;
     speed_zones = std::move(world.speed_zones);
+    camera = world.camera;
     maps.Set(std::move(world.map), world.name);
   }
   if (o.initial_pose_set) initial_pose = {o.initial_pose[0], o.initial_pose[1], o.initial_pose[2]};
@@ -201,9 +207,23 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
                    : o.sonar_angles.empty() ? PioneerSonarAngles()
                                             : o.sonar_angles,
                    o.people_aware && o.people_source == "topic");
+  // The depth camera the world describes, its clouds into an obstacle layer over the served map.
+  std::unique_ptr<perception::DepthObstacleLayer> camera_layer;
+  std::unique_ptr<CameraPerception> camera_perception;
+  if (camera) {
+    perception::DepthObstacleLayerOptions layer_options;
+    layer_options.filter.max_height = robot.height + 0.05;  // what passes this close over the robot still counts
+    layer_options.layer.slices =
+        std::clamp(static_cast<int>(std::ceil(layer_options.filter.max_height / layer_options.layer.slice)), 1, 32);
+    camera_layer = std::make_unique<perception::DepthObstacleLayer>(*camera, layer_options);
+    camera_perception = std::make_unique<CameraPerception>(bridge, maps, localizer, *camera_layer);
+    spdlog::info("navd: depth camera at {:.2f} m, tilted {:.0f} degrees down: obstacles up to {:.2f} m from {}",
+                 camera->mount_z, camera->tilt * 180.0 / M_PI, layer_options.filter.max_height,
+                 dds::TopicName(o.robot_namespace, dds::kCameraPoints));
+  }
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
-                   map_builder);
-  MapPublisher map_publisher(bridge, maps, map_builder, *clock);
+                   map_builder, camera_perception.get());
+  MapPublisher map_publisher(bridge, maps, map_builder, *clock, planning, camera_layer.get());
   std::unique_ptr<ViewFeed> view =
       MakeViewFeed(o, grpc_security, {maps, map_builder, planning, localizer, executive, &bridge, *clock});
 

@@ -8,17 +8,35 @@
 #include <string_view>
 
 #include "dds/conversions.h"
+#include "dds/point_cloud2.h"
 #include "dds/topics.h"
+#include "services/common/error.h"
 #include "services/localization/scan_points.h"
 
 namespace navd::server {
+namespace {
+
+// nav_msgs/OccupancyGrid of `geometry`'s size and place with `cells` (row-major, one byte each).
+nav_msgs::msg::dds_::OccupancyGrid_ GridMessage(const OccupancyGrid& geometry, const char* cells, double now) {
+  nav_msgs::msg::dds_::OccupancyGrid_ m;
+  m.header(dds::MakeHeader(now, "map"));
+  m.info().map_load_time(dds::ToTime(now));
+  m.info().resolution(static_cast<float>(geometry.resolution()));
+  m.info().width(geometry.width());
+  m.info().height(geometry.height());
+  m.info().origin(dds::ToPose(Pose2{geometry.origin().x(), geometry.origin().y(), 0.0}));
+  m.data().assign(cells, cells + geometry.cells().size());
+  return m;
+}
+
+}  // namespace
 
 using dds::Reliability;
 
 DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& ns, SimClock* sim_clock,
                      const Clock& arrival_clock, const RobotDescription* encoders, const std::string& rear_range_frame,
                      const std::vector<double>& sonar_angles, bool people)
-    : participant_(options), arrival_clock_(arrival_clock) {
+    : participant_(options), ns_(ns), arrival_clock_(arrival_clock) {
   if (encoders) {
     wheel_odometry_ = std::make_unique<localization::WheelOdometry>(*encoders);
     joints_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::JointState_PubSubType>>(
@@ -131,6 +149,40 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
       participant_, dds::TopicName(ns, dds::kPose), Reliability::kReliable, 5);
   map_writer_ = std::make_unique<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kMap), Reliability::kReliable, 1, true);
+  costmap_writer_ = std::make_unique<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>>(
+      participant_, dds::TopicName(ns, dds::kCostmap), Reliability::kReliable, 1, true);
+}
+
+void DdsBridge::ReadCamera() {
+  if (cloud_reader_) return;
+  cloud_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::PointCloud2_PubSubType>>(
+      participant_, dds::TopicName(ns_, dds::kCameraPoints), Reliability::kBestEffort,
+      [this](const sensor_msgs::msg::dds_::PointCloud2_& m) {
+        try {
+          auto cloud = std::make_shared<CameraCloud>();
+          cloud->points = dds::DecodeXyzCloud(m);
+          cloud->stamp = dds::FromTime(m.header().stamp());
+          std::lock_guard<std::mutex> lock(cloud_mutex_);
+          cloud_ = std::move(cloud);
+          ++cloud_count_;
+        } catch (const Error& e) {
+          // Said on the first and every tenfold after.
+          const int n = ++bad_clouds_;
+          if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
+            spdlog::warn("{} cloud ignored ({} so far): {}", dds::TopicName(ns_, dds::kCameraPoints), n, e.what());
+        }
+      },
+      1);
+}
+
+std::shared_ptr<const DdsBridge::CameraCloud> DdsBridge::LatestCloud() const {
+  std::lock_guard<std::mutex> lock(cloud_mutex_);
+  return cloud_;
+}
+
+void DdsBridge::PublishCostmap(const OccupancyGrid& geometry, const std::vector<int8_t>& cells, double now) {
+  if (cells.size() != geometry.cells().size()) return;
+  costmap_writer_->Write(GridMessage(geometry, reinterpret_cast<const char*>(cells.data()), now));
 }
 
 std::optional<localization::OdometryReading> DdsBridge::LatestOdometry() const {
@@ -238,16 +290,7 @@ void DdsBridge::PublishPose(const localization::PoseEstimate& pose, double now) 
 }
 
 void DdsBridge::PublishMap(const OccupancyGrid& grid, double now) {
-  nav_msgs::msg::dds_::OccupancyGrid_ m;
-  m.header(dds::MakeHeader(now, "map"));
-  m.info().map_load_time(dds::ToTime(now));
-  m.info().resolution(static_cast<float>(grid.resolution()));
-  m.info().width(grid.width());
-  m.info().height(grid.height());
-  m.info().origin(dds::ToPose(Pose2{grid.origin().x(), grid.origin().y(), 0.0}));
-  m.data().assign(reinterpret_cast<const char*>(grid.cells().data()),
-                  reinterpret_cast<const char*>(grid.cells().data()) + grid.cells().size());
-  map_writer_->Write(m);
+  map_writer_->Write(GridMessage(grid, reinterpret_cast<const char*>(grid.cells().data()), now));
 }
 
 void DdsBridge::PublishNextTick(double next_tick) {

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "dds/participant.h"
 #include "geometry_msgsPubSubTypes.h"
 #include "nav_msgsPubSubTypes.h"
@@ -83,6 +85,17 @@ class DdsBridge {
   // Arrival clock time of the newest people report in base_link; very negative before the first.
   double last_people_arrival() const { return last_people_arrival_.load(); }
 
+  // From now on, the depth camera's clouds on rt/<ns>/camera/points (sensor_msgs/PointCloud2 in
+  // its optical frame): the newest, decoded, and how many arrived. A cloud whose layout the
+  // PointCloud2 rules refuse is dropped with a warning.
+  struct CameraCloud {
+    std::vector<Eigen::Vector3f> points;  // optical frame, metres
+    double stamp = 0.0;                   // s
+  };
+  void ReadCamera();
+  std::shared_ptr<const CameraCloud> LatestCloud() const;
+  uint64_t cloud_count() const { return cloud_count_.load(); }
+
   void PublishCommand(const Twist2& twist);
   // Sends a zero command and waits (bounded) until the robot side acknowledged it; for shutdown.
   void StopRobot();
@@ -95,9 +108,13 @@ class DdsBridge {
   void PublishNextTick(double next_tick);
   // A map on rt/<ns>/map in nav_msgs/OccupancyGrid layout (ROS 2 viewers show it), map frame.
   void PublishMap(const OccupancyGrid& grid, double now);
+  // The costmap navd plans on (sensed obstacles included) on rt/<ns>/navd/costmap, as Nav2
+  // publishes its costmaps: 0 free to 99, 100 lethal, -1 unknown; `cells` row-major in that scale.
+  void PublishCostmap(const OccupancyGrid& geometry, const std::vector<int8_t>& cells, double now);
 
  private:
   dds::Participant participant_;
+  std::string ns_;
   const Clock& arrival_clock_;
   std::atomic<double> last_odom_arrival_{-1e9};
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_reader_;
@@ -143,6 +160,13 @@ class DdsBridge {
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_writer_;
   std::unique_ptr<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>> map_writer_;
   std::unique_ptr<dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>> next_tick_writer_;
+  std::unique_ptr<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>> costmap_writer_;
+  // Declared before the reader, whose callback writes them: destroyed after it.
+  mutable std::mutex cloud_mutex_;
+  std::shared_ptr<const CameraCloud> cloud_;
+  std::atomic<uint64_t> cloud_count_{0};
+  std::atomic<int> bad_clouds_{0};
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::PointCloud2_PubSubType>> cloud_reader_;
 };
 
 }  // namespace navd::server

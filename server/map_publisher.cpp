@@ -4,14 +4,65 @@
 
 namespace navd::server {
 
+namespace {
+
+// Nav2's costmap_2d as an OccupancyGrid: free 0, lethal 100, unknown -1, and the costs between
+// (1..252) on 1..99.
+std::vector<int8_t> PublishedCosts(const planning::Costmap& costmap) {
+  const OccupancyGrid& grid = costmap.grid();
+  std::vector<int8_t> out(grid.cells().size());
+  for (int y = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      const CellIndex c{x, y};
+      const uint8_t cost = costmap.cost(c);
+      int8_t v = 0;
+      if (costmap.IsLethal(c)) {
+        v = grid.at(c) == OccupancyGrid::kUnknown ? -1 : 100;
+      } else if (cost > 0) {
+        v = static_cast<int8_t>(1 + (98 * (cost - 1)) / (planning::Costmap::kMaxCost - 1));
+      }
+      out[grid.Flat(c)] = v;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 MapPublisher::MapPublisher(DdsBridge& bridge, const MapStore& maps, const mapping::MapBuilder& builder,
-                           const Clock& clock, double building_period, double served_period)
+                           const Clock& clock, planning::PlanningEngine& planning,
+                           const perception::DepthObstacleLayer* layer, double building_period, double served_period,
+                           double costmap_period)
     : bridge_(bridge),
       maps_(maps),
       builder_(builder),
       clock_(clock),
+      planning_(planning),
+      layer_(layer),
       building_period_(building_period),
-      served_period_(served_period) {}
+      served_period_(served_period),
+      costmap_period_(costmap_period) {}
+
+void MapPublisher::PublishCostmap(bool due) {
+  std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
+  if (!costmap) return;
+  const uint64_t layer_version = layer_ ? layer_->version() : 0;
+  if (!due && costmap.get() == costmap_seen_ && layer_version == layer_version_) return;
+  costmap_seen_ = costmap.get();
+  costmap_ = costmap;
+  layer_version_ = layer_version;
+  if (layer_) {
+    const auto cells = layer_->Obstacles();
+    if (!cells->empty()) {
+      OccupancyGrid grid = costmap->grid();
+      for (const Point2& p : *cells)
+        if (grid.ContainsPoint(p)) grid.set(grid.CellOf(p), OccupancyGrid::kOccupied);
+      costmap = std::make_shared<const planning::Costmap>(std::make_shared<const OccupancyGrid>(std::move(grid)),
+                                                          costmap->options());
+    }
+  }
+  bridge_.PublishCostmap(costmap->grid(), PublishedCosts(*costmap), clock_.Now());
+}
 
 MapPublisher::~MapPublisher() { Stop(); }
 
@@ -30,7 +81,8 @@ void MapPublisher::Stop() {
 
 void MapPublisher::Run() {
   using Steady = std::chrono::steady_clock;
-  Steady::time_point next_building = Steady::now(), next_served = Steady::now();
+  Steady::time_point next_building = Steady::now(), next_served = Steady::now(), next_costmap = Steady::now(),
+                     next_costmap_anyway = Steady::now();
   uint64_t served_version = 0;
   std::unique_lock<std::mutex> lock(mutex_);
   while (!wake_.wait_for(lock, std::chrono::milliseconds(200), [this] { return stop_; })) {
@@ -47,6 +99,14 @@ void MapPublisher::Run() {
       served_version = served->version;
       next_served = now + std::chrono::duration_cast<Steady::duration>(std::chrono::duration<double>(served_period_));
       bridge_.PublishMap(served->grid, clock_.Now());
+    }
+    if (now >= next_costmap) {
+      next_costmap = now + std::chrono::duration_cast<Steady::duration>(std::chrono::duration<double>(costmap_period_));
+      const bool due = now >= next_costmap_anyway;
+      if (due)
+        next_costmap_anyway =
+            now + std::chrono::duration_cast<Steady::duration>(std::chrono::duration<double>(served_period_));
+      PublishCostmap(due);
     }
     lock.lock();
   }

@@ -16,6 +16,7 @@
 
 #include "dds/conversions.h"
 #include "dds/participant.h"
+#include "dds/point_cloud2.h"
 #include "dds/topics.h"
 #include "geometry_msgsPubSubTypes.h"
 #include "nav_msgsPubSubTypes.h"
@@ -97,6 +98,10 @@ class RobotTopics {
       scan_msg_.range_min(static_cast<float>(l->description().range_min));
       scan_msg_.range_max(static_cast<float>(l->description().range_max));
     }
+    if (robot.spec().camera) {
+      camera_ = std::make_unique<navd::dds::Writer<msgs_sensor::PointCloud2_PubSubType>>(
+          p, TopicName(ns_, navd::dds::kCameraPoints), Reliability::kBestEffort, 2, /*large=*/true);
+    }
     if (robot.spec().people) {
       people_ = std::make_unique<navd::dds::Writer<people_msgs::msg::dds_::People_PubSubType>>(
           p, TopicName(ns_, navd::dds::kPeople), Reliability::kBestEffort, 2);
@@ -127,6 +132,7 @@ class RobotTopics {
       scan_msg_.ranges(*in.scan);
       scan_.Write(scan_msg_);
     }
+    if (in.camera && camera_) camera_->Write(navd::dds::EncodeXyzCloud(*in.camera, t, "camera_depth_optical_frame"));
     if (in.sonar) PublishRanges(t, "sonar", 0, *robot.sonar(), *in.sonar, sonar_);
     if (in.ir) PublishRanges(t, "ir", 1, *robot.ir(), *in.ir, ir_);
     if (in.people && people_) {
@@ -207,6 +213,7 @@ class RobotTopics {
   navd::dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> truth_;
   navd::dds::Writer<msgs_sim::SimStatus_PubSubType> status_;
   std::unique_ptr<navd::dds::Writer<people_msgs::msg::dds_::People_PubSubType>> people_;  // with a people sensor
+  std::unique_ptr<navd::dds::Writer<msgs_sensor::PointCloud2_PubSubType>> camera_;        // with a depth camera
   std::mutex mutex_;
   std::optional<sim::BodyTwist> velocity_;
   std::optional<std::pair<double, double>> accel_;
@@ -392,6 +399,9 @@ int Run(int argc, char** argv) {
   app.add_option("--view-port-file", view_port_file, "Write the bound view port to this file");
   app.add_option("--record", record_path, "Write a CARMEN log (ROBOTLASER1, ODOM, TRUEPOS) of one robot to this file");
   app.add_option("--record-robot", record_robot, "Which robot --record records (default: the first)");
+  bool no_camera = false;
+  app.add_flag("--no-camera", no_camera,
+               "Take every robot's depth camera off (the same run without it, to measure what it is worth)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -417,6 +427,8 @@ int Run(int argc, char** argv) {
     scenario = sim::ScenarioFromWorld(std::move(world));
     scenario.robots[0].name = ns;
   }
+  if (no_camera)
+    for (sim::RobotSpec& r : scenario.robots) r.camera.reset();
   sim::SimulationOptions options;
   options.seed = seed;
   options.command_timeout = command_timeout;

@@ -44,8 +44,9 @@ void ReadRangeArray(const YamlFields& f, const YAML::Node& n, const std::string&
 
 void ReadSensors(const YamlFields& f, const YAML::Node& list, const std::string& prefix, const World& world,
                  RobotSpec& r) {
-  f.ExpectSequence(list, prefix + "sensors", "sensors ({type: laser|sonar|ir|bumper|encoders|people, ...})");
+  f.ExpectSequence(list, prefix + "sensors", "sensors ({type: laser|sonar|ir|camera|bumper|encoders|people, ...})");
   r.laser.reset();
+  r.camera.reset();
   r.people.reset();
   r.sonar.reset();
   r.ir.reset();
@@ -59,6 +60,10 @@ void ReadSensors(const YamlFields& f, const YAML::Node& list, const std::string&
       LaserDescription l = world.laser;
       ReadLaserDescription(f, s, field + ".", l);
       r.laser = l;
+    } else if (type == "camera") {
+      DepthCameraDescription d = world.camera.value_or(DepthCameraDescription{});
+      ReadDepthCameraDescription(f, s, field + ".", d);
+      r.camera = d;
     } else if (type == "sonar") {
       RangeArrayDescription d = PioneerSonarRing(r.body.radius);
       ReadRangeArray(f, s, field + ".", d);
@@ -89,7 +94,7 @@ void ReadSensors(const YamlFields& f, const YAML::Node& list, const std::string&
       r.people = d;
     } else {
       f.Fail(field + ".type",
-             "is not a known sensor type '" + type + "' (expected laser, sonar, ir, bumper, encoders, people)",
+             "is not a known sensor type '" + type + "' (expected laser, sonar, ir, camera, bumper, encoders, people)",
              s["type"]);
     }
   }
@@ -148,20 +153,85 @@ CrowdDescription ReadCrowd(const YamlFields& f, const YAML::Node& n, const World
   return c;
 }
 
-// Fills the box into the truth; a glass one's newly walled cells are remembered as glass.
+// Fills the box into the truth; returns the cells it newly walled.
+std::vector<CellIndex> FillFresh(OccupancyGrid& truth, const Point2& min, const Point2& max) {
+  const CellIndex lo = truth.CellOf(min), hi = truth.CellOf(max);
+  std::vector<CellIndex> fresh;
+  for (int y = lo.y; y <= hi.y; ++y)
+    for (int x = lo.x; x <= hi.x; ++x)
+      if (truth.Contains({x, y}) && !truth.IsOccupied({x, y})) fresh.push_back({x, y});
+  truth.FillBox(min, max);
+  std::vector<CellIndex> walled;
+  for (const CellIndex& c : fresh)
+    if (truth.IsOccupied(c)) walled.push_back(c);
+  return walled;
+}
+
+// Fills the box into the truth; a glass one's newly walled cells are remembered as seen through.
 void FillHidden(Scenario& s, const Point2& min, const Point2& max, bool glass) {
   if (!glass) {
     s.truth.FillBox(min, max);
     return;
   }
-  const CellIndex lo = s.truth.CellOf(min), hi = s.truth.CellOf(max);
-  std::vector<CellIndex> fresh;
-  for (int y = lo.y; y <= hi.y; ++y)
-    for (int x = lo.x; x <= hi.x; ++x)
-      if (s.truth.Contains({x, y}) && !s.truth.IsOccupied({x, y})) fresh.push_back({x, y});
-  s.truth.FillBox(min, max);
-  for (const CellIndex& c : fresh)
-    if (s.truth.IsOccupied(c)) s.glass.push_back(c);
+  const std::vector<CellIndex> walled = FillFresh(s.truth, min, max);
+  s.see_through.insert(s.see_through.end(), walled.begin(), walled.end());
+}
+
+// hidden_obstacles.solids: {type: table|box|shelf|solid, box: [x_min, y_min, x_max, y_max], ...}.
+// A table is four 5 cm legs at the box's corners under a 4 cm top at `height`; a box stands on
+// the floor up to `height`; a shelf or a solid fills `z: [z_min, z_max]`.
+void ReadSolids(const YamlFields& f, const YAML::Node& list, Scenario& s) {
+  f.ExpectSequence(list, "hidden_obstacles.solids",
+                   "{type: table|box|shelf|solid, box: [x_min, y_min, x_max, y_max], height or z: [z_min, z_max]}");
+  constexpr double kLeg = 0.05, kTop = 0.04;  // m
+  for (size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node n = list[i];
+    const std::string field = Index("hidden_obstacles.solids", i);
+    f.ExpectMap(n, field);
+    f.CheckKeys(n, field, {"type", "box", "height", "z"});
+    const size_t type = n["type"] ? f.Choice(n["type"], field + ".type", {"table", "box", "shelf", "solid"}) : 3;
+    if (!n["box"]) f.Fail(field + ".box", "is missing ([x_min, y_min, x_max, y_max])", n);
+    const Box box = ReadBox(f, n["box"], field + ".box");
+    if (type <= 1) {
+      if (!n["height"] || n["z"]) f.Fail(field, "a table or a box needs a height (m) and no z", n);
+      const double h = f.Positive(n["height"], field + ".height");
+      if (type == 1) {
+        s.solids.push_back({box, 0.0, h});
+        continue;
+      }
+      if (h <= kTop || box.max.x() - box.min.x() < 2 * kLeg || box.max.y() - box.min.y() < 2 * kLeg)
+        f.Fail(field, "a table must be higher than its 4 cm top and at least 10 cm across", n);
+      s.solids.push_back({box, h - kTop, h});
+      for (const double x : {box.min.x(), box.max.x() - kLeg})
+        for (const double y : {box.min.y(), box.max.y() - kLeg})
+          s.solids.push_back({{{x, y}, {x + kLeg, y + kLeg}}, 0.0, h - kTop});
+    } else {
+      if (!n["z"] || n["height"]) f.Fail(field, "a shelf or a solid needs z: [z_min, z_max] (m) and no height", n);
+      const auto z = f.Numbers(n["z"], field + ".z", 2, 2);
+      if (!(z[0] >= 0.0 && z[1] > z[0])) f.Fail(field + ".z", "must be [z_min >= 0, z_max > z_min] in metres", n["z"]);
+      s.solids.push_back({box, z[0], z[1]});
+    }
+  }
+}
+
+// The solids into the truth: those that reach below the tallest robot's top; the cells they alone
+// fill are remembered, and those of solids that miss the lasers' plane are seen through. Solids
+// the lasers see go in first, so a table's top does not hide its legs from them.
+void FillSolids(Scenario& s) {
+  double tallest = 0.0, laser_height = -1.0;
+  for (const RobotSpec& r : s.robots) {
+    tallest = std::max(tallest, r.body.height);
+    if (r.laser && laser_height < 0.0) laser_height = r.laser->height;
+  }
+  auto seen_by_laser = [&](const Solid& solid) { return solid.z_min <= laser_height && laser_height <= solid.z_max; };
+  for (const bool laser_pass : {true, false}) {
+    for (const Solid& solid : s.solids) {
+      if (seen_by_laser(solid) != laser_pass || solid.z_min >= tallest) continue;
+      const std::vector<CellIndex> walled = FillFresh(s.truth, solid.box.min, solid.box.max);
+      s.solid_cells.insert(s.solid_cells.end(), walled.begin(), walled.end());
+      if (!laser_pass) s.see_through.insert(s.see_through.end(), walled.begin(), walled.end());
+    }
+  }
 }
 
 // Seed 004's "randomly distributed small obstacles" unknown to the robot: squares of random size,
@@ -264,6 +334,7 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
         f.Fail(field + ".start", "is missing ([x, y, theta] in metres and radians)", r);
       }
       spec.laser = s.world.laser;
+      spec.camera = s.world.camera;
       spec.bumper = spec.encoders = true;
       if (r["sensors"]) ReadSensors(f, r["sensors"], field + ".", s.world, spec);
       s.robots.push_back(spec);
@@ -291,7 +362,7 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
   std::mt19937_64 rng(s.seed * 7919 + 17);
   if (const YAML::Node h = doc["hidden_obstacles"]) {
     f.ExpectMap(h, "hidden_obstacles");
-    f.CheckKeys(h, "hidden_obstacles", {"boxes", "discs", "glass", "random"});
+    f.CheckKeys(h, "hidden_obstacles", {"boxes", "discs", "glass", "solids", "random"});
     if (h["boxes"]) {
       f.ExpectSequence(h["boxes"], "hidden_obstacles.boxes", "[x_min, y_min, x_max, y_max]");
       for (size_t i = 0; i < h["boxes"].size(); ++i) {
@@ -322,6 +393,11 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
         }());
         ++s.hidden_obstacles;
       }
+    }
+    if (h["solids"]) {
+      ReadSolids(f, h["solids"], s);
+      FillSolids(s);
+      s.hidden_obstacles += static_cast<int>(h["solids"].size());
     }
     if (h["random"]) s.hidden_obstacles += PlaceRandomObstacles(f, h["random"], s, rng);
   }
@@ -385,9 +461,9 @@ OccupancyGrid TruthWithDoors(const OccupancyGrid& fixed, const std::vector<Door>
   return truth;
 }
 
-OccupancyGrid LaserView(const OccupancyGrid& truth, const std::vector<CellIndex>& glass) {
+OccupancyGrid WithCellsFree(const OccupancyGrid& truth, const std::vector<CellIndex>& cells) {
   OccupancyGrid view = truth;
-  for (const CellIndex& c : glass) view.set(c, OccupancyGrid::kFree);
+  for (const CellIndex& c : cells) view.set(c, OccupancyGrid::kFree);
   return view;
 }
 
@@ -401,6 +477,7 @@ Scenario ScenarioFromWorld(World world) {
   r.start = world.start;
   r.body = world.robot;
   r.laser = world.laser;
+  r.camera = world.camera;
   r.bumper = r.encoders = true;
   s.robots.push_back(r);
   s.world = std::move(world);

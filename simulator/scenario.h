@@ -35,10 +35,18 @@ struct RobotSpec {
   std::optional<RangeArrayDescription> sonar;
   std::optional<RangeArrayDescription> ir;
   std::optional<PeopleSensorDescription> people;
+  std::optional<DepthCameraDescription> camera;
   bool bumper = false;
   bool encoders = false;
   double encoder_rate = 50.0;  // Hz
   double bumper_rate = 10.0;   // Hz
+};
+
+// A solid the robots' map does not show, with the height band it fills: a table top, a box lower
+// than the laser's plane, a shelf that overhangs at head height. Map frame; metres above the floor.
+struct Solid {
+  Box box;
+  double z_min = 0.0, z_max = 0.0;
 };
 
 struct Door {
@@ -59,17 +67,24 @@ struct Scenario {
   std::vector<Door> doors;
   std::vector<Point2> targets;  // named target points, in visiting order (seed 000's 11)
   int hidden_obstacles = 0;     // how many obstacles are in `truth` but not in the map
-  // Cells of glass panes among the hidden obstacles: in `truth` (bumpers, sonar and IR find them)
-  // but seen through by lasers, as real glass doors and partitions are.
-  std::vector<CellIndex> glass;
+  // Cells lasers see through: glass panes among the hidden obstacles (real glass doors and
+  // partitions), and solids off the lasers' plane (a table's top, a low box). In `truth`: bumpers,
+  // sonar and IR find them.
+  std::vector<CellIndex> see_through;
+  // The solids among the hidden obstacles, as depth cameras see them in 3-D; the cells only they
+  // fill (`solid_cells`) are in `truth` where they are lower than the tallest robot, and free for
+  // the depth camera's walls (walls and the other hidden obstacles stand floor to ceiling).
+  std::vector<Solid> solids;
+  std::vector<CellIndex> solid_cells;
   uint64_t seed = 1;
 };
 
 // `fixed` with the closed doors filled in.
 OccupancyGrid TruthWithDoors(const OccupancyGrid& fixed, const std::vector<Door>& doors);
 
-// `truth` as a laser sees it: the glass cells free.
-OccupancyGrid LaserView(const OccupancyGrid& truth, const std::vector<CellIndex>& glass);
+// `truth` with `cells` free: as a laser sees it (see_through), or the walls a depth camera sees
+// beside the solids (solid_cells).
+OccupancyGrid WithCellsFree(const OccupancyGrid& truth, const std::vector<CellIndex>& cells);
 
 // One robot (no namespace) with the world's robot and laser, encoders and bumpers.
 Scenario ScenarioFromWorld(World world);

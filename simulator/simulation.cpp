@@ -27,10 +27,12 @@ SimulatedRobot::SimulatedRobot(const RobotSpec& spec, int id, uint64_t seed)
       id_(id),
       sensor_rng_(StreamSeed(seed, 2 * id + 1)),
       people_rng_(StreamSeed(seed, (1u << 21) + id)),
+      camera_rng_(StreamSeed(seed, (1u << 22) + id)),
       base_(spec.body, spec.start, StreamSeed(seed, 2 * id)) {
   if (spec.laser) laser_.emplace(*spec.laser);
   if (spec.sonar) sonar_.emplace(*spec.sonar);
   if (spec.ir) ir_.emplace(*spec.ir);
+  if (spec.camera) camera_.emplace(*spec.camera);
 }
 
 Simulation::Simulation(World world, const SimulationOptions& options)
@@ -41,7 +43,7 @@ Simulation::Simulation(Scenario scenario, const SimulationOptions& options)
       options_(options),
       seed_(options.seed.value_or(scenario_.seed)),
       truth_(scenario_.truth) {
-  if (!scenario_.glass.empty()) laser_truth_.emplace(LaserView(scenario_.truth, scenario_.glass));
+  RebuildViews();
   for (size_t i = 0; i < scenario_.robots.size(); ++i) {
     robots_.push_back(std::make_unique<SimulatedRobot>(scenario_.robots[i], static_cast<int>(i), seed_));
   }
@@ -52,6 +54,13 @@ Simulation::Simulation(Scenario scenario, const SimulationOptions& options)
       return Occupied(c, r, self, robots_only);
     });
   }
+}
+
+void Simulation::RebuildViews() {
+  laser_truth_.reset();
+  camera_walls_.reset();
+  if (!scenario_.see_through.empty()) laser_truth_.emplace(WithCellsFree(scenario_.truth, scenario_.see_through));
+  if (!scenario_.solid_cells.empty()) camera_walls_.emplace(WithCellsFree(scenario_.truth, scenario_.solid_cells));
 }
 
 void Simulation::SetDoor(const std::string& name, bool closed) {
@@ -76,7 +85,7 @@ void Simulation::SetDoor(const std::string& name, bool closed) {
   }
   scenario_.truth = std::move(truth);
   truth_ = RayCaster(scenario_.truth);
-  if (!scenario_.glass.empty()) laser_truth_.emplace(LaserView(scenario_.truth, scenario_.glass));
+  RebuildViews();
 }
 
 const std::vector<Person>& Simulation::people() const { return crowd_ ? crowd_->people() : kNobody; }
@@ -277,7 +286,8 @@ StepOutputs Simulation::Step() {
     for (const auto& r : robots_) {
       if ((r->laser_ && now_ - r->last_scan_ >= 1.0 / r->laser_->description().rate - 1e-9) ||
           (r->sonar_ && now_ - r->last_sonar_ >= 1.0 / r->sonar_->description().rate - 1e-9) ||
-          (r->ir_ && now_ - r->last_ir_ >= 1.0 / r->ir_->description().rate - 1e-9)) {
+          (r->ir_ && now_ - r->last_ir_ >= 1.0 / r->ir_->description().rate - 1e-9) ||
+          (r->camera_ && now_ - r->last_camera_ >= 1.0 / r->camera_->description().rate - 1e-9)) {
         return true;
       }
     }
@@ -297,6 +307,8 @@ StepOutputs Simulation::Step() {
     }
     if (r.ir_ && Due(r.ir_->description().rate, r.last_ir_))
       o.ir = r.ir_->Read(pose, truth_, discs, r.id_, r.sensor_rng_);
+    if (r.camera_ && Due(r.camera_->description().rate, r.last_camera_))
+      o.camera = r.camera_->Capture(pose, camera_walls(), scenario_.solids, discs, r.id_, r.camera_rng_);
     o.odom = Due(options_.odom_rate, r.last_odom_);
     o.encoders = r.spec_.encoders && Due(r.spec_.encoder_rate, r.last_encoders_);
     o.bumper = r.spec_.bumper && Due(r.spec_.bumper_rate, r.last_bumper_);

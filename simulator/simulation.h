@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "simulator/crowd.h"
+#include "simulator/depth_camera.h"
 #include "simulator/laser_scanner.h"
 #include "simulator/mobile_base.h"
 #include "simulator/moving_obstacle.h"
@@ -62,6 +63,7 @@ class SimulatedRobot {
   const std::optional<LaserScanner>& laser() const { return laser_; }
   const std::optional<RangeSensorArray>& sonar() const { return sonar_; }
   const std::optional<RangeSensorArray>& ir() const { return ir_; }
+  const std::optional<DepthCamera>& camera() const { return camera_; }
   uint32_t collisions() const { return collisions_; }
   bool in_collision() const { return in_contact_; }
   const BumperState& bumper() const { return bumper_; }
@@ -73,9 +75,11 @@ class SimulatedRobot {
   int id_;
   std::mt19937_64 sensor_rng_;
   std::mt19937_64 people_rng_;  // the people sensor's noise, apart: turning it on leaves the others' draws
+  std::mt19937_64 camera_rng_;  // the depth camera's holes and noise, apart likewise
   MobileBase base_;
   std::optional<LaserScanner> laser_;
   std::optional<RangeSensorArray> sonar_, ir_;
+  std::optional<DepthCamera> camera_;
   double last_command_ = -1e9;
   bool watchdog_stopped_ = true;
   bool in_contact_ = false;  // touching something now
@@ -88,7 +92,7 @@ class SimulatedRobot {
   BumperState bumper_;
   uint32_t collisions_ = 0;
   double last_scan_ = -1e9, last_sonar_ = -1e9, last_ir_ = -1e9, last_odom_ = -1e9, last_encoders_ = -1e9,
-         last_bumper_ = -1e9, last_people_ = -1e9;
+         last_bumper_ = -1e9, last_people_ = -1e9, last_camera_ = -1e9;
 };
 
 // A person the people sensor reports: robot frame (metres), velocity over the ground in the robot
@@ -105,6 +109,8 @@ struct RobotReadings {
   std::optional<std::vector<float>> sonar;
   std::optional<std::vector<float>> ir;
   std::optional<std::vector<PersonReading>> people;
+  // The depth camera's points, its optical frame (DepthCamera::Capture).
+  std::optional<std::vector<Eigen::Vector3f>> camera;
   bool odom = false;
   bool encoders = false;
   bool bumper = false;
@@ -141,8 +147,10 @@ class Simulation {
   const Scenario& scenario() const { return scenario_; }
   const World& world() const { return scenario_.world; }
   const RayCaster& truth() const { return truth_; }
-  // What lasers see: the truth without its glass.
+  // What lasers see: the truth without what they see through.
   const RayCaster& laser_truth() const { return laser_truth_ ? *laser_truth_ : truth_; }
+  // What depth cameras see as walls (floor to ceiling): the truth without the solids.
+  const RayCaster& camera_walls() const { return camera_walls_ ? *camera_walls_ : truth_; }
   const SimulationOptions& options() const { return options_; }
   uint64_t seed() const { return seed_; }
   // Every body as a disc: robots, moving obstacles, people (current positions).
@@ -151,6 +159,8 @@ class Simulation {
   std::string BodyName(int id) const;
 
  private:
+  // laser_truth_ and camera_walls_ from the truth as it is now.
+  void RebuildViews();
   // True when the period of a `rate` Hz stream has elapsed since `last`; advances `last`.
   bool Due(double rate, double& last) const;
   // kFree, kWall or the body id a disc at `centre` would overlap (ignoring `self`).
@@ -168,7 +178,8 @@ class Simulation {
   SimulationOptions options_;
   uint64_t seed_;
   RayCaster truth_;
-  std::optional<RayCaster> laser_truth_;  // only when there is glass
+  std::optional<RayCaster> laser_truth_;   // only when lasers see through something
+  std::optional<RayCaster> camera_walls_;  // only with solids: the truth without them
   std::vector<std::unique_ptr<SimulatedRobot>> robots_;
   std::vector<MovingObstacle> obstacles_;
   std::unique_ptr<Crowd> crowd_;

@@ -25,6 +25,7 @@ namespace {
 constexpr const char* kRobotKeys[] = {"start",
                                       "drive",
                                       "radius",
+                                      "height",
                                       "wheel_base",
                                       "wheel_radius",
                                       "max_wheel_speed",
@@ -83,7 +84,7 @@ OccupancyGrid InlineMap(const YamlFields& f, const YAML::Node& m, const std::str
 
 World Parse(const YamlFields& f, const std::string& text, const std::string& base_dir) {
   const YAML::Node doc = ParseYamlMapping(text, f.source());
-  f.CheckKeys(doc, "", {"name", "map", "robot", "laser", "goals", "regions", "speed_zones"});
+  f.CheckKeys(doc, "", {"name", "map", "robot", "laser", "camera", "goals", "regions", "speed_zones"});
   World w;
   w.source = f.source();
   w.name = doc["name"] ? f.String(doc["name"], "name") : std::filesystem::path(f.source()).stem().string();
@@ -92,7 +93,18 @@ World Parse(const YamlFields& f, const std::string& text, const std::string& bas
   if (map.IsScalar()) {
     std::filesystem::path p(map.as<std::string>());
     if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
-    w.map = LoadMapFile(p.string());
+    // A world file's map serves another world too (the same floor for a different robot); a
+    // world whose map leads back to itself is refused, not followed.
+    thread_local int worlds_open = 0;
+    if (worlds_open >= 4) f.Fail("map", "leads through more than 4 world files (a world that names itself?)", map);
+    ++worlds_open;
+    try {
+      w.map = LoadAnyMapFile(p.string());
+    } catch (...) {
+      --worlds_open;
+      throw;
+    }
+    --worlds_open;
   } else if (map.IsMap()) {
     w.map = InlineMap(f, map, base_dir);
   } else {
@@ -104,6 +116,10 @@ World Parse(const YamlFields& f, const std::string& text, const std::string& bas
     ReadRobotDescription(f, r, "robot.", w.robot);
   }
   if (const YAML::Node l = doc["laser"]) ReadLaserDescription(f, l, "laser.", w.laser);
+  if (const YAML::Node c = doc["camera"]) {
+    w.camera.emplace();
+    ReadDepthCameraDescription(f, c, "camera.", *w.camera);
+  }
   if (const YAML::Node g = doc["goals"]) {
     f.ExpectSequence(g, "goals", "[x, y] or [x, y, theta]");
     for (size_t i = 0; i < g.size(); ++i) w.goals.push_back(f.PoseOf(g[i], "goals[" + std::to_string(i) + "]"));
@@ -181,6 +197,7 @@ void ReadRobotDescription(const YamlFields& f, const YAML::Node& r, const std::s
     d.drive = kDrives[f.Choice(r["drive"], prefix + "drive", {"diff_drive", "omni", "unicycle"})];
   }
   f.Read(r, "radius", prefix, d.radius, &YamlFields::Positive);
+  f.Read(r, "height", prefix, d.height, &YamlFields::Positive);
   f.Read(r, "wheel_base", prefix, d.wheel_base, &YamlFields::Positive);
   f.Read(r, "wheel_radius", prefix, d.wheel_radius, &YamlFields::Positive);
   f.Read(r, "max_wheel_speed", prefix, d.max_wheel_speed, &YamlFields::Positive);
@@ -204,15 +221,64 @@ void ReadRobotDescription(const YamlFields& f, const YAML::Node& r, const std::s
 void ReadLaserDescription(const YamlFields& f, const YAML::Node& l, const std::string& prefix, LaserDescription& d) {
   f.ExpectMap(l, prefix.substr(0, prefix.size() - 1));
   f.CheckKeys(l, prefix.substr(0, prefix.size() - 1),
-              {"type", "fov_deg", "range_min", "range_max", "beams", "rate_hz", "noise"});
+              {"type", "fov_deg", "range_min", "range_max", "beams", "rate_hz", "noise", "height"});
   if (l["fov_deg"]) d.fov = f.Positive(l["fov_deg"], prefix + "fov_deg") * M_PI / 180.0;
   f.Read(l, "range_min", prefix, d.range_min, &YamlFields::NonNegative);
   f.Read(l, "range_max", prefix, d.range_max, &YamlFields::Positive);
   if (l["beams"]) d.beams = f.Integer(l["beams"], prefix + "beams", 1, 100'000);
   f.Read(l, "rate_hz", prefix, d.rate, &YamlFields::Positive);
   f.Read(l, "noise", prefix, d.noise, &YamlFields::NonNegative);
+  f.Read(l, "height", prefix, d.height, &YamlFields::NonNegative);
   if (d.fov > 2 * M_PI) f.Fail(prefix + "fov_deg", "must be at most 360", l["fov_deg"]);
   if (d.range_max <= d.range_min) f.Fail(prefix + "range_max", "must exceed " + prefix + "range_min", l);
+}
+
+void ReadDepthCameraDescription(const YamlFields& f, const YAML::Node& c, const std::string& prefix,
+                                DepthCameraDescription& d) {
+  const std::string field = prefix.substr(0, prefix.size() - 1);
+  f.ExpectMap(c, field);
+  f.CheckKeys(c, field,
+              {"type", "resolution", "hfov_deg", "vfov_deg", "range_min", "range_max", "rate_hz", "mount", "tilt_deg",
+               "noise", "holes"});
+  if (c["resolution"]) {
+    const auto r = f.Numbers(c["resolution"], prefix + "resolution", 2, 2);
+    for (double v : r) {
+      if (v < 2 || v > 4096 || v != std::floor(v))
+        f.Fail(prefix + "resolution", "must be [width, height], whole pixels from 2 to 4096", c["resolution"]);
+    }
+    d.width = static_cast<int>(r[0]);
+    d.height = static_cast<int>(r[1]);
+  }
+  auto angle = [&](const char* key, double& out, double max_deg) {
+    if (!c[key]) return;
+    const double deg = f.Positive(c[key], prefix + key);
+    if (deg >= max_deg) f.Fail(prefix + key, "must be under " + std::to_string(static_cast<int>(max_deg)), c[key]);
+    out = deg * M_PI / 180.0;
+  };
+  angle("hfov_deg", d.hfov, 170.0);
+  angle("vfov_deg", d.vfov, 170.0);
+  f.Read(c, "range_min", prefix, d.range_min, &YamlFields::NonNegative);
+  f.Read(c, "range_max", prefix, d.range_max, &YamlFields::Positive);
+  f.Read(c, "rate_hz", prefix, d.rate, &YamlFields::Positive);
+  if (c["mount"]) {
+    const auto m = f.Numbers(c["mount"], prefix + "mount", 3, 3);
+    if (m[2] <= 0) f.Fail(prefix + "mount", "must be [x, y, z] with z (height above the floor) > 0", c["mount"]);
+    d.mount_x = m[0];
+    d.mount_y = m[1];
+    d.mount_z = m[2];
+  }
+  if (c["tilt_deg"]) {
+    const double deg = f.Number(c["tilt_deg"], prefix + "tilt_deg");
+    if (!(std::abs(deg) < 90.0))
+      f.Fail(prefix + "tilt_deg", "must be between -90 and 90 (degrees down)", c["tilt_deg"]);
+    d.tilt = deg * M_PI / 180.0;
+  }
+  f.Read(c, "noise", prefix, d.noise, &YamlFields::NonNegative);
+  if (c["holes"]) {
+    d.holes = f.NonNegative(c["holes"], prefix + "holes");
+    if (d.holes >= 1.0) f.Fail(prefix + "holes", "must be a share under 1", c["holes"]);
+  }
+  if (d.range_max <= d.range_min) f.Fail(prefix + "range_max", "must exceed " + prefix + "range_min", c);
 }
 
 Box ReadBox(const YamlFields& f, const YAML::Node& n, const std::string& field) {

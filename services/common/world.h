@@ -3,6 +3,7 @@
 // navd (which plans on its map and starts from its robot pose). Units: metres, radians, seconds,
 // map frame. See worlds/warehouse.yaml for the format.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,10 @@ const char* DriveTypeName(DriveType type);
 // The robot's geometry and limits (seed 000's differential-drive robot by default).
 struct RobotDescription {
   DriveType drive = DriveType::kDiffDrive;
-  double radius = 0.20;          // m, the robot is a disc
+  double radius = 0.20;  // m, the robot is a disc
+  // m from the floor to the robot's top: a solid of the world whose underside is this high or
+  // higher (a table top, a shelf) passes over the robot; anything lower is in its way.
+  double height = 0.5;
   double wheel_base = 0.33;      // m, distance between the drive wheels (diff drive, unicycle)
   double wheel_radius = 0.05;    // m
   double max_wheel_speed = 0.5;  // m/s at the rim
@@ -50,6 +54,29 @@ struct LaserDescription {
   int beams = 683;
   double rate = 10.0;   // Hz
   double noise = 0.01;  // m, std-dev of range noise
+  // m above the floor of the scanning plane: it sees only what crosses this height (a table's
+  // legs, not its top; nothing of a box lower than it).
+  double height = 0.2;
+};
+
+// An RGB-D camera like the Intel RealSense D435 on the robot, its depth as a point cloud. The
+// mount is the camera's optical centre in the robot frame (x ahead, y left, z up from the floor)
+// and its tilt down from level; the cloud is in the camera's optical frame (ROS REP 103: z along
+// the optical axis, x right, y down), as ROS drivers publish it.
+struct DepthCameraDescription {
+  int width = 212, height = 120;        // pixels
+  double hfov = 87.0 * M_PI / 180.0;    // rad, horizontal field of view
+  double vfov = 58.0 * M_PI / 180.0;    // rad, vertical
+  double range_min = 0.2;               // m along the optical axis (depth); nearer: no reading
+  double range_max = 5.0;               // m
+  double rate = 15.0;                   // Hz
+  double mount_x = 0.1, mount_y = 0.0;  // m, robot frame
+  double mount_z = 0.8;                 // m above the floor
+  double tilt = 30.0 * M_PI / 180.0;    // rad down from level
+  // Depth noise, a standard deviation that grows with the square of the depth (stereo depth's
+  // error: sigma = noise * z^2, m with z in m), and the share of pixels with no reading (holes).
+  double noise = 0.002;
+  double holes = 0.02;
 };
 
 // An axis-aligned box in the map frame, metres.
@@ -76,8 +103,9 @@ struct World {
   Pose2 start;  // robot start pose in the map frame
   RobotDescription robot;
   LaserDescription laser;
-  std::vector<Pose2> goals;            // named demo goals, in order
-  std::map<std::string, Box> regions;  // named areas (rooms, streets, spawn areas)
+  std::optional<DepthCameraDescription> camera;  // the robot carries one when set
+  std::vector<Pose2> goals;                      // named demo goals, in order
+  std::map<std::string, Box> regions;            // named areas (rooms, streets, spawn areas)
   std::vector<SpeedZone> speed_zones;
 };
 

@@ -17,6 +17,8 @@ void ReadRobotDescription(const YamlFields& fields, const YAML::Node& node, cons
                           RobotDescription& out, const std::vector<std::string>& extra_keys = {});
 void ReadLaserDescription(const YamlFields& fields, const YAML::Node& node, const std::string& prefix,
                           LaserDescription& out);
+void ReadDepthCameraDescription(const YamlFields& fields, const YAML::Node& node, const std::string& prefix,
+                                DepthCameraDescription& out);
 // [x_min, y_min, x_max, y_max] with min <= max.
 Box ReadBox(const YamlFields& fields, const YAML::Node& node, const std::string& field);
 

@@ -353,6 +353,7 @@ planning::PlanningScene NavigationExecutive::Scene(const Pose2& pose) const {
     if ((s.position - pose.translation()).norm() <= moving_.planning_range)
       scene.moving.push_back({s.position, {0, 0}, s.radius, false});
   }
+  if (sensed_cells_) scene.obstacle_cells = *sensed_cells_;
   return scene;
 }
 
@@ -736,6 +737,10 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     map_from_odometry_ = map_from_odometry;
   }
+  if (in.sensed_cells) {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    sensed_cells_ = in.sensed_cells;
+  }
   if (in.scan && estimate.valid && !lost_) {
     // The avoidance's and the recoil's free ways and the scan guard read these whether or not
     // detection runs (it is off while a map is being built).
@@ -1004,6 +1009,11 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       }
       for (const SensedObstacle& s : sensed_obstacles_)
         discs.emplace_back(s.position, s.radius + moving_.detection.robot_radius);
+      if (sensed_cells_) {
+        for (const Point2& p : *sensed_cells_)
+          if (Distance(p, estimate.pose.translation()) <= moving_.planning_range)
+            discs.emplace_back(p, moving_.detection.robot_radius);
+      }
     }
     std::shared_ptr<const planning::Costmap> costmap;
     if (const auto map = planning_.maps().Get(); map && map->version != leg_map_version_)
@@ -1087,10 +1097,17 @@ WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose
 }
 
 std::vector<Point2> NavigationExecutive::LocalScanPointsLocked(const Pose2& pose) const {
+  // m: sensed cells farther than this cannot bind a guard (the robot stops from full speed in
+  // well under it) and are left out of its loops.
+  constexpr double kSensedGuardRange = 2.0;
   const Pose2 to_robot = pose.inverse();
   std::vector<Point2> local;
   local.reserve(scan_points_.size());
   for (const Point2& p : scan_points_) local.push_back(to_robot * p);
+  if (sensed_cells_) {
+    for (const Point2& p : *sensed_cells_)
+      if (Distance(p, pose.translation()) < kSensedGuardRange) local.push_back(to_robot * p);
+  }
   return local;
 }
 

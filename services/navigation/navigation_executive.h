@@ -8,6 +8,7 @@
 #include <atomic>
 #include <future>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -192,6 +193,10 @@ struct ExecutiveInputs {
   const PeopleReport* people = nullptr;
   std::optional<Pose2> people_odometry = std::nullopt;
   double people_age = 0.0;
+  // The cells a 3-D obstacle layer holds now (the depth camera's: what the laser's plane misses),
+  // map frame; null: no such layer. The plans go round them, the replanning watches them, and the
+  // scan guard and the avoidance take them as returns of the laser.
+  std::shared_ptr<const std::vector<Point2>> sensed_cells = nullptr;
 };
 
 class NavigationExecutive {
@@ -293,7 +298,8 @@ class NavigationExecutive {
   planning::PlanningScene Scene(const Pose2& pose) const;
   WheelSpeeds GuardSpeed(const WheelSpeeds& wheels, const Pose2& pose) const;
   WheelSpeeds ScanGuard(const WheelSpeeds& wheels, const Pose2& pose, double rear_free, bool manoeuvre) const;
-  // The last scan's returns in the frame of a robot at `pose`. Caller holds detector_mutex_.
+  // The last scan's returns in the frame of a robot at `pose`, and the sensed cells within
+  // kSensedGuardRange of it. Caller holds detector_mutex_.
   std::vector<Point2> LocalScanPointsLocked(const Pose2& pose) const;
   // The forward speed capped to stop `margin` short of the nearest of `local` (robot frame) ahead,
   // braking at guard_deceleration.
@@ -354,8 +360,9 @@ class NavigationExecutive {
     double radius = 0.0;   // m
     double seen_at = 0.0;  // s
   };
-  std::vector<SensedObstacle> sensed_obstacles_;  // guarded by detector_mutex_
-  std::vector<Point2> scan_points_;               // the last scan's returns, map frame
+  std::vector<SensedObstacle> sensed_obstacles_;             // guarded by detector_mutex_
+  std::vector<Point2> scan_points_;                          // the last scan's returns, map frame
+  std::shared_ptr<const std::vector<Point2>> sensed_cells_;  // ExecutiveInputs::sensed_cells; guarded likewise
   MovingObstacleAvoidance avoider_;
   RecoveryBehaviour recovery_;
   GridReentry reentry_;      // control thread only

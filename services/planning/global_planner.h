@@ -58,6 +58,9 @@ struct MovingBody {
 // What a request knows beyond the map.
 struct PlanningScene {
   std::vector<MovingBody> moving;
+  // Cells sensors found occupied that the map lacks (a 3-D obstacle layer's: a table top, a low
+  // box), map frame: drawn into the costmap for every planner, inflated like walls.
+  std::vector<Point2> obstacle_cells;
 };
 
 class GlobalPlanner {

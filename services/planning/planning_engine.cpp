@@ -144,14 +144,22 @@ std::shared_ptr<const Costmap> PlanningEngine::CurrentCostmap() {
 }
 
 std::shared_ptr<const Costmap> PlanningEngine::SceneCostmap(const std::shared_ptr<const Costmap>& map_costmap,
-                                                            const PlanningScene& scene, const Point2& start,
-                                                            const Point2& goal) const {
+                                                            const PlanningScene& scene, bool draw_moving,
+                                                            const Point2& start, const Point2& goal) const {
   // Nav2's obstacle layer, for one request: each body becomes an obstacle disc the inflation then
-  // grows. A body over the start or the goal cannot be planned around now and is left out.
+  // grows. A body over the start or the goal cannot be planned around now and is left out. Sensed
+  // cells are left out only around the goal (the robot will see there when it gets near); around
+  // the start the request's start recovery steps out of their inflation.
   OccupancyGrid grid = map_costmap->grid();
   const double keep_clear = map_costmap->options().inflation_radius + grid.resolution();
   bool drawn = false;
+  for (const Point2& cell : scene.obstacle_cells) {
+    if ((cell - goal).norm() < keep_clear || !grid.ContainsPoint(cell)) continue;
+    grid.set(grid.CellOf(cell), OccupancyGrid::kOccupied);
+    drawn = true;
+  }
   for (const MovingBody& body : scene.moving) {
+    if (!draw_moving) break;
     if ((body.position - start).norm() < body.radius + keep_clear ||
         (body.position - goal).norm() < body.radius + keep_clear) {
       continue;
@@ -177,6 +185,8 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     if (!(scene.moving[i].radius >= 0.0 && scene.moving[i].radius < 1e3))
       throw Error(ErrorCode::kInvalidArgument, field + ".radius must be a number of metres >= 0");
   }
+  for (size_t i = 0; i < scene.obstacle_cells.size(); ++i)
+    CheckFinite(scene.obstacle_cells[i], "obstacle_cells[" + std::to_string(i) + "]");
   const GlobalPlanner& planner = Find(planner_name);
   const PlannerOptions options = ResolveOptions(planner, given);
   // Held for the whole request: `grid` refers into it even after a scene costmap replaces
@@ -223,8 +233,15 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
     start_cell = *free;
   }
 
-  if (!scene.moving.empty() && !planner.plans_among_moving_bodies()) {
-    costmap = SceneCostmap(map_costmap, scene, grid.CellCenter(start_cell), goal);
+  const bool draw_moving = !scene.moving.empty() && !planner.plans_among_moving_bodies();
+  if (draw_moving || !scene.obstacle_cells.empty()) {
+    costmap = SceneCostmap(map_costmap, scene, draw_moving, grid.CellCenter(start_cell), goal);
+    if (costmap->IsLethal(start_cell)) {
+      // Beside a sensed obstacle: leave its inflation by the nearest way out, as from a wall's.
+      const std::optional<CellIndex> free =
+          costmap->NearestFree(start_cell, static_cast<int>(options_.start_recovery_radius / grid.resolution()), false);
+      if (free) start_cell = *free;
+    }
   }
   const CellPath cells = planner.PlanInScene(*costmap, start_cell, goal_cell, options, scene, stop);
   if (cells.cells.empty()) {

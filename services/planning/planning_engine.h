@@ -87,9 +87,10 @@ class PlanningEngine {
 
  private:
   const GlobalPlanner& Find(const std::string& name) const;
-  // The costmap with the scene's moving bodies drawn in, for planners that ignore scenes.
+  // The costmap with the scene's obstacle cells drawn in, and its moving bodies unless the
+  // planner plans among them itself.
   std::shared_ptr<const Costmap> SceneCostmap(const std::shared_ptr<const Costmap>& map_costmap,
-                                              const PlanningScene& scene, const Point2& start,
+                                              const PlanningScene& scene, bool draw_moving, const Point2& start,
                                               const Point2& goal) const;
   void AddVelocityProfile(PathPlan& plan) const;
   PlannerOptions ResolveOptions(const GlobalPlanner& planner, const std::map<std::string, double>& given) const;

@@ -294,7 +294,7 @@ TEST(Scenarios, GlassIsSeenBySonarButNotByTheLaser) {
       "hidden_obstacles: {glass: [[3.0, 1.5, 3.1, 2.5]], boxes: [[1.0, 0.9, 1.2, 1.1]]}\n"
       "robots: [{start: [2, 2, 0], sensors: [{type: laser}, {type: sonar}]}]\n");
   EXPECT_EQ(s.hidden_obstacles, 2);
-  EXPECT_FALSE(s.glass.empty());
+  EXPECT_FALSE(s.see_through.empty());
   SimulationOptions options;
   Simulation sim(s, options);
   std::optional<std::vector<float>> scan, sonar;

@@ -1,0 +1,28 @@
+#pragma once
+// Where a depth camera's points are on the robot: its optical frame (ROS REP 103: x right, y down,
+// z along the optical axis) to the robot frame (x ahead, y left, z up from the floor), by the
+// mount and tilt of DepthCameraDescription. Shared by navsim's camera and navd's perception, so
+// both place a pixel alike. Metres.
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "services/common/world.h"
+
+namespace navd {
+
+inline Eigen::Isometry3f RobotFromOptical(const DepthCameraDescription& d) {
+  // Optical axes in a level camera's frame, then the camera pitched down by the tilt.
+  Eigen::Matrix3f optical_to_level;
+  optical_to_level << 0, 0, 1,  //
+      -1, 0, 0,                 //
+      0, -1, 0;
+  const Eigen::Matrix3f tilt =
+      Eigen::AngleAxisf(static_cast<float>(d.tilt), Eigen::Vector3f::UnitY()).toRotationMatrix();
+  Eigen::Isometry3f t = Eigen::Isometry3f::Identity();
+  t.linear() = tilt * optical_to_level;
+  t.translation() =
+      Eigen::Vector3f(static_cast<float>(d.mount_x), static_cast<float>(d.mount_y), static_cast<float>(d.mount_z));
+  return t;
+}
+
+}  // namespace navd
