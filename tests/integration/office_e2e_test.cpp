@@ -5,9 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <chrono>
 #include <random>
+#include <thread>
 
+#include "dds/participant.h"
+#include "dds/topics.h"
+#include "nav_msgsPubSubTypes.h"
 #include "services/common/ray_caster.h"
+#include "services/common/world.h"
 #include "simulator/scenario.h"
 #include "tests/support/navd_fixture.h"
 
@@ -125,6 +131,29 @@ TEST(OfficeE2E, DepthCameraKeepsATallRobotOffWhatTheLaserMisses) {
   EXPECT_TRUE(without.collisions > 0 || without.reached < without.goals)
       << "without the camera: " << without.reached << " of " << without.goals << " goals, " << without.collisions
       << " collisions";
+}
+
+// The layer reaches viewers: navd's rt/navd/costmap (nav_msgs/OccupancyGrid, Nav2's 0-100 scale)
+// holds the corridor's table top, which the map lacks, as lethal once the camera has seen it.
+TEST(OfficeE2E, SensedObstaclesAreInThePublishedCostmap) {
+  StackOptions options;
+  options.sim_args = {"--scenario", SourceDir() + "/worlds/scenarios/office_3d.yaml"};
+  options.navd_args = {"--world", SourceDir() + "/worlds/office_3d.yaml"};
+  NavdStack stack(options);
+  ASSERT_TRUE(stack.WaitForPose(20.0)) << stack.Logs();
+  dds::Participant p({stack.domain(), dds::Network::kLoopback, "viewer", {}, {}, {}});
+  dds::Reader<nav_msgs::msg::dds_::OccupancyGrid_PubSubType> costmap(p, dds::TopicName("", dds::kCostmap),
+                                                                     dds::Reliability::kReliable);
+  const World world = LoadWorldFile(SourceDir() + "/worlds/office_3d.yaml");
+  const CellIndex top = world.map.CellOf({4.45, 5.5});  // under the table's top, between its legs
+  ASSERT_EQ(world.map.at(top), OccupancyGrid::kFree);
+  int8_t seen = -2;
+  for (int i = 0; i < 150 && seen != 100; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (const auto m = costmap.Latest(); m && m->info().width() == static_cast<uint32_t>(world.map.width()))
+      seen = m->data()[world.map.Flat(top)];
+  }
+  EXPECT_EQ(seen, 100) << stack.Logs();
 }
 
 }  // namespace

@@ -11,13 +11,16 @@
 
 #include "dds/conversions.h"
 #include "dds/participant.h"
+#include "dds/point_cloud2.h"
 #include "dds/topics.h"
 #include "geometry_msgsPubSubTypes.h"
 #include "nav_msgsPubSubTypes.h"
 #include "navsim_msgsPubSubTypes.h"
 #include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
+#include "services/common/camera_frame.h"
 #include "services/common/carmen_log.h"
+#include "services/common/world.h"
 #include "tests/support/navd_fixture.h"
 #include "tests/support/process.h"
 
@@ -271,6 +274,44 @@ TEST(NavsimScenario, BadScenarioExitsNonZeroWithOneLine) {
   EXPECT_NE(r.output.find("bad.yaml:3: field 'robots[0].start' puts the robot inside or against a wall"),
             std::string::npos)
       << r.output;
+}
+
+// navsim's depth camera as a ROS 2 node sees it: sensor_msgs/PointCloud2 under its ROS type name
+// on rt/camera/points, read with the generic field rules (fields found by name, point_step,
+// row_step, byte order), in the camera's optical frame: put back on the robot by the office_3d
+// world's mount, the floor lies at z = 0 and the corridor's table top at its 0.75 m.
+TEST(NavsimScenario, DepthCameraCloudReadsAsRos2PointCloud2) {
+  const int domain = ReserveDomain();
+  const std::string dir = MakeTempDir();
+  Process navsim({NavsimBinary(), "--scenario", SourceDir() + "/worlds/scenarios/office_3d.yaml", "--rate", "2",
+                  "--domain", std::to_string(domain), "--view", "off"},
+                 dir + "/navsim.log");
+  EXPECT_STREQ(sensor_msgs::msg::dds_::PointCloud2_PubSubType().getName(), "sensor_msgs::msg::dds_::PointCloud2_");
+  dds::Participant p({domain, dds::Network::kLoopback, "viewer", {}, {}, {}});
+  dds::Reader<sensor_msgs::msg::dds_::PointCloud2_PubSubType> cloud(p, dds::TopicName("", dds::kCameraPoints),
+                                                                    dds::Reliability::kBestEffort);
+  for (int i = 0; i < 200 && !cloud.Latest(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_TRUE(cloud.Latest()) << navsim.Log();
+  const auto m = *cloud.Latest();
+  EXPECT_EQ(m.header().frame_id(), "camera_depth_optical_frame");
+  EXPECT_EQ(m.height(), 1u);
+  EXPECT_GT(m.width(), 10000u);
+  EXPECT_EQ(m.row_step(), m.width() * m.point_step());
+  const std::vector<Eigen::Vector3f> points = dds::DecodeXyzCloud(m);
+  EXPECT_EQ(points.size(), m.width());
+  // The robot starts at (1.0, 6.0) facing +x; the table's top spans x 4.0-4.9, y 5.05-5.75.
+  const World world = LoadWorldFile(SourceDir() + "/worlds/office_3d.yaml");
+  ASSERT_TRUE(world.camera);
+  const Eigen::Isometry3f to_robot = RobotFromOptical(*world.camera);
+  int floor = 0, top = 0;
+  for (const Eigen::Vector3f& q : points) {
+    const Eigen::Vector3f r = to_robot * q;
+    const Point2 at = world.start * Point2(r.x(), r.y());
+    if (std::abs(r.z()) < 0.05) ++floor;
+    if (at.x() > 3.95 && at.x() < 4.95 && at.y() > 5.0 && at.y() < 5.8 && std::abs(r.z() - 0.73) < 0.05) ++top;
+  }
+  EXPECT_GT(floor, static_cast<int>(points.size()) / 3);
+  EXPECT_GT(top, 20);
 }
 
 }  // namespace

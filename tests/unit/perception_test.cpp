@@ -1,0 +1,308 @@
+// The depth camera's way into the costmap (issue 43): navsim's camera, PCL's filter (floor,
+// heights, speckle) and the voxel layer (marking, clearing, decay); the scenario's solids; the
+// PointCloud2 layout both sides use.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <random>
+
+#include "dds/point_cloud2.h"
+#include "services/common/camera_frame.h"
+#include "services/common/error.h"
+#include "services/perception/depth_obstacle_layer.h"
+#include "services/perception/obstacle_cloud_filter.h"
+#include "services/perception/voxel_obstacle_layer.h"
+#include "simulator/depth_camera.h"
+#include "simulator/scenario.h"
+#include "simulator/simulation.h"
+
+namespace navd {
+namespace {
+
+using perception::DepthObstacleLayer;
+using perception::FilteredCloud;
+using perception::ObstacleCloudFilter;
+using perception::ObstacleCloudFilterOptions;
+using sim::DepthCamera;
+using sim::Solid;
+
+// A 20 x 20 m hall with walls at its edges: from its middle they are beyond the camera's 5 m.
+OccupancyGrid Room() {
+  OccupancyGrid g(400, 400, 0.05, {-5.0, -5.0});
+  g.FillBox({-5.0, -5.0}, {15.0, -4.9});
+  g.FillBox({-5.0, 14.9}, {15.0, 15.0});
+  g.FillBox({-5.0, -5.0}, {-4.9, 15.0});
+  g.FillBox({14.9, -5.0}, {15.0, 15.0});
+  return g;
+}
+
+DepthCameraDescription Camera() {
+  DepthCameraDescription d;
+  d.mount_x = 0.1;
+  d.mount_z = 1.0;
+  d.tilt = 25.0 * M_PI / 180.0;
+  return d;
+}
+
+std::vector<Eigen::Vector3f> Capture(const DepthCameraDescription& d, const Pose2& robot,
+                                     const std::vector<Solid>& solids, uint64_t seed = 1) {
+  const RayCaster walls(Room());
+  std::mt19937_64 rng(seed);
+  return DepthCamera(d).Capture(robot, walls, solids, {}, -1, rng);
+}
+
+ObstacleCloudFilterOptions FilterFor(double robot_height) {
+  ObstacleCloudFilterOptions o;
+  o.max_height = robot_height + 0.05;
+  return o;
+}
+
+// A table 0.8 x 0.6 m, its top at 0.71-0.75 m, legs 5 cm square, as the scenario makes them.
+std::vector<Solid> Table(double x0, double y0, double x1, double y1) {
+  std::vector<Solid> t = {{{{x0, y0}, {x1, y1}}, 0.71, 0.75}};
+  for (double x : {x0, x1 - 0.05})
+    for (double y : {y0, y1 - 0.05}) t.push_back({{{x, y}, {x + 0.05, y + 0.05}}, 0.0, 0.71});
+  return t;
+}
+
+TEST(DepthCamera, SeesTheFloorWhereItsTiltPutsIt) {
+  DepthCameraDescription d = Camera();
+  d.noise = 0.0;
+  d.holes = 0.0;
+  const auto points = Capture(d, {5.0, 5.0, 0.0}, {});
+  // The upper rows look near level: the floor there is beyond range_max.
+  ASSERT_GT(points.size(), 0.6 * d.width * d.height);
+  // The pixel nearest the optical axis meets the floor at mount_z / sin(tilt) along it.
+  const Eigen::Vector3f* centre = &points.front();
+  for (const auto& p : points)
+    if (std::hypot(p.x() / p.z(), p.y() / p.z()) < std::hypot(centre->x() / centre->z(), centre->y() / centre->z()))
+      centre = &p;
+  EXPECT_NEAR(centre->z(), 1.0 / std::sin(d.tilt), 0.03);
+  // Every point on the floor, in the robot frame.
+  const Eigen::Isometry3f to_robot = RobotFromOptical(d);
+  for (const auto& p : points) EXPECT_NEAR((to_robot * p).z(), 0.0, 1e-3);
+  // Noise grows with depth squared and some pixels read nothing.
+  d.noise = 0.002;
+  d.holes = 0.05;
+  const auto noisy = Capture(d, {5.0, 5.0, 0.0}, {});
+  EXPECT_LT(noisy.size(), 0.97 * points.size());
+  EXPECT_GT(noisy.size(), 0.9 * points.size());
+}
+
+TEST(ObstacleCloudFilter, RemovesTheFloorOfATiltedCamera) {
+  const DepthCameraDescription d = Camera();
+  const ObstacleCloudFilter filter(FilterFor(1.1), d);
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    const FilteredCloud f = filter.Filter(Capture(d, {5.0, 5.0, 0.7 * seed}, {}, seed));
+    EXPECT_TRUE(f.floor_fitted);
+    EXPECT_NEAR(f.floor_plane.w(), 0.0, 0.02);
+    EXPECT_GT(f.floor_plane.z(), 0.99);
+    EXPECT_GT(f.floor.size(), 100u);
+    EXPECT_TRUE(f.obstacles.empty()) << f.obstacles.size() << " floor points taken for obstacles (seed " << seed << ")";
+  }
+  // A floor that is not level in the camera's frame (a camera mounted 3 degrees off): the plane is fitted where it is.
+  DepthCameraDescription off = d;
+  off.tilt += 3.0 * M_PI / 180.0;
+  const FilteredCloud f = ObstacleCloudFilter(FilterFor(1.1), d).Filter(Capture(off, {5.0, 5.0, 0.0}, {}));
+  EXPECT_TRUE(f.floor_fitted);
+  EXPECT_TRUE(f.obstacles.empty()) << f.obstacles.size();
+}
+
+TEST(ObstacleCloudFilter, KeepsATableTopAtItsHeightAndALowBox) {
+  const DepthCameraDescription d = Camera();
+  std::vector<Solid> solids = Table(6.2, 4.6, 7.0, 5.4);
+  solids.push_back({{{6.0, 3.6}, {6.3, 3.9}}, 0.0, 0.15});  // a box lower than a laser at 0.3 m
+  const FilteredCloud f = ObstacleCloudFilter(FilterFor(1.1), d).Filter(Capture(d, {5.0, 5.0, 0.0}, solids));
+  int top = 0, box = 0;
+  for (const Eigen::Vector3f& p : f.obstacles) {
+    const Point2 at = Pose2{5.0, 5.0, 0.0} * Point2(p.x(), p.y());
+    if (at.x() > 6.15 && at.x() < 7.05 && at.y() > 4.55 && at.y() < 5.45 && p.z() > 0.68) {
+      ++top;
+      EXPECT_NEAR(p.z(), 0.73, 0.06);
+    }
+    if (at.x() > 5.95 && at.x() < 6.35 && at.y() > 3.55 && at.y() < 3.95) {
+      ++box;
+      EXPECT_LT(p.z(), 0.2);
+    }
+  }
+  EXPECT_GT(top, 20);
+  EXPECT_GT(box, 3);
+  // A robot 0.6 m tall passes under the top: it is no obstacle to it.
+  const FilteredCloud low = ObstacleCloudFilter(FilterFor(0.6), d).Filter(Capture(d, {5.0, 5.0, 0.0}, solids));
+  for (const Eigen::Vector3f& p : low.obstacles) EXPECT_LT(p.z(), 0.66);
+}
+
+TEST(ObstacleCloudFilter, DropsSpeckle) {
+  const DepthCameraDescription d = Camera();
+  std::vector<Eigen::Vector3f> points = Capture(d, {5.0, 5.0, 0.0}, {});
+  // Lone returns in the air (dust, a stereo mismatch), each far from any other.
+  const Eigen::Isometry3f to_optical = RobotFromOptical(d).inverse();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> ahead(1.0f, 4.0f), side(-1.0f, 1.0f), up(0.3f, 1.0f);
+  for (int i = 0; i < 40; ++i) points.push_back(to_optical * Eigen::Vector3f(ahead(rng), side(rng), up(rng)));
+  const FilteredCloud f = ObstacleCloudFilter(FilterFor(1.1), d).Filter(points);
+  EXPECT_TRUE(f.obstacles.empty()) << f.obstacles.size() << " speckle points kept";
+  ObstacleCloudFilterOptions keep = FilterFor(1.1);
+  keep.speckle_neighbours = 0;
+  EXPECT_GT(ObstacleCloudFilter(keep, d).Filter(points).obstacles.size(), 30u);  // the step that removes them
+}
+
+TEST(DepthObstacleLayer, MarksABoxAndClearsItWhenItIsMovedAway) {
+  const DepthCameraDescription d = Camera();
+  perception::DepthObstacleLayerOptions options;
+  options.filter = FilterFor(1.1);
+  DepthObstacleLayer layer(d, options);
+  layer.SetMap(Room());
+  const Pose2 robot{5.0, 5.0, 0.0};
+  const std::vector<Solid> box = {{{{6.5, 4.8}, {6.9, 5.2}}, 0.0, 0.2}};
+  auto marked_in = [&](double x0, double y0, double x1, double y1) {
+    int n = 0;
+    for (const Point2& p : *layer.Obstacles()) n += p.x() > x0 && p.x() < x1 && p.y() > y0 && p.y() < y1;
+    return n;
+  };
+  layer.AddCloud(Capture(d, robot, box, 1), robot, 0.0);
+  EXPECT_GT(marked_in(6.4, 4.7, 7.0, 5.3), 3);
+  EXPECT_EQ(marked_in(0.0, 0.0, 6.4, 10.0), 0) << "marks off the box";
+  // The box taken away: the camera sees the floor where it stood, and the rays there clear it.
+  layer.AddCloud(Capture(d, robot, {}, 2), robot, 0.1);
+  EXPECT_EQ(marked_in(6.4, 4.7, 7.0, 5.3), 0);
+  // Put back, then out of view: the mark stays until it decays.
+  layer.AddCloud(Capture(d, robot, box, 3), robot, 0.2);
+  const Pose2 away{5.0, 5.0, M_PI};
+  layer.AddCloud(Capture(d, away, box, 4), away, 1.0);
+  EXPECT_GT(marked_in(6.4, 4.7, 7.0, 5.3), 3);
+  layer.AddCloud(Capture(d, away, box, 5), away, 1.0 + options.layer.decay + 1.0);
+  EXPECT_EQ(marked_in(6.4, 4.7, 7.0, 5.3), 0);
+}
+
+TEST(VoxelObstacleLayer, ARayUnderATableTopLeavesItMarked) {
+  perception::VoxelObstacleLayer layer(Room());
+  const Eigen::Vector3d sensor(5.0, 5.0, 1.0);
+  layer.Update(sensor, {{7.0, 5.0, 0.73}}, {}, 0.0);
+  const CellIndex top = Room().CellOf({7.0, 5.0});
+  EXPECT_TRUE(layer.IsObstacle(top));
+  // A ray to the floor beyond passes the top's cell at about 0.2 m: the slice at 0.73 stays.
+  layer.Update(sensor, {}, {{8.0, 5.0, 0.0}}, 0.1);
+  EXPECT_TRUE(layer.IsObstacle(top));
+  // A ray through the top's slice clears it.
+  layer.Update({5.0, 5.0, 0.73}, {}, {{9.0, 5.0, 0.73}}, 0.2);
+  EXPECT_FALSE(layer.IsObstacle(top));
+}
+
+TEST(Scenarios, SolidsHaveHeightsTheLaserAndTheRobotMeetOrNot) {
+  const std::string world =
+      "name: room\nmap: {resolution: 0.05, size: [6, 4], boxes: [[0, 0, 6, 0.1], [0, 3.9, 6, 4], [0, 0, 0.1, 4], "
+      "[5.9, 0, 6, 4]]}\nrobot: {start: [1, 2, 0], height: 1.1}\nlaser: {height: 0.3}\ncamera: {tilt_deg: 20}\n";
+  const std::string path = ::testing::TempDir() + "/room3d.yaml";
+  {
+    std::ofstream(path) << world;
+  }
+  const sim::Scenario s = sim::ParseScenario("world: " + path +
+                                                 "\nhidden_obstacles:\n  solids:\n"
+                                                 "    - {type: table, box: [2.0, 1.6, 2.8, 2.4], height: 0.75}\n"
+                                                 "    - {type: box, box: [4.0, 1.0, 4.3, 1.3], height: 0.15}\n"
+                                                 "    - {type: shelf, box: [4.0, 3.4, 5.0, 3.9], z: [0.5, 1.8]}\n"
+                                                 "    - {type: solid, box: [3.0, 0.1, 3.5, 0.5], z: [1.5, 2.0]}\n",
+                                             "s.yaml", ".");
+  EXPECT_EQ(s.hidden_obstacles, 4);
+  ASSERT_TRUE(s.robots[0].camera);
+  EXPECT_NEAR(s.robots[0].camera->tilt, 20.0 * M_PI / 180.0, 1e-9);
+  sim::Simulation simulation(s, {});
+  // The table: the laser sees its legs, not its top; the robot (1.1 m) meets both.
+  EXPECT_TRUE(simulation.laser_truth().DiscHitsWall({2.025, 1.625}, 0.01));
+  EXPECT_FALSE(simulation.laser_truth().DiscHitsWall({2.4, 2.0}, 0.01));
+  EXPECT_TRUE(simulation.truth().DiscHitsWall({2.4, 2.0}, 0.01));
+  // The low box and the overhanging shelf: below and above the laser's plane, in the robot's way.
+  EXPECT_FALSE(simulation.laser_truth().DiscHitsWall({4.15, 1.15}, 0.01));
+  EXPECT_TRUE(simulation.truth().DiscHitsWall({4.15, 1.15}, 0.01));
+  EXPECT_FALSE(simulation.laser_truth().DiscHitsWall({4.5, 3.6}, 0.01));
+  EXPECT_TRUE(simulation.truth().DiscHitsWall({4.5, 3.6}, 0.01));
+  // Above the robot's top: it drives under it.
+  EXPECT_FALSE(simulation.truth().DiscHitsWall({3.25, 0.3}, 0.01));
+  // The camera's walls are the truth without the solids.
+  EXPECT_FALSE(simulation.camera_walls().DiscHitsWall({2.4, 2.0}, 0.01));
+  EXPECT_TRUE(simulation.camera_walls().DiscHitsWall({0.05, 2.0}, 0.01));
+  // Bad solids name the field.
+  for (const auto& [text, field] : std::vector<std::pair<std::string, std::string>>{
+           {"{type: table, box: [2, 1, 3, 2]}", "solids[0]"},
+           {"{type: shelf, box: [2, 1, 3, 2], z: [1.0, 0.5]}", "solids[0].z"},
+           {"{type: chair, box: [2, 1, 3, 2], height: 1}", "solids[0].type"}}) {
+    try {
+      sim::ParseScenario("world: " + path + "\nhidden_obstacles: {solids: [" + text + "]}\n", "s.yaml", ".");
+      ADD_FAILURE() << text << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(PointCloud2, RoundTripsAndReadsOtherLayouts) {
+  const std::vector<Eigen::Vector3f> points = {{1.0f, 2.0f, 3.0f}, {-0.5f, 0.25f, 4.5f}};
+  auto m = dds::EncodeXyzCloud(points, 12.5, "camera_depth_optical_frame");
+  EXPECT_EQ(m.header().frame_id(), "camera_depth_optical_frame");
+  ASSERT_EQ(m.fields().size(), 3u);
+  EXPECT_EQ(m.fields()[2].name(), "z");
+  EXPECT_EQ(m.fields()[2].offset(), 8u);
+  EXPECT_EQ(m.fields()[2].datatype(), dds::kFloat32);
+  EXPECT_EQ(m.point_step(), 12u);
+  EXPECT_EQ(m.row_step(), 24u);
+  EXPECT_EQ(dds::DecodeXyzCloud(m), points);
+
+  // An organized, big-endian cloud of 16-byte FLOAT64 points with an intensity field first and a
+  // NaN pixel, as other drivers send: the rules find x, y, z by name.
+  sensor_msgs::msg::dds_::PointCloud2_ o;
+  o.height(2);
+  o.width(1);
+  o.point_step(32);
+  o.row_step(32);
+  o.is_bigendian(true);
+  const char* names[] = {"intensity", "x", "y", "z"};
+  for (uint32_t k = 0; k < 4; ++k) {
+    sensor_msgs::msg::dds_::PointField_ f;
+    f.name(names[k]);
+    f.offset(k == 0 ? 0 : 8 * k);
+    f.datatype(k == 0 ? dds::kFloat32 : dds::kFloat64);
+    f.count(1);
+    o.fields().push_back(f);
+  }
+  o.data().resize(64, 0);
+  auto put = [&](size_t at, double v) {
+    uint8_t b[8];
+    std::memcpy(b, &v, 8);
+    for (int i = 0; i < 8; ++i) o.data()[at + i] = b[7 - i];  // host is little-endian
+  };
+  put(8, 1.5);
+  put(16, -2.0);
+  put(24, 3.25);
+  put(32 + 8, std::nan(""));
+  const auto read = dds::DecodeXyzCloud(o);
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_EQ(read[0], Eigen::Vector3f(1.5f, -2.0f, 3.25f));
+
+  // Layouts the rules refuse, each named.
+  auto refused = [](sensor_msgs::msg::dds_::PointCloud2_ bad, const std::string& what) {
+    try {
+      dds::DecodeXyzCloud(bad);
+      ADD_FAILURE() << what << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  auto no_z = m;
+  no_z.fields().pop_back();
+  refused(no_z, "no 'z' field");
+  auto short_data = m;
+  short_data.data().resize(20);
+  refused(short_data, "data holds 20 bytes");
+  auto integer = m;
+  integer.fields()[0].datatype(dds::kInt16);
+  refused(integer, "fields[0] (x).datatype");
+  auto outside = m;
+  outside.fields()[1].offset(10);
+  refused(outside, "fields[1] (y).offset");
+}
+
+}  // namespace
+}  // namespace navd
