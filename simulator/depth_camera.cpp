@@ -34,8 +34,7 @@ float RayBox(const Eigen::Array3f& lo, const Eigen::Array3f& hi, const Eigen::Ar
 }  // namespace
 
 DepthCamera::DepthCamera(const DepthCameraDescription& description) : d_(description) {
-  const double fx = 0.5 * d_.width / std::tan(0.5 * d_.hfov), fy = 0.5 * d_.height / std::tan(0.5 * d_.vfov);
-  const double cx = 0.5 * d_.width, cy = 0.5 * d_.height;
+  const auto [fx, fy, cx, cy] = IntrinsicsOf(d_);
   const Eigen::Matrix3f to_robot = RobotFromOptical(d_).linear();
   std::vector<bool> used(kBins, false);
   double widest = 0.0;

@@ -10,6 +10,17 @@
 
 namespace navd {
 
+// The pinhole model of the description's image: pixel (u, v) (u right, v down, from the top
+// left corner) sees along optical direction ((u + 0.5 - cx) / fx, (v + 0.5 - cy) / fy, 1).
+struct PinholeIntrinsics {
+  double fx = 1.0, fy = 1.0, cx = 0.0, cy = 0.0;
+};
+
+inline PinholeIntrinsics IntrinsicsOf(const DepthCameraDescription& d) {
+  return {0.5 * d.width / std::tan(0.5 * d.hfov), 0.5 * d.height / std::tan(0.5 * d.vfov), 0.5 * d.width,
+          0.5 * d.height};
+}
+
 inline Eigen::Isometry3f RobotFromOptical(const DepthCameraDescription& d) {
   // Optical axes in a level camera's frame, then the camera pitched down by the tilt.
   Eigen::Matrix3f optical_to_level;

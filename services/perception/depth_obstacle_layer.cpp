@@ -1,36 +1,62 @@
 #include "services/perception/depth_obstacle_layer.h"
 
+#include <Eigen/Geometry>
+
+#include "services/common/camera_frame.h"
+
 namespace navd::perception {
 
 DepthObstacleLayer::DepthObstacleLayer(const DepthCameraDescription& camera, const DepthObstacleLayerOptions& options)
     : filter_(options.filter, camera), camera_(camera), layer_options_(options.layer) {}
 
 void DepthObstacleLayer::SetMap(const OccupancyGrid& map) {
+  auto known = std::make_shared<OccupancyGrid>(map.width(), map.height(), map.resolution(), map.origin());
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x)
+      if (map.IsOccupied({x, y}))
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            if (known->Contains({x + dx, y + dy})) known->set({x + dx, y + dy}, OccupancyGrid::kOccupied);
   std::lock_guard<std::mutex> lock(mutex_);
+  known_ = std::move(known);
   layer_.emplace(map, layer_options_);
   obstacles_ = std::make_shared<const std::vector<Point2>>();
   ++version_;
 }
 
 void DepthObstacleLayer::AddCloud(const std::vector<Eigen::Vector3f>& points, const Pose2& robot, double now) {
-  // The filter needs no lock: it reads only its options.
-  const FilteredCloud seen = filter_.Filter(points);
+  std::shared_ptr<const OccupancyGrid> known;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    known = known_;
+  }
   const double c = std::cos(robot.theta), s = std::sin(robot.theta);
+  auto in_map = [&](const Eigen::Vector3f& p) {
+    const Point2 at(robot.x + c * p.x() - s * p.y(), robot.y + s * p.x() + c * p.y());
+    const CellIndex cell = known->CellOf(at);
+    return known->Contains(cell) && known->IsOccupied(cell);
+  };
+  // The filter needs no lock: it reads only its options.
+  const FilteredCloud seen = known ? filter_.Filter(points, in_map) : filter_.Filter(points);
   auto to_map = [&](const Eigen::Vector3f& p) {
     return Eigen::Vector3d(robot.x + c * p.x() - s * p.y(), robot.y + s * p.x() + c * p.y(), p.z());
   };
-  std::vector<Eigen::Vector3d> hits, free_ends;
+  std::vector<Eigen::Vector3d> hits;
   hits.reserve(seen.obstacles.size());
-  free_ends.reserve(seen.floor.size());
   for (const Eigen::Vector3f& p : seen.obstacles) hits.push_back(to_map(p));
-  for (const Eigen::Vector3f& p : seen.floor) free_ends.push_back(to_map(p));
-  const Eigen::Vector3d sensor = to_map(Eigen::Vector3f(
-      static_cast<float>(camera_.mount_x), static_cast<float>(camera_.mount_y), static_cast<float>(camera_.mount_z)));
+  DepthView view = DepthView::Of(points, IntrinsicsOf(camera_), camera_.width, camera_.height);
+  view.range_min = camera_.range_min;
+  view.range_max = camera_.range_max;
+  view.noise = camera_.noise;
+  Eigen::Isometry3d map_from_robot = Eigen::Isometry3d::Identity();
+  map_from_robot.linear() = Eigen::AngleAxisd(robot.theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  map_from_robot.translation() = Eigen::Vector3d(robot.x, robot.y, 0.0);
+  view.map_from_optical = map_from_robot * RobotFromOptical(camera_).cast<double>();
   std::lock_guard<std::mutex> lock(mutex_);
   if (!layer_) return;
   ++clouds_;
   const uint64_t before = layer_->version();
-  layer_->Update(sensor, hits, free_ends, now);
+  layer_->Update(view, hits, now);
   layer_->Decay(now);
   if (layer_->version() != before) {
     obstacles_ = std::make_shared<const std::vector<Point2>>(layer_->Obstacles());

@@ -24,7 +24,8 @@ struct DepthObstacleLayerOptions {
 class DepthObstacleLayer {
  public:
   DepthObstacleLayer(const DepthCameraDescription& camera, const DepthObstacleLayerOptions& options);
-  // A new map to keep the layer over: the marks start afresh.
+  // A new map to keep the layer over: the marks start afresh. What the map holds (within a cell
+  // of its walls) is not marked.
   void SetMap(const OccupancyGrid& map);
   // A cloud (the camera's optical frame) taken with the robot at `robot` (map frame) at `now`.
   // Ignored before a map is set.
@@ -43,6 +44,8 @@ class DepthObstacleLayer {
   VoxelObstacleLayerOptions layer_options_;
   mutable std::mutex mutex_;
   std::optional<VoxelObstacleLayer> layer_;
+  // The map's occupied cells grown by one cell: points there are walls the map holds.
+  std::shared_ptr<const OccupancyGrid> known_;
   std::shared_ptr<const std::vector<Point2>> obstacles_ = std::make_shared<const std::vector<Point2>>();
   uint64_t version_ = 0, clouds_ = 0;
 };

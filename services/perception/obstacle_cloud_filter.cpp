@@ -22,7 +22,8 @@ ObstacleCloudFilter::ObstacleCloudFilter(const ObstacleCloudFilterOptions& optio
                                          const DepthCameraDescription& camera)
     : o_(options), camera_(camera) {}
 
-FilteredCloud ObstacleCloudFilter::Filter(const std::vector<Eigen::Vector3f>& points) const {
+FilteredCloud ObstacleCloudFilter::Filter(const std::vector<Eigen::Vector3f>& points,
+                                          const Explained& explained) const {
   FilteredCloud out;
   const Eigen::Isometry3f to_robot = RobotFromOptical(camera_);
   auto robot = std::make_shared<Cloud>();
@@ -85,10 +86,11 @@ FilteredCloud ObstacleCloudFilter::Filter(const std::vector<Eigen::Vector3f>& po
     const double clear = o_.min_height + o_.noise_sigmas * camera_.noise * range * range;
     if (std::abs(height) <= std::max(o_.floor_tolerance, clear - o_.min_height)) {
       out.floor.push_back(v);
-    } else if (height >= clear && v.z() <= o_.max_height) {
+    } else if (height >= clear && v.z() <= o_.max_height && !(explained && explained(v))) {
       candidates->push_back(q);
     }
   }
+
   if (candidates->empty()) return out;
   Cloud kept;
   if (o_.speckle_neighbours > 0) {

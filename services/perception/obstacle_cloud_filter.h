@@ -4,9 +4,10 @@
 // to the heights that matter (PassThrough), thinned to one per voxel (VoxelGrid), the floor is
 // found as a level plane near z = 0 by RANSAC (SACSegmentation) and split off, and lone points
 // left above it are dropped as speckle (RadiusOutlierRemoval). What remains between min_height
-// and the robot's top is an obstacle; floor points are where the camera saw free space to.
+// and the robot's top is an obstacle.
 // Units: metres; robot frame (x ahead, y left, z up from the floor).
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "services/common/world.h"
@@ -43,8 +44,11 @@ struct FilteredCloud {
 class ObstacleCloudFilter {
  public:
   ObstacleCloudFilter(const ObstacleCloudFilterOptions& options, const DepthCameraDescription& camera);
+  // Whether an obstacle point (robot frame) is one the map already holds (a wall), so neither the
+  // speckle test nor the layer need spend anything on it.
+  using Explained = std::function<bool(const Eigen::Vector3f&)>;
   // `points`: the camera's, in its optical frame. Deterministic for the same points.
-  FilteredCloud Filter(const std::vector<Eigen::Vector3f>& points) const;
+  FilteredCloud Filter(const std::vector<Eigen::Vector3f>& points, const Explained& explained = {}) const;
   const ObstacleCloudFilterOptions& options() const { return o_; }
 
  private:

@@ -1,12 +1,27 @@
 #include "services/perception/voxel_obstacle_layer.h"
 
-#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "services/common/error.h"
-#include "services/common/grid_traversal.h"
 
 namespace navd::perception {
+
+DepthView DepthView::Of(const std::vector<Eigen::Vector3f>& points, const PinholeIntrinsics& k, int width, int height) {
+  DepthView v;
+  v.intrinsics = k;
+  v.width = width;
+  v.height = height;
+  v.depth.assign(static_cast<size_t>(width) * height, std::numeric_limits<float>::infinity());
+  for (const Eigen::Vector3f& p : points) {
+    if (!(p.z() > 0.0f)) continue;
+    const double u = std::floor(k.fx * p.x() / p.z() + k.cx), w = std::floor(k.fy * p.y() / p.z() + k.cy);
+    if (u < 0 || w < 0 || u >= width || w >= height) continue;
+    float& d = v.depth[static_cast<size_t>(w) * width + static_cast<size_t>(u)];
+    d = std::min(d, p.z());
+  }
+  return v;
+}
 
 VoxelObstacleLayer::VoxelObstacleLayer(const OccupancyGrid& geometry, const VoxelObstacleLayerOptions& options)
     : geometry_(geometry.width(), geometry.height(), geometry.resolution(), geometry.origin(), OccupancyGrid::kFree),
@@ -17,80 +32,87 @@ VoxelObstacleLayer::VoxelObstacleLayer(const OccupancyGrid& geometry, const Voxe
     throw Error(ErrorCode::kInvalidArgument, "voxel layer: slices must be 1 to 32 and slice > 0 m");
 }
 
-uint32_t VoxelObstacleLayer::SliceMask(double z0, double z1) const {
-  if (z0 > z1) std::swap(z0, z1);
-  const int top = o_.slices - 1;
-  if (z1 < 0.0 || z0 > o_.slices * o_.slice) return 0;
-  const int a = std::clamp(static_cast<int>(std::floor(z0 / o_.slice)), 0, top);
-  const int b = std::clamp(static_cast<int>(std::floor(z1 / o_.slice)), 0, top);
-  const uint32_t upto_b = b >= 31 ? 0xFFFFFFFFu : ((1u << (b + 1)) - 1u);
-  return upto_b & ~((1u << a) - 1u);
-}
-
-void VoxelObstacleLayer::ClearRay(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
-  const Point2 a = from.head<2>(), b = to.head<2>();
-  const double length = (b - a).norm();
-  const CellIndex end = geometry_.CellOf(b);
-  // Each cell's slices between the heights where the ray enters it and leaves it; the end cell,
-  // where the ray hit something (or the floor), is not cleared.
-  bool have = false;
-  CellIndex cell{0, 0};
-  double entered = 0.0;
-  auto height_at = [&](double t) { return length > 0.0 ? from.z() + (to.z() - from.z()) * (t / length) : to.z(); };
-  auto clear = [&](double left) {
-    if (!have || cell == end || !geometry_.Contains(cell)) return;
-    uint32_t& column = columns_[Flat(cell)];
-    const uint32_t cleared = column & ~SliceMask(height_at(entered), height_at(left));
-    if (cleared != column) {
-      column = cleared;
-      ++version_;
+void VoxelObstacleLayer::Update(const DepthView& view, const std::vector<Eigen::Vector3d>& hits, double now) {
+  // Clearing: each marked slice looked at through the pixel its centre falls in. The ray through
+  // that centre leaves the slice's box at some depth; a return at least that far (less the
+  // noise: three standard deviations) says the ray crossed the whole box.
+  const Eigen::Isometry3d optical_from_map = view.map_from_optical.inverse();
+  const Eigen::Vector3d camera = view.map_from_optical.translation();
+  const double half = 0.5 * geometry_.resolution();
+  const PinholeIntrinsics& k = view.intrinsics;
+  bool cleared = false;
+  for (const size_t flat : marked_) {
+    uint32_t& column = columns_[flat];
+    const CellIndex cell{static_cast<int>(flat % geometry_.width()), static_cast<int>(flat / geometry_.width())};
+    const Point2 centre = geometry_.CellCenter(cell);
+    for (int s = 0; s < o_.slices; ++s) {
+      if (!(column & (1u << s))) continue;
+      const Eigen::Vector3d c(centre.x(), centre.y(), (s + 0.5) * o_.slice);
+      const Eigen::Vector3d p = optical_from_map * c;
+      if (p.z() < view.range_min || p.z() > view.range_max) continue;
+      const double u = std::floor(k.fx * p.x() / p.z() + k.cx), v = std::floor(k.fy * p.y() / p.z() + k.cy);
+      if (u < 0 || v < 0 || u >= view.width || v >= view.height) continue;
+      const float seen = view.depth[static_cast<size_t>(v) * view.width + static_cast<size_t>(u)];
+      if (!std::isfinite(seen)) continue;
+      // Depth (along the optical axis) per metre of the map-frame ray through the centre, and
+      // where that ray leaves the box.
+      const Eigen::Vector3d dir = (c - camera) / p.z();  // map frame, per unit of optical depth
+      double leave = std::numeric_limits<double>::infinity();
+      const Eigen::Vector3d lo(centre.x() - half, centre.y() - half, s * o_.slice);
+      const Eigen::Vector3d hi(centre.x() + half, centre.y() + half, (s + 1) * o_.slice);
+      for (int a = 0; a < 3; ++a) {
+        if (std::abs(dir[a]) < 1e-12) continue;
+        leave = std::min(leave, ((dir[a] > 0 ? hi[a] : lo[a]) - camera[a]) / dir[a]);
+      }
+      if (seen >= leave - 3.0 * view.noise * leave * leave) {
+        column &= ~(1u << s);
+        cleared = true;
+      }
     }
-  };
-  TraverseSegment(geometry_, a, b, [&](const CellIndex& c, double t) {
-    clear(t);
-    have = true;
-    cell = c;
-    entered = t;
-    return true;
-  });
-  clear(length);
-}
-
-void VoxelObstacleLayer::Update(const Eigen::Vector3d& sensor, const std::vector<Eigen::Vector3d>& hits,
-                                const std::vector<Eigen::Vector3d>& free_ends, double now) {
-  if (!geometry_.ContainsPoint(sensor.head<2>())) return;
-  for (const Eigen::Vector3d& p : free_ends) ClearRay(sensor, p);
-  for (const Eigen::Vector3d& p : hits) ClearRay(sensor, p);
+  }
+  if (cleared) {
+    ++version_;
+    Compact();
+  }
+  // Marking.
   for (const Eigen::Vector3d& p : hits) {
     const CellIndex c = geometry_.CellOf(p.head<2>());
-    if (!geometry_.Contains(c)) continue;
-    const uint32_t bit = SliceMask(p.z(), p.z());
+    if (!geometry_.Contains(c) || p.z() < 0.0) continue;
+    const int s = static_cast<int>(p.z() / o_.slice);
+    if (s >= o_.slices) continue;
     uint32_t& column = columns_[Flat(c)];
-    if ((column & bit) != bit) ++version_;
-    column |= bit;
+    if (column == 0) marked_.push_back(Flat(c));
+    if (!(column & (1u << s))) ++version_;
+    column |= 1u << s;
     marked_at_[Flat(c)] = static_cast<float>(now);
   }
 }
 
 void VoxelObstacleLayer::Decay(double now) {
-  for (size_t i = 0; i < columns_.size(); ++i) {
-    if (columns_[i] != 0 && now - marked_at_[i] > o_.decay) {
-      columns_[i] = 0;
-      ++version_;
+  bool dropped = false;
+  for (const size_t flat : marked_) {
+    if (now - marked_at_[flat] > o_.decay) {
+      columns_[flat] = 0;
+      dropped = true;
     }
   }
+  if (dropped) {
+    ++version_;
+    Compact();
+  }
+}
+
+void VoxelObstacleLayer::Compact() {
+  std::erase_if(marked_, [this](size_t flat) { return columns_[flat] == 0; });
 }
 
 std::vector<Point2> VoxelObstacleLayer::Obstacles() const {
   std::vector<Point2> out;
-  for (int y = 0; y < geometry_.height(); ++y)
-    for (int x = 0; x < geometry_.width(); ++x)
-      if (columns_[Flat({x, y})] != 0) out.push_back(geometry_.CellCenter({x, y}));
+  out.reserve(marked_.size());
+  for (const size_t flat : marked_)
+    out.push_back(
+        geometry_.CellCenter({static_cast<int>(flat % geometry_.width()), static_cast<int>(flat / geometry_.width())}));
   return out;
-}
-
-size_t VoxelObstacleLayer::obstacle_count() const {
-  return static_cast<size_t>(std::count_if(columns_.begin(), columns_.end(), [](uint32_t c) { return c != 0; }));
 }
 
 }  // namespace navd::perception

@@ -1,15 +1,20 @@
 #pragma once
-// Nav2's voxel layer: what sensors saw in 3-D that the map lacks, kept per map cell as a column of
-// height slices (one bit each, as Nav2's voxel grid packs them). A point marks its slice; a ray
-// from the sensor to a point clears every slice it passes through before it, so a box moved away
-// is cleared by the first look at the floor where it stood, while a table top over a cell the rays
-// pass beneath stays marked. A column with a slice marked is an obstacle. Marks not seen again for
+// Nav2's voxel layer for a depth camera: what it saw in 3-D that the map lacks, kept per map cell
+// as a column of height slices (one bit each, as Nav2's voxel grid packs them). A point marks its
+// slice. A marked slice inside the camera's view is cleared when the pixel through its centre saw
+// as far as where that ray leaves it (a z-buffer test, instead of tracing a ray to every point:
+// the marks in view are a few hundred, the points tens of thousands): a box moved away is cleared
+// by the first look at the floor where it stood, while a table top stays marked as long as the
+// pixels through it see it. Marks not seen again for
 // `decay` seconds are forgotten (out of the camera's narrow view nothing clears them).
 // Map frame, metres, seconds.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
+#include "services/common/camera_frame.h"
 #include "services/common/occupancy_grid.h"
 
 namespace navd::perception {
@@ -20,35 +25,49 @@ struct VoxelObstacleLayerOptions {
   double decay = 20.0;  // s a mark lasts without being seen again
 };
 
+// What the camera saw, as a z-buffer: per pixel the nearest depth (m along the optical axis),
+// infinity where it saw nothing; and where the camera was.
+struct DepthView {
+  PinholeIntrinsics intrinsics;
+  int width = 0, height = 0;
+  std::vector<float> depth;  // row-major, width * height
+  Eigen::Isometry3d map_from_optical = Eigen::Isometry3d::Identity();
+  double range_min = 0.0, range_max = 0.0;  // m: the camera's; beyond range_max a pixel saw nothing
+  double noise = 0.0;  // the depth's standard deviation per m^2 of depth (DepthCameraDescription::noise)
+
+  // The z-buffer of `points` (optical frame) for an image of `width` x `height`.
+  static DepthView Of(const std::vector<Eigen::Vector3f>& points, const PinholeIntrinsics& intrinsics, int width,
+                      int height);
+};
+
 class VoxelObstacleLayer {
  public:
   // Covers the cells of `geometry` (its size, resolution and origin; its cells are not read).
   VoxelObstacleLayer(const OccupancyGrid& geometry, const VoxelObstacleLayerOptions& options = {});
 
-  // One observation at time `now` from a sensor at `sensor`: rays to every point in `hits` and in
-  // `free_ends` clear what they pass; then `hits` are marked. Points off the layer are skipped.
-  void Update(const Eigen::Vector3d& sensor, const std::vector<Eigen::Vector3d>& hits,
-              const std::vector<Eigen::Vector3d>& free_ends, double now);
+  // One look at time `now`: marked slices in `view` that the camera saw past are cleared, then
+  // `hits` (map frame) are marked. Points off the layer are skipped.
+  void Update(const DepthView& view, const std::vector<Eigen::Vector3d>& hits, double now);
   // Forgets marks older than `decay` at `now`.
   void Decay(double now);
   bool IsObstacle(const CellIndex& c) const { return columns_[Flat(c)] != 0; }
   // The centres of the cells with a mark (map frame).
   std::vector<Point2> Obstacles() const;
-  size_t obstacle_count() const;
+  size_t obstacle_count() const { return marked_.size(); }
   const OccupancyGrid& geometry() const { return geometry_; }
   // Bumped by every change of the marks, so readers can tell a new layer from the last one.
   uint64_t version() const { return version_; }
 
  private:
   size_t Flat(const CellIndex& c) const { return static_cast<size_t>(c.y) * geometry_.width() + c.x; }
-  // The slices between heights z0 and z1 (either order), as a bit mask.
-  uint32_t SliceMask(double z0, double z1) const;
-  void ClearRay(const Eigen::Vector3d& from, const Eigen::Vector3d& to);
+  // Drops the cells whose marks are all gone from marked_.
+  void Compact();
 
   OccupancyGrid geometry_;
   VoxelObstacleLayerOptions o_;
   std::vector<uint32_t> columns_;  // bit k: slice k is marked
   std::vector<float> marked_at_;   // s, when the column was last marked
+  std::vector<size_t> marked_;     // the flat indices of the columns with a mark
   uint64_t version_ = 0;
 };
 

@@ -165,8 +165,10 @@ TEST(DepthObstacleLayer, MarksABoxAndClearsItWhenItIsMovedAway) {
   layer.AddCloud(Capture(d, robot, box, 1), robot, 0.0);
   EXPECT_GT(marked_in(6.4, 4.7, 7.0, 5.3), 3);
   EXPECT_EQ(marked_in(0.0, 0.0, 6.4, 10.0), 0) << "marks off the box";
-  // The box taken away: the camera sees the floor where it stood, and the rays there clear it.
+  // The box taken away: the camera sees the floor where it stood, and that clears it (two frames,
+  // 67 ms apart: a pixel may be a hole in one).
   layer.AddCloud(Capture(d, robot, {}, 2), robot, 0.1);
+  layer.AddCloud(Capture(d, robot, {}, 6), robot, 0.167);
   EXPECT_EQ(marked_in(6.4, 4.7, 7.0, 5.3), 0);
   // Put back, then out of view: the mark stays until it decays.
   layer.AddCloud(Capture(d, robot, box, 3), robot, 0.2);
@@ -177,18 +179,34 @@ TEST(DepthObstacleLayer, MarksABoxAndClearsItWhenItIsMovedAway) {
   EXPECT_EQ(marked_in(6.4, 4.7, 7.0, 5.3), 0);
 }
 
-TEST(VoxelObstacleLayer, ARayUnderATableTopLeavesItMarked) {
+// Marks whose pixels see past them are cleared, the table top that is seen again stays, and a mark
+// outside the view is left alone.
+TEST(VoxelObstacleLayer, ClearsWhatTheCameraSawPastAndNothingElse) {
+  const DepthCameraDescription d = Camera();
   perception::VoxelObstacleLayer layer(Room());
-  const Eigen::Vector3d sensor(5.0, 5.0, 1.0);
-  layer.Update(sensor, {{7.0, 5.0, 0.73}}, {}, 0.0);
-  const CellIndex top = Room().CellOf({7.0, 5.0});
+  auto view_of = [&](const std::vector<Solid>& solids, const Pose2& robot = {5.0, 5.0, 0.0}) {
+    Eigen::Isometry3d map_from_robot = Eigen::Isometry3d::Identity();
+    map_from_robot.translation() = Eigen::Vector3d(robot.x, robot.y, 0.0);
+    perception::DepthView v = perception::DepthView::Of(Capture(d, robot, solids), IntrinsicsOf(d), d.width, d.height);
+    v.map_from_optical = map_from_robot * RobotFromOptical(d).cast<double>();
+    v.range_min = d.range_min;
+    v.range_max = d.range_max;
+    v.noise = d.noise;
+    return v;
+  };
+  const std::vector<Solid> table = Table(6.6, 4.6, 7.4, 5.4);
+  const CellIndex top = Room().CellOf({7.0, 5.0}), behind = Room().CellOf({8.0, 6.2}),
+                  aside = Room().CellOf({5.0, 8.0});
+  layer.Update(view_of(table), {{7.0, 5.0, 0.73}, {8.0, 6.2, 0.3}, {5.0, 8.0, 0.3}}, 0.0);
+  EXPECT_EQ(layer.obstacle_count(), 3u);
+  layer.Update(view_of(table), {{7.0, 5.0, 0.73}}, 0.1);
   EXPECT_TRUE(layer.IsObstacle(top));
-  // A ray to the floor beyond passes the top's cell at about 0.2 m: the slice at 0.73 stays.
-  layer.Update(sensor, {}, {{8.0, 5.0, 0.0}}, 0.1);
-  EXPECT_TRUE(layer.IsObstacle(top));
-  // A ray through the top's slice clears it.
-  layer.Update({5.0, 5.0, 0.73}, {}, {{9.0, 5.0, 0.73}}, 0.2);
+  EXPECT_FALSE(layer.IsObstacle(behind));  // nothing there: the camera saw the floor past it
+  EXPECT_TRUE(layer.IsObstacle(aside));    // out of view
+  // The table taken away: from where the pixels through its top see the floor within range.
+  layer.Update(view_of({}, {6.0, 5.0, 0.0}), {}, 0.2);
   EXPECT_FALSE(layer.IsObstacle(top));
+  EXPECT_EQ(layer.obstacle_count(), 1u);
 }
 
 TEST(Scenarios, SolidsHaveHeightsTheLaserAndTheRobotMeetOrNot) {
@@ -196,9 +214,7 @@ TEST(Scenarios, SolidsHaveHeightsTheLaserAndTheRobotMeetOrNot) {
       "name: room\nmap: {resolution: 0.05, size: [6, 4], boxes: [[0, 0, 6, 0.1], [0, 3.9, 6, 4], [0, 0, 0.1, 4], "
       "[5.9, 0, 6, 4]]}\nrobot: {start: [1, 2, 0], height: 1.1}\nlaser: {height: 0.3}\ncamera: {tilt_deg: 20}\n";
   const std::string path = ::testing::TempDir() + "/room3d.yaml";
-  {
-    std::ofstream(path) << world;
-  }
+  { std::ofstream(path) << world; }
   const sim::Scenario s = sim::ParseScenario("world: " + path +
                                                  "\nhidden_obstacles:\n  solids:\n"
                                                  "    - {type: table, box: [2.0, 1.6, 2.8, 2.4], height: 0.75}\n"
