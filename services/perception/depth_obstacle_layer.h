@@ -48,6 +48,7 @@ class DepthObstacleLayer {
   std::shared_ptr<const OccupancyGrid> known_;
   std::shared_ptr<const std::vector<Point2>> obstacles_ = std::make_shared<const std::vector<Point2>>();
   uint64_t version_ = 0, clouds_ = 0;
+  int stride_;  // pixels: the filter reads every stride-th row and column of the depth image
 };
 
 }  // namespace navd::perception

@@ -13,14 +13,31 @@ DepthView DepthView::Of(const std::vector<Eigen::Vector3f>& points, const Pinhol
   v.width = width;
   v.height = height;
   v.depth.assign(static_cast<size_t>(width) * height, std::numeric_limits<float>::infinity());
+  const auto fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy), cx = static_cast<float>(k.cx),
+             cy = static_cast<float>(k.cy);
   for (const Eigen::Vector3f& p : points) {
     if (!(p.z() > 0.0f)) continue;
-    const double u = std::floor(k.fx * p.x() / p.z() + k.cx), w = std::floor(k.fy * p.y() / p.z() + k.cy);
-    if (u < 0 || w < 0 || u >= width || w >= height) continue;
+    const float inverse = 1.0f / p.z();
+    const float u = fx * p.x() * inverse + cx, w = fy * p.y() * inverse + cy;
+    if (!(u >= 0.0f && w >= 0.0f && u < static_cast<float>(width) && w < static_cast<float>(height))) continue;
     float& d = v.depth[static_cast<size_t>(w) * width + static_cast<size_t>(u)];
     d = std::min(d, p.z());
   }
   return v;
+}
+
+std::vector<Eigen::Vector3f> DepthView::Points(int stride) const {
+  std::vector<Eigen::Vector3f> out;
+  const auto fx = static_cast<float>(intrinsics.fx), fy = static_cast<float>(intrinsics.fy),
+             cx = static_cast<float>(intrinsics.cx), cy = static_cast<float>(intrinsics.cy);
+  for (int v = 0; v < height; v += stride) {
+    for (int u = 0; u < width; u += stride) {
+      const float z = depth[static_cast<size_t>(v) * width + u];
+      if (!std::isfinite(z)) continue;
+      out.emplace_back((static_cast<float>(u) + 0.5f - cx) / fx * z, (static_cast<float>(v) + 0.5f - cy) / fy * z, z);
+    }
+  }
+  return out;
 }
 
 VoxelObstacleLayer::VoxelObstacleLayer(const OccupancyGrid& geometry, const VoxelObstacleLayerOptions& options)

@@ -38,6 +38,8 @@ struct DepthView {
   // The z-buffer of `points` (optical frame) for an image of `width` x `height`.
   static DepthView Of(const std::vector<Eigen::Vector3f>& points, const PinholeIntrinsics& intrinsics, int width,
                       int height);
+  // The points of every stride-th row and column with a reading (optical frame): a decimated cloud.
+  std::vector<Eigen::Vector3f> Points(int stride) const;
 };
 
 class VoxelObstacleLayer {

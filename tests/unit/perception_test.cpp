@@ -149,8 +149,14 @@ TEST(ObstacleCloudFilter, DropsSpeckle) {
   EXPECT_GT(ObstacleCloudFilter(keep, d).Filter(points).obstacles.size(), 30u);  // the step that removes them
 }
 
-TEST(DepthObstacleLayer, MarksABoxAndClearsItWhenItIsMovedAway) {
-  const DepthCameraDescription d = Camera();
+class DepthObstacleLayerAt : public ::testing::TestWithParam<std::pair<int, int>> {};
+
+// At the default 212 x 120, whose every pixel the filter reads, and at 640 x 480, read every
+// third row and column.
+TEST_P(DepthObstacleLayerAt, MarksABoxAndClearsItWhenItIsMovedAway) {
+  DepthCameraDescription d = Camera();
+  d.width = GetParam().first;
+  d.height = GetParam().second;
   perception::DepthObstacleLayerOptions options;
   options.filter = FilterFor(1.1);
   DepthObstacleLayer layer(d, options);
@@ -178,6 +184,8 @@ TEST(DepthObstacleLayer, MarksABoxAndClearsItWhenItIsMovedAway) {
   layer.AddCloud(Capture(d, away, box, 5), away, 1.0 + options.layer.decay + 1.0);
   EXPECT_EQ(marked_in(6.4, 4.7, 7.0, 5.3), 0);
 }
+INSTANTIATE_TEST_SUITE_P(Resolutions, DepthObstacleLayerAt,
+                         ::testing::Values(std::make_pair(212, 120), std::make_pair(640, 480)));
 
 // Marks whose pixels see past them are cleared, the table top that is seen again stays, and a mark
 // outside the view is left alone.
