@@ -83,11 +83,14 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
   std::vector<uint8_t> busy(kBins, 0);  // some solid or body spans the sliver
   auto span = [&](const Point2& centre, double half_angle, int& first, int& last) {
     const double bearing = std::atan2(centre.y() - origin.y(), centre.x() - origin.x()) - pose.theta;
-    first = BinOf(NormalizeAngle(bearing - half_angle)) - 1;
-    last = BinOf(NormalizeAngle(bearing + half_angle)) + 1;
-    const bool wraps = first > last;
-    for (int b = 0; b < kBins; ++b)
-      if (wraps ? (b >= first || b <= last) : (b >= first && b <= last)) busy[static_cast<size_t>(b)] = 1;
+    first = std::max(0, BinOf(NormalizeAngle(bearing - half_angle)) - 1);
+    last = std::min(kBins - 1, BinOf(NormalizeAngle(bearing + half_angle)) + 1);
+    if (first <= last) {
+      std::fill(busy.begin() + first, busy.begin() + last + 1, 1);
+    } else {  // across the bearing behind the robot
+      std::fill(busy.begin() + first, busy.end(), 1);
+      std::fill(busy.begin(), busy.begin() + last + 1, 1);
+    }
   };
   struct Near {
     Eigen::Array3f lo, hi;  // corners relative to the camera
@@ -130,8 +133,8 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
     bodies.push_back(b);
   }
   const size_t noise_at = static_cast<size_t>(rng() % (noise_.size() - pixels_.size()));
-  std::vector<Eigen::Vector3f> points;
-  points.reserve(pixels_.size());
+  std::vector<Eigen::Vector3f> points(pixels_.size());
+  size_t count = 0;
   for (size_t i = 0; i < pixels_.size(); ++i) {
     const Pixel& p = pixels_[i];
     const float noise = noise_[noise_at + i];
@@ -154,8 +157,9 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
     }
     if (depth < d_.range_min || depth > d_.range_max) continue;
     depth += d_.noise * depth * depth * noise;
-    points.push_back(p.optical * static_cast<float>(depth));
+    points[count++] = p.optical * static_cast<float>(depth);
   }
+  points.resize(count);
   return points;
 }
 

@@ -48,9 +48,17 @@ FilteredCloud ObstacleCloudFilter::Filter(const std::vector<Eigen::Vector3f>& po
   voxels.filter(*thin);
 
   // The floor: a level plane among the points near z = 0.
+  // RANSAC needs far fewer points than a camera gives to find a plane most of them lie on: at most
+  // floor_sample of them, spread evenly.
   pcl::IndicesPtr near_floor(new pcl::Indices);
   for (size_t i = 0; i < thin->size(); ++i)
     if (std::abs((*thin)[i].z) <= o_.floor_search) near_floor->push_back(static_cast<int>(i));
+  if (static_cast<int>(near_floor->size()) > o_.floor_sample) {
+    const size_t every = near_floor->size() / static_cast<size_t>(o_.floor_sample) + 1;
+    size_t kept = 0;
+    for (size_t i = 0; i < near_floor->size(); i += every) (*near_floor)[kept++] = (*near_floor)[i];
+    near_floor->resize(kept);
+  }
   if (static_cast<int>(near_floor->size()) >= o_.floor_min_points) {
     pcl::SACSegmentation<pcl::PointXYZ> sac;
     sac.setOptimizeCoefficients(true);

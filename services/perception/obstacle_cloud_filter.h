@@ -26,6 +26,7 @@ struct ObstacleCloudFilterOptions {
   double floor_tolerance = 0.03;
   int floor_iterations = 60;
   int floor_min_points = 30;  // fewer near-floor points: no plane is fitted, z = 0 is taken
+  int floor_sample = 1000;    // at most this many near-floor points are searched
   // Depth noise grows with range squared: a point is an obstacle only if it stands clear of the
   // floor by min_height plus this many standard deviations of the camera's noise at its range.
   double noise_sigmas = 3.0;

@@ -53,24 +53,6 @@ BENCHMARK(BM_PerceptionPipeline)
     ->Args({212, 120, 1})
     ->Unit(benchmark::kMillisecond);
 
-// The PCL filter alone (the first half of the pipeline).
-void BM_ObstacleCloudFilter(benchmark::State& state) {
-  const DepthCameraDescription d = CameraAt(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  perception::ObstacleCloudFilterOptions options;
-  options.max_height = Office3d().robots[0].body.height + 0.05;
-  const perception::ObstacleCloudFilter filter(options, d);
-  const std::vector<Eigen::Vector3f> cloud = Cloud(d, kViews[state.range(2)]);
-  perception::FilteredCloud out;
-  for (auto _ : state) out = filter.Filter(cloud);
-  state.counters["floor"] = static_cast<double>(out.floor.size());
-  state.counters["obstacles"] = static_cast<double>(out.obstacles.size());
-}
-BENCHMARK(BM_ObstacleCloudFilter)
-    ->Args({640, 480, 0})
-    ->Args({212, 120, 0})
-    ->Args({212, 120, 1})
-    ->Unit(benchmark::kMillisecond);
-
 void BM_DepthCameraRender(benchmark::State& state) {
   const DepthCameraDescription d = CameraAt(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   const sim::Simulation simulation(Office3d(), {});

@@ -3,8 +3,8 @@
 // from a starting guess off by the log's own odometry error (the documented noise model, seeded),
 // by navd's point-to-line ICP (services/mapping/point_to_line_matcher, a hash grid for its
 // nearest neighbours), PCL's point-to-point ICP (a FLANN kd-tree for its correspondences) in 3-D
-// and with its 2-D transformation estimate, and PCL's 2-D NDT. Prints, per method: the median and 95th percentile translation and heading errors, the
-// share of pairs off by more than 0.1 m or 0.05 rad, and the median time per match.
+// and with its 2-D transformation estimate, and PCL's 2-D NDT. Prints, per method: the median and 95th percentile
+// translation and heading errors, the share of pairs off by more than 0.1 m or 0.05 rad, and the median time per match.
 //   registration_compare --log ../shared/data/carmen/intel-corrected.log.gz [--pairs 300] [--seed 1]
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -41,7 +41,8 @@ std::vector<Point2> EndPoints(const CarmenScan& s) {
 
 Cloud::Ptr ToCloud(const std::vector<Point2>& points) {
   auto c = std::make_shared<Cloud>();
-  for (const Point2& p : points) c->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f));
+  for (const Point2& p : points)
+    c->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f));
   return c;
 }
 
@@ -157,7 +158,9 @@ int main(int argc, char** argv) {
   std::printf("%zu scan pairs of %s, starting guesses off by median %.1f mm / %.1f mrad (95%%: %.1f mm / %.1f mrad)\n",
               pairs.size(), log_path.c_str(), 1e3 * quantile(guess_t, 0.5), 1e3 * quantile(guess_r, 0.5),
               1e3 * quantile(guess_t, 0.95), 1e3 * quantile(guess_r, 0.95));
-  std::printf("| method | translation error mm, median / 95%% | heading error mrad, median / 95%% | off > 0.1 m or 0.05 rad | ms per match, median |\n|---|---|---|---|---|\n");
+  std::printf(
+      "| method | translation error mm, median / 95%% | heading error mrad, median / 95%% | off > 0.1 m or 0.05 rad | "
+      "ms per match, median |\n|---|---|---|---|---|\n");
   for (const auto& [name, match] : methods) {
     std::vector<double> et, er, ms;
     int off = 0;
