@@ -306,7 +306,7 @@ TEST(PointCloud2, RoundTripsAndReadsOtherLayouts) {
   EXPECT_EQ(read[0], Eigen::Vector3f(1.5f, -2.0f, 3.25f));
 
   // Layouts the rules refuse, each named.
-  auto refused = [](sensor_msgs::msg::dds_::PointCloud2_ bad, const std::string& what) {
+  auto refused = [](const sensor_msgs::msg::dds_::PointCloud2_& bad, const std::string& what) {
     try {
       dds::DecodeXyzCloud(bad);
       ADD_FAILURE() << what << " was accepted";
