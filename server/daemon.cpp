@@ -223,9 +223,10 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   }
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
                    map_builder, camera_perception.get());
-  MapPublisher map_publisher(bridge, maps, map_builder, *clock, planning, camera_layer.get());
+  SensedCostmap costmaps(planning, camera_layer.get());
+  MapPublisher map_publisher(bridge, maps, map_builder, *clock, costmaps);
   std::unique_ptr<ViewFeed> view =
-      MakeViewFeed(o, grpc_security, {maps, map_builder, planning, localizer, executive, &bridge, *clock});
+      MakeViewFeed(o, grpc_security, {maps, map_builder, planning, costmaps, localizer, executive, &bridge, *clock});
 
   planning::PlanningService planning_service(planning);
   localization::LocalizationService localization_service(localizer, maps);

@@ -30,37 +30,21 @@ std::vector<int8_t> PublishedCosts(const planning::Costmap& costmap) {
 }  // namespace
 
 MapPublisher::MapPublisher(DdsBridge& bridge, const MapStore& maps, const mapping::MapBuilder& builder,
-                           const Clock& clock, planning::PlanningEngine& planning,
-                           const perception::DepthObstacleLayer* layer, double building_period, double served_period,
+                           const Clock& clock, SensedCostmap& costmaps, double building_period, double served_period,
                            double costmap_period)
     : bridge_(bridge),
       maps_(maps),
       builder_(builder),
       clock_(clock),
-      planning_(planning),
-      layer_(layer),
+      costmaps_(costmaps),
       building_period_(building_period),
       served_period_(served_period),
       costmap_period_(costmap_period) {}
 
 void MapPublisher::PublishCostmap(bool due) {
-  std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();
-  if (!costmap) return;
-  const uint64_t layer_version = layer_ ? layer_->version() : 0;
-  if (!due && costmap.get() == costmap_seen_ && layer_version == layer_version_) return;
-  costmap_seen_ = costmap.get();
+  std::shared_ptr<const planning::Costmap> costmap = costmaps_.Current();
+  if (!costmap || (!due && costmap == costmap_)) return;
   costmap_ = costmap;
-  layer_version_ = layer_version;
-  if (layer_) {
-    const auto cells = layer_->Obstacles();
-    if (!cells->empty()) {
-      OccupancyGrid grid = costmap->grid();
-      for (const Point2& p : *cells)
-        if (grid.ContainsPoint(p)) grid.set(grid.CellOf(p), OccupancyGrid::kOccupied);
-      costmap = std::make_shared<const planning::Costmap>(std::make_shared<const OccupancyGrid>(std::move(grid)),
-                                                          costmap->options());
-    }
-  }
   bridge_.PublishCostmap(costmap->grid(), PublishedCosts(*costmap), clock_.Now());
 }
 

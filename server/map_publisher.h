@@ -1,9 +1,9 @@
 #pragma once
 // Publishes navd's map on rt/<ns>/map from its own thread, paced in wall time: the map being
 // built every `building_period` seconds during a mapping run, otherwise the served map when it
-// changes and every `served_period` seconds (for late joiners). The costmap navd plans on goes
-// out on rt/<ns>/navd/costmap likewise, with what the sensed-obstacle layer holds drawn in, at
-// most every `costmap_period` seconds while that layer changes. Rendering and sending a large map
+// changes and every `served_period` seconds (for late joiners). The costmap navd plans on
+// (SensedCostmap) goes out on rt/<ns>/navd/costmap likewise, at most every `costmap_period`
+// seconds while it changes. Rendering and sending a large map
 // takes tens of milliseconds, which the control loop must not spend, and simulated time may run
 // many times faster than the wall.
 #include <atomic>
@@ -13,18 +13,16 @@
 
 #include "server/dds_bridge.h"
 #include "services/common/map_store.h"
+#include "server/sensed_costmap.h"
 #include "services/mapping/map_builder.h"
-#include "services/perception/depth_obstacle_layer.h"
-#include "services/planning/planning_engine.h"
 
 namespace navd::server {
 
 class MapPublisher {
  public:
-  // layer: the sensed obstacles to draw into the costmap; null: none.
   MapPublisher(DdsBridge& bridge, const MapStore& maps, const mapping::MapBuilder& builder, const Clock& clock,
-               planning::PlanningEngine& planning, const perception::DepthObstacleLayer* layer,
-               double building_period = 2.0, double served_period = 30.0, double costmap_period = 1.0);
+               SensedCostmap& costmaps, double building_period = 2.0, double served_period = 30.0,
+               double costmap_period = 1.0);
   ~MapPublisher();
   void Start();
   void Stop();
@@ -38,12 +36,9 @@ class MapPublisher {
   const MapStore& maps_;
   const mapping::MapBuilder& builder_;
   const Clock& clock_;
-  planning::PlanningEngine& planning_;
-  const perception::DepthObstacleLayer* layer_;
+  SensedCostmap& costmaps_;
   double building_period_, served_period_, costmap_period_;
-  const planning::Costmap* costmap_seen_ = nullptr;
-  std::shared_ptr<const planning::Costmap> costmap_;  // keeps costmap_seen_'s address from reuse
-  uint64_t layer_version_ = 0;
+  std::shared_ptr<const planning::Costmap> costmap_;  // the last one published
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;

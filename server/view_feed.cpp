@@ -173,10 +173,9 @@ void ViewFeed::PublishOnce(bool building_due) {
     }
   }
   if (server_.HasSubscribers(channels_.costmap)) {
-    std::shared_ptr<const planning::Costmap> costmap = sources_.planning.CurrentCostmap();
-    if (costmap && costmap.get() != costmap_seen_) {
-      costmap_seen_ = costmap.get();
-      costmap_ = costmap;  // keeps the address from being reused by the next one
+    std::shared_ptr<const planning::Costmap> costmap = sources_.costmaps.Current();
+    if (costmap && costmap != costmap_) {
+      costmap_ = costmap;
       const OccupancyGrid& grid = costmap->grid();
       std::vector<uint8_t> cost(grid.cells().size());
       for (int y = 0; y < grid.height(); ++y) {

@@ -22,6 +22,7 @@
 #include "services/localization/localizer_selector.h"
 #include "services/mapping/map_builder.h"
 #include "services/navigation/navigation_executive.h"
+#include "server/sensed_costmap.h"
 #include "services/planning/planning_engine.h"
 #include "view/foxglove_server.h"
 
@@ -39,6 +40,7 @@ struct ViewSources {
   const MapStore& maps;
   const mapping::MapBuilder& builder;
   planning::PlanningEngine& planning;
+  SensedCostmap& costmaps;  // what /costmap shows: the planner's, with the sensed obstacles
   const localization::LocalizerSelector& localizer;
   navigation::NavigationExecutive& executive;
   const DdsBridge* bridge = nullptr;  // the newest scan; null: no scan channel data
@@ -67,8 +69,7 @@ class ViewFeed {
   view::FoxgloveServer server_;
   Channels channels_{};
   uint64_t map_version_ = 0;
-  const planning::Costmap* costmap_seen_ = nullptr;
-  std::shared_ptr<const planning::Costmap> costmap_;
+  std::shared_ptr<const planning::Costmap> costmap_;  // the last one shown
   uint64_t status_sequence_ = 0;
   uint64_t scans_seen_ = 0;
 

@@ -116,6 +116,9 @@ class RobotTopics {
     }
   }
 
+  // Whether a reader takes this robot's depth images (asked of DDS every few hundred steps).
+  bool camera_watched() const { return camera_ && camera_->matched() > 0; }
+
   void ApplyCommands(sim::Simulation& simulation, size_t index) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (velocity_) simulation.Command(index, *velocity_);
@@ -517,6 +520,8 @@ int Run(int argc, char** argv) {
       }
     }
     for (size_t i = 0; i < topics.size(); ++i) topics[i]->ApplyCommands(simulation, i);
+    if (steps % 256 == 0)
+      for (size_t i = 0; i < topics.size(); ++i) simulation.SetCameraWatched(i, topics[i]->camera_watched());
     doors.Apply(simulation);
     const sim::StepOutputs out = simulation.Step();
     ++steps;

@@ -56,6 +56,8 @@ Simulation::Simulation(Scenario scenario, const SimulationOptions& options)
   }
 }
 
+void Simulation::SetCameraWatched(size_t index, bool watched) { robots_.at(index)->camera_watched_ = watched; }
+
 void Simulation::RebuildViews() {
   laser_truth_.reset();
   camera_walls_.reset();
@@ -307,7 +309,7 @@ StepOutputs Simulation::Step() {
     }
     if (r.ir_ && Due(r.ir_->description().rate, r.last_ir_))
       o.ir = r.ir_->Read(pose, truth_, discs, r.id_, r.sensor_rng_);
-    if (r.camera_ && Due(r.camera_->description().rate, r.last_camera_))
+    if (r.camera_ && Due(r.camera_->description().rate, r.last_camera_) && r.camera_watched_)
       o.camera = r.camera_->Capture(pose, camera_walls(), scenario_.solids, discs, r.id_, r.camera_rng_);
     o.odom = Due(options_.odom_rate, r.last_odom_);
     o.encoders = r.spec_.encoders && Due(r.spec_.encoder_rate, r.last_encoders_);

@@ -80,6 +80,7 @@ class SimulatedRobot {
   std::optional<LaserScanner> laser_;
   std::optional<RangeSensorArray> sonar_, ir_;
   std::optional<DepthCamera> camera_;
+  bool camera_watched_ = true;
   double last_command_ = -1e9;
   bool watchdog_stopped_ = true;
   bool in_contact_ = false;  // touching something now
@@ -132,6 +133,9 @@ class Simulation {
   // Commands for robot `index` arriving now (simulated time). Non-finite values are ignored.
   void Command(size_t index, const BodyTwist& twist);
   void CommandAcceleration(size_t index, double linear, double angular);
+  // Whether anyone takes robot `index`'s depth images: an image nobody takes is not rendered (it
+  // changes nothing else: the camera draws from a random stream of its own). On by default.
+  void SetCameraWatched(size_t index, bool watched);
   StepOutputs Step();
   // Opens or closes the scenario's door `name` now; the sensors see it from the next reading.
   // Throws navd::Error: kNotFound (listing the doors) for an unknown name, kFailedPrecondition
