@@ -16,8 +16,8 @@ std::shared_ptr<const planning::Costmap> SensedCostmap::Current() {
   OccupancyGrid grid = base->grid();
   for (const Point2& p : *cells)
     if (grid.ContainsPoint(p)) grid.set(grid.CellOf(p), OccupancyGrid::kOccupied);
-  current_ =
-      std::make_shared<const planning::Costmap>(std::make_shared<const OccupancyGrid>(std::move(grid)), base->options());
+  current_ = std::make_shared<const planning::Costmap>(std::make_shared<const OccupancyGrid>(std::move(grid)),
+                                                       base->options());
   return current_;
 }
 
