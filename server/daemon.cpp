@@ -211,10 +211,7 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   std::unique_ptr<perception::DepthObstacleLayer> camera_layer;
   std::unique_ptr<CameraPerception> camera_perception;
   if (camera) {
-    perception::DepthObstacleLayerOptions layer_options;
-    layer_options.filter.max_height = robot.height + 0.05;  // what passes this close over the robot still counts
-    layer_options.layer.slices =
-        std::clamp(static_cast<int>(std::ceil(layer_options.filter.max_height / layer_options.layer.slice)), 1, 32);
+    const auto layer_options = perception::DepthObstacleLayerOptions::ForRobot(robot.height);
     camera_layer = std::make_unique<perception::DepthObstacleLayer>(*camera, layer_options);
     camera_perception = std::make_unique<CameraPerception>(bridge, maps, localizer, *camera_layer);
     spdlog::info("navd: depth camera at {:.2f} m, tilted {:.0f} degrees down: obstacles up to {:.2f} m from {}",

@@ -29,6 +29,10 @@ nav_msgs::msg::dds_::OccupancyGrid_ GridMessage(const OccupancyGrid& geometry, c
   return m;
 }
 
+// Whether the n-th bad sample of a stream is logged: the 1st, 10th, 100th and every 1000th, so a
+// sensor sending garbage at its rate does not flood the log.
+bool WorthSaying(int n) { return n == 1 || n == 10 || n == 100 || n % 1000 == 0; }
+
 }  // namespace
 
 using dds::Reliability;
@@ -126,9 +130,9 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
             last_people_arrival_ = arrival_clock_.Now();
             return;
           }
-          // Said on the first and every tenfold after; the sensors are stale meanwhile.
+          // The sensors are stale meanwhile.
           const int n = ++bad_people_;
-          if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
+          if (WorthSaying(n))
             spdlog::warn("people report ignored ({} so far): frame_id '{}' is not base_link", n, m.header().frame_id());
         },
         2);
@@ -166,9 +170,8 @@ void DdsBridge::ReadCamera() {
           cloud_ = std::move(cloud);
           ++cloud_count_;
         } catch (const Error& e) {
-          // Said on the first and every tenfold after.
           const int n = ++bad_clouds_;
-          if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
+          if (WorthSaying(n))
             spdlog::warn("{} cloud ignored ({} so far): {}", dds::TopicName(ns_, dds::kCameraPoints), n, e.what());
         }
       },
@@ -205,10 +208,8 @@ std::optional<localization::ScanReading> DdsBridge::LatestScan() const {
   const std::string bad =
       localization::ScanGeometryError(m->ranges().size(), m->angle_min(), m->angle_max(), m->angle_increment());
   if (!bad.empty()) {
-    // Said on the first bad scan and every tenfold after, not at the laser's rate.
     const int n = ++bad_scans_;
-    if (n == 1 || n == 10 || n == 100 || n % 1000 == 0)
-      spdlog::warn("{}: scan ignored ({} so far): {}", scan_topic_, n, bad);
+    if (WorthSaying(n)) spdlog::warn("{}: scan ignored ({} so far): {}", scan_topic_, n, bad);
     return std::nullopt;
   }
   localization::ScanReading s;

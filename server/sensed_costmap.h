@@ -1,8 +1,8 @@
 #pragma once
 // The costmap navd plans on as viewers should see it: the served map's costmap with the cells the
-// depth camera's obstacle layer holds drawn in and inflated (what every leg plan gets, Nav2's
-// master costmap). Rebuilt only when the map's costmap or the layer changed; thread-safe, for the
-// DDS publisher and the live view.
+// depth camera's obstacle layer holds drawn in and inflated, Nav2's master costmap (a leg plan
+// gets the same, less the cells within the inflation of its goal). Rebuilt only when the map's costmap or the layer
+// changed; thread-safe, for the DDS publisher and the live view.
 #include <memory>
 #include <mutex>
 

@@ -157,9 +157,9 @@ CrowdDescription ReadCrowd(const YamlFields& f, const YAML::Node& n, const World
 std::vector<CellIndex> FillFresh(OccupancyGrid& truth, const Point2& min, const Point2& max) {
   const CellIndex lo = truth.CellOf(min), hi = truth.CellOf(max);
   std::vector<CellIndex> fresh;
-  for (int y = lo.y; y <= hi.y; ++y)
-    for (int x = lo.x; x <= hi.x; ++x)
-      if (truth.Contains({x, y}) && !truth.IsOccupied({x, y})) fresh.push_back({x, y});
+  for (int y = std::max(lo.y, 0); y <= std::min(hi.y, truth.height() - 1); ++y)
+    for (int x = std::max(lo.x, 0); x <= std::min(hi.x, truth.width() - 1); ++x)
+      if (!truth.IsOccupied({x, y})) fresh.push_back({x, y});
   truth.FillBox(min, max);
   std::vector<CellIndex> walled;
   for (const CellIndex& c : fresh)
@@ -192,6 +192,11 @@ void ReadSolids(const YamlFields& f, const YAML::Node& list, Scenario& s) {
     const size_t type = n["type"] ? f.Choice(n["type"], field + ".type", {"table", "box", "shelf", "solid"}) : 3;
     if (!n["box"]) f.Fail(field + ".box", "is missing ([x_min, y_min, x_max, y_max])", n);
     const Box box = ReadBox(f, n["box"], field + ".box");
+    const Point2 map_min = s.truth.origin(), map_max = map_min + Point2(s.truth.size_x(), s.truth.size_y());
+    if (box.max.x() < map_min.x() || box.max.y() < map_min.y() || box.min.x() > map_max.x() ||
+        box.min.y() > map_max.y())
+      f.Fail(field + ".box",
+             "lies outside the map, which spans " + FormatPoint(map_min) + " to " + FormatPoint(map_max), n["box"]);
     if (type <= 1) {
       if (!n["height"] || n["z"]) f.Fail(field, "a table or a box needs a height (m) and no z", n);
       const double h = f.Positive(n["height"], field + ".height");

@@ -94,17 +94,16 @@ World Parse(const YamlFields& f, const std::string& text, const std::string& bas
     std::filesystem::path p(map.as<std::string>());
     if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
     // A world file's map serves another world too (the same floor for a different robot); a
-    // world whose map leads back to itself is refused, not followed.
+    // chain of worlds that leads back to itself is refused at the fifth file.
     thread_local int worlds_open = 0;
     if (worlds_open >= 4) f.Fail("map", "leads through more than 4 world files (a world that names itself?)", map);
-    ++worlds_open;
-    try {
-      w.map = LoadAnyMapFile(p.string());
-    } catch (...) {
-      --worlds_open;
-      throw;
-    }
-    --worlds_open;
+    struct Open {
+      Open() { ++worlds_open; }
+      ~Open() { --worlds_open; }
+      Open(const Open&) = delete;
+      Open& operator=(const Open&) = delete;
+    } open;
+    w.map = LoadAnyMapFile(p.string());
   } else if (map.IsMap()) {
     w.map = InlineMap(f, map, base_dir);
   } else {
@@ -246,6 +245,8 @@ void ReadDepthCameraDescription(const YamlFields& f, const YAML::Node& c, const 
       if (v < 2 || v > 4096 || v != std::floor(v))
         f.Fail(prefix + "resolution", "must be [width, height], whole pixels from 2 to 4096", c["resolution"]);
     }
+    if (r[0] * r[1] > 1280.0 * 1024.0)
+      f.Fail(prefix + "resolution", "must be at most 1310720 pixels (1280 x 1024)", c["resolution"]);
     d.width = static_cast<int>(r[0]);
     d.height = static_cast<int>(r[1]);
   }

@@ -1010,9 +1010,14 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       for (const SensedObstacle& s : sensed_obstacles_)
         discs.emplace_back(s.position, s.radius + moving_.detection.robot_radius);
       if (sensed_cells_) {
-        for (const Point2& p : *sensed_cells_)
-          if (Distance(p, estimate.pose.translation()) <= moving_.planning_range)
-            discs.emplace_back(p, moving_.detection.robot_radius);
+        // Not those the plans leave out either: the cells within the inflation of the leg's goal.
+        const std::vector<Point2> leg = navigator_.LegPath();
+        const double keep_clear = planning_.inflation_radius() + 0.05;
+        for (const Point2& p : *sensed_cells_) {
+          if (Distance(p, estimate.pose.translation()) > moving_.planning_range) continue;
+          if (!leg.empty() && Distance(p, leg.back()) < keep_clear) continue;
+          discs.emplace_back(p, moving_.detection.robot_radius);
+        }
       }
     }
     std::shared_ptr<const planning::Costmap> costmap;

@@ -2,10 +2,20 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 
 #include "services/common/camera_frame.h"
 
 namespace navd::perception {
+
+DepthObstacleLayerOptions DepthObstacleLayerOptions::ForRobot(double height) {
+  DepthObstacleLayerOptions o;
+  o.filter.max_height = height + 0.05;
+  const int max_slices = 32;  // bits in a column
+  o.layer.slice = std::max(o.layer.slice, o.filter.max_height / max_slices);
+  o.layer.slices = std::clamp(static_cast<int>(std::ceil(o.filter.max_height / o.layer.slice)), 1, max_slices);
+  return o;
+}
 
 DepthObstacleLayer::DepthObstacleLayer(const DepthCameraDescription& camera, const DepthObstacleLayerOptions& options)
     : filter_(options.filter, camera),
@@ -26,6 +36,10 @@ void DepthObstacleLayer::SetMap(const OccupancyGrid& map) {
             if (known->Contains({x + dx, y + dy})) known->set({x + dx, y + dy}, OccupancyGrid::kOccupied);
   std::lock_guard<std::mutex> lock(mutex_);
   known_ = std::move(known);
+  const bool same_grid =
+      layer_ && layer_->geometry().width() == map.width() && layer_->geometry().height() == map.height() &&
+      layer_->geometry().resolution() == map.resolution() && layer_->geometry().origin() == map.origin();
+  if (same_grid) return;
   layer_.emplace(map, layer_options_);
   obstacles_ = std::make_shared<const std::vector<Point2>>();
   ++version_;
@@ -37,23 +51,21 @@ void DepthObstacleLayer::AddCloud(const std::vector<Eigen::Vector3f>& points, co
     std::lock_guard<std::mutex> lock(mutex_);
     known = known_;
   }
-  const double c = std::cos(robot.theta), s = std::sin(robot.theta);
+  if (!known) return;  // no map yet
   auto in_map = [&](const Eigen::Vector3f& p) {
-    const Point2 at(robot.x + c * p.x() - s * p.y(), robot.y + s * p.x() + c * p.y());
-    const CellIndex cell = known->CellOf(at);
+    const CellIndex cell = known->CellOf(robot * Point2(p.x(), p.y()));
     return known->Contains(cell) && known->IsOccupied(cell);
   };
   DepthView view = DepthView::Of(points, IntrinsicsOf(camera_), camera_.width, camera_.height);
   // The filter needs no lock: it reads only its options.
   const std::vector<Eigen::Vector3f> thinned = stride_ > 1 ? view.Points(stride_) : std::vector<Eigen::Vector3f>{};
-  const std::vector<Eigen::Vector3f>& filtered = stride_ > 1 ? thinned : points;
-  const FilteredCloud seen = known ? filter_.Filter(filtered, in_map) : filter_.Filter(filtered);
-  auto to_map = [&](const Eigen::Vector3f& p) {
-    return Eigen::Vector3d(robot.x + c * p.x() - s * p.y(), robot.y + s * p.x() + c * p.y(), p.z());
-  };
+  const FilteredCloud seen = filter_.Filter(stride_ > 1 ? thinned : points, in_map);
   std::vector<Eigen::Vector3d> hits;
   hits.reserve(seen.obstacles.size());
-  for (const Eigen::Vector3f& p : seen.obstacles) hits.push_back(to_map(p));
+  for (const Eigen::Vector3f& p : seen.obstacles) {
+    const Point2 at = robot * Point2(p.x(), p.y());
+    hits.emplace_back(at.x(), at.y(), p.z());
+  }
   view.range_min = camera_.range_min;
   view.range_max = camera_.range_max;
   view.noise = camera_.noise;
@@ -62,8 +74,7 @@ void DepthObstacleLayer::AddCloud(const std::vector<Eigen::Vector3f>& points, co
   map_from_robot.translation() = Eigen::Vector3d(robot.x, robot.y, 0.0);
   view.map_from_optical = map_from_robot * RobotFromOptical(camera_).cast<double>();
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!layer_) return;
-  ++clouds_;
+  if (!layer_ || known != known_) return;  // the map changed while the cloud was filtered
   const uint64_t before = layer_->version();
   layer_->Update(view, hits, now);
   layer_->Decay(now);
@@ -78,22 +89,9 @@ std::shared_ptr<const std::vector<Point2>> DepthObstacleLayer::Obstacles() const
   return obstacles_;
 }
 
-std::optional<OccupancyGrid> DepthObstacleLayer::Grid() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (!layer_) return std::nullopt;
-  OccupancyGrid grid = layer_->geometry();
-  for (const Point2& p : *obstacles_) grid.set(grid.CellOf(p), OccupancyGrid::kOccupied);
-  return grid;
-}
-
 uint64_t DepthObstacleLayer::version() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return version_;
-}
-
-uint64_t DepthObstacleLayer::clouds() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return clouds_;
 }
 
 }  // namespace navd::perception

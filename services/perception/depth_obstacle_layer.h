@@ -19,24 +19,25 @@ namespace navd::perception {
 struct DepthObstacleLayerOptions {
   ObstacleCloudFilterOptions filter;
   VoxelObstacleLayerOptions layer;
+  // For a robot `height` m tall: obstacles up to 5 cm over its top (what passes that close still
+  // counts), in slices that cover them (thicker ones for a robot over 3 m).
+  static DepthObstacleLayerOptions ForRobot(double height);
 };
 
 class DepthObstacleLayer {
  public:
   DepthObstacleLayer(const DepthCameraDescription& camera, const DepthObstacleLayerOptions& options);
-  // A new map to keep the layer over: the marks start afresh. What the map holds (within a cell
-  // of its walls) is not marked.
+  // The map to keep the layer over. What the map holds (within a cell of its walls) is not marked.
+  // A map of another size, resolution or origin starts the marks afresh; the same grid grown or
+  // corrected (a map being built) keeps them.
   void SetMap(const OccupancyGrid& map);
   // A cloud (the camera's optical frame) taken with the robot at `robot` (map frame) at `now`.
   // Ignored before a map is set.
   void AddCloud(const std::vector<Eigen::Vector3f>& points, const Pose2& robot, double now);
   // The marked cells' centres (map frame), as of the last cloud; empty before any.
   std::shared_ptr<const std::vector<Point2>> Obstacles() const;
-  // The marked cells as a grid the size of the map (kOccupied where marked), and the layer's
-  // version; nullopt before a map is set.
-  std::optional<OccupancyGrid> Grid() const;
+  // Bumped by every change of the marked cells.
   uint64_t version() const;
-  uint64_t clouds() const;
 
  private:
   ObstacleCloudFilter filter_;
@@ -47,7 +48,7 @@ class DepthObstacleLayer {
   // The map's occupied cells grown by one cell: points there are walls the map holds.
   std::shared_ptr<const OccupancyGrid> known_;
   std::shared_ptr<const std::vector<Point2>> obstacles_ = std::make_shared<const std::vector<Point2>>();
-  uint64_t version_ = 0, clouds_ = 0;
+  uint64_t version_ = 0;
   int stride_;  // pixels: the filter reads every stride-th row and column of the depth image
 };
 

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "services/common/camera_frame.h"
+#include "services/common/error.h"
 
 namespace navd::perception {
 
@@ -20,7 +21,14 @@ using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 
 ObstacleCloudFilter::ObstacleCloudFilter(const ObstacleCloudFilterOptions& options,
                                          const DepthCameraDescription& camera)
-    : o_(options), camera_(camera) {}
+    : o_(options), camera_(camera) {
+  if (!(o_.voxel > 0.0) || !(o_.max_height > o_.min_height) || !(o_.floor_search > 0.0) ||
+      !(o_.floor_tolerance > 0.0) || o_.floor_iterations < 1 || o_.floor_sample < 3 || !(o_.speckle_radius > 0.0) ||
+      o_.speckle_neighbours < 0)
+    throw Error(ErrorCode::kInvalidArgument,
+                "obstacle cloud filter: voxel, floor_search, floor_tolerance and speckle_radius must be > 0 m, "
+                "max_height above min_height, floor_iterations >= 1, floor_sample >= 3, speckle_neighbours >= 0");
+}
 
 FilteredCloud ObstacleCloudFilter::Filter(const std::vector<Eigen::Vector3f>& points,
                                           const Explained& explained) const {

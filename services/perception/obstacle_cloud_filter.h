@@ -44,6 +44,7 @@ struct FilteredCloud {
 
 class ObstacleCloudFilter {
  public:
+  // Throws navd::Error(kInvalidArgument) for options out of their ranges.
   ObstacleCloudFilter(const ObstacleCloudFilterOptions& options, const DepthCameraDescription& camera);
   // Whether an obstacle point (robot frame) is one the map already holds (a wall), so neither the
   // speckle test nor the layer need spend anything on it.

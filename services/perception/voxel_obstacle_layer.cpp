@@ -44,7 +44,7 @@ VoxelObstacleLayer::VoxelObstacleLayer(const OccupancyGrid& geometry, const Voxe
     : geometry_(geometry.width(), geometry.height(), geometry.resolution(), geometry.origin(), OccupancyGrid::kFree),
       o_(options),
       columns_(static_cast<size_t>(geometry.width()) * geometry.height(), 0),
-      marked_at_(columns_.size(), 0.0f) {
+      marked_at_(columns_.size(), 0.0) {
   if (o_.slices < 1 || o_.slices > 32 || !(o_.slice > 0.0))
     throw Error(ErrorCode::kInvalidArgument, "voxel layer: slices must be 1 to 32 and slice > 0 m");
 }
@@ -66,9 +66,9 @@ void VoxelObstacleLayer::Update(const DepthView& view, const std::vector<Eigen::
       if (!(column & (1u << s))) continue;
       const Eigen::Vector3d c(centre.x(), centre.y(), (s + 0.5) * o_.slice);
       const Eigen::Vector3d p = optical_from_map * c;
-      if (p.z() < view.range_min || p.z() > view.range_max) continue;
+      if (!(p.z() > 1e-6) || p.z() < view.range_min || p.z() > view.range_max) continue;
       const double u = std::floor(k.fx * p.x() / p.z() + k.cx), v = std::floor(k.fy * p.y() / p.z() + k.cy);
-      if (u < 0 || v < 0 || u >= view.width || v >= view.height) continue;
+      if (!(u >= 0 && v >= 0 && u < view.width && v < view.height)) continue;
       const float seen = view.depth[static_cast<size_t>(v) * view.width + static_cast<size_t>(u)];
       if (!std::isfinite(seen)) continue;
       // Depth (along the optical axis) per metre of the map-frame ray through the centre, and
@@ -101,14 +101,16 @@ void VoxelObstacleLayer::Update(const DepthView& view, const std::vector<Eigen::
     if (column == 0) marked_.push_back(Flat(c));
     if (!(column & (1u << s))) ++version_;
     column |= 1u << s;
-    marked_at_[Flat(c)] = static_cast<float>(now);
+    marked_at_[Flat(c)] = now;
   }
 }
 
 void VoxelObstacleLayer::Decay(double now) {
   bool dropped = false;
   for (const size_t flat : marked_) {
-    if (now - marked_at_[flat] > o_.decay) {
+    // A clock that went back (a simulator restarted) leaves no mark for ever.
+    const double age = now - marked_at_[flat];
+    if (age > o_.decay || age < 0.0) {
       columns_[flat] = 0;
       dropped = true;
     }

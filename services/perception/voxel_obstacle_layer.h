@@ -68,7 +68,7 @@ class VoxelObstacleLayer {
   OccupancyGrid geometry_;
   VoxelObstacleLayerOptions o_;
   std::vector<uint32_t> columns_;  // bit k: slice k is marked
-  std::vector<float> marked_at_;   // s, when the column was last marked
+  std::vector<double> marked_at_;  // s, when the column was last marked (clock time: may be large)
   std::vector<size_t> marked_;     // the flat indices of the columns with a mark
   uint64_t version_ = 0;
 };

@@ -240,7 +240,13 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
       // Beside a sensed obstacle: leave its inflation by the nearest way out, as from a wall's.
       const std::optional<CellIndex> free =
           costmap->NearestFree(start_cell, static_cast<int>(options_.start_recovery_radius / grid.resolution()), false);
-      if (free) start_cell = *free;
+      if (!free) {
+        char buf[128];
+        std::snprintf(buf, sizeof buf, " is hemmed in by obstacles the sensors found: no free cell within %.2f m",
+                      options_.start_recovery_radius);
+        throw Error(ErrorCode::kNotFound, "start " + FormatPoint(start) + buf);
+      }
+      start_cell = *free;
     }
   }
   const CellPath cells = planner.PlanInScene(*costmap, start_cell, goal_cell, options, scene, stop);

@@ -1,4 +1,4 @@
-// The depth camera's cost (issue 43): one cloud through navd's whole pipeline into the obstacle
+// The depth camera's cost: one cloud through navd's whole pipeline into the obstacle
 // layer (PCL filter, then the voxel layer's clearing and marking) at 640 x 480 and at the default
 // 212 x 120, and navsim's rendering of one image. The clouds are rendered by navsim's camera in the
 // office_3d scenario, from the robot's start looking down the corridor at a table and a low box.
@@ -35,9 +35,8 @@ const Pose2 kViews[] = {{1.0, 6.0, 0.0}, {2.6, 5.9, -0.2}};
 
 void BM_PerceptionPipeline(benchmark::State& state) {
   const DepthCameraDescription d = CameraAt(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  perception::DepthObstacleLayerOptions options;
-  options.filter.max_height = Office3d().robots[0].body.height + 0.05;
-  perception::DepthObstacleLayer layer(d, options);
+  perception::DepthObstacleLayer layer(
+      d, perception::DepthObstacleLayerOptions::ForRobot(Office3d().robots[0].body.height));
   layer.SetMap(Office3d().world.map);
   const Pose2 view = kViews[state.range(2)];
   const std::vector<Eigen::Vector3f> cloud = Cloud(d, view);

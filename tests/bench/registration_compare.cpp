@@ -1,4 +1,4 @@
-// Issue 43, item 4: PCL's registration beside navd's own scan matching, on real scans. Pairs of
+// PCL's registration beside navd's own scan matching, on real scans. Pairs of
 // consecutive scans of a real log (the corrected poses give the true relative pose) are matched
 // from a starting guess off by the log's own odometry error (the documented noise model, seeded),
 // by navd's point-to-line ICP (services/mapping/point_to_line_matcher, a hash grid for its
@@ -145,6 +145,10 @@ int main(int argc, char** argv) {
     return ndt.hasConverged() ? PoseOf(ndt.getFinalTransformation()) : p.guess;
   });
 
+  if (pairs.empty()) {
+    std::fprintf(stderr, "registration_compare: %s has no pair of scans the robot moved between\n", log_path.c_str());
+    return 1;
+  }
   auto quantile = [](std::vector<double> v, double q) {
     std::sort(v.begin(), v.end());
     return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
@@ -153,7 +157,7 @@ int main(int argc, char** argv) {
   for (const Pair& p : pairs) {
     const Pose2 e = p.truth.inverse() * p.guess;
     guess_t.push_back(e.translation().norm());
-    guess_r.push_back(std::abs(e.theta));
+    guess_r.push_back(std::abs(NormalizeAngle(e.theta)));
   }
   std::printf("%zu scan pairs of %s, starting guesses off by median %.1f mm / %.1f mrad (95%%: %.1f mm / %.1f mrad)\n",
               pairs.size(), log_path.c_str(), 1e3 * quantile(guess_t, 0.5), 1e3 * quantile(guess_r, 0.5),

@@ -116,7 +116,7 @@ TEST(OfficeE2E, SonarReflexesKeepTheRobotOffGlassTheLaserSeesThrough) {
   EXPECT_GT(run.reflexes, 0);
 }
 
-// Issue 43's office in 3-D: tables whose tops the laser passes under, boxes below its plane,
+// The office in 3-D: tables whose tops the laser passes under, boxes below its plane,
 // shelves that overhang (worlds/scenarios/office_3d.yaml). With the depth camera's obstacle layer
 // the robot reaches every goal without touching anything; the same run without the camera
 // (navsim --no-camera) collides or fails, which is what the layer is worth.

@@ -1,4 +1,4 @@
-// The depth camera's way into the costmap (issue 43): navsim's camera, PCL's filter (floor,
+// The depth camera's way into the costmap: navsim's camera, PCL's filter (floor,
 // heights, speckle) and the voxel layer (marking, clearing, decay); the scenario's solids; the
 // PointCloud2 layout both sides use.
 #include <gtest/gtest.h>
@@ -54,9 +54,7 @@ std::vector<Eigen::Vector3f> Capture(const DepthCameraDescription& d, const Pose
 }
 
 ObstacleCloudFilterOptions FilterFor(double robot_height) {
-  ObstacleCloudFilterOptions o;
-  o.max_height = robot_height + 0.05;
-  return o;
+  return perception::DepthObstacleLayerOptions::ForRobot(robot_height).filter;
 }
 
 // A table 0.8 x 0.6 m, its top at 0.71-0.75 m, legs 5 cm square, as the scenario makes them.
@@ -157,8 +155,7 @@ TEST_P(DepthObstacleLayerAt, MarksABoxAndClearsItWhenItIsMovedAway) {
   DepthCameraDescription d = Camera();
   d.width = GetParam().first;
   d.height = GetParam().second;
-  perception::DepthObstacleLayerOptions options;
-  options.filter = FilterFor(1.1);
+  const auto options = perception::DepthObstacleLayerOptions::ForRobot(1.1);
   DepthObstacleLayer layer(d, options);
   layer.SetMap(Room());
   const Pose2 robot{5.0, 5.0, 0.0};
@@ -252,7 +249,8 @@ TEST(Scenarios, SolidsHaveHeightsTheLaserAndTheRobotMeetOrNot) {
   for (const auto& [text, field] : std::vector<std::pair<std::string, std::string>>{
            {"{type: table, box: [2, 1, 3, 2]}", "solids[0]"},
            {"{type: shelf, box: [2, 1, 3, 2], z: [1.0, 0.5]}", "solids[0].z"},
-           {"{type: chair, box: [2, 1, 3, 2], height: 1}", "solids[0].type"}}) {
+           {"{type: chair, box: [2, 1, 3, 2], height: 1}", "solids[0].type"},
+           {"{type: box, box: [40, 40, 41, 41], height: 1}", "solids[0].box"}}) {
     try {
       sim::ParseScenario("world: " + path + "\nhidden_obstacles: {solids: [" + text + "]}\n", "s.yaml", ".");
       ADD_FAILURE() << text << " was accepted";
@@ -260,6 +258,30 @@ TEST(Scenarios, SolidsHaveHeightsTheLaserAndTheRobotMeetOrNot) {
       EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
     }
   }
+}
+
+// Bad world files are refused with the field named: a camera too large for the simulator to
+// render, a filter option out of range, and a world whose map is itself (followed four files deep,
+// then refused).
+TEST(Worlds, BadCamerasAndWorldsThatNameThemselvesAreRefused) {
+  const std::string dir = ::testing::TempDir();
+  auto refused = [&](const std::string& name, const std::string& text, const std::string& what) {
+    const std::string path = dir + "/" + name;
+    { std::ofstream(path) << text; }
+    try {
+      LoadWorldFile(path);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  const std::string map = "map: {resolution: 0.05, size: [4, 4]}\nrobot: {start: [2, 2, 0]}\n";
+  refused("big.yaml", map + "camera: {resolution: [4096, 4096]}\n", "camera.resolution");
+  refused("tilt.yaml", map + "camera: {tilt_deg: 95}\n", "camera.tilt_deg");
+  refused("self.yaml", "map: self.yaml\nrobot: {start: [2, 2, 0]}\n", "more than 4 world files");
+  perception::ObstacleCloudFilterOptions bad;
+  bad.floor_sample = 0;
+  EXPECT_THROW(ObstacleCloudFilter(bad, Camera()), Error);
 }
 
 TEST(PointCloud2, RoundTripsAndReadsOtherLayouts) {
@@ -326,6 +348,9 @@ TEST(PointCloud2, RoundTripsAndReadsOtherLayouts) {
   auto outside = m;
   outside.fields()[1].offset(10);
   refused(outside, "fields[1] (y).offset");
+  auto short_rows = m;
+  short_rows.row_step(12);
+  refused(short_rows, "row_step 12 is under width * point_step (24)");
 }
 
 }  // namespace
