@@ -95,7 +95,6 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
   struct Near {
     Eigen::Array3f lo, hi;  // corners relative to the camera
     int first = 0, last = kBins - 1;
-    bool In(int bin) const { return first > last ? (bin >= first || bin <= last) : (bin >= first && bin <= last); }
   };
   std::vector<Near> near;
   for (const Solid& solid : solids) {
@@ -118,6 +117,25 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
       std::fill(busy.begin(), busy.end(), 1);  // the camera is over it
     }
     near.push_back(n);
+  }
+  // Per sliver, the solids whose bearings span it (a compressed list: the solids of sliver b are
+  // sliver_solids[sliver_start[b] .. sliver_start[b + 1]]), so a pixel tests only those.
+  std::vector<uint32_t> sliver_start(kBins + 1, 0);
+  auto each_sliver = [](const Near& n, auto&& visit) {
+    if (n.first <= n.last) {
+      for (int b = n.first; b <= n.last; ++b) visit(b);
+    } else {
+      for (int b = n.first; b < kBins; ++b) visit(b);
+      for (int b = 0; b <= n.last; ++b) visit(b);
+    }
+  };
+  for (const Near& n : near) each_sliver(n, [&](int b) { ++sliver_start[static_cast<size_t>(b) + 1]; });
+  for (int b = 0; b < kBins; ++b) sliver_start[static_cast<size_t>(b) + 1] += sliver_start[static_cast<size_t>(b)];
+  std::vector<uint32_t> sliver_solids(sliver_start[kBins]);
+  {
+    std::vector<uint32_t> next(sliver_start.begin(), sliver_start.end() - 1);
+    for (uint32_t k = 0; k < near.size(); ++k)
+      each_sliver(near[k], [&](int b) { sliver_solids[next[static_cast<size_t>(b)]++] = k; });
   }
   struct Body {
     const Disc* disc;
@@ -143,8 +161,11 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
     if (busy[static_cast<size_t>(p.bin)]) {
       const Eigen::Vector3d dir(c * p.robot.x() - s * p.robot.y(), s * p.robot.x() + c * p.robot.y(), p.robot.z());
       const Eigen::Array3f inverse = dir.cast<float>().array().inverse();
-      for (const Near& n : near)
-        if (n.In(p.bin)) depth = std::min(depth, static_cast<double>(RayBox(n.lo, n.hi, inverse)));
+      const auto bin = static_cast<size_t>(p.bin);
+      for (uint32_t k = sliver_start[bin]; k < sliver_start[bin + 1]; ++k) {
+        const Near& n = near[sliver_solids[k]];
+        depth = std::min(depth, static_cast<double>(RayBox(n.lo, n.hi, inverse)));
+      }
       if (p.horizontal > 1e-6f) {
         const Point2 flat = Point2(dir.x(), dir.y()) * p.per_across;
         for (const Body& b : bodies) {

@@ -5,10 +5,10 @@
 // Depth noise grows with the square of the depth, and some pixels read nothing (holes), as a
 // stereo camera's do. Points are in the camera's optical frame (x right, y down, z ahead; metres).
 // Walls are cast once per sliver of bearing (a quarter of a degree), not per pixel: every pixel
-// whose ray heads that way shares the 2-D cast; the floor's depth is fixed per pixel; solids and
-// bodies are tested only by the pixels whose slivers they span; and the noise and the holes come
-// from a table drawn once, read from a random place each frame. A 25,000-pixel image costs a
-// fraction of a millisecond, so navsim stays hundreds of times faster than real time.
+// whose ray heads that way shares the 2-D cast; the floor's depth is fixed per pixel; solids are
+// listed per sliver they span and bodies marked on theirs, so a pixel tests only those; and the noise and the holes
+// come from a table drawn once, read from a random place each frame. A 25,000-pixel image costs a fraction of a
+// millisecond, so navsim stays hundreds of times faster than real time.
 #include <Eigen/Core>
 #include <random>
 #include <vector>
