@@ -246,7 +246,7 @@ void ReadDepthCameraDescription(const YamlFields& f, const YAML::Node& c, const 
         f.Fail(prefix + "resolution", "must be [width, height], whole pixels from 2 to 4096", c["resolution"]);
     }
     if (r[0] * r[1] > 1280.0 * 1024.0)
-      f.Fail(prefix + "resolution", "must be at most 1310720 pixels (1280 x 1024)", c["resolution"]);
+      f.Fail(prefix + "resolution", "must have no more pixels than 1280 x 1024", c["resolution"]);
     d.width = static_cast<int>(r[0]);
     d.height = static_cast<int>(r[1]);
   }

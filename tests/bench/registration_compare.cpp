@@ -106,8 +106,12 @@ int main(int argc, char** argv) {
     const mapping::PointToLineResult r = matcher.Match(p.query, p.guess);
     return r.ok ? r.pose : p.guess;
   });
-  methods.emplace_back("PCL ICP point-to-point (kd-tree)", [](const Pair& p) {
+  // PCL's ICP, with its 3-D transformation estimate or its 2-D one.
+  auto pcl_icp = [](const Pair& p, bool in_the_plane) {
     pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+    if (in_the_plane)
+      icp.setTransformationEstimation(
+          std::make_shared<pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>>());
     icp.setInputSource(ToCloud(p.query));
     icp.setInputTarget(ToCloud(p.reference));
     icp.setMaxCorrespondenceDistance(0.2);
@@ -116,20 +120,10 @@ int main(int argc, char** argv) {
     Cloud aligned;
     icp.align(aligned, Matrix(p.guess));
     return icp.hasConverged() ? PoseOf(icp.getFinalTransformation()) : p.guess;
-  });
-  methods.emplace_back("PCL ICP point-to-point in the plane (kd-tree)", [](const Pair& p) {
-    pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-    icp.setTransformationEstimation(
-        std::make_shared<pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>>());
-    icp.setInputSource(ToCloud(p.query));
-    icp.setInputTarget(ToCloud(p.reference));
-    icp.setMaxCorrespondenceDistance(0.2);
-    icp.setMaximumIterations(30);
-    icp.setTransformationEpsilon(1e-8);
-    Cloud aligned;
-    icp.align(aligned, Matrix(p.guess));
-    return icp.hasConverged() ? PoseOf(icp.getFinalTransformation()) : p.guess;
-  });
+  };
+  methods.emplace_back("PCL ICP point-to-point (kd-tree)", [&](const Pair& p) { return pcl_icp(p, false); });
+  methods.emplace_back("PCL ICP point-to-point in the plane (kd-tree)",
+                       [&](const Pair& p) { return pcl_icp(p, true); });
   methods.emplace_back("PCL NDT 2-D", [](const Pair& p) {
     pcl::NormalDistributionsTransform2D<pcl::PointXYZ, pcl::PointXYZ> ndt;
     ndt.setInputSource(ToCloud(p.query));
