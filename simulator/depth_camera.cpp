@@ -1,8 +1,10 @@
 #include "simulator/depth_camera.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "services/common/camera_frame.h"
 #include "services/common/ziggurat_normal.h"
@@ -11,14 +13,8 @@
 namespace navd::sim {
 namespace {
 
-constexpr double kBinWidth = 0.25 * M_PI / 180.0;  // rad of bearing per wall cast
-constexpr int kBins = static_cast<int>(2.0 * M_PI / kBinWidth) + 1;
-
-int BinOf(double bearing) {
-  const int b = static_cast<int>(std::floor((bearing + M_PI) / kBinWidth));
-  return std::clamp(b, 0, kBins - 1);
-}
-double BinBearing(int bin) { return -M_PI + (bin + 0.5) * kBinWidth; }
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // Depth (ray parameter) where a ray from the origin enters a box whose corners, relative to the
 // origin, are lo and hi; `inverse` is 1 / the ray's direction per axis (infinite along an axis it
@@ -28,44 +24,89 @@ float RayBox(const Eigen::Array3f& lo, const Eigen::Array3f& hi, const Eigen::Ar
   const Eigen::Array3f near = a.min(b), far = a.max(b);
   const float enter = std::max({0.0f, near.x(), near.y(), near.z()});
   const float leave = std::min({far.x(), far.y(), far.z()});
-  return enter <= leave && enter > 0.0f ? enter : std::numeric_limits<float>::infinity();
+  return enter <= leave && enter > 0.0f ? enter : kInfinity;
 }
 
 }  // namespace
 
-DepthCamera::DepthCamera(const DepthCameraDescription& description) : d_(description) {
-  const auto [fx, fy, cx, cy] = IntrinsicsOf(d_);
-  const Eigen::Matrix3f to_robot = RobotFromOptical(d_).linear();
-  std::vector<bool> used(kBins, false);
-  double widest = 0.0;
-  pixels_.reserve(static_cast<size_t>(d_.width) * d_.height);
+DepthCamera::DepthCamera(const DepthCameraDescription& description)
+    : d_(description), intrinsics_(IntrinsicsOf(description)), to_robot_(RobotFromOptical(description).linear()) {
+  const auto [fx, fy, cx, cy] = intrinsics_;
+  for (int u = 0; u < d_.width; ++u) column_x_.push_back(static_cast<float>((u + 0.5 - cx) / fx));
+  for (int v = 0; v < d_.height; ++v) row_y_.push_back(static_cast<float>((v + 0.5 - cy) / fy));
+  // Slivers as wide as a pixel at the image's centre: a wall is sampled as finely as the image
+  // samples it.
+  sliver_width_ = d_.hfov / d_.width;
+  const int slivers = static_cast<int>(std::ceil(2.0 * M_PI / sliver_width_));
+  std::vector<float> reach(static_cast<size_t>(slivers), 0.0f);
+  const size_t count = static_cast<size_t>(d_.width) * d_.height;
+  sliver_.reserve(count);
   for (int v = 0; v < d_.height; ++v) {
     for (int u = 0; u < d_.width; ++u) {
-      Pixel p;
-      p.optical =
-          Eigen::Vector3f(static_cast<float>((u + 0.5 - cx) / fx), static_cast<float>((v + 0.5 - cy) / fy), 1.0f);
-      p.robot = to_robot * p.optical;
-      p.horizontal = std::hypot(p.robot.x(), p.robot.y());
-      p.per_across = p.horizontal > 1e-6f ? 1.0f / p.horizontal : 0.0f;
-      p.floor =
-          p.robot.z() < 0.0f ? static_cast<float>(d_.mount_z / -p.robot.z()) : std::numeric_limits<float>::infinity();
-      p.bin = BinOf(std::atan2(p.robot.y(), p.robot.x()));
-      used[static_cast<size_t>(p.bin)] = true;
-      widest = std::max(widest, static_cast<double>(p.horizontal));
-      pixels_.push_back(p);
+      const Eigen::Vector3f robot = to_robot_ * Eigen::Vector3f(column_x_[u], row_y_[v], 1.0f);
+      const float horizontal = std::hypot(robot.x(), robot.y());
+      const float floor = robot.z() < 0.0f ? static_cast<float>(d_.mount_z / -robot.z()) : kInfinity;
+      const double bearing = std::atan2(robot.y(), robot.x());
+      const int sliver = std::clamp(static_cast<int>(std::floor((bearing + M_PI) / sliver_width_)), 0, slivers - 1);
+      sliver_.push_back(static_cast<uint16_t>(sliver));
+      // How far across the floor this pixel can see a wall: to its range, or to the floor.
+      float& r = reach[static_cast<size_t>(sliver)];
+      r = std::max(r, std::min(static_cast<float>(d_.range_max), floor) * horizontal);
     }
   }
-  for (int b = 0; b < kBins; ++b)
-    if (used[static_cast<size_t>(b)]) bins_used_.push_back(b);
-  max_reach_ = d_.range_max * widest;
-  // The noise table: longer than an image, so a frame's pattern starts anywhere in it; its own
-  // stream, so the camera's description alone decides it.
+  for (int b = 0; b < slivers; ++b) {
+    const float r = reach[static_cast<size_t>(b)];
+    if (r <= 0.0f) continue;
+    const double bearing = -M_PI + (b + 0.5) * sliver_width_;
+    casts_.push_back({static_cast<uint16_t>(b), Point2(std::cos(bearing), std::sin(bearing)), r});
+    max_reach_ = std::max(max_reach_, static_cast<double>(r));
+  }
+  slivers_ = slivers;
+  // The noise table, depth noise per square metre of depth: longer than an image, so a frame's
+  // pattern starts anywhere in it; its own stream, so the camera's description alone decides it.
   std::mt19937_64 rng(0x6e617664);
-  noise_.resize(2 * pixels_.size() + 4099);
+  noise_.resize(2 * count + 4099);
   for (float& n : noise_) {
     const bool hole = d_.holes > 0.0 && static_cast<double>(rng() >> 11) * 0x1.0p-53 < d_.holes;
-    n = hole ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(ZigguratNormal::Standard(rng));
+    n = hole ? kNaN : static_cast<float>(d_.noise * ZigguratNormal::Standard(rng));
   }
+}
+
+DepthCamera::PixelRect DepthCamera::CoverOf(const Eigen::Matrix3f& to_optical, const Eigen::Vector3f& lo,
+                                            const Eigen::Vector3f& hi) const {
+  // The box cut at the nearest depth the camera reads: its corners at or beyond it, and where its
+  // edges cross it. Their images bound the image of all the box the camera can see.
+  std::array<Eigen::Vector3f, 8> corner;
+  for (int k = 0; k < 8; ++k)
+    corner[k] =
+        to_optical * Eigen::Vector3f((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
+  const auto near = static_cast<float>(d_.range_min);
+  PixelRect r{d_.width, -1, d_.height, -1};
+  auto include = [&](const Eigen::Vector3f& q) {
+    const double u = intrinsics_.fx * q.x() / q.z() + intrinsics_.cx;
+    const double v = intrinsics_.fy * q.y() / q.z() + intrinsics_.cy;
+    // A pixel's margin either side for rounding; the clamp keeps far-off corners finite.
+    const int pu = static_cast<int>(std::floor(std::clamp(u, -2.0, d_.width + 2.0)));
+    const int pv = static_cast<int>(std::floor(std::clamp(v, -2.0, d_.height + 2.0)));
+    r.u0 = std::min(r.u0, pu - 1);
+    r.u1 = std::max(r.u1, pu + 1);
+    r.v0 = std::min(r.v0, pv - 1);
+    r.v1 = std::max(r.v1, pv + 1);
+  };
+  for (int k = 0; k < 8; ++k) {
+    if (corner[k].z() >= near) include(corner[k]);
+    for (int axis = 1; axis < 8; axis <<= 1) {  // the edges to corners with one more coordinate at hi
+      if (k & axis) continue;
+      const Eigen::Vector3f& a = corner[k];
+      const Eigen::Vector3f& b = corner[k | axis];
+      if ((a.z() < near) != (b.z() < near)) include(a + (b - a) * ((near - a.z()) / (b.z() - a.z())));
+    }
+  }
+  r.u0 = std::max(r.u0, 0);
+  r.v0 = std::max(r.v0, 0);
+  r.u1 = std::min(r.u1, d_.width - 1);
+  r.v1 = std::min(r.v1, d_.height - 1);
+  return r;
 }
 
 std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCaster& walls,
@@ -73,112 +114,138 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
                                                   int self, std::mt19937_64& rng) const {
   const double c = std::cos(pose.theta), s = std::sin(pose.theta);
   const Point2 origin = pose * Point2(d_.mount_x, d_.mount_y);
-  // Walls: one cast per bearing sliver, metres across the floor.
-  std::vector<float> wall(kBins, std::numeric_limits<float>::infinity());
-  for (int b : bins_used_) {
-    const double r = walls.CastOpenEdge(origin, pose.theta + BinBearing(b), max_reach_);
-    if (r < max_reach_) wall[static_cast<size_t>(b)] = static_cast<float>(r);
+  // Optical directions to the map frame's axes, and back.
+  Eigen::Matrix3f to_map = to_robot_;
+  to_map.row(0) = static_cast<float>(c) * to_robot_.row(0) - static_cast<float>(s) * to_robot_.row(1);
+  to_map.row(1) = static_cast<float>(s) * to_robot_.row(0) + static_cast<float>(c) * to_robot_.row(1);
+  const Eigen::Matrix3f to_optical = to_map.transpose();
+  // Walls, metres across the floor per bearing sliver: a cast on every other sliver; one between
+  // two casts that meet the same surface (within kSameSurface of each other) takes their mean,
+  // which a flat wall's depth matches to a millimetre at these angles; any other gets its own cast.
+  constexpr double kSameSurface = 0.05;  // m
+  std::vector<float> wall(static_cast<size_t>(slivers_), kInfinity);
+  std::vector<double> cast_range(casts_.size(), 0.0);
+  auto cast_at = [&](size_t k) {
+    const Cast& cast = casts_[k];
+    const Point2 dir(c * cast.dir.x() - s * cast.dir.y(), s * cast.dir.x() + c * cast.dir.y());
+    cast_range[k] = walls.CastOpenEdge(origin, dir, cast.reach);
+  };
+  for (size_t k = 0; k < casts_.size(); k += 2) cast_at(k);
+  for (size_t k = 1; k < casts_.size(); k += 2) {
+    const bool between = k + 1 < casts_.size() && casts_[k + 1].sliver == casts_[k - 1].sliver + 2;
+    const double a = cast_range[k - 1], b = between ? cast_range[k + 1] : 0.0;
+    // Neither meets a wall, and both look at least as far as this one would.
+    const bool open = a >= casts_[k - 1].reach && b >= casts_[k + 1].reach &&
+                      casts_[k].reach <= std::min(casts_[k - 1].reach, casts_[k + 1].reach);
+    if (between && (open || (a < casts_[k - 1].reach && b < casts_[k + 1].reach && std::abs(a - b) <= kSameSurface)))
+      cast_range[k] = open ? casts_[k].reach : 0.5 * (a + b);
+    else
+      cast_at(k);
   }
-  // Slivers (relative to the heading) a footprint seen from the camera spans, all from inside it.
-  std::vector<uint8_t> busy(kBins, 0);  // some solid or body spans the sliver
-  auto span = [&](const Point2& centre, double half_angle, int& first, int& last) {
-    const double bearing = std::atan2(centre.y() - origin.y(), centre.x() - origin.x()) - pose.theta;
-    first = std::max(0, BinOf(NormalizeAngle(bearing - half_angle)) - 1);
-    last = std::min(kBins - 1, BinOf(NormalizeAngle(bearing + half_angle)) + 1);
-    if (first <= last) {
-      std::fill(busy.begin() + first, busy.begin() + last + 1, 1);
-    } else {  // across the bearing behind the robot
-      std::fill(busy.begin() + first, busy.end(), 1);
-      std::fill(busy.begin(), busy.begin() + last + 1, 1);
-    }
+  for (size_t k = 0; k < casts_.size(); ++k)
+    if (cast_range[k] < casts_[k].reach) wall[casts_[k].sliver] = static_cast<float>(cast_range[k]);
+  // Solids and bodies: each tests only the pixels its image can cover, keeping the nearest depth
+  // per pixel in `nearer`; rows none of them covers read a row of infinities instead.
+  const Eigen::Vector3f camera(static_cast<float>(origin.x()), static_cast<float>(origin.y()),
+                               static_cast<float>(d_.mount_z));
+  struct Box {
+    Eigen::Vector3f lo, hi;  // corners relative to the camera, map axes
+    PixelRect cover;
+    const Disc* disc;  // a body's upright cylinder within the box, or null for a solid box
   };
-  struct Near {
-    Eigen::Array3f lo, hi;  // corners relative to the camera
-    int first = 0, last = kBins - 1;
-  };
-  std::vector<Near> near;
+  std::vector<Box> boxes;
   for (const Solid& solid : solids) {
     const Point2 closest(std::clamp(origin.x(), solid.box.min.x(), solid.box.max.x()),
                          std::clamp(origin.y(), solid.box.min.y(), solid.box.max.y()));
-    const double gap = Distance(closest, origin);
-    if (gap > max_reach_) continue;
-    Near n{Eigen::Array3f(static_cast<float>(solid.box.min.x() - origin.x()),
-                          static_cast<float>(solid.box.min.y() - origin.y()),
-                          static_cast<float>(solid.z_min - d_.mount_z)),
-           Eigen::Array3f(static_cast<float>(solid.box.max.x() - origin.x()),
-                          static_cast<float>(solid.box.max.y() - origin.y()),
-                          static_cast<float>(solid.z_max - d_.mount_z))};
-    const Point2 centre = 0.5 * (solid.box.min + solid.box.max);
-    const double half_diagonal = 0.5 * (solid.box.max - solid.box.min).norm();
-    const double to_centre = Distance(centre, origin);
-    if (to_centre > half_diagonal) {
-      span(centre, std::asin(half_diagonal / to_centre), n.first, n.last);
-    } else {
-      std::fill(busy.begin(), busy.end(), 1);  // the camera is over it
-    }
-    near.push_back(n);
+    if (Distance(closest, origin) > max_reach_) continue;
+    const Eigen::Vector3f lo =
+        Eigen::Vector3d(solid.box.min.x(), solid.box.min.y(), solid.z_min).cast<float>() - camera;
+    const Eigen::Vector3f hi =
+        Eigen::Vector3d(solid.box.max.x(), solid.box.max.y(), solid.z_max).cast<float>() - camera;
+    boxes.push_back({lo, hi, CoverOf(to_optical, lo, hi), nullptr});
   }
-  // Per sliver, the solids whose bearings span it (a compressed list: the solids of sliver b are
-  // sliver_solids[sliver_start[b] .. sliver_start[b + 1]]), so a pixel tests only those.
-  std::vector<uint32_t> sliver_start(kBins + 1, 0);
-  auto each_sliver = [](const Near& n, auto&& visit) {
-    if (n.first <= n.last) {
-      for (int b = n.first; b <= n.last; ++b) visit(b);
-    } else {
-      for (int b = n.first; b < kBins; ++b) visit(b);
-      for (int b = 0; b <= n.last; ++b) visit(b);
-    }
-  };
-  for (const Near& n : near) each_sliver(n, [&](int b) { ++sliver_start[static_cast<size_t>(b) + 1]; });
-  for (int b = 0; b < kBins; ++b) sliver_start[static_cast<size_t>(b) + 1] += sliver_start[static_cast<size_t>(b)];
-  std::vector<uint32_t> sliver_solids(sliver_start[kBins]);
-  {
-    std::vector<uint32_t> next(sliver_start.begin(), sliver_start.end() - 1);
-    for (uint32_t k = 0; k < near.size(); ++k)
-      each_sliver(near[k], [&](int b) { sliver_solids[next[static_cast<size_t>(b)]++] = k; });
-  }
-  struct Body {
-    const Disc* disc;
-    int first = 0, last = kBins - 1;
-    bool In(int bin) const { return first > last ? (bin >= first || bin <= last) : (bin >= first && bin <= last); }
-  };
-  std::vector<Body> bodies;
   for (const Disc* disc : DiscsWithin(discs, origin, max_reach_, self)) {
-    Body b{disc};
-    const double to_centre = Distance(disc->centre, origin);
-    if (to_centre <= disc->radius) continue;  // the camera is inside it: it sees nothing of it
-    span(disc->centre, std::asin(disc->radius / to_centre), b.first, b.last);
-    bodies.push_back(b);
+    if (Distance(disc->centre, origin) <= disc->radius) continue;  // the camera is inside it: it sees nothing of it
+    const Eigen::Vector3f lo =
+        Eigen::Vector3d(disc->centre.x() - disc->radius, disc->centre.y() - disc->radius, 0.0).cast<float>() - camera;
+    const Eigen::Vector3f hi =
+        Eigen::Vector3d(disc->centre.x() + disc->radius, disc->centre.y() + disc->radius, kBodyHeight).cast<float>() -
+        camera;
+    boxes.push_back({lo, hi, CoverOf(to_optical, lo, hi), disc});
   }
-  const size_t noise_at = static_cast<size_t>(rng() % (noise_.size() - pixels_.size()));
-  std::vector<Eigen::Vector3f> points(pixels_.size());
-  size_t count = 0;
-  for (size_t i = 0; i < pixels_.size(); ++i) {
-    const Pixel& p = pixels_[i];
-    const float noise = noise_[noise_at + i];
-    if (std::isnan(noise)) continue;  // a hole
-    double depth = std::min(p.floor, wall[static_cast<size_t>(p.bin)] * p.per_across);
-    if (busy[static_cast<size_t>(p.bin)]) {
-      const Eigen::Vector3d dir(c * p.robot.x() - s * p.robot.y(), s * p.robot.x() + c * p.robot.y(), p.robot.z());
-      const Eigen::Array3f inverse = dir.cast<float>().array().inverse();
-      const auto bin = static_cast<size_t>(p.bin);
-      for (uint32_t k = sliver_start[bin]; k < sliver_start[bin + 1]; ++k) {
-        const Near& n = near[sliver_solids[k]];
-        depth = std::min(depth, static_cast<double>(RayBox(n.lo, n.hi, inverse)));
-      }
-      if (p.horizontal > 1e-6f) {
-        const Point2 flat = Point2(dir.x(), dir.y()) * p.per_across;
-        for (const Body& b : bodies) {
-          if (!b.In(p.bin)) continue;
-          const double at = RayDiscDistance(origin, flat, *b.disc) * p.per_across;
-          const double z = d_.mount_z + at * dir.z();
-          if (std::isfinite(at) && z >= 0.0 && z <= kBodyHeight) depth = std::min(depth, at);
+  const size_t pixels = sliver_.size();
+  const auto width = static_cast<size_t>(d_.width);
+  const std::vector<float> open_row(width, kInfinity);
+  std::vector<const float*> nearer_row(static_cast<size_t>(d_.height), open_row.data());
+  const std::unique_ptr<float[]> nearer(new float[pixels]);  // NOLINT(modernize-avoid-c-arrays): filled per row used
+  for (const Box& box : boxes) {
+    for (int v = box.cover.v0; v <= box.cover.v1; ++v) {
+      float* row = nearer.get() + static_cast<size_t>(v) * width;
+      if (nearer_row[static_cast<size_t>(v)] != row) std::fill(row, row + width, kInfinity);
+      nearer_row[static_cast<size_t>(v)] = row;
+    }
+  }
+  for (const Box& box : boxes) {
+    const PixelRect& r = box.cover;
+    for (int v = r.v0; v <= r.v1; ++v) {
+      // The map-frame ray per metre of depth of pixel (u, v): row + to_map.col(0) * column_x_[u].
+      const Eigen::Vector3f row = to_map.col(1) * row_y_[static_cast<size_t>(v)] + to_map.col(2);
+      for (int u = r.u0; u <= r.u1; ++u) {
+        const size_t i = static_cast<size_t>(v) * width + static_cast<size_t>(u);
+        const Eigen::Vector3f ray = row + to_map.col(0) * column_x_[static_cast<size_t>(u)];
+        float& d = nearer[i];
+        if (!box.disc) {
+          d = std::min(d, RayBox(box.lo.array(), box.hi.array(), ray.array().inverse()));
+          continue;
         }
+        const float horizontal = std::hypot(ray.x(), ray.y());
+        if (horizontal <= 1e-6f) continue;
+        const float per_across = 1.0f / horizontal;
+        const Point2 flat = Point2(ray.x(), ray.y()) * per_across;
+        const double along = RayDiscDistance(origin, flat, *box.disc) * per_across;
+        const double z = d_.mount_z + along * ray.z();
+        if (std::isfinite(along) && z >= 0.0 && z <= kBodyHeight) d = std::min(d, static_cast<float>(along));
       }
     }
-    if (depth < d_.range_min || depth > d_.range_max) continue;
-    depth += d_.noise * depth * depth * noise;
-    points[count++] = p.optical * static_cast<float>(depth);
+  }
+  // The nearest of floor, wall and the rest; holes, range limits and noise; then the points. Row
+  // by row in three passes: the walls' depths gathered, then depths and noise for the whole row
+  // at once (a loop the compiler vectorizes; NaN marks no reading), then the points kept.
+  const size_t noise_at = static_cast<size_t>(rng() % (noise_.size() - pixels));
+  const auto range_min = static_cast<float>(d_.range_min), range_max = static_cast<float>(d_.range_max);
+  std::vector<Eigen::Vector3f> points(pixels);
+  std::vector<float> across(width), seen(width);
+  Eigen::Vector3f* out = points.data();
+  size_t count = 0;
+  const Eigen::Matrix3f& r = to_robot_;
+  const auto mount_z = static_cast<float>(d_.mount_z);
+  for (size_t v = 0; v < static_cast<size_t>(d_.height); ++v) {
+    const size_t first = v * width;
+    const uint16_t* sliver = sliver_.data() + first;
+    for (size_t u = 0; u < width; ++u) across[u] = wall[sliver[u]];
+    // Pixel (u, v)'s ray in the robot frame is the row's part plus r.col(0) * column_x_[u].
+    const Eigen::Vector3f row = r.col(1) * row_y_[v] + r.col(2);
+    const float* noise = noise_.data() + noise_at + first;
+    const float* near = nearer_row[v];
+    for (size_t u = 0; u < width; ++u) {
+      const float x = column_x_[u];
+      const float ahead = row.x() + r(0, 0) * x, left = row.y() + r(1, 0) * x, up = row.z() + r(2, 0) * x;
+      const float wall_depth = across[u] / std::sqrt(ahead * ahead + left * left);
+      const float down = -up > 1e-6f ? -up : 1e-6f;
+      const float floor = mount_z / down;  // beyond any range when the ray looks up
+      const float nearest = wall_depth < floor ? wall_depth : floor;
+      const float truth = near[u] < nearest ? near[u] : nearest;
+      const float z = truth + truth * truth * noise[u];
+      seen[u] = (truth >= range_min) & (truth <= range_max) ? z : kNaN;
+    }
+    const float y = row_y_[v];
+    for (size_t u = 0; u < width; ++u) {
+      const float z = seen[u];
+      // Written always, kept only when read: holes fall at random, and a branch on them would be
+      // mispredicted at every one.
+      out[count] = Eigen::Vector3f(column_x_[u] * z, y * z, z);
+      count += static_cast<size_t>(z == z);
+    }
   }
   points.resize(count);
   return points;

@@ -27,7 +27,9 @@ constexpr double kMaxFirst = 268435456.0;
 // TraverseSegment's tolerance.
 constexpr Fixed kCornerFixed = 4;
 
-Fixed ToFixed(double cells) { return static_cast<Fixed>(std::llround(cells * kFixedOne)); }
+// Rounded to nearest, half away from zero, as llround, without its library call: every value
+// converted is at least 0 and below 2^48, where adding one half is exact.
+Fixed ToFixed(double cells) { return static_cast<Fixed>(cells * kFixedOne + 0.5); }
 // A value in [0, 1] as a 2.62 fixed-point number (a signed conversion: no unsigned fix-up code).
 uint64_t ToFraction(double v) { return static_cast<uint64_t>(static_cast<int64_t>(v * 4611686018427387904.0)); }
 
@@ -222,7 +224,10 @@ double RayCaster::CastOpenEdge(const Point2& origin, const Point2& dir, double m
   // A hit lies on the boundary of the cell the ray enters there, to within 1e-9 cells: a step of
   // 1e-4 cells on is inside that cell (for a ring cell, off the grid). Only a ray through a grid
   // corner exactly, touching an edge wall cell at its corner, is misjudged.
-  if (r < max_range && !grid_.ContainsPoint(origin + dir * (r + 1e-4 * grid_.resolution()))) return max_range;
+  if (r >= max_range) return r;
+  const Point2 beyond = (origin + dir * (r + 1e-4 * grid_.resolution()) - grid_.origin()) * inv_resolution_;
+  if (!(beyond.x() >= 0.0 && beyond.y() >= 0.0 && beyond.x() < grid_.width() && beyond.y() < grid_.height()))
+    return max_range;
   return r;
 }
 
