@@ -132,12 +132,16 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
   };
   for (size_t k = 0; k < casts_.size(); k += 2) cast_at(k);
   for (size_t k = 1; k < casts_.size(); k += 2) {
-    const bool between = k + 1 < casts_.size() && casts_[k + 1].sliver == casts_[k - 1].sliver + 2;
-    const double a = cast_range[k - 1], b = between ? cast_range[k + 1] : 0.0;
+    if (k + 1 == casts_.size() || casts_[k + 1].sliver != casts_[k - 1].sliver + 2) {
+      cast_at(k);
+      continue;
+    }
+    const Cast &before = casts_[k - 1], &after = casts_[k + 1];
+    const double a = cast_range[k - 1], b = cast_range[k + 1];
     // Neither meets a wall, and both look at least as far as this one would.
-    const bool open = a >= casts_[k - 1].reach && b >= casts_[k + 1].reach &&
-                      casts_[k].reach <= std::min(casts_[k - 1].reach, casts_[k + 1].reach);
-    if (between && (open || (a < casts_[k - 1].reach && b < casts_[k + 1].reach && std::abs(a - b) <= kSameSurface)))
+    const bool open = a >= before.reach && b >= after.reach && casts_[k].reach <= std::min(before.reach, after.reach);
+    const bool same = a < before.reach && b < after.reach && std::abs(a - b) <= kSameSurface;
+    if (open || same)
       cast_range[k] = open ? casts_[k].reach : 0.5 * (a + b);
     else
       cast_at(k);
