@@ -101,10 +101,17 @@ void HoldOdometryWhileCarried(const DisturbancePlan& plan, std::vector<Pose2>* o
     (*odometry)[j] = j < plan.drop ? held : held * (from_drop * (*odometry)[j]);
 }
 
-// The pose navd holds right after each scan: the last it published within a second of log time
-// of the scan's stamp (before the next scan), against the corrected pose at its stamp. Offline
-// localisation is judged at the scans; between them navd carries the pose on with the noisy
-// odometry, where only the corrected poses' straight-line interpolation tells the truth.
+// Log seconds between the odometry messages the replay sends between scans.
+double ReplayTick(const ReplayOptions& o) {
+  return std::max(1.0 / kTicksPerLogSecond, o.rate / kMaxTicksPerWallSecond);
+}
+
+// The pose navd holds right after each scan, where offline localisation is judged: the last it
+// published stamped no later than one replay tick after the scan (navd stamps a pose with the
+// newest odometry; the scan comes right after the odometry of its instant, and navd has taken it
+// in by the next tick), against the corrected pose at its stamp. Later poses are carried on by the
+// noisy odometry, where only the corrected poses' straight-line interpolation tells the truth:
+// the "every pose" figure judges those.
 // The corrected pose at `stamp` on the straight line from scan a to scan b (the log has no truth
 // between its scans).
 Pose2 CorrectedBetween(const CarmenScan& a, const CarmenScan& b, double stamp) {
@@ -123,14 +130,13 @@ struct AtScans {
 };
 AtScans JudgeAtScans(const CarmenLog& log, const std::vector<StampedPose>& sorted, const ReplayOptions& o,
                      const DisturbancePlan& plan) {
-  constexpr double kWithin = 1.0;  // s of log
+  const double within = ReplayTick(o) * (1.0 + 1e-9);  // s of log
   AtScans a;
   size_t p = 0;
   for (size_t k = 0; k < log.scans.size(); ++k) {
     if (Carried(o, plan, k)) continue;  // navd never saw it
     const double from = log.scans[k].timestamp;
-    const double until =
-        k + 1 < log.scans.size() ? std::min(from + kWithin, log.scans[k + 1].timestamp) : from + kWithin;
+    const double until = k + 1 < log.scans.size() ? std::min(from + within, log.scans[k + 1].timestamp) : from + within;
     while (p < sorted.size() && sorted[p].stamp < from) ++p;
     const StampedPose* last = nullptr;
     for (size_t q = p; q < sorted.size() && sorted[q].stamp < until; ++q) last = &sorted[q];
@@ -230,6 +236,11 @@ int RunReplay(const ReplayOptions& o) {
     std::printf(
         "replay: the log's scan stamps are too coarse to time by; scans paced from its odometry (0.5 m/s, 0.5 "
         "rad/s)\n");
+  } else if (const int moved = TimeScansInFileOrder(log)) {
+    std::printf(
+        "replay: %d scans stamped before the scan ahead of them in the file, or sooner after it than a robot moves "
+        "(3 m/s, 4 rad/s), follow it that late\n",
+        moved);
   }
   const bool disturbed = o.disturbance != Disturbance::kNone;
   if (disturbed && o.disturb_at >= log.scans.back().timestamp - log.scans.front().timestamp)
@@ -315,7 +326,7 @@ int RunReplay(const ReplayOptions& o) {
 
   std::unique_ptr<LostWatch> lost_watch;
   if (disturbed) lost_watch = std::make_unique<LostWatch>(o.server, t0 + o.disturb_at, log_time);
-  const double tick = std::max(1.0 / kTicksPerLogSecond, o.rate / kMaxTicksPerWallSecond);
+  const double tick = ReplayTick(o);
   const auto wall0 = Clock::now();
   auto pace = [&](double t) {
     std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((t - t0) / o.rate));

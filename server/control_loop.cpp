@@ -113,22 +113,31 @@ void ControlLoop::StaleTick(double now) {
 void ControlLoop::Tick(uint64_t tick, double now) {
   const auto tick_start = std::chrono::steady_clock::now();
   timing_.TickStarted(tick_start);
-  if (auto odom = bridge_.LatestOdometry()) {
-    localizer_.AddOdometry(*odom);
-    if (localizer_.odometry_jumps() != odometry_jumps_seen_) {
-      odometry_jumps_seen_ = localizer_.odometry_jumps();
-      spdlog::warn("odometry jumped to ({:.2f}, {:.2f}, {:.2f}) at t={:.2f}s: taken as no motion (jump {})",
-                   odom->pose.x, odom->pose.y, odom->pose.theta, odom->stamp, odometry_jumps_seen_);
-    }
-  }
+  const std::optional<localization::OdometryReading> newest_odometry = bridge_.LatestOdometry();
   std::optional<localization::ScanReading> scan;  // the scan that arrived since the last tick
   std::optional<Pose2> odom_at_scan;
   std::chrono::steady_clock::time_point scan_wall_arrival;
   if (bridge_.scan_count() != scans_seen_) {
-    scans_seen_ = bridge_.scan_count();
     scan_wall_arrival = bridge_.last_scan_wall_arrival();
     scan = bridge_.LatestScan();
-    if (scan && executive_.localization_active()) localizer_.AddScan(*scan);
+    if (scan && scan_odometry_.Waits(scan->stamp, newest_odometry, scan_wall_arrival, tick_start)) {
+      scan.reset();  // a later tick takes it, with the odometry of its instant
+    } else {
+      scans_seen_ = bridge_.scan_count();
+    }
+  }
+  for (const localization::OdometryReading& odom :
+       scan_odometry_.Readings(newest_odometry, scan ? std::optional<double>(scan->stamp) : std::nullopt,
+                               [this](double stamp) { return bridge_.OdometryAt(stamp); })) {
+    localizer_.AddOdometry(odom);
+    if (localizer_.odometry_jumps() != odometry_jumps_seen_) {
+      odometry_jumps_seen_ = localizer_.odometry_jumps();
+      spdlog::warn("odometry jumped to ({:.2f}, {:.2f}, {:.2f}) at t={:.2f}s: taken as no motion (jump {})",
+                   odom.pose.x, odom.pose.y, odom.pose.theta, odom.stamp, odometry_jumps_seen_);
+    }
+  }
+  if (scan) {
+    if (executive_.localization_active()) localizer_.AddScan(*scan);
     odom_at_scan = scan ? bridge_.OdometryAt(scan->stamp) : std::nullopt;
     if (scan && map_builder_.active() && odom_at_scan) {
       // A mapping run takes the scan with the odometry of its own stamp (a robot turning at 1 rad/s

@@ -9,6 +9,7 @@
 #include "server/control_loop_timing.h"
 #include "server/dds_bridge.h"
 #include "services/localization/localizer_selector.h"
+#include "services/localization/scan_odometry_pairing.h"
 #include "services/mapping/map_builder.h"
 #include "services/navigation/navigation_executive.h"
 
@@ -56,6 +57,7 @@ class ControlLoop {
   ControlLoopTiming timing_;
   int zero_commands_left_ = 0;
   uint64_t scans_seen_ = 0;
+  localization::ScanOdometryPairing scan_odometry_;
   uint64_t people_seen_ = 0;
   double people_stamp_ = -1.0;           // of the last people report handed on
   std::string behaviour_, hold_reason_;  // at the last tick, to log changes

@@ -139,6 +139,19 @@ bool PaceScansWhenStampsAreCoarse(CarmenLog& log, double speed, double turn_rate
   return true;
 }
 
+int TimeScansInFileOrder(CarmenLog& log, double max_speed, double max_turn_rate, double gap) {
+  int moved = 0;
+  for (size_t i = 1; i < log.scans.size(); ++i) {
+    const Pose2 step = log.scans[i - 1].pose.inverse() * log.scans[i].pose;
+    const double soonest = log.scans[i - 1].timestamp + std::max({gap, std::hypot(step.x, step.y) / max_speed,
+                                                                  std::abs(step.theta) / max_turn_rate});
+    if (log.scans[i].timestamp >= soonest) continue;
+    log.scans[i].timestamp = soonest;
+    ++moved;
+  }
+  return moved;
+}
+
 CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw Error(ErrorCode::kNotFound, "log file '" + path + "' does not exist");

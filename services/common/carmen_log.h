@@ -77,6 +77,15 @@ CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, boo
 // `min_gap` s. Returns whether it did. Scans only: ODOM and TRUEPOS lines keep their stamps.
 bool PaceScansWhenStampsAreCoarse(CarmenLog& log, double speed = 0.5, double turn_rate = 0.5, double min_gap = 0.2);
 
+// A few logs stamp a scan earlier than the one before it now and then, or so soon after it that
+// the robot would have turned faster than any robot turns (intel-corrected.log: four scans stamped
+// back by up to 0.86 s, seven turning half a radian in 10-20 ms). Scans are in the order of their
+// place in the file, and a scan comes no sooner after the one before than its motion takes at
+// `max_speed` m/s and `max_turn_rate` rad/s (and at least `gap` s): such a scan is re-stamped that
+// late, so whatever times by the stamps (a replay, a daemon's odometry checks) sees a robot move as
+// robots do. Returns how many scans it re-stamped. Scans only.
+int TimeScansInFileOrder(CarmenLog& log, double max_speed = 3.0, double max_turn_rate = 4.0, double gap = 0.001);
+
 // Beam i of an n-beam CARMEN front scan points at -pi/2 + i * increment in the laser frame. The
 // SICK scanners of these logs step by 1, 0.5 or 0.25 degrees from -90: 180 or 181 beams are
 // 1 degree apart, 360 or 361 beams half a degree.

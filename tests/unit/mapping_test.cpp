@@ -166,6 +166,21 @@ TEST(CarmenLogStamps, CoarseStampsArePacedFromOdometry) {
       "fine");
   EXPECT_FALSE(PaceScansWhenStampsAreCoarse(fine));
   EXPECT_DOUBLE_EQ(fine.scans[2].timestamp, 10.5);
+  // A log that is fine but for a stamp that repeats, or goes back, is put in its file's order, a
+  // scan at least as long after the one before as its motion takes at 3 m/s and 4 rad/s: 1 m
+  // and 0.6 rad in 10 ms come 0.33 and 0.15 s after it.
+  EXPECT_EQ(TimeScansInFileOrder(fine), 1);
+  EXPECT_NEAR(fine.scans[2].timestamp, 10.5 + 1.0 / 3.0, 1e-9);
+  CarmenLog back = ParseCarmenLog(
+      "FLASER 1 1.0 0 0 0 0 0 0 10.0 h 10.0\nFLASER 1 1.0 1 0 0 1 0 0 11.0 h 11.0\n"
+      "FLASER 1 1.0 1 0 0.6 1 0 0.6 11.01 h 11.01\nFLASER 1 1.0 1 0 0.6 1 0 0.6 10.9 h 10.9\n"
+      "FLASER 1 1.0 2 0 0.6 2 0 0.6 13.0 h 13.0\n",
+      "back");
+  EXPECT_EQ(TimeScansInFileOrder(back), 2);
+  EXPECT_NEAR(back.scans[2].timestamp, 11.15, 1e-9);
+  EXPECT_NEAR(back.scans[3].timestamp, 11.151, 1e-9);
+  EXPECT_DOUBLE_EQ(back.scans[4].timestamp, 13.0);
+  EXPECT_EQ(TimeScansInFileOrder(back), 0);
 }
 
 // Scans keep their place in the file whatever their stamps say (logs with fake, repeated stamps).

@@ -13,6 +13,7 @@
 #include "services/localization/localizer_selector.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/odometry_localizer.h"
+#include "services/localization/scan_odometry_pairing.h"
 #include "services/localization/scan_points.h"
 #include "services/localization/scan_to_map_fit.h"
 #include "services/localization/wheel_odometry.h"
@@ -38,6 +39,38 @@ World WithStart(const Pose2& start) {
 // One noisy scan of the default world from `truth`, fitted from poses displaced by up to 0.2 m
 // and 0.12 rad (seed 000's validation offset is 0.2 m and 0.14 rad): every fit lands within a
 // centimetre and 5 mrad of the truth.
+TEST(ScanOdometryPairing, AScanWaitsForTheOdometryOfItsInstantThenGetsItFirst) {
+  using localization::OdometryReading;
+  using localization::ScanOdometryPairing;
+  using std::chrono::milliseconds;
+  const ScanOdometryPairing::WallClock::time_point arrived{};
+  ScanOdometryPairing pairing(milliseconds(50));
+  const OdometryReading before{{1.0, 0.0, 0.0}, Eigen::Matrix3d::Zero(), 1.0};
+  // The scan at 1.5 s came before the odometry of 1.5 s: it waits, but not for ever, and not
+  // when there is no odometry at all or the odometry is already past it.
+  EXPECT_TRUE(pairing.Waits(1.5, before, arrived, arrived + milliseconds(10)));
+  EXPECT_FALSE(pairing.Waits(1.5, before, arrived, arrived + milliseconds(60)));
+  EXPECT_FALSE(pairing.Waits(1.5, std::nullopt, arrived, arrived));
+  const OdometryReading after{{2.0, 0.0, 0.4}, Eigen::Matrix3d::Identity(), 2.0};
+  EXPECT_FALSE(pairing.Waits(1.5, after, arrived, arrived));
+  // The history has taken out a jump of 10 m: the reading at the scan is carried back from the
+  // newest by the motion between them, not read off the history's frame.
+  auto history = [](double t) { return std::optional<Pose2>(Pose2{t - 10.0, 0.0, 0.4 * (t - 1.0)}); };
+  const std::vector<OdometryReading> first = pairing.Readings(after, 1.5, history);
+  ASSERT_EQ(first.size(), 2u);
+  EXPECT_DOUBLE_EQ(first[0].stamp, 1.5);
+  EXPECT_NEAR(first[0].pose.x, 1.5, 1e-9);
+  EXPECT_NEAR(first[0].pose.y, 0.0, 1e-9);
+  EXPECT_NEAR(first[0].pose.theta, 0.2, 1e-9);
+  EXPECT_EQ(first[0].covariance, Eigen::Matrix3d::Identity());
+  EXPECT_DOUBLE_EQ(first[1].stamp, 2.0);
+  // Once a later reading went in, an older instant never follows it (out of order), and without
+  // a scan only the newest goes in.
+  EXPECT_EQ(pairing.Readings(after, 1.8, history).size(), 1u);
+  EXPECT_EQ(pairing.Readings(after, std::nullopt, history).size(), 1u);
+  EXPECT_TRUE(pairing.Readings(std::nullopt, 2.5, history).empty());
+}
+
 TEST(ScanToMapFit, PullsADisplacedPoseBackOntoTheWalls) {
   const World world = DefaultWorld();
   const LikelihoodField field(world.map);
