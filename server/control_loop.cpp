@@ -117,13 +117,13 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   std::optional<localization::ScanReading> scan;  // the scan that arrived since the last tick
   std::optional<Pose2> odom_at_scan;
   std::chrono::steady_clock::time_point scan_wall_arrival;
-  if (bridge_.scan_count() != scans_seen_) {
+  if (const uint64_t count = bridge_.scan_count(); count != scans_seen_) {
     scan_wall_arrival = bridge_.last_scan_wall_arrival();
     scan = bridge_.LatestScan();
-    if (scan && scan_odometry_.Waits(scan->stamp, newest_odometry, scan_wall_arrival, tick_start)) {
-      scan.reset();  // a later tick takes it, with the odometry of its instant
+    if (scan && scan_odometry_.Waits(scan->stamp, newest_odometry, tick_start)) {
+      scan.reset();  // a later tick takes it (or a newer one), with the odometry of its instant
     } else {
-      scans_seen_ = bridge_.scan_count();
+      scans_seen_ = count;
     }
   }
   for (const localization::OdometryReading& odom :
@@ -138,8 +138,8 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   }
   if (scan) {
     if (executive_.localization_active()) localizer_.AddScan(*scan);
-    odom_at_scan = scan ? bridge_.OdometryAt(scan->stamp) : std::nullopt;
-    if (scan && map_builder_.active() && odom_at_scan) {
+    odom_at_scan = bridge_.OdometryAt(scan->stamp);
+    if (map_builder_.active() && odom_at_scan) {
       // A mapping run takes the scan with the odometry of its own stamp (a robot turning at 1 rad/s
       // turns 0.05 rad in one control period, and under load ticks fall further apart), and the
       // localiser's pose carried to that stamp.

@@ -74,13 +74,14 @@ DepthCamera::DepthCamera(const DepthCameraDescription& description)
 
 DepthCamera::PixelRect DepthCamera::CoverOf(const Eigen::Matrix3f& to_optical, const Eigen::Vector3f& lo,
                                             const Eigen::Vector3f& hi) const {
-  // The box cut at the nearest depth the camera reads: its corners at or beyond it, and where its
-  // edges cross it. Their images bound the image of all the box the camera can see.
+  // The box cut a millimetre in front of the camera: its corners beyond, and where its edges cross
+  // that plane. Their images bound the image of all of the box in front of the camera.
   std::array<Eigen::Vector3f, 8> corner;
   for (int k = 0; k < 8; ++k)
     corner[k] =
         to_optical * Eigen::Vector3f((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
-  const auto near = static_cast<float>(d_.range_min);
+  // A millimetre, not range_min: a box crossed nearer than range_min still hides what is behind it.
+  constexpr float near = 1e-3f;
   PixelRect r{d_.width, -1, d_.height, -1};
   auto include = [&](const Eigen::Vector3f& q) {
     const double u = intrinsics_.fx * q.x() / q.z() + intrinsics_.cx;
@@ -123,6 +124,7 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
   // two casts that meet the same surface (within kSameSurface of each other) takes their mean,
   // which a flat wall's depth matches to a millimetre at these angles; any other gets its own cast.
   constexpr double kSameSurface = 0.05;  // m
+  const double cell = walls.grid().resolution();
   std::vector<float> wall(static_cast<size_t>(slivers_), kInfinity);
   std::vector<double> cast_range(casts_.size(), 0.0);
   auto cast_at = [&](size_t k) {
@@ -141,7 +143,10 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
     // Neither meets a wall, and both look at least as far as this one would.
     const bool open = a >= before.reach && b >= after.reach && casts_[k].reach <= std::min(before.reach, after.reach);
     const bool same = a < before.reach && b < after.reach && std::abs(a - b) <= kSameSurface;
-    if (open || same)
+    // Only where the two casts are closer together than a map cell is wide (within 3.5 m at 5 cm
+    // and the default image), so no cell fits between them unseen.
+    const double apart = 2.0 * sliver_width_ * (open ? casts_[k].reach : std::max(a, b));
+    if ((open || same) && apart <= cell)
       cast_range[k] = open ? casts_[k].reach : 0.5 * (a + b);
     else
       cast_at(k);

@@ -41,7 +41,7 @@ class DepthCamera {
     int u0, u1, v0, v1;
   };
   // A box (corners relative to the camera, map axes) to the pixels it can cover: the bounding
-  // rectangle of the image of what of it lies at range_min or deeper.
+  // rectangle of the image of what of it lies in front of the camera.
   PixelRect CoverOf(const Eigen::Matrix3f& to_optical, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) const;
 
   // A wall cast: which sliver, its bearing's unit vector in the robot frame, and how far across

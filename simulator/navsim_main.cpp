@@ -130,6 +130,8 @@ class RobotTopics {
   void Publish(double t, const sim::SimulatedRobot& robot, const sim::RobotReadings& in, bool truth, bool status,
                double real_time_factor) {
     const auto& base = robot.base();
+    // Odometry first: a reader pairs each scan with the odometry of its instant, and waits for it.
+    if (in.odom) odom_.Write(MakeOdometry(t, base.odom_pose(), base.odom_twist(), base.odom_covariance(), "odom"));
     if (in.scan) {
       scan_msg_.header(MakeHeader(t, "base_scan"));
       scan_msg_.ranges(*in.scan);
@@ -153,7 +155,6 @@ class RobotTopics {
       }
       people_->Write(m);
     }
-    if (in.odom) odom_.Write(MakeOdometry(t, base.odom_pose(), base.odom_twist(), base.odom_covariance(), "odom"));
     if (in.encoders) {
       msgs_sensor::JointState_ j;
       j.header(MakeHeader(t, "base_link"));

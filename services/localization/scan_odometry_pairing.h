@@ -21,20 +21,24 @@ class ScanOdometryPairing {
   using WallClock = std::chrono::steady_clock;
   explicit ScanOdometryPairing(WallClock::duration max_wait = std::chrono::milliseconds(50)) : max_wait_(max_wait) {}
 
-  // True while a scan stamped `scan_stamp`, arrived at `arrival`, should wait for odometry: the
-  // newest reading is older than the scan and the wait has not run out.
-  bool Waits(double scan_stamp, const std::optional<OdometryReading>& newest, WallClock::time_point arrival,
-             WallClock::time_point now) const;
+  // True while the newest scan, stamped `scan_stamp`, should wait for odometry: the newest
+  // reading is older than the scan, and scans have waited less than max_wait since the first tick
+  // that held one back (a newer scan taking the held one's place does not start the wait again, so
+  // odometry that stays behind the scans holds none of them for longer). Call once per tick with a
+  // scan; a false answer ends the wait.
+  bool Waits(double scan_stamp, const std::optional<OdometryReading>& newest, WallClock::time_point now);
 
   // The readings to hand the localiser this tick, in order: the one at the scan's stamp (when a
   // scan is handed on, the newest reading is past it, and nothing later was handed on before),
   // from `odometry_at` (the odometry pose at a stamp, from every reading that arrived), then the
-  // newest. Remembers the latest stamp handed on.
+  // newest. Remembers the latest stamp handed on (forgotten when the odometry's clock goes back: a
+  // replay or a simulator started again).
   std::vector<OdometryReading> Readings(const std::optional<OdometryReading>& newest, std::optional<double> scan_stamp,
                                         const std::function<std::optional<Pose2>(double)>& odometry_at);
 
  private:
   WallClock::duration max_wait_;
+  std::optional<WallClock::time_point> waiting_since_;           // the first tick that held a scan back
   double handed_on_ = -std::numeric_limits<double>::infinity();  // stamp of the latest reading handed on
 };
 

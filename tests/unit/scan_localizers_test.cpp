@@ -36,23 +36,22 @@ World WithStart(const Pose2& start) {
   return w;
 }
 
-// One noisy scan of the default world from `truth`, fitted from poses displaced by up to 0.2 m
-// and 0.12 rad (seed 000's validation offset is 0.2 m and 0.14 rad): every fit lands within a
-// centimetre and 5 mrad of the truth.
 TEST(ScanOdometryPairing, AScanWaitsForTheOdometryOfItsInstantThenGetsItFirst) {
   using localization::OdometryReading;
   using localization::ScanOdometryPairing;
   using std::chrono::milliseconds;
-  const ScanOdometryPairing::WallClock::time_point arrived{};
+  const ScanOdometryPairing::WallClock::time_point start{};
   ScanOdometryPairing pairing(milliseconds(50));
   const OdometryReading before{{1.0, 0.0, 0.0}, Eigen::Matrix3d::Zero(), 1.0};
-  // The scan at 1.5 s came before the odometry of 1.5 s: it waits, but not for ever, and not
-  // when there is no odometry at all or the odometry is already past it.
-  EXPECT_TRUE(pairing.Waits(1.5, before, arrived, arrived + milliseconds(10)));
-  EXPECT_FALSE(pairing.Waits(1.5, before, arrived, arrived + milliseconds(60)));
-  EXPECT_FALSE(pairing.Waits(1.5, std::nullopt, arrived, arrived));
+  // The scan at 1.5 s came before the odometry of 1.5 s: it waits, and a newer scan taking its
+  // place does not start the wait again; after 50 ms it goes on without.
+  EXPECT_TRUE(pairing.Waits(1.5, before, start));
+  EXPECT_TRUE(pairing.Waits(1.6, before, start + milliseconds(40)));
+  EXPECT_FALSE(pairing.Waits(1.6, before, start + milliseconds(60)));
+  // No odometry at all, or odometry already past the scan: no wait.
+  EXPECT_FALSE(pairing.Waits(1.5, std::nullopt, start));
   const OdometryReading after{{2.0, 0.0, 0.4}, Eigen::Matrix3d::Identity(), 2.0};
-  EXPECT_FALSE(pairing.Waits(1.5, after, arrived, arrived));
+  EXPECT_FALSE(pairing.Waits(1.5, after, start));
   // The history has taken out a jump of 10 m: the reading at the scan is carried back from the
   // newest by the motion between them, not read off the history's frame.
   auto history = [](double t) { return std::optional<Pose2>(Pose2{t - 10.0, 0.0, 0.4 * (t - 1.0)}); };
@@ -69,8 +68,14 @@ TEST(ScanOdometryPairing, AScanWaitsForTheOdometryOfItsInstantThenGetsItFirst) {
   EXPECT_EQ(pairing.Readings(after, 1.8, history).size(), 1u);
   EXPECT_EQ(pairing.Readings(after, std::nullopt, history).size(), 1u);
   EXPECT_TRUE(pairing.Readings(std::nullopt, 2.5, history).empty());
+  // The odometry's clock went back (a replay started again): scans are paired again.
+  const OdometryReading restarted{{0.5, 0.0, 0.0}, Eigen::Matrix3d::Zero(), 1.2};
+  EXPECT_EQ(pairing.Readings(restarted, 1.1, history).size(), 2u);
 }
 
+// One noisy scan of the default world from `truth`, fitted from poses displaced by up to 0.2 m
+// and 0.12 rad (seed 000's validation offset is 0.2 m and 0.14 rad): every fit lands within a
+// centimetre and 5 mrad of the truth.
 TEST(ScanToMapFit, PullsADisplacedPoseBackOntoTheWalls) {
   const World world = DefaultWorld();
   const LikelihoodField field(world.map);
