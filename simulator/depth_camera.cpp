@@ -34,9 +34,9 @@ DepthCamera::DepthCamera(const DepthCameraDescription& description)
   const auto [fx, fy, cx, cy] = intrinsics_;
   for (int u = 0; u < d_.width; ++u) column_x_.push_back(static_cast<float>((u + 0.5 - cx) / fx));
   for (int v = 0; v < d_.height; ++v) row_y_.push_back(static_cast<float>((v + 0.5 - cy) / fy));
-  // Slivers as wide as a pixel at the image's centre: a wall is sampled as finely as the image
-  // samples it.
-  sliver_width_ = d_.hfov / d_.width;
+  // Slivers as wide as a pixel at the image's centre, so a wall is sampled as finely as the image
+  // samples it; at most 65,535 round the circle, as their indices are 16 bits.
+  sliver_width_ = std::max(d_.hfov / d_.width, 2.0 * M_PI / 65535.0);
   const int slivers = static_cast<int>(std::ceil(2.0 * M_PI / sliver_width_));
   std::vector<float> reach(static_cast<size_t>(slivers), 0.0f);
   const size_t count = static_cast<size_t>(d_.width) * d_.height;

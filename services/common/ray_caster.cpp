@@ -31,7 +31,9 @@ constexpr Fixed kCornerFixed = 4;
 // converted is at least 0 (the ray's direction is finite), and below 2^52, where adding one half is
 // exact, for every parameter a walk of kMaxCells reaches; larger ones (unreached first crossings)
 // may round one unit of 2^-32 cell up.
-Fixed ToFixed(double cells) { return static_cast<Fixed>(cells * kFixedOne + 0.5); }
+Fixed ToFixed(double cells) {
+  return static_cast<Fixed>(cells * kFixedOne + 0.5);  // NOLINT(bugprone-incorrect-roundings): never negative
+}
 // A value in [0, 1] as a 2.62 fixed-point number (a signed conversion: no unsigned fix-up code).
 uint64_t ToFraction(double v) { return static_cast<uint64_t>(static_cast<int64_t>(v * 4611686018427387904.0)); }
 
