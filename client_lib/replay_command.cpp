@@ -106,12 +106,6 @@ double ReplayTick(const ReplayOptions& o) {
   return std::max(1.0 / kTicksPerLogSecond, o.rate / kMaxTicksPerWallSecond);
 }
 
-// The pose navd holds right after each scan, where offline localisation is judged: the last it
-// published stamped no later than one replay tick after the scan (navd stamps a pose with the
-// newest odometry; the scan comes right after the odometry of its instant, and navd has taken it
-// in by the next tick), against the corrected pose at its stamp. Later poses are carried on by the
-// noisy odometry, where only the corrected poses' straight-line interpolation tells the truth:
-// the "every pose" figure judges those.
 // The corrected pose at `stamp` on the straight line from scan a to scan b (the log has no truth
 // between its scans).
 Pose2 CorrectedBetween(const CarmenScan& a, const CarmenScan& b, double stamp) {
@@ -128,6 +122,12 @@ struct AtScans {
   int judged = 0;
   double sq_pos = 0.0, worst = 0.0;
 };
+// The pose navd holds right after each scan, where offline localisation is judged: the last it
+// published stamped no later than one replay tick after the scan (navd stamps a pose with the
+// newest odometry; the scan comes right after the odometry of its instant, and navd has taken it
+// in by the next tick), against the corrected pose at its stamp. Later poses are carried on by the
+// noisy odometry, where only the corrected poses' straight-line interpolation tells the truth:
+// the "every pose" figure judges those.
 AtScans JudgeAtScans(const CarmenLog& log, const std::vector<StampedPose>& sorted, const ReplayOptions& o,
                      const DisturbancePlan& plan) {
   const double within = ReplayTick(o) * (1.0 + 1e-9);  // s of log
