@@ -69,7 +69,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   const ScanMatch match = MatchScan(local, thinned, predicted, o_.sequential);
   // A scan that explains too little of the local map (empty scan, a new room seen through a door)
   // keeps the odometry's prediction.
-  const Pose2 pose = match.score > 0.1 ? Polish(std::move(local_points), thinned, match.pose) : predicted;
+  const Pose2 pose = match.score > 0.1 ? Polish(std::move(local_points), points, match.pose, o_.polish) : predicted;
 
   travel_since_closure_ += Distance(pose.translation(), graph_.nodes()[last].translation());
   const int node = graph_.AddNode(pose);
@@ -123,7 +123,7 @@ void GraphSlam::TryLoopClosure(int node) {
   ScanMatch match = MatchScan(CorrelationGrid(reference, fine.resolution, fine.sigma), scan, rough.pose, fine);
   if (match.score < o_.loop_min_score) return;
   if (rough.coarse_elsewhere > o_.loop_max_ambiguity * rough.coarse_best) return;
-  match.pose = Polish(reference, scan, match.pose);
+  match.pose = Polish(reference, node_points_[node], match.pose, o_.loop_polish);
   if (Distance(match.pose.translation(), here.translation()) > allowance) return;
 
   const Pose2 relative = graph_.nodes()[candidate].inverse() * match.pose;
@@ -133,17 +133,18 @@ void GraphSlam::TryLoopClosure(int node) {
   graph_.Optimize(o_.optimizer);
 }
 
-bool GraphSlam::MatchAgainst(const std::vector<Point2>& scan, int first, int last, const Pose2& guess,
-                             const ScanMatchOptions& window, ScanMatch* match) const {
+bool GraphSlam::MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns, int first, int last,
+                             const Pose2& guess, const ScanMatchOptions& window, ScanMatch* match) const {
   std::vector<Point2> points = NodePointsInMap(first, last);
   *match = MatchScan(CorrelationGrid(points, window.resolution, window.sigma), scan, guess, window);
   if (match->score < o_.loop_min_score || match->coarse_spread > o_.refine_max_spread) return false;
-  match->pose = Polish(std::move(points), scan, match->pose);
+  match->pose = Polish(std::move(points), returns, match->pose, o_.loop_polish);
   return true;
 }
 
-Pose2 GraphSlam::Polish(std::vector<Point2> reference, const std::vector<Point2>& scan, const Pose2& guess) const {
-  const PointToLineResult polished = PointToLineMatcher(std::move(reference), o_.polish).Match(scan, guess);
+Pose2 GraphSlam::Polish(std::vector<Point2> reference, const std::vector<Point2>& returns, const Pose2& guess,
+                        const PointToLineOptions& options) const {
+  const PointToLineResult polished = PointToLineMatcher(std::move(reference), options).Match(returns, guess);
   if (!polished.ok || Distance(polished.pose.translation(), guess.translation()) > o_.polish_max_shift_xy ||
       std::abs(NormalizeAngle(polished.pose.theta - guess.theta)) > o_.polish_max_shift_theta)
     return guess;
@@ -197,7 +198,7 @@ void GraphSlam::Refine() {
       for (const auto& [nearest, first, last] : stretches) {
         if (TurnedOnTheSpot(nearest)) continue;
         ScanMatch match;
-        if (!MatchAgainst(scan, first, last, here, window, &match)) continue;
+        if (!MatchAgainst(scan, node_points_[i], first, last, here, window, &match)) continue;
         const Pose2 relative = graph_.nodes()[nearest].inverse() * match.pose;
         graph_.AddEdge({nearest, i, relative, information, true});
         refinements_.push_back({node_scan_[nearest], node_scan_[i], relative, match.score});

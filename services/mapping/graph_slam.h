@@ -8,8 +8,9 @@
 //    local map reaches) within a search radius; the new scan is matched against that node's
 //    neighbourhood over a wide window, coarse (10 cm) then fine (5 cm); a match that explains
 //    enough of the scan becomes a robust (Cauchy) edge and the graph is optimised;
-//  - every match is polished by point-to-line matching against the same reference points
-//    (PointToLineMatcher), which holds it to the walls closer than the correlative grid's cells;
+//  - every match is polished by point-to-line matching of all the scan's returns against the same
+//    reference points (PointToLineMatcher), which holds it to the walls closer than the
+//    correlative grid's cells;
 //  - the map re-renders from the optimised poses (OccupancyGridMapper).
 // Map frame: the first scan sits at options.first_pose (the origin by default); metres, radians.
 #include <limits>
@@ -54,11 +55,20 @@ struct GraphSlamOptions {
   PointToLineOptions polish;
   double polish_max_shift_xy = 0.05;     // m
   double polish_max_shift_theta = 0.03;  // rad
+  // Matches against another pass (loop closures, refinement) start from a coarser search over a
+  // wider window, so their polish holds less to where it started: only where no wall constrains
+  // the pose (a bare corridor) should the start win. The front end's firmer prior keeps a scan in
+  // an open hall, whose few walls are far and sparse, from sliding.
+  PointToLineOptions loop_polish = [] {
+    PointToLineOptions p;
+    p.prior_sigma_xy = 0.3;
+    return p;
+  }();
   // Loop closing.
   double loop_search_radius = 4.0;  // m between the new node and a candidate
   int loop_min_node_gap = 30;       // nodes back along the chain, at least
   int loop_neighbourhood = 5;       // candidate's neighbours either side forming its map
-  double loop_window_xy = 1.5, loop_window_theta = 0.4;
+  double loop_window_xy = 3.0, loop_window_theta = 0.4;
   double loop_min_score = 0.65;  // mean lookup value of the scan on the candidate's map
   // Scans with fewer matched points (0.1 m apart) close no loops: a robot turning in a tight
   // corner sees a small, nearly round outline that matches at many headings.
@@ -66,7 +76,7 @@ struct GraphSlamOptions {
   // The most a closure may move the new node: drift grows with the distance driven since the
   // last closure, so the gate does too.
   double loop_max_correction = 0.15;        // m, plus
-  double loop_correction_per_metre = 0.01;  // of travel since the last accepted closure
+  double loop_correction_per_metre = 0.02;  // of travel since the last accepted closure
   // Refused as ambiguous when a pose at least loop_distinct_xy away scores within this fraction
   // of the best (corridors, rows of identical rooms).
   double loop_distinct_xy = 0.5;
@@ -134,12 +144,16 @@ class GraphSlam {
   std::vector<Point2> NodePointsInMap(int first, int last) const;
   void TryLoopClosure(int node);
   bool TurnedOnTheSpot(int node) const;
-  // `guess` polished by point-to-line matching of `scan` (robot frame) on `reference` (map frame).
-  Pose2 Polish(std::vector<Point2> reference, const std::vector<Point2>& scan, const Pose2& guess) const;
+  // `guess` polished by point-to-line matching of `returns` (robot frame) on `reference` (map
+  // frame). The polish takes every return of the scan, not the thinned sample the correlative
+  // search scores: each point on a wall is one more measurement of where that wall lies.
+  Pose2 Polish(std::vector<Point2> reference, const std::vector<Point2>& returns, const Pose2& guess,
+               const PointToLineOptions& options) const;
   // A scan's points (robot frame, thinned) matched against the map of nodes [first, last] around
-  // `guess`; false when the match is weak or slides along a corridor.
-  bool MatchAgainst(const std::vector<Point2>& scan, int first, int last, const Pose2& guess,
-                    const ScanMatchOptions& window, ScanMatch* match) const;
+  // `guess`, then polished with all its `returns`; false when the match is weak or slides along a
+  // corridor.
+  bool MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns, int first, int last,
+                    const Pose2& guess, const ScanMatchOptions& window, ScanMatch* match) const;
 
   GraphSlamOptions o_;
   PoseGraph graph_;
