@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -62,6 +63,21 @@ DepthCamera::DepthCamera(const DepthCameraDescription& description)
     max_reach_ = std::max(max_reach_, static_cast<double>(r));
   }
   slivers_ = slivers;
+  // Per pixel, fixed by the mount: metres of depth per metre across the floor (a wall's depth is
+  // its distance across the floor times this), and the depth at which the ray meets the floor.
+  per_across_.reserve(count);
+  floor_depth_.reserve(count);
+  const auto mount_z = static_cast<float>(d_.mount_z);
+  const Eigen::Matrix3f& r = to_robot_;
+  for (size_t v = 0; v < static_cast<size_t>(d_.height); ++v) {
+    const Eigen::Vector3f row = r.col(1) * row_y_[v] + r.col(2);
+    for (size_t u = 0; u < static_cast<size_t>(d_.width); ++u) {
+      const float x = column_x_[u];
+      const float ahead = row.x() + r(0, 0) * x, left = row.y() + r(1, 0) * x, up = row.z() + r(2, 0) * x;
+      per_across_.push_back(1.0f / std::sqrt(ahead * ahead + left * left));
+      floor_depth_.push_back(mount_z / (-up > 1e-6f ? -up : 1e-6f));  // beyond any range when the ray looks up
+    }
+  }
   // The noise table, depth noise per square metre of depth: longer than an image, so a frame's
   // pattern starts anywhere in it; its own stream, so the camera's description alone decides it.
   std::mt19937_64 rng(0x6e617664);
@@ -222,27 +238,24 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
   // at once (a loop the compiler vectorizes; NaN marks no reading), then the points kept.
   const size_t noise_at = static_cast<size_t>(rng() % (noise_.size() - pixels));
   const auto range_min = static_cast<float>(d_.range_min), range_max = static_cast<float>(d_.range_max);
-  std::vector<Eigen::Vector3f> points(pixels);
+  // Two spare points: each point is stored as four floats at once (one store, not two), the fourth
+  // overwritten by the next point or left in the spare room.
+  std::vector<Eigen::Vector3f> points(pixels + 2);
   std::vector<float> across(width), seen(width);
-  Eigen::Vector3f* out = points.data();
+  static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float));
+  auto* out = reinterpret_cast<float*>(points.data());  // NOLINT(*-reinterpret-cast): three packed floats each
   size_t count = 0;
-  const Eigen::Matrix3f& r = to_robot_;
-  const auto mount_z = static_cast<float>(d_.mount_z);
   for (size_t v = 0; v < static_cast<size_t>(d_.height); ++v) {
     const size_t first = v * width;
     const uint16_t* sliver = sliver_.data() + first;
     for (size_t u = 0; u < width; ++u) across[u] = wall[sliver[u]];
-    // Pixel (u, v)'s ray in the robot frame is the row's part plus r.col(0) * column_x_[u].
-    const Eigen::Vector3f row = r.col(1) * row_y_[v] + r.col(2);
+    const float* per_across = per_across_.data() + first;
+    const float* floor = floor_depth_.data() + first;
     const float* noise = noise_.data() + noise_at + first;
     const float* near = nearer_row[v];
     for (size_t u = 0; u < width; ++u) {
-      const float x = column_x_[u];
-      const float ahead = row.x() + r(0, 0) * x, left = row.y() + r(1, 0) * x, up = row.z() + r(2, 0) * x;
-      const float wall_depth = across[u] / std::sqrt(ahead * ahead + left * left);
-      const float down = -up > 1e-6f ? -up : 1e-6f;
-      const float floor = mount_z / down;  // beyond any range when the ray looks up
-      const float nearest = wall_depth < floor ? wall_depth : floor;
+      const float wall_depth = across[u] * per_across[u];
+      const float nearest = wall_depth < floor[u] ? wall_depth : floor[u];
       const float truth = near[u] < nearest ? near[u] : nearest;
       const float z = truth + truth * truth * noise[u];
       seen[u] = (truth >= range_min) & (truth <= range_max) ? z : kNaN;
@@ -252,7 +265,8 @@ std::vector<Eigen::Vector3f> DepthCamera::Capture(const Pose2& pose, const RayCa
       const float z = seen[u];
       // Written always, kept only when read: holes fall at random, and a branch on them would be
       // mispredicted at every one.
-      out[count] = Eigen::Vector3f(column_x_[u] * z, y * z, z);
+      const std::array<float, 4> point{column_x_[u] * z, y * z, z, 0.0f};
+      std::memcpy(out + 3 * count, point.data(), sizeof(point));
       count += static_cast<size_t>(z == z);
     }
   }

@@ -53,15 +53,17 @@ class DepthCamera {
   };
   DepthCameraDescription d_;
   PinholeIntrinsics intrinsics_;
-  Eigen::Matrix3f to_robot_;      // optical frame directions to the robot frame (x ahead, y left, z up)
-  std::vector<float> column_x_;   // optical x per metre of depth, by column
-  std::vector<float> row_y_;      // optical y per metre of depth, by row
-  std::vector<uint16_t> sliver_;  // per pixel, row by row: the bearing sliver its walls come from
-  double sliver_width_ = 0.0;     // rad of bearing per wall cast
-  int slivers_ = 0;               // slivers round the full circle
-  std::vector<Cast> casts_;       // the slivers some pixel heads into
-  std::vector<float> noise_;      // depth noise per square metre of depth; NaN marks a hole
-  double max_reach_ = 0.0;        // m across the floor, the farthest any pixel looks
+  Eigen::Matrix3f to_robot_;        // optical frame directions to the robot frame (x ahead, y left, z up)
+  std::vector<float> column_x_;     // optical x per metre of depth, by column
+  std::vector<float> row_y_;        // optical y per metre of depth, by row
+  std::vector<uint16_t> sliver_;    // per pixel, row by row: the bearing sliver its walls come from
+  std::vector<float> per_across_;   // per pixel: m of depth per m across the floor
+  std::vector<float> floor_depth_;  // per pixel: m of depth to the floor (huge when it looks up)
+  double sliver_width_ = 0.0;       // rad of bearing per wall cast
+  int slivers_ = 0;                 // slivers round the full circle
+  std::vector<Cast> casts_;         // the slivers some pixel heads into
+  std::vector<float> noise_;        // depth noise per square metre of depth; NaN marks a hole
+  double max_reach_ = 0.0;          // m across the floor, the farthest any pixel looks
 };
 
 }  // namespace navd::sim
