@@ -53,15 +53,6 @@ CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double re
   }
 }
 
-double CorrelationGrid::At(const Point2& p) const {
-  // Cell centres are the sample points.
-  const double fx = (p.x() - origin_.x()) / resolution_ - 0.5, fy = (p.y() - origin_.y()) / resolution_ - 0.5;
-  const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
-  const double ax = fx - x0, ay = fy - y0;
-  return (1 - ay) * ((1 - ax) * AtCell(x0, y0) + ax * AtCell(x0 + 1, y0)) +
-         ay * ((1 - ax) * AtCell(x0, y0 + 1) + ax * AtCell(x0 + 1, y0 + 1));
-}
-
 std::vector<Point2> ThinPoints(const std::vector<Point2>& points, double spacing) {
   std::vector<Point2> out;
   for (const Point2& p : points)
@@ -143,16 +134,19 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
 
   // Fine: sixths of a cell and quarter angle steps, half a coarse step either way of each coarse
   // winner, bilinear lookups.
+  std::vector<Point2> turned(points.size());  // the scan's points turned to a fine heading
   for (const Candidate& cand : top) {
     const double x0 = prior.x + cand.dx * res, y0 = prior.y + cand.dy * res;
     for (int a = -2; a <= 2; ++a) {
       const double theta = cand.theta + a * o.angle_step / 4.0;
       const double c = std::cos(theta), s = std::sin(theta);
+      for (size_t k = 0; k < points.size(); ++k)
+        turned[k] = Point2(c * points[k].x() - s * points[k].y(), s * points[k].x() + c * points[k].y());
       for (int j = -3; j <= 3; ++j) {
         for (int i = -3; i <= 3; ++i) {
           const double x = x0 + i * res / 6.0, y = y0 + j * res / 6.0;
           double sum = 0.0;
-          for (const Point2& p : points) sum += grid.At({x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()});
+          for (const Point2& p : turned) sum += grid.At({x + p.x(), y + p.y()});
           const double score = sum * inv_n;
           const double ranked = score * prior_weight(x - prior.x, y - prior.y, NormalizeAngle(theta - prior.theta));
           if (ranked > best_ranked) {

@@ -5,6 +5,7 @@
 // mean lookup value of its points. The search is coarse to fine: whole cells and coarse angles
 // first over the whole window, then a sub-cell, sub-step search (bilinear lookups) around the best
 // few coarse poses. Map frame, metres, radians.
+#include <cmath>
 #include <vector>
 
 #include "services/common/pose2.h"
@@ -47,8 +48,15 @@ struct ScanMatch {
 class CorrelationGrid {
  public:
   CorrelationGrid(const std::vector<Point2>& reference, double resolution, double sigma);
-  // Bilinear lookup at a world point (0 outside).
-  double At(const Point2& p) const;
+  // Bilinear lookup at a world point (0 outside); cell centres are the sample points. Inline: the
+  // fine search makes millions of these per scan.
+  double At(const Point2& p) const {
+    const double fx = (p.x() - origin_.x()) / resolution_ - 0.5, fy = (p.y() - origin_.y()) / resolution_ - 0.5;
+    const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+    const double ax = fx - x0, ay = fy - y0;
+    return (1 - ay) * ((1 - ax) * AtCell(x0, y0) + ax * AtCell(x0 + 1, y0)) +
+           ay * ((1 - ax) * AtCell(x0, y0 + 1) + ax * AtCell(x0 + 1, y0 + 1));
+  }
   // Lookup of the cell holding a world point, by integer cell (0 outside).
   float AtCell(int x, int y) const {
     return x >= 0 && y >= 0 && x < width_ && y < height_ ? cells_[static_cast<size_t>(y) * width_ + x] : 0.0f;
