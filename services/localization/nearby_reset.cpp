@@ -8,7 +8,7 @@ std::optional<PoseCandidate> NearbyReset::Check(const GlobalScanSearch& search, 
   const SearchWindow window{estimate, o_.radius, o_.max_turn, o_.blocks_refined};
   const std::vector<PoseCandidate> candidates = search.Search(points, &window);
   if (candidates.empty() || candidates.front().score < o_.min_score) return std::nullopt;
-  if (candidates.front().score < search.Score(estimate, points) + o_.margin) return std::nullopt;
+  if (1.0 - candidates.front().score > o_.misfit_ratio * (1.0 - search.Score(estimate, points))) return std::nullopt;
   return candidates.front();
 }
 

@@ -18,16 +18,19 @@ namespace navd::localization {
 
 struct NearbyResetOptions {
   bool enabled = true;
-  // The estimate's fit (the filter's quality, 0..1) under which the search runs; a well-localised
-  // estimate fits real scans at 0.9 and more.
-  double below_quality = 0.75;
+  // The estimate's fit (the filter's quality, 0..1) under which the search runs. A well-localised
+  // estimate fits real scans at 0.9 and more; a robot carried a few metres along a corridor still
+  // fits them at 0.85 or so where it was, as the corridor's walls look alike.
+  double below_quality = 0.9;
   double radius = 5.0;     // m around the estimate
   double max_turn = M_PI;  // rad either side of its heading: a robot carried off may be turned too
-  // A pose is drawn around only if the scan fits it at least this well, and by margin better than
-  // the estimate (scores of GlobalScanSearch::Score). Real scans fit their true pose at 0.9 and
-  // more; a map that lacks a wall lets a wrong pose fit at 0.7 or so.
+  // A pose is drawn around only if the scan fits it at least this well, and its misfit (1 - score,
+  // scores of GlobalScanSearch::Score) there is at most misfit_ratio of the estimate's. Real scans
+  // fit their true pose at 0.9 and more; a map that lacks a wall lets a wrong pose fit at 0.7 or so.
+  // A ratio, not a difference: near a good fit scores differ little, and a scan that fits the
+  // estimate at 0.88 and its true pose 3 m on at 0.96 has a third of the misfit there.
   double min_score = 0.85;
-  double margin = 0.2;
+  double misfit_ratio = 0.5;
   double share = 0.1;  // of the particles drawn around it
   double sigma_xy = 0.1, sigma_theta = 0.05;
   int blocks_refined = 30;  // coarse places searched finely (GlobalScanSearch)

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "services/common/free_space.h"
 #include "services/common/ray_caster.h"
 #include "services/common/world.h"
 #include "services/localization/global_scan_search.h"
@@ -76,6 +77,36 @@ TEST(GlobalScanSearch, AWindowKeepsTheSearchNearItsCentre) {
     EXPECT_LE(std::abs(NormalizeAngle(c.pose.theta - away.centre.theta)), 0.3 + 0.1);
     EXPECT_LT(c.score, search.Score(truth, points));
   }
+}
+
+// A map made in memory holds graded values (a mapper's probabilities: free space seen by many
+// clamped misses at a few percent, not 0). The search looks there as on the same map saved by
+// map_server rules, where those cells read 0: the same pose first, at the same score.
+TEST(GlobalScanSearch, SearchesAMapOfGradedValuesAsItsSavedForm) {
+  const World world = DefaultWorld();
+  OccupancyGrid graded = world.map;
+  for (int y = 0; y < graded.height(); ++y)
+    for (int x = 0; x < graded.width(); ++x)
+      if (graded.at({x, y}) == OccupancyGrid::kFree) graded.set({x, y}, static_cast<int8_t>(5 + (x * 7 + y * 3) % 14));
+  const LikelihoodField field(world.map), graded_field(graded);
+  const GlobalScanSearch search(world.map, field), graded_search(graded, graded_field);
+  const RayCaster caster(world.map);
+  const Pose2 truth{4.0, 5.0, 0.3};
+  std::vector<Point2> points;
+  for (int i = 0; i < 360; ++i) {
+    const double a = i * M_PI / 180.0, r = caster.CastOpenEdge(truth.translation(), truth.theta + a, 8.0);
+    if (r < 8.0) points.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  const SearchWindow window{{5.0, 5.5, 0.5}, 3.0, 1.0};
+  const std::vector<PoseCandidate> saved = search.Search(points, &window);
+  const std::vector<PoseCandidate> in_memory = graded_search.Search(points, &window);
+  ASSERT_FALSE(saved.empty());
+  ASSERT_FALSE(in_memory.empty());
+  EXPECT_LT(std::hypot(in_memory.front().pose.x - truth.x, in_memory.front().pose.y - truth.y), 0.1);
+  EXPECT_NEAR(in_memory.front().score, saved.front().score, 1e-9);
+  EXPECT_FALSE(IsFreeValue(OccupancyGrid::kUnknown));
+  EXPECT_FALSE(IsFreeValue(40));
+  EXPECT_FALSE(IsFreeValue(OccupancyGrid::kOccupied));
 }
 
 }  // namespace
