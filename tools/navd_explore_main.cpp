@@ -4,12 +4,15 @@
 // (NextExplorationStep: greedy, frontier or Voronoi Fast Marching) and seed 000's path follower.
 // The robot knows its start pose and nothing of the map. It stops when no reachable frontier is
 // left, or at --max-time. Prints the share of the reachable free space mapped, simulated time,
-// path length and collisions:
+// path length and collisions. --record writes the robot's run as a CARMEN log (navsim's recorder: the
+// laser at the true pose, as in a corrected log), a dense log for navd-replay:
 //   navd-explore [--world FILE] --method greedy|frontier|vfm [--max-time 900] [--png MAP.png] [--seed N]
+//                [--record LOG]
 #include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "services/common/diff_drive.h"
 #include "services/common/error.h"
@@ -20,6 +23,7 @@
 #include "services/mapping/mapping_session.h"
 #include "services/navigation/frontier_exploration.h"
 #include "services/navigation/path_follower.h"
+#include "simulator/carmen_recorder.h"
 #include "simulator/simulation.h"
 
 namespace {
@@ -27,10 +31,14 @@ namespace {
 using namespace navd;
 
 int Explore(const World& world, navigation::ExplorationMethod method, const std::string& method_name, double max_time,
-            const std::string& png, uint64_t seed) {
+            const std::string& png, uint64_t seed, const std::string& record) {
   sim::SimulationOptions so;
   so.seed = seed;
   sim::Simulation sim(world, so);
+  std::unique_ptr<sim::CarmenRecorder> recorder;
+  if (!record.empty())
+    recorder =
+        std::make_unique<sim::CarmenRecorder>(record, "navd-explore " + method_name + ", seed " + std::to_string(seed));
   const double wheel_base = world.robot.wheel_base;
 
   mapping::MappingSessionOptions mo;
@@ -74,6 +82,11 @@ int Explore(const World& world, navigation::ExplorationMethod method, const std:
       odom_at_scan = odometry.At(sim.now());
       session.Submit(odom_at_scan, estimate, scan);
       slam_at_scan = session.status().pose;
+      if (recorder) {
+        const auto& base = sim.robot().base();
+        recorder->Laser(sim.now(), world.laser, scan.angle_min, scan.angle_increment, scan.ranges, base.true_pose(),
+                        base.odom_pose(), base.odom_twist().vx, base.odom_twist().omega);
+      }
     }
     // The SLAM pose of the last scan, carried to now by odometry.
     estimate = slam_at_scan * (odom_at_scan.inverse() * odom_now);
@@ -133,6 +146,7 @@ int Explore(const World& world, navigation::ExplorationMethod method, const std:
       method_name.c_str(), complete ? "complete" : "stopped at --max-time", 100.0 * coverage.known,
       100.0 * coverage.known_free, sim.now(), travelled, goals, collisions, st.nodes, st.loop_closures);
   if (!png.empty()) SaveMapPng(*built, png);
+  if (recorder) recorder->Close();
   return complete ? 0 : 3;
 }
 
@@ -141,7 +155,7 @@ int Explore(const World& world, navigation::ExplorationMethod method, const std:
 int main(int argc, char** argv) {
   CLI::App app{
       "navd-explore: explore a simulated world from an empty map with navd's SLAM, exploration and path following"};
-  std::string world_path, method = "frontier", png;
+  std::string world_path, method = "frontier", png, record;
   double max_time = 900.0;
   uint64_t seed = 1;
   app.add_option("--world", world_path, "World YAML or map (default: the embedded warehouse)");
@@ -150,6 +164,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-time", max_time, "Seconds of simulated time at most")->check(CLI::Range(1.0, 86400.0));
   app.add_option("--png", png, "Write the map built as a PNG");
   app.add_option("--seed", seed, "Simulator seed (sensor and odometry noise)");
+  app.add_option("--record", record, "Write the run as a CARMEN log (ROBOTLASER1 at the true pose) to this file");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -157,7 +172,7 @@ int main(int argc, char** argv) {
   }
   try {
     const navd::World world = world_path.empty() ? navd::DefaultWorld() : navd::LoadWorldOrMapFile(world_path);
-    return Explore(world, navd::navigation::ParseExplorationMethod(method), method, max_time, png, seed);
+    return Explore(world, navd::navigation::ParseExplorationMethod(method), method, max_time, png, seed, record);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "navd-explore: %s\n", e.what());
     return 2;

@@ -345,6 +345,33 @@ TEST_P(NavdExplore, MapsTheWarehouseFromNothing) {
 INSTANTIATE_TEST_SUITE_P(Methods, NavdExplore, ::testing::Values("greedy", "frontier", "vfm"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
+// navd-explore --record writes the run as a CARMEN log (a scan every 10 Hz, the laser at the true
+// pose), and navd-replay's SLAM runs on it like on a corrected log: a line of TUM per scan.
+TEST(NavdExplore, RecordsARunThatSlamReplays) {
+  const std::string dir = MakeTempDir();
+  const auto run = RunCommand(
+      {NavdExploreBinary(), "--method", "frontier", "--max-time", "60", "--record", dir + "/run.log"}, 120.0);
+  ASSERT_TRUE(run.exit_code == 0 || run.exit_code == 3) << run.output;
+  std::ifstream log(dir + "/run.log");
+  int scans = 0;
+  for (std::string line; std::getline(log, line);) scans += line.rfind("ROBOTLASER1 ", 0) == 0;
+  EXPECT_GE(scans, 500);  // 60 s at 10 Hz
+  EXPECT_FALSE(std::filesystem::exists(dir + "/run.log.part"));
+  const auto r =
+      RunCommand({NavdReplayBinary(), "--log", dir + "/run.log", "--mode", "slam", "--out", dir + "/est.tum"}, 120.0);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const size_t rmse = r.output.find("ATE RMSE ");
+  ASSERT_NE(rmse, std::string::npos) << r.output;
+  double ate = -1;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + rmse, "ATE RMSE %lf", &ate), 1);
+  std::printf("explore recording: %d scans, SLAM ATE RMSE %.4f m\n", scans, ate);
+  EXPECT_LE(ate, 0.10);
+  std::ifstream tum(dir + "/est.tum");
+  int lines = 0;
+  for (std::string line; std::getline(tum, line);) ++lines;
+  EXPECT_EQ(lines, scans);
+}
+
 // Online replays: a real navd on the map navd-replay builds from one of the shared CARMEN logs,
 // and navctl replay playing that log to it over DDS like a robot.
 class NavctlReplay : public ::testing::Test {
