@@ -46,7 +46,9 @@ OccupancyGrid InlineMap(const YamlFields& f, const YAML::Node& m, const std::str
   if (!m["size"]) f.Fail("map.size", "is missing (expected [width_m, height_m])", m);
   const auto size = f.Numbers(m["size"], "map.size", 2, 2);
   const long long cells_x = std::llround(size[0] / res), cells_y = std::llround(size[1] / res);
-  if (cells_x < 1 || cells_y < 1 || cells_x * cells_y > OccupancyGrid::kMaxCells) {
+  // Each side checked before the product, which would overflow for sides of 2^32 cells and more.
+  if (cells_x < 1 || cells_y < 1 || cells_x > OccupancyGrid::kMaxCells || cells_y > OccupancyGrid::kMaxCells ||
+      cells_x * cells_y > OccupancyGrid::kMaxCells) {
     f.Fail("map.size",
            "must span at least one cell and at most " + std::to_string(OccupancyGrid::kMaxCells) +
                " cells at this resolution",

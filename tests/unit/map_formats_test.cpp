@@ -231,6 +231,11 @@ TEST(World, BadWorldFilesNameTheField) {
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("'sonar'"), std::string::npos) << msg;
 
+  // Sides whose cell counts multiply past 2^63 (found by the world fuzzer) are refused, not overflowed.
+  std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "m.yaml", "map: {size: [8.9e16, 20]}\n")); });
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(msg.find("map.size"), std::string::npos) << msg;
+
   std::tie(code, msg) = ErrorOf([&] { LoadWorldFile(Write(dir, "g.yaml", "map: {size: [0.01, 5]}\n")); });
   EXPECT_EQ(code, ErrorCode::kInvalidArgument);
   EXPECT_NE(msg.find("map.size"), std::string::npos) << msg;
