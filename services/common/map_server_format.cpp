@@ -117,7 +117,7 @@ std::vector<uint8_t> MapImage(const OccupancyGrid& grid) {
       uint8_t px = 205;
       if (v >= OccupancyGrid::kOccupiedThreshold)
         px = 0;
-      else if (v >= 0 && v < 20)
+      else if (OccupancyGrid::IsFreeValue(v))
         px = 254;
       image[static_cast<size_t>(grid.height() - 1 - y) * grid.width() + x] = px;
     }

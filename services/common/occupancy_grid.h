@@ -22,6 +22,11 @@ class OccupancyGrid {
   static constexpr int8_t kOccupied = 100;
   // Cells at or above this value count as obstacles (map_server's occupied_thresh of 0.65).
   static constexpr int8_t kOccupiedThreshold = 65;
+  // Known cells under this value count as free space (map_server's free_thresh of 0.196). Maps made
+  // in memory (the mapper's probabilities, a SLAM run's map) hold graded values: a free cell seen
+  // by many clamped misses holds a few percent, not kFree.
+  static constexpr int8_t kFreeThreshold = 20;
+  static constexpr bool IsFreeValue(int8_t value) { return value >= kFree && value < kFreeThreshold; }
   // Largest grid navd accepts (e.g. 5000 x 5000): planners allocate several bytes per cell per
   // request, so bigger maps would exhaust memory under concurrent requests.
   static constexpr long long kMaxCells = 25'000'000;

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "services/common/free_space.h"
-
 namespace navd::localization {
 
 namespace {
@@ -51,7 +49,7 @@ GlobalScanSearch::GlobalScanSearch(const OccupancyGrid& map, const LikelihoodFie
       bool free = false;
       for (int y = by * block_cells_; y < std::min(height_, (by + 1) * block_cells_) && !free; ++y)
         for (int x = bx * block_cells_; x < std::min(width_, (bx + 1) * block_cells_) && !free; ++x)
-          free = IsFreeValue(map.cells()[static_cast<size_t>(y) * width_ + x]);
+          free = OccupancyGrid::IsFreeValue(map.cells()[static_cast<size_t>(y) * width_ + x]);
       if (free) {
         blocks_.emplace_back(origin_ + resolution_ * Point2(bx * block_cells_ + 0.5 * block_cells_,
                                                             by * block_cells_ + 0.5 * block_cells_));

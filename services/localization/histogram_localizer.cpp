@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "services/common/free_space.h"
 #include "services/common/error.h"
 #include "services/localization/scan_points.h"
 
@@ -52,7 +51,7 @@ void HistogramLocalizer::LayOutLocked(const OccupancyGrid& map, const HistogramO
   for (int j = 0; j < ny_; ++j) {
     for (int i = 0; i < nx_; ++i) {
       const CellIndex c = map.CellOf(origin_ + Point2((i + 0.5) * o_.cell_size, (j + 0.5) * o_.cell_size));
-      free_[static_cast<size_t>(j) * nx_ + i] = map.Contains(c) && IsFreeValue(map.at(c));
+      free_[static_cast<size_t>(j) * nx_ + i] = map.Contains(c) && OccupancyGrid::IsFreeValue(map.at(c));
     }
   }
   belief_.assign(states, 0.0f);

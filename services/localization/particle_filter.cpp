@@ -5,7 +5,6 @@
 #include <cmath>
 #include <unordered_set>
 
-#include "services/common/free_space.h"
 #include "services/common/ziggurat_normal.h"
 #include "services/localization/scan_points.h"
 
@@ -24,7 +23,7 @@ ParticleFilterLocalizer::MapModel::MapModel(const OccupancyGrid& grid, const Par
     : map(grid), field(grid, {o.sigma_hit, o.z_hit, o.z_rand, o.max_distance, o.range_max}) {
   if (o.sensor_model == SensorModel::kBeam) caster.emplace(grid);
   for (size_t i = 0; i < map.cells().size(); ++i)
-    if (IsFreeValue(map.cells()[i])) free_cells.push_back(static_cast<int32_t>(i));
+    if (OccupancyGrid::IsFreeValue(map.cells()[i])) free_cells.push_back(static_cast<int32_t>(i));
 }
 
 const GlobalScanSearch& ParticleFilterLocalizer::MapModel::scan_search(const GlobalScanSearchOptions& options) const {

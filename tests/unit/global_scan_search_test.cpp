@@ -7,13 +7,22 @@
 #include <cmath>
 #include <random>
 
-#include "services/common/free_space.h"
 #include "services/common/ray_caster.h"
 #include "services/common/world.h"
 #include "services/localization/global_scan_search.h"
 
 namespace navd::localization {
 namespace {
+
+// End points (robot frame) of a 360-degree, 8 m laser at `pose`, as navsim's; no-returns dropped.
+std::vector<Point2> ScanFrom(const RayCaster& caster, const Pose2& pose) {
+  std::vector<Point2> points;
+  for (int i = 0; i < 360; ++i) {
+    const double a = i * M_PI / 180.0, r = caster.CastOpenEdge(pose.translation(), pose.theta + a, 8.0);
+    if (r < 8.0) points.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  return points;
+}
 
 TEST(GlobalScanSearch, FindsRandomWarehousePosesFromOneScan) {
   const World world = DefaultWorld();
@@ -31,11 +40,7 @@ TEST(GlobalScanSearch, FindsRandomWarehousePosesFromOneScan) {
     if (!world.map.Contains(cell) || world.map.at(cell) != OccupancyGrid::kFree) continue;
     if (caster.Cast(truth.translation(), 0.0, 0.3) < 0.3) continue;  // not inside a shelf's rim
     ++runs;
-    std::vector<Point2> points;
-    for (int i = 0; i < 360; ++i) {
-      const double a = i * M_PI / 180.0, r = caster.CastOpenEdge(truth.translation(), truth.theta + a, 8.0);
-      if (r < 8.0) points.emplace_back(r * std::cos(a), r * std::sin(a));
-    }
+    const std::vector<Point2> points = ScanFrom(caster, truth);
     const std::vector<PoseCandidate> found = search.Search(points);
     auto near = [&](const PoseCandidate& c) {
       return std::hypot(c.pose.x - truth.x, c.pose.y - truth.y) < 0.3 &&
@@ -59,11 +64,7 @@ TEST(GlobalScanSearch, AWindowKeepsTheSearchNearItsCentre) {
   const GlobalScanSearch search(world.map, field);
   const RayCaster caster(world.map);
   const Pose2 truth{4.0, 5.0, 0.3};
-  std::vector<Point2> points;
-  for (int i = 0; i < 360; ++i) {
-    const double a = i * M_PI / 180.0, r = caster.CastOpenEdge(truth.translation(), truth.theta + a, 8.0);
-    if (r < 8.0) points.emplace_back(r * std::cos(a), r * std::sin(a));
-  }
+  const std::vector<Point2> points = ScanFrom(caster, truth);
   const SearchWindow near{{5.5, 6.0, 1.0}, 3.0, 1.0};
   const std::vector<PoseCandidate> found = search.Search(points, &near);
   ASSERT_FALSE(found.empty());
@@ -92,11 +93,7 @@ TEST(GlobalScanSearch, SearchesAMapOfGradedValuesAsItsSavedForm) {
   const GlobalScanSearch search(world.map, field), graded_search(graded, graded_field);
   const RayCaster caster(world.map);
   const Pose2 truth{4.0, 5.0, 0.3};
-  std::vector<Point2> points;
-  for (int i = 0; i < 360; ++i) {
-    const double a = i * M_PI / 180.0, r = caster.CastOpenEdge(truth.translation(), truth.theta + a, 8.0);
-    if (r < 8.0) points.emplace_back(r * std::cos(a), r * std::sin(a));
-  }
+  const std::vector<Point2> points = ScanFrom(caster, truth);
   const SearchWindow window{{5.0, 5.5, 0.5}, 3.0, 1.0};
   const std::vector<PoseCandidate> saved = search.Search(points, &window);
   const std::vector<PoseCandidate> in_memory = graded_search.Search(points, &window);
@@ -104,9 +101,9 @@ TEST(GlobalScanSearch, SearchesAMapOfGradedValuesAsItsSavedForm) {
   ASSERT_FALSE(in_memory.empty());
   EXPECT_LT(std::hypot(in_memory.front().pose.x - truth.x, in_memory.front().pose.y - truth.y), 0.1);
   EXPECT_NEAR(in_memory.front().score, saved.front().score, 1e-9);
-  EXPECT_FALSE(IsFreeValue(OccupancyGrid::kUnknown));
-  EXPECT_FALSE(IsFreeValue(40));
-  EXPECT_FALSE(IsFreeValue(OccupancyGrid::kOccupied));
+  EXPECT_FALSE(OccupancyGrid::IsFreeValue(OccupancyGrid::kUnknown));
+  EXPECT_FALSE(OccupancyGrid::IsFreeValue(40));
+  EXPECT_FALSE(OccupancyGrid::IsFreeValue(OccupancyGrid::kOccupied));
 }
 
 }  // namespace
