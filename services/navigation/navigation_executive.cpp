@@ -7,6 +7,9 @@
 
 #include "services/common/error.h"
 #include "services/localization/scan_points.h"
+#include "services/navigation/free_way.h"
+#include "services/navigation/scan_guard.h"
+#include "services/navigation/tracked_obstacle_guard.h"
 
 namespace navd::navigation {
 
@@ -58,7 +61,7 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       clock_(clock),
       navigator_(options),
       brain_(brain),
-      watch_(watch),
+      watch_(localizer, watch),
       moving_(moving),
       detector_(moving.detection),
       people_(people),
@@ -121,6 +124,16 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
   z_lost_ = StateIndexOr(brain_, "localization_lost");
   z_danger_ = StateIndexOr(brain_, "moving_obstacle_danger");
   z_map_building_ = StateIndexOr(brain_, "map_building");
+  // The command filters, in the order they act on the winning behaviour's command: the guards on
+  // what the sensors see ahead first, then the speed zones, which cap whatever is left.
+  const double radius = moving_.detection.robot_radius;
+  filters_.Add(std::make_shared<TrackedObstacleGuard>(
+      TrackedObstacleGuardOptions{radius, moving_.guard_margin, moving_.guard_deceleration}));
+  filters_.Add(std::make_shared<ScanGuard>(
+      ScanGuardOptions{radius, moving_.scan_guard_margin, moving_.guard_deceleration, moving_.turn_guard_gap,
+                       moving_.turn_guard_backing, moving_.turn_guard_backing_room}));
+  speed_zones_ = std::make_shared<SpeedZoneFilter>(radius, SpeedZoneOptions{});
+  filters_.Add(speed_zones_);
 }
 
 uint64_t NavigationExecutive::Navigate(const NavigateRequest& r, const planning::StopRequested& stop) {
@@ -594,139 +607,41 @@ AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_fre
   return sensing;
 }
 
-std::function<double(double)> NavigationExecutive::FreeAlong(std::vector<Point2> local, double radius) {
-  return [local = std::move(local), radius](double bearing) {
-    const double c = std::cos(bearing), s = std::sin(bearing);
-    double free = 4.0;
-    for (const Point2& p : local) {
-      const double along = c * p.x() + s * p.y();
-      const double lateral = -s * p.x() + c * p.y();
-      if (along > 0.0 && std::abs(lateral) < radius + 0.03) free = std::min(free, along - radius);
-    }
-    return std::max(free, 0.0);
-  };
-}
-
 double NavigationExecutive::danger() const {
   std::lock_guard<std::mutex> lock(detector_mutex_);
   return detector_.danger();
 }
 
-void NavigationExecutive::WatchLocalization(const localization::PoseEstimate& e, const std::optional<Pose2>& odometry,
-                                            uint64_t scans, double now) {
-  const double spread = e.PositionSpread();
-  const bool new_scan = scans != last_scans_;
-  last_scans_ = scans;
-  if (e.relocations != relocations_seen_) {
-    if (e.relocations > relocations_seen_ && !lost_) ++losses_;
-    relocations_seen_ = e.relocations;
-  }
-  if (lost_) {
-    if (e.quality >= watch_.found_quality && spread <= watch_.max_spread) lost_ = false;
-    poor_fit_since_ = -1.0;
-    poor_scans_ = 0;
-    return;
-  }
-  if (e.quality < watch_.lost_quality) {
-    if (poor_fit_since_ < 0.0) poor_fit_since_ = now;
-    if (new_scan) ++poor_scans_;
-    const bool enough_scans = scans == 0 || poor_scans_ >= watch_.lost_scans;
-    if (now - poor_fit_since_ >= watch_.lost_after && enough_scans) {
-      lost_ = true;
-      ++losses_;
-    }
-  } else {
-    poor_fit_since_ = -1.0;
-    poor_scans_ = 0;
-    fit_pose_ = e.pose;
-    fit_odometry_ = odometry;
-  }
-}
-
-void NavigationExecutive::Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
-                                 double now) {
-  if (!lost_) {
-    if (search_beside_) localizer_.EndSearch(false);  // found by the estimate itself
-    search_beside_ = false;
-    search_ = SearchStage::kNone;
-    return;
-  }
-  bool search_settling = false;
-  if (search_beside_) {
-    // The whole-map search replaces the estimate only once it fits as a found pose does, for
-    // lost_scans scans in a row (scans it used: one stamp each).
-    const localization::PoseEstimate found = localizer_.SearchEstimate();
-    const bool fits = found.quality >= watch_.found_quality && found.PositionSpread() <= watch_.max_spread;
-    if (!found.valid) {
-      search_beside_ = false;  // ended by someone else (a pose set, a new map)
-    } else if (found.stamp != search_stamp_) {
-      search_stamp_ = found.stamp;
-      search_fits_ = fits ? search_fits_ + 1 : 0;
-    }
-    if (search_beside_ && search_fits_ >= std::max(1, watch_.lost_scans)) {
-      localizer_.EndSearch(true);
-      search_beside_ = false;
-      return;
-    }
-    search_settling = search_beside_ && found.PositionSpread() > watch_.max_spread;
-  }
-  if (search_ == SearchStage::kNone) {
-    if (!brain_.active(static_cast<size_t>(wake_up_))) return;
-    Pose2 centre = estimate.pose;
-    if (fit_pose_ && fit_odometry_ && odometry) centre = *fit_pose_ * (fit_odometry_->inverse() * *odometry);
-    const double sxy = watch_.search_sigma_xy, st = watch_.search_sigma_theta;
-    if (watch_.local_search_for > 0.0 &&
-        localizer_.SearchAround(centre, Eigen::Vector3d(sxy * sxy, sxy * sxy, st * st).asDiagonal())) {
-      search_ = SearchStage::kNearby;
-      global_search_at_ = now + watch_.local_search_for;
-      // A robot carried away is not near: the whole map is searched beside from the start.
-      search_beside_ = localizer_.StartSearch();
-      search_fits_ = 0;
-      return;
-    }
-  } else if (now < global_search_at_) {
-    return;
-  } else if (search_settling) {
-    // Still spread over the map: let it settle rather than scatter it again.
-    global_search_at_ = now + watch_.global_search_every;
-    return;
-  }
-  search_beside_ = localizer_.StartSearch();
-  search_fits_ = 0;
-  if (!search_beside_) localizer_.GlobalRelocalize();
-  search_ = SearchStage::kGlobal;
-  global_search_at_ = now + watch_.global_search_every;
-}
-
 WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   reflex_acted_ = false;
-  const WheelSpeeds wheels = Decide(in, now);
+  const Decision decision = Decide(in, now);
   if (!reflex_acted_) navigator_.SetReflex("");
-  // Zones cap whichever behaviour drives: an evasive turn in a loading bay is no faster either.
   const localization::PoseEstimate estimate = localizer_.Estimate();
-  double limit = std::numeric_limits<double>::infinity();
-  {
-    std::lock_guard<std::mutex> lock(zones_mutex_);
-    if (estimate.valid) limit = zones_.LimitAt(estimate.pose, moving_.detection.robot_radius, zone_options_);
-  }
-  navigator_.SetSpeedLimit(std::isfinite(limit) ? limit : 0.0);
-  last_wheels_ = SpeedZones::Cap(wheels, limit);
+  const Pose2 pose = estimate.pose;
+  CommandContext context;
+  context.source = decision.source;
+  context.pose_valid = estimate.valid;
+  context.pose = pose;
+  context.among_people = people_.enabled;
+  context.tracking_obstacles = decision.tracking_obstacles;
+  context.returns = [&] {
+    std::lock_guard<std::mutex> lock(detector_mutex_);
+    return LocalScanPointsLocked(pose);
+  };
+  context.moving_rims = [&] { return MovingRims(pose); };
+  context.rear_room = [&] { return Sensing(pose, in.rear_free).rear_free; };
+  last_wheels_ = filters_.Apply(decision.wheels, context);
+  navigator_.SetSpeedLimit(speed_zones_->last_limit());
   return last_wheels_;
 }
 
-void NavigationExecutive::SetSpeedZones(SpeedZones zones) {
-  std::lock_guard<std::mutex> lock(zones_mutex_);
-  zones_ = std::move(zones);
-}
+void NavigationExecutive::SetSpeedZones(SpeedZones zones) { speed_zones_->SetZones(std::move(zones)); }
 
-SpeedZones NavigationExecutive::speed_zones() const {
-  std::lock_guard<std::mutex> lock(zones_mutex_);
-  return zones_;
-}
+SpeedZones NavigationExecutive::speed_zones() const { return speed_zones_->zones(); }
 
-WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
+NavigationExecutive::Decision NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   const localization::PoseEstimate estimate = localizer_.Estimate();
-  if (estimate.valid && in.sensors_fresh) WatchLocalization(estimate, in.odometry, in.scans, now);
+  if (estimate.valid && in.sensors_fresh) watch_.Watch(estimate, in.odometry, in.scans, now);
 
   const bool detecting = detection_ >= 0 && brain_.active(static_cast<size_t>(detection_));
   // Where the robot was when the scan was taken (map frame).
@@ -741,7 +656,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     sensed_cells_ = in.sensed_cells;
   }
-  if (in.scan && estimate.valid && !lost_) {
+  if (in.scan && estimate.valid && !watch_.lost()) {
     // The avoidance's and the recoil's free ways and the scan guard read these whether or not
     // detection runs (it is off while a map is being built).
     std::vector<Point2> points = localization::ScanEndPoints(*in.scan, 0);
@@ -749,10 +664,10 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     scan_points_ = std::move(points);
   }
-  if (in.scan && estimate.valid && detecting && !lost_) DetectMovingObstacles(*in.scan, scan_pose, now);
+  if (in.scan && estimate.valid && detecting && !watch_.lost()) DetectMovingObstacles(*in.scan, scan_pose, now);
   const bool reports = people_.source == PeopleAwareOptions::Source::kReports;
-  if (people_.enabled && !reports && in.scan && estimate.valid && !lost_) TrackPeople(*in.scan, scan_pose, now);
-  if (people_.enabled && reports && in.people && estimate.valid && !lost_) {
+  if (people_.enabled && !reports && in.scan && estimate.valid && !watch_.lost()) TrackPeople(*in.scan, scan_pose, now);
+  if (people_.enabled && reports && in.people && estimate.valid && !watch_.lost()) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     // Without a laser nothing else keeps the map's place in the odometry frame.
     if (in.odometry) map_from_odometry_ = estimate.pose * in.odometry->inverse();
@@ -766,16 +681,16 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
                   [&](const SensedObstacle& s) { return now - s.seen_at > reflex_.options().memory; });
   }
   stimuli_.clear();
-  if (in.sonar && estimate.valid && !lost_ && reflex_.options().enabled) {
+  if (in.sonar && estimate.valid && !watch_.lost() && reflex_.options().enabled) {
     stimuli_ = Stimuli(*in.sonar, estimate.pose);
     RememberSonar(stimuli_, estimate.pose, now);
   }
-  if (lost_ || !detecting) {
+  if (watch_.lost() || !detecting) {
     // Detections made from a wrong pose are in the wrong place.
     std::lock_guard<std::mutex> lock(detector_mutex_);
     detector_.Reset();
   }
-  if (lost_) {
+  if (watch_.lost()) {
     std::lock_guard<std::mutex> lock(detector_mutex_);
     tracker_.Reset();
     reported_.Reset();
@@ -814,7 +729,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   std::vector<double> z(brain_.options().state_variables.size(), 0.0);
   if (z_contact_ >= 0) z[z_contact_] = contact ? 1.0 : 0.0;
   if (z_stale_ >= 0) z[z_stale_] = in.sensors_fresh && estimate.valid ? 0.0 : 1.0;
-  if (z_lost_ >= 0) z[z_lost_] = lost_ ? 1.0 : 0.0;
+  if (z_lost_ >= 0) z[z_lost_] = watch_.lost() ? 1.0 : 0.0;
   // Among people the crowd controller does the avoiding.
   if (z_danger_ >= 0) z[z_danger_] = people_.enabled ? 0.0 : danger_level;
   if (z_map_building_ >= 0) z[z_map_building_] = map_building_ ? 1.0 : 0.0;
@@ -834,13 +749,13 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
     navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
   }
 
-  if (wake_up_ >= 0) Search(estimate, in.odometry, now);
+  if (wake_up_ >= 0) watch_.Search(estimate, in.odometry, brain_.active(static_cast<size_t>(wake_up_)), now);
 
   const bool fresh = in.sensors_fresh && estimate.valid;
   // Another behaviour taking the robot ends a recovery; the leg is replanned when navigation has it back.
   if (motor != navigation_) recovery_.Stop();
   if (static_cast<long>(motor) == emergency_stop_) {
-    if (!fresh) return navigator_.Step(estimate.pose, now, false);
+    if (!fresh) return {navigator_.Step(estimate.pose, now, false)};
     if (!in.contact) {
       contact_since_ = -1.0;
     } else if (contact_since_ < 0.0) {
@@ -880,7 +795,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
         brain_.SetGamma(stop, 1.0);
         navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop, "bumper released: backing away", fresh);
         const double v = pressed_rear_ ? stop_options_.recoil_speed : -stop_options_.recoil_speed;
-        return {v, v};
+        return {WheelSpeeds{v, v}};
       }
       recoil_from_.reset();
       brain_.SetGamma(stop, 0.0);
@@ -895,21 +810,21 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
       const AvoidanceSensing sensing = Sensing(estimate.pose, in.rear_free);
       const double v = stop_options_.ease_off_speed;
       const double way = moving_.avoidance.min_clearance;
-      if (in.rear_contact_only && sensing.free_along(0.0) > way) return {v, v};
-      if (!in.rear_contact_only && sensing.rear_free > way) return {-v, -v};
+      if (in.rear_contact_only && sensing.free_along(0.0) > way) return {WheelSpeeds{v, v}};
+      if (!in.rear_contact_only && sensing.rear_free > way) return {WheelSpeeds{-v, -v}};
     }
-    return {};
+    return {WheelSpeeds{}};
   }
   pressed_ = false;  // another behaviour has the robot: no recoil pending
   recoil_from_.reset();
   if (static_cast<long>(motor) == wake_up_) {
-    navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop,
-                    search_ == SearchStage::kNearby ? "localization lost: searching nearby"
-                                                    : "localization lost: searching the map",
-                    fresh);
+    navigator_.Hold(
+        estimate.pose, now, NavigationState::kEmergencyStop,
+        watch_.searching_nearby() ? "localization lost: searching nearby" : "localization lost: searching the map",
+        fresh);
     // Turning in place shows the filter the whole room; it cannot tell places apart standing still.
-    const double v = watch_.search_turn_rate * navigator_.options().follower.wheel_base / 2.0;
-    return {-v, v};
+    const double v = watch_.options().search_turn_rate * navigator_.options().follower.wheel_base / 2.0;
+    return {WheelSpeeds{-v, v}};
   }
   const std::optional<DetectedObstacle> nearest = [&] {
     std::lock_guard<std::mutex> lock(detector_mutex_);
@@ -946,7 +861,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
                     std::string("avoiding a moving obstacle: ") + AvoidancePhaseName(avoider_.phase()) + " (zone " +
                         std::to_string(avoider_.zone()) + ")",
                     fresh);
-    return wheels;
+    return {wheels};
   }
   avoider_.Stop();
   if (navigator_.TakeStuck()) {
@@ -966,7 +881,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
                       std::string("stuck: recovery '") + RecoveryKindName(recovery_.kind()) + "' (" +
                           std::to_string(navigator_.Status().feedback.recoveries) + " so far)",
                       fresh);
-      return *w;
+      return {*w};
     }
   }
   if (reentry_.active()) {
@@ -989,7 +904,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
           estimate.pose, now, NavigationState::kRecovering,
           std::string("outside the navigation grid (") + reentry_why_ + "): " + ReentryStateName(reentry_.state()),
           fresh);
-      return ScanGuard(w, estimate.pose, in.rear_free, !people_.enabled);
+      return {w, CommandSource::kGridReentry, detecting};
     }
     reentry_.Stop();  // on the grid, or the mission ended
   }
@@ -1046,59 +961,7 @@ WheelSpeeds NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
   } else if (fresh) {
     wheels = Reflex(wheels, in, estimate.pose);
   }
-  if (detecting && !people_.enabled) wheels = GuardSpeed(wheels, estimate.pose);
-  // Among people the guard's manoeuvres are off: the rear check knows nothing of someone standing
-  // behind, and the crowd controller's plans decide.
-  return ScanGuard(wheels, estimate.pose, in.rear_free, !people_.enabled);
-}
-
-WheelSpeeds NavigationExecutive::ScanGuard(const WheelSpeeds& wheels, const Pose2& pose, double rear_free,
-                                           bool manoeuvre) const {
-  // Nav2's collision monitor (its approach model) on the laser: whatever the map says (one still
-  // being built, a wall a few centimetres off, a box it lacks), never faster forward than the robot
-  // can stop in before what the last scan saw ahead. The plans keep the rim 0.1 m from walls, so
-  // on a planned path it binds only head-on. Nor does the robot turn with something at its rim
-  // ahead (turn_guard_gap) unless it backs away as it turns (`rear_free`, m: the rear range
-  // sensor's). Without `manoeuvre` (among people, who may stand behind) it neither backs nor turns
-  // where the guard stopped it.
-  constexpr double kCreeping = 0.01;  // m/s: slower forward is standing
-  const bool turning = wheels.left != wheels.right;
-  if (!turning && wheels.left <= 0.0) return wheels;  // standing or backing straight: nothing to guard
-  std::vector<Point2> local;
-  {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    local = LocalScanPointsLocked(pose);
-  }
-  if (local.empty()) return wheels;
-  // m from the rim to the nearest return in front: away from people, anywhere in the front half
-  // (navigation turning towards a cart waiting 70 degrees off its heading swept its rim into it,
-  // Run 2); among people, within 60 degrees of the heading.
-  const double rim = moving_.detection.robot_radius, front = manoeuvre ? 0.0 : 0.5;  // cos of the half-angle
-  double gap = std::numeric_limits<double>::infinity();
-  for (const Point2& p : local)
-    if (p.x() > front * p.norm()) gap = std::min(gap, p.norm() - rim);
-  if (turning) {
-    if (gap < moving_.turn_guard_gap) {
-      // The straight part alone, if it can go on; a robot that can neither would stand there for
-      // good (its rim beside a door jamb ahead, after every recovery), so it turns while backing
-      // away instead, which no creep brings nearer.
-      const double v = 0.5 * (wheels.left + wheels.right);
-      const WheelSpeeds straight = v > 0.0 ? CapApproach({v, v}, local, moving_.scan_guard_margin) : WheelSpeeds{v, v};
-      if (!manoeuvre || straight.left > kCreeping) return straight;
-      if (Sensing(pose, rear_free).rear_free < moving_.turn_guard_backing_room) return straight;
-      const double back = std::min(v, -moving_.turn_guard_backing), half_turn = 0.5 * (wheels.right - wheels.left);
-      return {back - half_turn, back + half_turn};
-    }
-  }
-  if (0.5 * (wheels.left + wheels.right) <= 0.0) return wheels;
-  const WheelSpeeds capped = CapApproach(wheels, std::move(local), moving_.scan_guard_margin);
-  if (!turning || !manoeuvre || 0.5 * (capped.left + capped.right) > kCreeping) return capped;
-  // Stopped short of what is ahead, with nothing at the rim in front of it (a cart waiting at its
-  // side-front was touched by the creep of such a turn, Run 2): it still turns as it was told.
-  // Scaled down with the forward speed, the turn stopped too, and a robot whose heading grazed the
-  // wall beside it (its rim 8 cm off, office_glass) stood there until the recoveries.
-  const double v = 0.5 * (capped.left + capped.right), half_turn = 0.5 * (wheels.right - wheels.left);
-  return {v - half_turn, v + half_turn};
+  return {wheels, CommandSource::kNavigation, detecting};
 }
 
 std::vector<Point2> NavigationExecutive::LocalScanPointsLocked(const Pose2& pose) const {
@@ -1116,33 +979,14 @@ std::vector<Point2> NavigationExecutive::LocalScanPointsLocked(const Pose2& pose
   return local;
 }
 
-WheelSpeeds NavigationExecutive::CapApproach(const WheelSpeeds& wheels, std::vector<Point2> local,
-                                             double margin) const {
-  const double v = 0.5 * (wheels.left + wheels.right);
-  if (v <= 0.0 || local.empty()) return wheels;
-  const double room = std::max(0.0, FreeAlong(std::move(local), moving_.detection.robot_radius)(0.0) - margin);
-  const double allowed = std::sqrt(2.0 * moving_.guard_deceleration * room);
-  if (v <= allowed) return wheels;
-  const double k = allowed / v;
-  return {wheels.left * k, wheels.right * k};
-}
-
-WheelSpeeds NavigationExecutive::GuardSpeed(const WheelSpeeds& wheels, const Pose2& pose) const {
-  // Nav2's collision monitor, for what the map does not hold: never faster forward than the robot
-  // can stop in before a moving tracked obstacle (any candidate, now or in the next second). The danger
-  // level reacts to what closes in; this catches what appears close, round a corner, and where it
-  // will be in a second (the scan guard stops short of where things are now).
-  const double v = 0.5 * (wheels.left + wheels.right);
-  if (v <= 0.0) return wheels;
+std::vector<Point2> NavigationExecutive::MovingRims(const Pose2& pose) const {
   std::vector<Point2> local;
-  {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    for (const DetectedObstacle& o : detector_.candidates()) {
-      // Standing things are the plans' business: they go round them, closer than a guard would let.
-      if (o.velocity.norm() >= moving_.guard_min_speed) AddPredictedRim(o, pose, {0.0, 0.5, 1.0}, local);
-    }
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  for (const DetectedObstacle& o : detector_.candidates()) {
+    // Standing things are the plans' business: they go round them, closer than a guard would let.
+    if (o.velocity.norm() >= moving_.guard_min_speed) AddPredictedRim(o, pose, {0.0, 0.5, 1.0}, local);
   }
-  return CapApproach(wheels, std::move(local), moving_.guard_margin);
+  return local;
 }
 
 }  // namespace navd::navigation

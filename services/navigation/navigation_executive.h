@@ -17,9 +17,11 @@
 #include "services/common/clock.h"
 #include "services/common/error.h"
 #include "services/localization/localizer.h"
+#include "services/navigation/command_filter.h"
 #include "services/navigation/crowd_controller.h"
 #include "services/navigation/delivery_scheduler.h"
 #include "services/navigation/grid_reentry.h"
+#include "services/navigation/localization_watch.h"
 #include "services/navigation/moving_obstacle_avoidance.h"
 #include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
@@ -27,7 +29,7 @@
 #include "services/navigation/reported_people.h"
 #include "services/navigation/recovery_behaviour.h"
 #include "services/navigation/sonar_reflex.h"
-#include "services/navigation/speed_zones.h"
+#include "services/navigation/speed_zone_filter.h"
 #include "services/navigation/utility_decision_maker.h"
 #include "services/planning/planning_engine.h"
 
@@ -59,40 +61,6 @@ struct DeliveryRequest {
   bool preempt = false;
 };
 inline constexpr size_t kMaxDeliveryTasks = 25;
-
-// When the pose estimate counts as lost: the scan fits the map worse than lost_quality (the
-// localiser's 0..1 agreement, the mean per-beam likelihood ratio) for lost_after seconds and for
-// lost_scans scans in a row (when the caller counts scans: one poor scan of a sparse log, 3 s
-// before the next, is not a lost robot). Found
-// again once the fit is back above found_quality with the position spread under max_spread.
-// Measured agreement: at true poses 0.99 in navsim's warehouse, 0.94 median and 0.43 at the 1st
-// percentile on the real Intel log; at wrong poses in the warehouse 0.15 median, 0.48 at most
-// (200 random pairs).
-// The wake-up searches first around where the robot was lost (the last pose that fitted, carried
-// on by odometry; a Gaussian of search_sigma_xy, search_sigma_theta), for local_search_for
-// seconds, and only then over the whole map as seed 000 proposes, again every
-// global_search_every seconds while still lost: most losses are short (walkers crowding the
-// laser, a door opened) and the pose is still near, and along a featureless street or corridor a
-// global search cannot tell places apart at all; a robot carried far away is found by the global
-// search after. Where the localiser can (Localizer::StartSearch), the whole-map search runs beside
-// the estimate, which goes on tracking, and replaces it only once it fits as a found pose does
-// (found_quality, max_spread) for lost_scans scans: on the Intel log the pose was declared lost
-// where the scans fitted poorly at a right pose, and a search in its place settled in the wrong
-// room (whole-log RMSE 6.7-6.9 m; beside, 0.08 m).
-struct LocalizationWatchOptions {
-  double lost_quality = 0.45;
-  double lost_after = 3.0;  // s
-  int lost_scans = 3;
-  // Well above lost_quality: after a loss, on real logs, a corridor seen the other way round or a
-  // look-alike stretch fits at 0.6-0.7 for scans in a row (a true pose at 0.94 median).
-  double found_quality = 0.8;
-  double max_spread = 0.3;            // m, sqrt(var x + var y)
-  double search_turn_rate = 0.5;      // rad/s: the wake-up behaviour turns in place while it searches
-  double search_sigma_xy = 0.2;       // m: the spread stays within max_spread along a featureless way
-  double search_sigma_theta = 0.3;    // rad
-  double local_search_for = 15.0;     // s: a full turn at search_turn_rate, and some; 0: global at once
-  double global_search_every = 30.0;  // s
-};
 
 // Seed 000's moving obstacles: the detection process (section 4.4), the avoidance behaviour
 // (section 4.5), and Delta, the range within which detected obstacles enter the leg plans (the
@@ -233,10 +201,10 @@ class NavigationExecutive {
   // Book chapter 7's crowd controller, and whether it drove the last step (for the debug log).
   const CrowdController& crowd() const { return crowd_; }
   bool crowd_steering() const { return crowd_steering_; }
-  bool localization_lost() const { return lost_; }
+  bool localization_lost() const { return watch_.lost(); }
   // Times the pose has been lost since start: declared lost by the watch, or relocated by the
   // localiser on its own to where the scans fit (lost and found within a scan or two).
-  uint64_t localization_losses() const { return losses_; }
+  uint64_t localization_losses() const { return watch_.losses(); }
   // The wake-up behaviour has the robot (its pose is lost): it turns the robot in place whether or
   // not a mission is active, since an idle robot that stands still can never be found again.
   bool searching() const { return wake_up_ >= 0 && static_cast<long>(brain_.active_motor()) == wake_up_; }
@@ -263,8 +231,13 @@ class NavigationExecutive {
  private:
   uint64_t StartMission(const Mission& mission, const std::string& planner, bool preempt,
                         const planning::StopRequested& stop);
-  // The motor behaviour's command before the speed zones cap it.
-  WheelSpeeds Decide(const ExecutiveInputs& in, double now);
+  // The winning motor behaviour's command, before the command filters, and who produced it.
+  struct Decision {
+    WheelSpeeds wheels;
+    CommandSource source = CommandSource::kOther;
+    bool tracking_obstacles = false;  // the moving-obstacle detection ran this step
+  };
+  Decision Decide(const ExecutiveInputs& in, double now);
   // Plans the leg the navigator asks for; a start off the grid starts (or continues) the drive
   // back onto it, any other failure ends the mission.
   void PlanLeg(double now);
@@ -296,17 +269,12 @@ class NavigationExecutive {
   // What the avoidance behaviour sees: the last scan's points and the rear clearance.
   AvoidanceSensing Sensing(const Pose2& pose, double rear_free) const;
   planning::PlanningScene Scene(const Pose2& pose) const;
-  WheelSpeeds GuardSpeed(const WheelSpeeds& wheels, const Pose2& pose) const;
-  WheelSpeeds ScanGuard(const WheelSpeeds& wheels, const Pose2& pose, double rear_free, bool manoeuvre) const;
+  // The rims of the moving tracked obstacles, now and within a second, in the frame of a robot at
+  // `pose` (TrackedObstacleGuard's points).
+  std::vector<Point2> MovingRims(const Pose2& pose) const;
   // The last scan's returns in the frame of a robot at `pose`, and the sensed cells within
   // kSensedGuardRange of it. Caller holds detector_mutex_.
   std::vector<Point2> LocalScanPointsLocked(const Pose2& pose) const;
-  // The forward speed capped to stop `margin` short of the nearest of `local` (robot frame) ahead,
-  // braking at guard_deceleration.
-  WheelSpeeds CapApproach(const WheelSpeeds& wheels, std::vector<Point2> local, double margin) const;
-  // Free distance (m) from the rim of a robot of `radius` along a bearing, for a corridor as wide
-  // as the robot, among `local` points (robot frame).
-  static std::function<double(double)> FreeAlong(std::vector<Point2> local, double radius);
   // Tracks the people a new scan taken at `pose` (map frame) shows.
   void TrackPeople(const localization::ScanReading& scan, const Pose2& pose, double now);
   // The tracked people at `now` in the map frame. Caller holds detector_mutex_.
@@ -316,21 +284,13 @@ class NavigationExecutive {
   // Seed 000's long-term memory (section 4.6), one step: hands a newly served map to the
   // localisers (on a worker thread), once the previous hand-over has finished.
   void RememberMap();
-  // Updates lost_ from the estimate, and the last pose that fitted.
-  // `odometry`: the robot's odometry pose at the estimate's stamp, if known.
-  void WatchLocalization(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
-                         uint64_t scans, double now);
-  // The wake-up's search for a lost pose (LocalizationWatchOptions): begins once the wake-up has
-  // the robot, first nearby, then over the whole map (beside the estimate where the localiser can;
-  // one still settling is left to settle, one settled where it does not fit starts again).
-  void Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry, double now);
 
   planning::PlanningEngine& planning_;
   localization::Localizer& localizer_;
   const Clock& clock_;
   Navigator navigator_;
   UtilityDecisionMaker brain_;
-  LocalizationWatchOptions watch_;
+  LocalizationWatch watch_;
   size_t navigation_ = 0;
   long emergency_stop_ = -1, wake_up_ = -1, localization_ = -1, detection_ = -1, avoidance_ = -1, memory_ = -1;
   long z_contact_ = -1, z_stale_ = -1, z_lost_ = -1, z_danger_ = -1, z_map_building_ = -1;
@@ -385,25 +345,9 @@ class NavigationExecutive {
   std::atomic<uint64_t> leg_map_version_{0};
   std::string planner_;  // the active mission's planner
   double last_step_ = -1.0;
-  double poor_fit_since_ = -1.0;
-  // The last pose that fitted the scans, and the odometry then (for where the search begins).
-  std::optional<Pose2> fit_pose_, fit_odometry_;
-  enum class SearchStage { kNone, kNearby, kGlobal };
-  SearchStage search_ = SearchStage::kNone;  // of the current loss
-  double global_search_at_ = 0.0;            // when the next global search begins
-  // The global search runs beside the estimate (Localizer::StartSearch), which goes on tracking:
-  // scans in a row in which it fitted as a found pose does, and the stamp of the last one.
-  bool search_beside_ = false;
-  int search_fits_ = 0;
-  double search_stamp_ = -1.0;
-  uint64_t last_scans_ = 0;
-  int poor_scans_ = 0;               // scans in a row that fitted poorly
-  std::atomic<bool> lost_{false};    // read by gRPC threads
-  std::atomic<uint64_t> losses_{0};  // likewise
-  uint64_t relocations_seen_ = 0;    // the localiser's count, at the last watch
-  mutable std::mutex zones_mutex_;   // set by gRPC threads
-  SpeedZones zones_;
-  SpeedZoneOptions zone_options_;
+  // Run on every command, in the order the constructor adds them.
+  CommandFilterChain filters_;
+  std::shared_ptr<SpeedZoneFilter> speed_zones_;
 };
 
 }  // namespace navd::navigation
