@@ -37,12 +37,17 @@ void AddPredictedRim(const DetectedObstacle& o, const Pose2& pose, std::initiali
   }
 }
 
-constexpr double kContactDisc = 0.15;  // m: radius of what a bumper hit, as the plans see it
 // Outside the navigation grid: how far to look for the grid (m), and how often to ask whether a
 // leg can start from the pose (s; seed 000's state 2, each planning attempt a few milliseconds).
 constexpr double kReentrySearch = 3.0;
 constexpr double kReentryCheckPeriod = 0.25;
 constexpr double kOnTheGrid = 0.05;  // m: the nearest grid point this near is the robot's own cell
+
+// The utility term process `name` keeps while its manoeuvre runs; 0 without such a process.
+double GammaOnActivation(const UtilityDecisionMaker& brain, const char* name) {
+  const long k = brain.FindProcess(name);
+  return k >= 0 ? brain.options().processes[static_cast<size_t>(k)].gamma_on_activation : 0.0;
+}
 
 long StateIndexOr(const UtilityDecisionMaker& brain, const char* name) {
   const auto& vars = brain.options().state_variables;
@@ -70,7 +75,18 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       reported_(people.tracking),
       crowd_(people.control),
       reflex_(options.reflex),
-      avoider_(moving.avoidance),
+      stop_behaviour_([&] {
+        EmergencyStopOptions o;
+        o.robot_radius = moving.detection.robot_radius;
+        o.min_clearance = moving.avoidance.min_clearance;
+        return o;
+      }()),
+      wake_up_behaviour_(watch_, options.follower.wheel_base),
+      avoidance_behaviour_(moving.avoidance, GammaOnActivation(brain_, "moving_obstacle_avoidance"),
+                           [this] {
+                             std::lock_guard<std::mutex> lock(detector_mutex_);
+                             return detector_.nearest_frontal();
+                           }),
       recovery_(options.recovery, options.follower.wheel_base),
       reentry_(options.reentry) {
   for (const std::string& v : brain_.options().state_variables) {
@@ -612,6 +628,24 @@ double NavigationExecutive::danger() const {
   return detector_.danger();
 }
 
+std::optional<WheelSpeeds> NavigationExecutive::Carry(MotorBehaviour& behaviour, size_t process,
+                                                      const MotorInputs& in) {
+  const std::optional<MotorCommand> c = behaviour.Act(in);
+  if (!c) return std::nullopt;
+  if (c->touched) {
+    // Nav2's bumper layer: what the robot drove into goes into the plans (the laser and the map
+    // show nothing there, or the leg would not have led into it).
+    {
+      std::lock_guard<std::mutex> lock(detector_mutex_);
+      RememberSensed(c->touched->at, c->touched->radius, in.now);
+    }
+    navigator_.NoteContact(c->touched->at, in.now);
+  }
+  if (c->gamma) brain_.SetGamma(process, *c->gamma);
+  navigator_.Hold(in.pose, in.now, c->state, c->status, in.fresh);
+  return c->wheels;
+}
+
 WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   reflex_acted_ = false;
   const Decision decision = Decide(in, now);
@@ -754,116 +788,25 @@ NavigationExecutive::Decision NavigationExecutive::Decide(const ExecutiveInputs&
   const bool fresh = in.sensors_fresh && estimate.valid;
   // Another behaviour taking the robot ends a recovery; the leg is replanned when navigation has it back.
   if (motor != navigation_) recovery_.Stop();
+  const MotorInputs inputs{estimate.pose,
+                           fresh,
+                           in.contact,
+                           in.rear_contact_only,
+                           brain_.activated(motor),
+                           in.rear_free,
+                           now,
+                           [&](double rear_free) { return Sensing(estimate.pose, rear_free); }};
   if (static_cast<long>(motor) == emergency_stop_) {
     if (!fresh) return {navigator_.Step(estimate.pose, now, false)};
-    if (!in.contact) {
-      contact_since_ = -1.0;
-    } else if (contact_since_ < 0.0) {
-      contact_since_ = now;
-    }
-    const size_t stop = static_cast<size_t>(emergency_stop_);
-    if (in.contact && !pressed_ && !in.rear_contact_only) {
-      // Nav2's bumper layer: what the robot drove into goes into the plans (the laser and the map
-      // show nothing there, or the leg would not lead into it), just beyond the front rim. A
-      // pressed rear bumper is something that drove into the robot. The planner leaves out bodies
-      // this near the start, so it counts once a back-up has taken the robot further away.
-      // Its size is unknown: a disc as wide as the front of the robot.
-      const double rim = moving_.detection.robot_radius;
-      const Point2 at = estimate.pose * Point2(rim + kContactDisc, 0.0);
-      {
-        std::lock_guard<std::mutex> lock(detector_mutex_);
-        RememberSensed(at, kContactDisc, now);
-      }
-      navigator_.NoteContact(at, now);
-    }
-    if (in.contact) {
-      // Holds the behaviour past the release, for the recoil.
-      brain_.SetGamma(stop, 1.0);
-      pressed_ = true;
-      pressed_rear_ = in.rear_contact_only;
-      recoil_from_.reset();
-    } else if (pressed_) {
-      pressed_ = false;
-      recoil_from_ = estimate.pose;
-      recoil_until_ = now + 2.0 * stop_options_.recoil_distance / stop_options_.recoil_speed + 1.0;
-    }
-    if (recoil_from_) {
-      const AvoidanceSensing sensing = Sensing(estimate.pose, in.rear_free);
-      const double way = pressed_rear_ ? sensing.free_along(0.0) : sensing.rear_free;
-      if (Distance(estimate.pose.translation(), recoil_from_->translation()) < stop_options_.recoil_distance &&
-          now < recoil_until_ && way > moving_.avoidance.min_clearance) {
-        brain_.SetGamma(stop, 1.0);
-        navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop, "bumper released: backing away", fresh);
-        const double v = pressed_rear_ ? stop_options_.recoil_speed : -stop_options_.recoil_speed;
-        return {WheelSpeeds{v, v}};
-      }
-      recoil_from_.reset();
-      brain_.SetGamma(stop, 0.0);
-    }
-    const bool ease_off = in.contact && now - contact_since_ >= stop_options_.ease_off_after;
-    navigator_.Hold(estimate.pose, now, NavigationState::kEmergencyStop,
-                    !in.contact ? "emergency stop"
-                    : ease_off  ? "bumper pressed: easing off"
-                                : "bumper pressed",
-                    fresh);
-    if (ease_off) {
-      const AvoidanceSensing sensing = Sensing(estimate.pose, in.rear_free);
-      const double v = stop_options_.ease_off_speed;
-      const double way = moving_.avoidance.min_clearance;
-      if (in.rear_contact_only && sensing.free_along(0.0) > way) return {WheelSpeeds{v, v}};
-      if (!in.rear_contact_only && sensing.rear_free > way) return {WheelSpeeds{-v, -v}};
-    }
-    return {WheelSpeeds{}};
+    return {*Carry(stop_behaviour_, motor, inputs)};
   }
-  pressed_ = false;  // another behaviour has the robot: no recoil pending
-  recoil_from_.reset();
-  if (static_cast<long>(motor) == wake_up_) {
-    navigator_.Hold(
-        estimate.pose, now, NavigationState::kEmergencyStop,
-        watch_.searching_nearby() ? "localization lost: searching nearby" : "localization lost: searching the map",
-        fresh);
-    // Turning in place shows the filter the whole room; it cannot tell places apart standing still.
-    const double v = watch_.options().search_turn_rate * navigator_.options().follower.wheel_base / 2.0;
-    return {WheelSpeeds{-v, v}};
-  }
-  const std::optional<DetectedObstacle> nearest = [&] {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    return detector_.nearest_frontal();
-  }();
-  // The danger can stay high with nothing ahead to avoid (an obstacle beside or behind that is
-  // not going away): with no manoeuvre running (none started, or one done and waited out),
-  // navigation drives on, its guards capping the speed near tracked obstacles. Holding the robot
-  // then stood it still for 600 s of a 1 km run.
-  const bool waited_out = avoider_.done() && now - avoidance_done_at_ > moving_.avoidance.wait_before_retry;
-  const bool nothing_to_avoid = !nearest && (avoider_.phase() == AvoidancePhase::kIdle || waited_out);
-  if (avoidance_ >= 0 && static_cast<long>(motor) == avoidance_ && nothing_to_avoid) {
+  stop_behaviour_.Release();
+  if (static_cast<long>(motor) == wake_up_) return {*Carry(wake_up_behaviour_, motor, inputs)};
+  if (static_cast<long>(motor) == avoidance_) {
+    if (const std::optional<WheelSpeeds> w = Carry(avoidance_behaviour_, motor, inputs)) return {*w};
     navigator_.SetBehaviour(brain_.name(navigation_), brain_.Snapshot());  // the one that drives
   }
-  if (avoidance_ >= 0 && static_cast<long>(motor) == avoidance_ && !nothing_to_avoid) {
-    // A pressed rear bumper closes the way back, whatever the rear sensor says.
-    const AvoidanceSensing sensing = Sensing(estimate.pose, in.contact && in.rear_contact_only ? 0.0 : in.rear_free);
-    // A manoeuvre starts when the behaviour takes over, and again when the robot has stood still
-    // a while after one and the obstacle is still in the way (it waits for the robot, say).
-    if ((brain_.activated(static_cast<size_t>(avoidance_)) || waited_out ||
-         avoider_.phase() == AvoidancePhase::kIdle) &&
-        nearest) {
-      avoider_.Start(estimate.pose, nearest->position, sensing, now, in.contact);
-    }
-    const bool was_done = avoider_.done();
-    const WheelSpeeds wheels = fresh ? avoider_.Step(estimate.pose, sensing, now) : WheelSpeeds{};
-    if (!avoider_.done()) {
-      // The behaviour keeps its own utility up while its manoeuvre runs (the seed's Gamma_5).
-      brain_.SetGamma(static_cast<size_t>(avoidance_), brain_.options().processes[avoidance_].gamma_on_activation);
-    } else if (!was_done) {
-      avoidance_done_at_ = now;
-    }
-    navigator_.Hold(estimate.pose, now, NavigationState::kAvoiding,
-                    std::string("avoiding a moving obstacle: ") + AvoidancePhaseName(avoider_.phase()) + " (zone " +
-                        std::to_string(avoider_.zone()) + ")",
-                    fresh);
-    return {wheels};
-  }
-  avoider_.Stop();
+  avoidance_behaviour_.Release();
   if (navigator_.TakeStuck()) {
     const RecoveryKind kind = NthRecovery(navigator_.Status().feedback.recoveries);
     if (kind == RecoveryKind::kClear) {

@@ -18,8 +18,10 @@
 #include "services/common/error.h"
 #include "services/localization/localizer.h"
 #include "services/navigation/command_filter.h"
+#include "services/navigation/avoidance_behaviour.h"
 #include "services/navigation/crowd_controller.h"
 #include "services/navigation/delivery_scheduler.h"
+#include "services/navigation/emergency_stop.h"
 #include "services/navigation/grid_reentry.h"
 #include "services/navigation/localization_watch.h"
 #include "services/navigation/moving_obstacle_avoidance.h"
@@ -31,6 +33,7 @@
 #include "services/navigation/sonar_reflex.h"
 #include "services/navigation/speed_zone_filter.h"
 #include "services/navigation/utility_decision_maker.h"
+#include "services/navigation/wake_up.h"
 #include "services/planning/planning_engine.h"
 
 namespace navd::navigation {
@@ -91,22 +94,6 @@ struct MovingObstacleOptions {
   double turn_guard_gap = 0.05;           // m
   double turn_guard_backing = 0.03;       // m/s
   double turn_guard_backing_room = 0.05;  // m
-};
-
-// What the emergency stop does when a bumper stays pressed: something pushed into the robot (an
-// obstacle that waits for the robot to move, from where the laser cannot see) and both would wait
-// forever. After ease_off_after seconds of contact it creeps away from the pressed bumper, when
-// that way is free, until the contact ends. Longer than an obstacle that gives up waits (the
-// simulator's carts turn back after 4 s): creeping away from one invites it to follow.
-// When a bumper lets go, the robot first backs away from what it touched (Nav2's back-up
-// recovery, a few centimetres) before navigation gets it back: the leg replanned from against a
-// wall starts by turning or driving along it, and pressed it again and again (measured: 150
-// bumps in one corner while exploring).
-struct EmergencyStopOptions {
-  double ease_off_after = 6.0;    // s
-  double ease_off_speed = 0.05;   // m/s
-  double recoil_distance = 0.10;  // m
-  double recoil_speed = 0.10;     // m/s
 };
 
 // Book chapter 7 among people: the laser's blobs that the map does not explain are tracked as
@@ -238,6 +225,10 @@ class NavigationExecutive {
     bool tracking_obstacles = false;  // the moving-obstacle detection ran this step
   };
   Decision Decide(const ExecutiveInputs& in, double now);
+  // Runs motor behaviour `behaviour` (brain process `process`): its command, with what it says
+  // passed on to the navigator's feedback, the brain and the plans; nullopt when it leaves the
+  // robot to navigation.
+  std::optional<WheelSpeeds> Carry(MotorBehaviour& behaviour, size_t process, const MotorInputs& in);
   // Plans the leg the navigator asks for; a start off the grid starts (or continues) the drive
   // back onto it, any other failure ends the mission.
   void PlanLeg(double now);
@@ -323,7 +314,10 @@ class NavigationExecutive {
   std::vector<SensedObstacle> sensed_obstacles_;             // guarded by detector_mutex_
   std::vector<Point2> scan_points_;                          // the last scan's returns, map frame
   std::shared_ptr<const std::vector<Point2>> sensed_cells_;  // ExecutiveInputs::sensed_cells; guarded likewise
-  MovingObstacleAvoidance avoider_;
+  // The motor behaviours other than navigation (which is this class's own, with its recoveries).
+  EmergencyStop stop_behaviour_;
+  WakeUp wake_up_behaviour_;
+  AvoidanceBehaviour avoidance_behaviour_;
   RecoveryBehaviour recovery_;
   GridReentry reentry_;      // control thread only
   std::string reentry_why_;  // what the planner said of the start
@@ -333,13 +327,6 @@ class NavigationExecutive {
   // The localisers' SetMap under way: the map version it hands over, 0 if it failed. Control
   // thread only.
   std::future<uint64_t> map_handover_;
-  double avoidance_done_at_ = -1.0;
-  EmergencyStopOptions stop_options_;
-  double contact_since_ = -1.0;
-  bool pressed_ = false;              // a bumper was pressed at the last emergency-stop step
-  bool pressed_rear_ = false;         // ... the rear one only
-  std::optional<Pose2> recoil_from_;  // backing away from a contact that ended, from here
-  double recoil_until_ = 0.0;
   double last_blocked_check_ = -1e9;
   // The served map's version the current leg was planned on (set by gRPC and control threads).
   std::atomic<uint64_t> leg_map_version_{0};
