@@ -8,6 +8,7 @@
 #include "services/common/error.h"
 #include "services/localization/scan_points.h"
 #include "services/navigation/free_way.h"
+#include "services/navigation/surroundings_sensing.h"
 #include "services/navigation/scan_guard.h"
 #include "services/navigation/tracked_obstacle_guard.h"
 
@@ -23,19 +24,6 @@ const char* const kProcesses[] = {"navigation",
                                   "moving_obstacle_detection",
                                   "moving_obstacle_avoidance",
                                   "long_term_memory"};
-
-// Eight points on the rim of obstacle `o` at each of `ahead` seconds on at its velocity, in the
-// frame of a robot at `pose`.
-void AddPredictedRim(const DetectedObstacle& o, const Pose2& pose, std::initializer_list<double> ahead,
-                     std::vector<Point2>& out) {
-  for (const double t : ahead) {
-    const Point2 centre = pose.inverse() * (o.position + t * o.velocity);
-    for (int k = 0; k < 8; ++k) {
-      const double a = k * M_PI / 4.0;
-      out.emplace_back(centre + o.radius * Point2(std::cos(a), std::sin(a)));
-    }
-  }
-}
 
 // Outside the navigation grid: how far to look for the grid (m), and how often to ask whether a
 // leg can start from the pose (s; seed 000's state 2, each planning attempt a few milliseconds).
@@ -68,11 +56,10 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       brain_(brain),
       watch_(localizer, watch),
       moving_(moving),
-      detector_(moving.detection),
+      map_caster_(planning.maps()),
+      obstacle_detection_(moving.detection),
       people_(people),
-      people_segmenter_(people.detection),
-      tracker_(people.tracking),
-      reported_(people.tracking),
+      people_tracking_(people),
       crowd_(people.control),
       reflex_(options.reflex),
       stop_behaviour_([&] {
@@ -83,10 +70,7 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       }()),
       wake_up_behaviour_(watch_, options.follower.wheel_base),
       avoidance_behaviour_(moving.avoidance, GammaOnActivation(brain_, "moving_obstacle_avoidance"),
-                           [this] {
-                             std::lock_guard<std::mutex> lock(detector_mutex_);
-                             return detector_.nearest_frontal();
-                           }),
+                           [this] { return obstacle_detection_.nearest_frontal(); }),
       recovery_(options.recovery, options.follower.wheel_base),
       reentry_(options.reentry) {
   for (const std::string& v : brain_.options().state_variables) {
@@ -353,8 +337,7 @@ bool NavigationExecutive::StartsOffGrid(const Error& e) const {
   // The planning engine's errors about the start begin with the field's name; the laser finds the
   // way back onto the grid, so without a scan there is none.
   if (std::string_view(e.what()).rfind("start ", 0) != 0) return false;
-  std::lock_guard<std::mutex> lock(detector_mutex_);
-  return !scan_points_.empty();
+  return sensed_.has_scan_returns();
 }
 
 std::optional<Point2> NavigationExecutive::NearestGridPoint(const Point2& p) const {
@@ -371,72 +354,22 @@ std::optional<Point2> NavigationExecutive::NearestGridPoint(const Point2& p) con
 
 planning::PlanningScene NavigationExecutive::Scene(const Pose2& pose) const {
   planning::PlanningScene scene;
-  std::lock_guard<std::mutex> lock(detector_mutex_);
-  for (const DetectedObstacle& o : detector_.confirmed()) {
+  for (const DetectedObstacle& o : obstacle_detection_.confirmed()) {
     // Seed 000 ignores obstacles beyond Delta: far away they will have moved by the time the
     // robot gets there.
     if ((o.position - pose.translation()).norm() > moving_.planning_range) continue;
     scene.moving.push_back({o.position, o.velocity, o.radius, false});
   }
-  for (const SensedObstacle& s : sensed_obstacles_) {
+  for (const SensedObstacles::Disc& s : sensed_.discs()) {
     if ((s.position - pose.translation()).norm() <= moving_.planning_range)
       scene.moving.push_back({s.position, {0, 0}, s.radius, false});
   }
-  if (sensed_cells_) scene.obstacle_cells = *sensed_cells_;
+  if (const auto cells = sensed_.layer_cells()) scene.obstacle_cells = *cells;
   return scene;
 }
 
-std::shared_ptr<const RayCaster> NavigationExecutive::MapCaster() const {
-  const auto map = planning_.maps().Get();
-  if (!map) return nullptr;
-  std::lock_guard<std::mutex> lock(caster_mutex_);
-  if (!caster_ || map->version != caster_version_) {
-    caster_ = std::make_shared<const RayCaster>(map->grid);
-    caster_version_ = map->version;
-  }
-  return caster_;
-}
-
-void NavigationExecutive::DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now) {
-  const std::shared_ptr<const RayCaster> map = MapCaster();
-  std::lock_guard<std::mutex> lock(detector_mutex_);
-  if (!map) return;
-  if (map != detector_map_) {
-    detector_map_ = map;
-    detector_.SetMap(detector_map_);
-    detector_.Reset();
-  }
-  detector_.Update(scan, pose, now);
-}
-
-void NavigationExecutive::TrackPeople(const localization::ScanReading& scan, const Pose2& pose, double now) {
-  const std::shared_ptr<const RayCaster> map = MapCaster();
-  if (!map) return;
-  people_segmenter_.SetMap(map);
-  const std::vector<DetectedObstacle> blobs = people_segmenter_.Segment(scan, pose);
-  std::lock_guard<std::mutex> lock(detector_mutex_);
-  const Pose2 odometry_from_map = map_from_odometry_.inverse();
-  std::vector<Point2> seen;
-  for (const DetectedObstacle& blob : blobs)
-    if (blob.radius <= people_.max_person_radius) seen.push_back(odometry_from_map * blob.position);
-  tracker_.Update(seen, now);
-}
-
-std::vector<TrackedPerson> NavigationExecutive::PeopleLocked(double now) const {
-  std::vector<TrackedPerson> people =
-      people_.source == PeopleAwareOptions::Source::kReports ? reported_.People(now) : tracker_.People(now);
-  const Pose2& to_map = map_from_odometry_;
-  for (TrackedPerson& p : people) {
-    p.position = to_map * p.position;
-    p.velocity = Rotate(p.velocity, to_map.theta);
-    p.orientation = NormalizeAngle(p.orientation + to_map.theta);
-  }
-  return people;
-}
-
 std::vector<TrackedPerson> NavigationExecutive::people() const {
-  std::lock_guard<std::mutex> lock(detector_mutex_);
-  return PeopleLocked(tracker_.tracks().empty() && reported_.empty() ? 0.0 : clock_.Now());
+  return people_tracking_.People(people_tracking_.empty() ? 0.0 : clock_.Now());
 }
 
 std::optional<WheelSpeeds> NavigationExecutive::SteerAmongPeople(const Pose2& pose, double now) {
@@ -489,13 +422,9 @@ WheelSpeeds NavigationExecutive::Reflex(const WheelSpeeds& wheels, const Executi
 std::vector<SonarEcho> NavigationExecutive::Stimuli(const std::vector<SonarEcho>& echoes, const Pose2& pose) const {
   const SonarReflexOptions& o = reflex_.options();
   if (!o.only_unexplained) return echoes;
-  std::vector<Point2> local;
-  {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    local = LocalScanPointsLocked(pose);
-  }
+  const std::vector<Point2> local = sensed_.LocalPoints(pose);
   // A map being built changes every few scans and lacks what it has not seen: the laser alone says.
-  const std::shared_ptr<const RayCaster> map = map_building_ ? nullptr : MapCaster();
+  const std::shared_ptr<const RayCaster> map = map_building_ ? nullptr : map_caster_.Get();
   const double rim = moving_.detection.robot_radius;
   const double horizon = o.remember_within + o.explained_tolerance;
   std::vector<SonarEcho> out;
@@ -542,91 +471,21 @@ double NavigationExecutive::NearestInCone(const OccupancyGrid& grid, const Point
 void NavigationExecutive::RememberSonar(const std::vector<SonarEcho>& stimuli, const Pose2& pose, double now) {
   const SonarReflexOptions& o = reflex_.options();
   const double rim = moving_.detection.robot_radius;
-  std::lock_guard<std::mutex> lock(detector_mutex_);
   for (const SonarEcho& e : stimuli) {
     const Point2 dir(std::cos(e.angle), std::sin(e.angle));
-    RememberSensed(pose * Point2((rim + e.range) * dir), std::max(0.05, e.range * std::tan(o.sensor_cone / 2.0)), now);
+    sensed_.Remember(pose * Point2((rim + e.range) * dir), std::max(0.05, e.range * std::tan(o.sensor_cone / 2.0)),
+                     now);
   }
-}
-
-void NavigationExecutive::RememberSensed(const Point2& at, double radius, double now) {
-  for (SensedObstacle& s : sensed_obstacles_) {
-    if (Distance(s.position, at) < std::max(s.radius, radius)) {
-      if (radius < s.radius) {
-        s.position = at;
-        s.radius = radius;
-      }
-      s.seen_at = now;
-      return;
-    }
-  }
-  sensed_obstacles_.push_back({at, radius, now});
 }
 
 AvoidanceSensing NavigationExecutive::Sensing(const Pose2& pose, double rear_free) const {
-  AvoidanceSensing sensing;
-  const double radius = moving_.detection.robot_radius;
-  std::vector<Point2> local;
-  {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    local = LocalScanPointsLocked(pose);
-    // Behind the robot the laser is blind: the map says how far the wall is, the rear sensor the rest.
-    // The robot's whole disc is swept back, not one ray: a wall beside the robot's rim counts. Only
-    // walls behind its centre do: one the front touches now does not close the way back.
-    // The served map as it is now (a map being built changes; the detector's copy may be older).
-    if (const auto map = planning_.maps().Get()) {
-      const OccupancyGrid& grid = map->grid;
-      const Point2 back(-std::cos(pose.theta), -std::sin(pose.theta));
-      constexpr double kStep = 0.02, kHorizon = 1.0;
-      const double r = radius + 0.03;  // the pose estimate is a few centimetres off
-      auto hits = [&](const Point2& centre) {
-        const CellIndex lo = grid.CellOf(centre - Point2(r, r)), hi = grid.CellOf(centre + Point2(r, r));
-        for (int y = lo.y; y <= hi.y; ++y)
-          for (int x = lo.x; x <= hi.x; ++x) {
-            const CellIndex c{x, y};
-            if (grid.DistanceToCell(centre, c) > r || (grid.CellCenter(c) - pose.translation()).dot(back) <= 0.0)
-              continue;
-            if (!grid.Contains(c) || grid.IsOccupied(c)) return true;
-          }
-        return false;
-      };
-      double wall = kHorizon;
-      for (double d = kStep; d <= kHorizon; d += kStep) {
-        if (hits(pose.translation() + d * back)) {
-          wall = d - kStep;
-          break;
-        }
-      }
-      rear_free = std::min(rear_free, wall);
-    }
-    // The laser is blind behind, but the obstacles it tracked are still known for a few scans:
-    // one whose disc lies across the way back, now or within the next second, closes it (a cart
-    // crossing behind a robot backing up enters its way beside the rear sensor's one ray, Run 2).
-    for (const DetectedObstacle& o : detector_.candidates()) {
-      for (const double t : {0.0, 0.5, 1.0}) {
-        const Point2 p = pose.inverse() * (o.position + t * o.velocity);
-        if (p.x() < 0.0 && std::abs(p.y()) < o.radius + radius) {
-          rear_free = std::min(rear_free, std::max(0.0, -p.x() - o.radius - radius));
-        }
-      }
-    }
-  }
-  sensing.rear_free = rear_free;
-  for (const Point2& p : local) sensing.nearest = std::min(sensing.nearest, p.norm() - radius);
-  {
-    // Where the tracked obstacles will be in the next second also closes a way: a cart crossing
-    // it from the side enters the corridor faster than the robot stops.
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    for (const DetectedObstacle& o : detector_.confirmed()) AddPredictedRim(o, pose, {0.5, 1.0}, local);
-  }
-  sensing.free_along = FreeAlong(std::move(local), radius);
-  return sensing;
+  // The served map as it is now (a map being built changes; the detector's copy may be older).
+  const auto map = planning_.maps().Get();
+  return SenseSurroundings(pose, moving_.detection.robot_radius, sensed_.LocalPoints(pose), map ? &map->grid : nullptr,
+                           rear_free, obstacle_detection_.candidates(), obstacle_detection_.confirmed());
 }
 
-double NavigationExecutive::danger() const {
-  std::lock_guard<std::mutex> lock(detector_mutex_);
-  return detector_.danger();
-}
+double NavigationExecutive::danger() const { return obstacle_detection_.danger(); }
 
 std::optional<WheelSpeeds> NavigationExecutive::Carry(MotorBehaviour& behaviour, size_t process,
                                                       const MotorInputs& in) {
@@ -635,10 +494,7 @@ std::optional<WheelSpeeds> NavigationExecutive::Carry(MotorBehaviour& behaviour,
   if (c->touched) {
     // Nav2's bumper layer: what the robot drove into goes into the plans (the laser and the map
     // show nothing there, or the leg would not have led into it).
-    {
-      std::lock_guard<std::mutex> lock(detector_mutex_);
-      RememberSensed(c->touched->at, c->touched->radius, in.now);
-    }
+    sensed_.Remember(c->touched->at, c->touched->radius, in.now);
     navigator_.NoteContact(c->touched->at, in.now);
   }
   if (c->gamma) brain_.SetGamma(process, *c->gamma);
@@ -658,10 +514,7 @@ WheelSpeeds NavigationExecutive::Step(const ExecutiveInputs& in, double now) {
   context.pose = pose;
   context.among_people = people_.enabled;
   context.tracking_obstacles = decision.tracking_obstacles;
-  context.returns = [&] {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    return LocalScanPointsLocked(pose);
-  };
+  context.returns = [&] { return sensed_.LocalPoints(pose); };
   context.moving_rims = [&] { return MovingRims(pose); };
   context.rear_room = [&] { return Sensing(pose, in.rear_free).rear_free; };
   last_wheels_ = filters_.Apply(decision.wheels, context);
@@ -673,83 +526,65 @@ void NavigationExecutive::SetSpeedZones(SpeedZones zones) { speed_zones_->SetZon
 
 SpeedZones NavigationExecutive::speed_zones() const { return speed_zones_->zones(); }
 
-NavigationExecutive::Decision NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
-  const localization::PoseEstimate estimate = localizer_.Estimate();
-  if (estimate.valid && in.sensors_fresh) watch_.Watch(estimate, in.odometry, in.scans, now);
-
-  const bool detecting = detection_ >= 0 && brain_.active(static_cast<size_t>(detection_));
+void NavigationExecutive::Perceive(const ExecutiveInputs& in, const localization::PoseEstimate& estimate,
+                                   bool detecting, double now) {
   // Where the robot was when the scan was taken (map frame).
   Pose2 scan_pose = estimate.pose;
   if (estimate.valid && in.odometry && in.scan_odometry) {
     const Pose2 map_from_odometry = estimate.pose * in.odometry->inverse();
     scan_pose = map_from_odometry * *in.scan_odometry;
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    map_from_odometry_ = map_from_odometry;
+    people_tracking_.SetMapFromOdometry(map_from_odometry);
   }
-  if (in.sensed_cells) {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    sensed_cells_ = in.sensed_cells;
-  }
-  if (in.scan && estimate.valid && !watch_.lost()) {
+  if (in.sensed_cells) sensed_.SetLayerCells(in.sensed_cells);
+  const bool placed = estimate.valid && !watch_.lost();  // what the sensors show can be put on the map
+  if (in.scan && placed) {
     // The avoidance's and the recoil's free ways and the scan guard read these whether or not
     // detection runs (it is off while a map is being built).
     std::vector<Point2> points = localization::ScanEndPoints(*in.scan, 0);
     for (Point2& p : points) p = scan_pose * p;
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    scan_points_ = std::move(points);
+    sensed_.SetScanReturns(std::move(points));
   }
-  if (in.scan && estimate.valid && detecting && !watch_.lost()) DetectMovingObstacles(*in.scan, scan_pose, now);
+  if (in.scan && placed && detecting) obstacle_detection_.Update(*in.scan, scan_pose, now, map_caster_.Get());
   const bool reports = people_.source == PeopleAwareOptions::Source::kReports;
-  if (people_.enabled && !reports && in.scan && estimate.valid && !watch_.lost()) TrackPeople(*in.scan, scan_pose, now);
-  if (people_.enabled && reports && in.people && estimate.valid && !watch_.lost()) {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
+  if (people_.enabled && !reports && in.scan && placed)
+    people_tracking_.TrackScan(*in.scan, scan_pose, now, map_caster_.Get());
+  if (people_.enabled && reports && in.people && placed) {
     // Without a laser nothing else keeps the map's place in the odometry frame.
-    if (in.odometry) map_from_odometry_ = estimate.pose * in.odometry->inverse();
-    reported_.Update(*in.people,
-                     in.people_odometry ? *in.people_odometry : map_from_odometry_.inverse() * estimate.pose,
-                     now - in.people_age);
+    if (in.odometry) people_tracking_.SetMapFromOdometry(estimate.pose * in.odometry->inverse());
+    people_tracking_.Report(*in.people, in.people_odometry, estimate.pose, now - in.people_age);
   }
-  {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    std::erase_if(sensed_obstacles_,
-                  [&](const SensedObstacle& s) { return now - s.seen_at > reflex_.options().memory; });
-  }
+  sensed_.Forget(now, reflex_.options().memory);
   stimuli_.clear();
-  if (in.sonar && estimate.valid && !watch_.lost() && reflex_.options().enabled) {
+  if (in.sonar && placed && reflex_.options().enabled) {
     stimuli_ = Stimuli(*in.sonar, estimate.pose);
     RememberSonar(stimuli_, estimate.pose, now);
   }
-  if (watch_.lost() || !detecting) {
-    // Detections made from a wrong pose are in the wrong place.
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    detector_.Reset();
-  }
-  if (watch_.lost()) {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    tracker_.Reset();
-    reported_.Reset();
-  }
+  // Detections made from a wrong pose are in the wrong place.
+  if (watch_.lost() || !detecting) obstacle_detection_.Reset();
+  if (watch_.lost()) people_tracking_.Reset();
+}
 
+std::vector<double> NavigationExecutive::MeasureStateVariables(const ExecutiveInputs& in,
+                                                               const localization::PoseEstimate& estimate,
+                                                               bool detecting, double now) const {
   // Seed 000 section 7: the emergency stop is for stationary things; a bumper pressed by a moving
   // obstacle the robot can see (it would wait for the robot forever) is the avoidance behaviour's.
   bool contact = in.contact;
   double danger_level = danger();
+  const double rim = moving_.detection.robot_radius;
   if (contact && people_.enabled) {
     // Among people, what presses a bumper is someone who walked into the robot: a tracked person
     // at the pressed side, or, at the rear the laser cannot see, anyone. Stopping there invites
     // the next one; the crowd controller takes the robot away instead.
-    std::lock_guard<std::mutex> lock(detector_mutex_);
     if (in.rear_contact_only) contact = false;
-    for (const TrackedPerson& p : PeopleLocked(now)) {
-      const double gap =
-          Distance(p.position, estimate.pose.translation()) - people_.person_radius - moving_.detection.robot_radius;
+    for (const TrackedPerson& p : people_tracking_.People(now)) {
+      const double gap = Distance(p.position, estimate.pose.translation()) - people_.person_radius - rim;
       if (gap < moving_.touch_gap) contact = false;
     }
   }
   if (contact && avoidance_ >= 0 && detecting) {
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    for (const DetectedObstacle& o : detector_.confirmed()) {
-      const double gap = (o.position - estimate.pose.translation()).norm() - o.radius - moving_.detection.robot_radius;
+    for (const DetectedObstacle& o : obstacle_detection_.confirmed()) {
+      const double gap = (o.position - estimate.pose.translation()).norm() - o.radius - rim;
       // Only on the pressed side: the laser cannot see what presses the rear bumper.
       const bool in_front = (estimate.pose.inverse() * o.position).x() > 0.0;
       if (gap < moving_.touch_gap && in_front != in.rear_contact_only) {
@@ -759,7 +594,6 @@ NavigationExecutive::Decision NavigationExecutive::Decide(const ExecutiveInputs&
       }
     }
   }
-
   std::vector<double> z(brain_.options().state_variables.size(), 0.0);
   if (z_contact_ >= 0) z[z_contact_] = contact ? 1.0 : 0.0;
   if (z_stale_ >= 0) z[z_stale_] = in.sensors_fresh && estimate.valid ? 0.0 : 1.0;
@@ -767,6 +601,15 @@ NavigationExecutive::Decision NavigationExecutive::Decide(const ExecutiveInputs&
   // Among people the crowd controller does the avoiding.
   if (z_danger_ >= 0) z[z_danger_] = people_.enabled ? 0.0 : danger_level;
   if (z_map_building_ >= 0) z[z_map_building_] = map_building_ ? 1.0 : 0.0;
+  return z;
+}
+
+NavigationExecutive::Decision NavigationExecutive::Decide(const ExecutiveInputs& in, double now) {
+  const localization::PoseEstimate estimate = localizer_.Estimate();
+  if (estimate.valid && in.sensors_fresh) watch_.Watch(estimate, in.odometry, in.scans, now);
+  const bool detecting = detection_ >= 0 && brain_.active(static_cast<size_t>(detection_));
+  Perceive(in, estimate, detecting, now);
+  const std::vector<double> z = MeasureStateVariables(in, estimate, detecting, now);
   const double dt = last_step_ < 0.0 || now <= last_step_ ? 0.0 : std::min(now - last_step_, 1.0);
   last_step_ = now;
   brain_.Update(dt, z);
@@ -775,12 +618,12 @@ NavigationExecutive::Decision NavigationExecutive::Decide(const ExecutiveInputs&
   navigator_.SetBehaviour(brain_.name(motor), brain_.Snapshot());
   {
     std::vector<planning::MovingBody> seen;
-    std::lock_guard<std::mutex> lock(detector_mutex_);
-    for (const DetectedObstacle& o : detector_.confirmed()) seen.push_back({o.position, o.velocity, o.radius, false});
+    for (const DetectedObstacle& o : obstacle_detection_.confirmed())
+      seen.push_back({o.position, o.velocity, o.radius, false});
     if (people_.enabled)
-      for (const TrackedPerson& p : PeopleLocked(now))
+      for (const TrackedPerson& p : people_tracking_.People(now))
         seen.push_back({p.position, p.velocity, people_.person_radius, true});
-    navigator_.SetMovingObstacles(detector_.danger(), std::move(seen));
+    navigator_.SetMovingObstacles(obstacle_detection_.danger(), std::move(seen));
   }
 
   if (wake_up_ >= 0) watch_.Search(estimate, in.odometry, brain_.active(static_cast<size_t>(wake_up_)), now);
@@ -807,125 +650,114 @@ NavigationExecutive::Decision NavigationExecutive::Decide(const ExecutiveInputs&
     navigator_.SetBehaviour(brain_.name(navigation_), brain_.Snapshot());  // the one that drives
   }
   avoidance_behaviour_.Release();
-  if (navigator_.TakeStuck()) {
-    const RecoveryKind kind = NthRecovery(navigator_.Status().feedback.recoveries);
-    if (kind == RecoveryKind::kClear) {
-      std::lock_guard<std::mutex> lock(detector_mutex_);
-      detector_.Reset();
-      sensed_obstacles_.clear();
-    }
-    recovery_.Start(kind, estimate.pose, now);
-  }
-  if (recovery_.active()) {
-    const std::optional<WheelSpeeds> w =
-        fresh ? recovery_.Step(estimate.pose, Sensing(estimate.pose, in.rear_free).rear_free, now) : WheelSpeeds{};
-    if (w) {
-      navigator_.Hold(estimate.pose, now, NavigationState::kRecovering,
-                      std::string("stuck: recovery '") + RecoveryKindName(recovery_.kind()) + "' (" +
-                          std::to_string(navigator_.Status().feedback.recoveries) + " so far)",
-                      fresh);
-      return {*w};
-    }
-  }
-  if (reentry_.active()) {
-    const std::optional<Point2> toward = NearestGridPoint(estimate.pose.translation());
-    // State 2, on the grid yet? Asked periodically, and at once when the robot's own cell is on it
-    // (rather than turning towards that cell meanwhile).
-    const bool own_cell = toward && Distance(*toward, estimate.pose.translation()) < kOnTheGrid;
-    if (own_cell || now - reentry_checked_at_ >= kReentryCheckPeriod) {
-      reentry_checked_at_ = now;
-      PlanLeg(now);
-    }
-    if (reentry_.active() && navigator_.LegToPlan()) {
-      std::vector<Point2> local;
-      {
-        std::lock_guard<std::mutex> lock(detector_mutex_);
-        local = LocalScanPointsLocked(estimate.pose);
-      }
-      const WheelSpeeds w = fresh ? reentry_.Step(estimate.pose, local, toward, now) : WheelSpeeds{};
-      navigator_.Hold(
-          estimate.pose, now, NavigationState::kRecovering,
-          std::string("outside the navigation grid (") + reentry_why_ + "): " + ReentryStateName(reentry_.state()),
-          fresh);
-      return {w, CommandSource::kGridReentry, detecting};
-    }
-    reentry_.Stop();  // on the grid, or the mission ended
-  }
+  return Navigation(in, estimate.pose, fresh, detecting, now);
+}
+
+NavigationExecutive::Decision NavigationExecutive::Navigation(const ExecutiveInputs& in, const Pose2& pose, bool fresh,
+                                                              bool detecting, double now) {
+  if (const std::optional<WheelSpeeds> w = Recover(pose, in.rear_free, fresh, now)) return {*w};
+  if (const std::optional<WheelSpeeds> w = DriveBackOntoGrid(pose, fresh, now))
+    return {*w, CommandSource::kGridReentry, detecting};
   if (now - last_blocked_check_ >= moving_.replan_period) {
-    // Nav2 replans at 1 Hz; we replan when something has come to lie across the path ahead: a
-    // tracked obstacle the map lacks (an unknown box, a cart that stopped), or, after the map
-    // changed (a map being built), cells its costmap now calls lethal.
     last_blocked_check_ = now;
-    std::vector<std::pair<Point2, double>> discs;
-    {
-      std::lock_guard<std::mutex> lock(detector_mutex_);
-      // People come and go across the path all the time: the crowd controller steers round them.
-      if (!people_.enabled) {
-        for (const DetectedObstacle& o : detector_.confirmed()) {
-          discs.emplace_back(o.position, o.radius + moving_.detection.robot_radius);
-        }
-      }
-      for (const SensedObstacle& s : sensed_obstacles_)
-        discs.emplace_back(s.position, s.radius + moving_.detection.robot_radius);
-      if (sensed_cells_) {
-        // Not those the plans leave out either: the cells within the inflation of the leg's goal.
-        const std::vector<Point2> leg = navigator_.LegPath();
-        const double keep_clear = planning_.inflation_radius() + 0.05;
-        for (const Point2& p : *sensed_cells_) {
-          if (Distance(p, estimate.pose.translation()) > moving_.planning_range) continue;
-          if (!leg.empty() && Distance(p, leg.back()) < keep_clear) continue;
-          discs.emplace_back(p, moving_.detection.robot_radius);
-        }
-      }
-    }
-    std::shared_ptr<const planning::Costmap> costmap;
-    if (const auto map = planning_.maps().Get(); map && map->version != leg_map_version_)
-      costmap = planning_.CurrentCostmap();
-    const Point2 here = estimate.pose.translation();
-    const double near = moving_.detection.robot_radius + 0.1;
-    navigator_.ReplanIfBlocked(
-        [&](const Point2& p) {
-          for (const auto& [centre, radius] : discs)
-            if (Distance(p, centre) < radius) return true;
-          // Not next to the robot: a leg starting inside the inflation leaves it from there.
-          if (!costmap || Distance(p, here) < near) return false;
-          const CellIndex c = costmap->grid().CellOf(p);
-          return costmap->grid().Contains(c) && costmap->IsLethal(c);
-        },
-        moving_.planning_range);
+    ReplanIfBlocked(pose);
   }
   PlanLeg(now);
-  const std::optional<WheelSpeeds> among_people =
-      people_.enabled && fresh ? SteerAmongPeople(estimate.pose, now) : std::nullopt;
-  WheelSpeeds wheels = navigator_.Step(estimate.pose, now, fresh);
+  const std::optional<WheelSpeeds> among_people = people_.enabled && fresh ? SteerAmongPeople(pose, now) : std::nullopt;
+  WheelSpeeds wheels = navigator_.Step(pose, now, fresh);
   PlanLeg(now);  // a leg that ended this step gets its path now, not a control period later
   if (among_people && navigator_.Status().feedback.state == NavigationState::kDriving) {
     wheels = *among_people;
   } else if (fresh) {
-    wheels = Reflex(wheels, in, estimate.pose);
+    wheels = Reflex(wheels, in, pose);
   }
   return {wheels, CommandSource::kNavigation, detecting};
 }
 
-std::vector<Point2> NavigationExecutive::LocalScanPointsLocked(const Pose2& pose) const {
-  // m: sensed cells farther than this cannot bind a guard (the robot stops from full speed in
-  // well under it) and are left out of its loops.
-  constexpr double kSensedGuardRange = 2.0;
-  const Pose2 to_robot = pose.inverse();
-  std::vector<Point2> local;
-  local.reserve(scan_points_.size());
-  for (const Point2& p : scan_points_) local.push_back(to_robot * p);
-  if (sensed_cells_) {
-    for (const Point2& p : *sensed_cells_)
-      if (Distance(p, pose.translation()) < kSensedGuardRange) local.push_back(to_robot * p);
+std::optional<WheelSpeeds> NavigationExecutive::Recover(const Pose2& pose, double rear_free, bool fresh, double now) {
+  if (navigator_.TakeStuck()) {
+    const RecoveryKind kind = NthRecovery(navigator_.Status().feedback.recoveries);
+    if (kind == RecoveryKind::kClear) {
+      obstacle_detection_.Reset();
+      sensed_.ForgetAll();
+    }
+    recovery_.Start(kind, pose, now);
   }
-  return local;
+  if (!recovery_.active()) return std::nullopt;
+  const std::optional<WheelSpeeds> w =
+      fresh ? recovery_.Step(pose, Sensing(pose, rear_free).rear_free, now) : WheelSpeeds{};
+  if (w) {
+    navigator_.Hold(pose, now, NavigationState::kRecovering,
+                    std::string("stuck: recovery '") + RecoveryKindName(recovery_.kind()) + "' (" +
+                        std::to_string(navigator_.Status().feedback.recoveries) + " so far)",
+                    fresh);
+  }
+  return w;
+}
+
+std::optional<WheelSpeeds> NavigationExecutive::DriveBackOntoGrid(const Pose2& pose, bool fresh, double now) {
+  if (!reentry_.active()) return std::nullopt;
+  const std::optional<Point2> toward = NearestGridPoint(pose.translation());
+  // State 2, on the grid yet? Asked periodically, and at once when the robot's own cell is on it
+  // (rather than turning towards that cell meanwhile).
+  const bool own_cell = toward && Distance(*toward, pose.translation()) < kOnTheGrid;
+  if (own_cell || now - reentry_checked_at_ >= kReentryCheckPeriod) {
+    reentry_checked_at_ = now;
+    PlanLeg(now);
+  }
+  if (reentry_.active() && navigator_.LegToPlan()) {
+    const WheelSpeeds w = fresh ? reentry_.Step(pose, sensed_.LocalPoints(pose), toward, now) : WheelSpeeds{};
+    navigator_.Hold(
+        pose, now, NavigationState::kRecovering,
+        std::string("outside the navigation grid (") + reentry_why_ + "): " + ReentryStateName(reentry_.state()),
+        fresh);
+    return w;
+  }
+  reentry_.Stop();  // on the grid, or the mission ended
+  return std::nullopt;
+}
+
+void NavigationExecutive::ReplanIfBlocked(const Pose2& pose) {
+  // Nav2 replans at 1 Hz; we replan when something has come to lie across the path ahead: a
+  // tracked obstacle the map lacks (an unknown box, a cart that stopped), or, after the map
+  // changed (a map being built), cells its costmap now calls lethal.
+  const double rim = moving_.detection.robot_radius;
+  std::vector<std::pair<Point2, double>> discs;
+  // People come and go across the path all the time: the crowd controller steers round them.
+  if (!people_.enabled) {
+    for (const DetectedObstacle& o : obstacle_detection_.confirmed()) discs.emplace_back(o.position, o.radius + rim);
+  }
+  for (const SensedObstacles::Disc& s : sensed_.discs()) discs.emplace_back(s.position, s.radius + rim);
+  if (const auto cells = sensed_.layer_cells()) {
+    // Not those the plans leave out either: the cells within the inflation of the leg's goal.
+    const std::vector<Point2> leg = navigator_.LegPath();
+    const double keep_clear = planning_.inflation_radius() + 0.05;
+    for (const Point2& p : *cells) {
+      if (Distance(p, pose.translation()) > moving_.planning_range) continue;
+      if (!leg.empty() && Distance(p, leg.back()) < keep_clear) continue;
+      discs.emplace_back(p, rim);
+    }
+  }
+  std::shared_ptr<const planning::Costmap> costmap;
+  if (const auto map = planning_.maps().Get(); map && map->version != leg_map_version_)
+    costmap = planning_.CurrentCostmap();
+  const Point2 here = pose.translation();
+  const double near = rim + 0.1;
+  navigator_.ReplanIfBlocked(
+      [&](const Point2& p) {
+        for (const auto& [centre, radius] : discs)
+          if (Distance(p, centre) < radius) return true;
+        // Not next to the robot: a leg starting inside the inflation leaves it from there.
+        if (!costmap || Distance(p, here) < near) return false;
+        const CellIndex c = costmap->grid().CellOf(p);
+        return costmap->grid().Contains(c) && costmap->IsLethal(c);
+      },
+      moving_.planning_range);
 }
 
 std::vector<Point2> NavigationExecutive::MovingRims(const Pose2& pose) const {
   std::vector<Point2> local;
-  std::lock_guard<std::mutex> lock(detector_mutex_);
-  for (const DetectedObstacle& o : detector_.candidates()) {
+  for (const DetectedObstacle& o : obstacle_detection_.candidates()) {
     // Standing things are the plans' business: they go round them, closer than a guard would let.
     if (o.velocity.norm() >= moving_.guard_min_speed) AddPredictedRim(o, pose, {0.0, 0.5, 1.0}, local);
   }

@@ -25,10 +25,14 @@
 #include "services/navigation/grid_reentry.h"
 #include "services/navigation/localization_watch.h"
 #include "services/navigation/moving_obstacle_avoidance.h"
+#include "services/navigation/moving_obstacle_detection.h"
 #include "services/navigation/moving_obstacle_detector.h"
 #include "services/navigation/navigator.h"
+#include "services/navigation/people_tracking.h"
 #include "services/navigation/person_tracker.h"
 #include "services/navigation/reported_people.h"
+#include "services/navigation/sensed_obstacles.h"
+#include "services/navigation/served_map_caster.h"
 #include "services/navigation/recovery_behaviour.h"
 #include "services/navigation/sonar_reflex.h"
 #include "services/navigation/speed_zone_filter.h"
@@ -94,33 +98,6 @@ struct MovingObstacleOptions {
   double turn_guard_gap = 0.05;           // m
   double turn_guard_backing = 0.03;       // m/s
   double turn_guard_backing_room = 0.05;  // m
-};
-
-// Book chapter 7 among people: the laser's blobs that the map does not explain are tracked as
-// people (PersonTracker), and while a leg is driven the crowd controller (its RRT in a
-// model-predictive loop) steers along the leg's path round them, minimising the time spent in
-// their personal space. The seed-000 avoidance behaviour and the moving-obstacle speed guard then
-// leave people to it (the laser's stopping guard stays). Off by default: navd --people-aware.
-struct PeopleAwareOptions {
-  bool enabled = false;
-  // Where the people come from: the laser's blobs through the person tracker, or the reports of a
-  // people detector or tracker (ExecutiveInputs::people; book chapter 7's simulations give the
-  // robot every person's position and velocity so).
-  enum class Source { kLaser, kReports };
-  Source source = Source::kLaser;
-  // Which blobs are people: Segment() of the moving-obstacle detector, out to max_distance, with
-  // no margin; wider ones are something else.
-  MovingObstacleDetectorOptions detection = [] {
-    MovingObstacleDetectorOptions d;
-    d.max_distance = 12.0;
-    d.margin = 0.0;
-    d.max_radius = 1.0;
-    return d;
-  }();
-  double max_person_radius = 0.45;  // m
-  double person_radius = 0.25;      // m: each tracked person's disc in the plans
-  PersonTrackerOptions tracking;
-  CrowdControllerOptions control;
 };
 
 // What the control loop measured this step.
@@ -225,6 +202,21 @@ class NavigationExecutive {
     bool tracking_obstacles = false;  // the moving-obstacle detection ran this step
   };
   Decision Decide(const ExecutiveInputs& in, double now);
+  // The cognitive processes' step: what the sensors show, placed on the map (the scan's returns,
+  // tracked obstacles and people, the sonar's unexplained echoes); forgotten while the pose is lost.
+  void Perceive(const ExecutiveInputs& in, const localization::PoseEstimate& estimate, bool detecting, double now);
+  // The brain's state variables (kMeasured) this step.
+  std::vector<double> MeasureStateVariables(const ExecutiveInputs& in, const localization::PoseEstimate& estimate,
+                                            bool detecting, double now) const;
+  // The navigation behaviour: a recovery when stuck, the drive back onto the grid when off it,
+  // else the mission's leg (replanned when something lies across it) with the crowd controller
+  // among people or seed 004's sonar reflex.
+  Decision Navigation(const ExecutiveInputs& in, const Pose2& pose, bool fresh, bool detecting, double now);
+  std::optional<WheelSpeeds> Recover(const Pose2& pose, double rear_free, bool fresh, double now);
+  std::optional<WheelSpeeds> DriveBackOntoGrid(const Pose2& pose, bool fresh, double now);
+  // Asks the navigator to replan a leg that a tracked obstacle, a sensed disc or cell, or a
+  // changed map now blocks within planning_range.
+  void ReplanIfBlocked(const Pose2& pose);
   // Runs motor behaviour `behaviour` (brain process `process`): its command, with what it says
   // passed on to the navigator's feedback, the brain and the plans; nullopt when it leaves the
   // robot to navigation.
@@ -239,10 +231,6 @@ class NavigationExecutive {
   // kReentrySearch of `p` along each axis, reachable from `p` or, from inside a wall (an estimate
   // off the truth), through walls; map frame.
   std::optional<Point2> NearestGridPoint(const Point2& p) const;
-  // Runs the detection process on a new scan (building its map view when the map changed).
-  void DetectMovingObstacles(const localization::ScanReading& scan, const Pose2& pose, double now);
-  // The served map for ray casts, rebuilt when the map changes; null before there is one.
-  std::shared_ptr<const RayCaster> MapCaster() const;
   // Seed 004's sonar reflex summed with the navigation behaviour's command.
   WheelSpeeds Reflex(const WheelSpeeds& wheels, const ExecutiveInputs& in, const Pose2& pose);
   // The echoes the reflex answers, within remember_within: with only_unexplained, those nearer than
@@ -254,22 +242,12 @@ class NavigationExecutive {
                               double horizon);
   // Keeps `stimuli` as obstacle discs for the plans (map frame), forgetting old ones.
   void RememberSonar(const std::vector<SonarEcho>& stimuli, const Pose2& pose, double now);
-  // Keeps a disc of `radius` at `at` (map frame) for the plans; a nearer look at a place replaces
-  // a wider one. Caller holds detector_mutex_.
-  void RememberSensed(const Point2& at, double radius, double now);
   // What the avoidance behaviour sees: the last scan's points and the rear clearance.
   AvoidanceSensing Sensing(const Pose2& pose, double rear_free) const;
   planning::PlanningScene Scene(const Pose2& pose) const;
   // The rims of the moving tracked obstacles, now and within a second, in the frame of a robot at
   // `pose` (TrackedObstacleGuard's points).
   std::vector<Point2> MovingRims(const Pose2& pose) const;
-  // The last scan's returns in the frame of a robot at `pose`, and the sensed cells within
-  // kSensedGuardRange of it. Caller holds detector_mutex_.
-  std::vector<Point2> LocalScanPointsLocked(const Pose2& pose) const;
-  // Tracks the people a new scan taken at `pose` (map frame) shows.
-  void TrackPeople(const localization::ScanReading& scan, const Pose2& pose, double now);
-  // The tracked people at `now` in the map frame. Caller holds detector_mutex_.
-  std::vector<TrackedPerson> PeopleLocked(double now) const;
   // The crowd controller's command while it steers the current leg; nullopt when it does not.
   std::optional<WheelSpeeds> SteerAmongPeople(const Pose2& pose, double now);
   // Seed 000's long-term memory (section 4.6), one step: hands a newly served map to the
@@ -287,33 +265,18 @@ class NavigationExecutive {
   long z_contact_ = -1, z_stale_ = -1, z_lost_ = -1, z_danger_ = -1, z_map_building_ = -1;
   std::atomic<bool> map_building_{false};
   MovingObstacleOptions moving_;
-  mutable std::mutex detector_mutex_;  // the detector is read by gRPC and telemetry threads
-  MovingObstacleDetector detector_;
-  std::shared_ptr<const RayCaster> detector_map_;
-  mutable std::mutex caster_mutex_;
-  mutable uint64_t caster_version_ = 0;
-  mutable std::shared_ptr<const RayCaster> caster_;
+  // The cognitive processes and what they found, which the behaviours, filters and plans read.
+  ServedMapCaster map_caster_;
+  MovingObstacleDetection obstacle_detection_;
   PeopleAwareOptions people_;
-  MovingObstacleDetector people_segmenter_;
-  PersonTracker tracker_;    // guarded by detector_mutex_; in the odometry frame
-  ReportedPeople reported_;  // guarded by detector_mutex_; in the odometry frame
-  Pose2 map_from_odometry_;  // guarded by detector_mutex_; identity without odometry
+  PeopleTracking people_tracking_;
+  SensedObstacles sensed_;
   CrowdController crowd_;
   bool crowd_steering_ = false;  // the crowd controller drove the last step
   WheelSpeeds last_wheels_;      // the last command of Step (the crowd controller starts from it)
   SonarReflex reflex_;
   bool reflex_acted_ = false;       // the reflex answered a stimulus this step
   std::vector<SonarEcho> stimuli_;  // this step's unexplained echoes
-  // What only the sonar or a bumper found (the map and the laser show nothing there): obstacle
-  // discs for the leg plans, forgotten after the reflex's `memory`.
-  struct SensedObstacle {
-    Point2 position;       // map frame
-    double radius = 0.0;   // m
-    double seen_at = 0.0;  // s
-  };
-  std::vector<SensedObstacle> sensed_obstacles_;             // guarded by detector_mutex_
-  std::vector<Point2> scan_points_;                          // the last scan's returns, map frame
-  std::shared_ptr<const std::vector<Point2>> sensed_cells_;  // ExecutiveInputs::sensed_cells; guarded likewise
   // The motor behaviours other than navigation (which is this class's own, with its recoveries).
   EmergencyStop stop_behaviour_;
   WakeUp wake_up_behaviour_;
