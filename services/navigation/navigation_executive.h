@@ -19,11 +19,15 @@
 #include "services/localization/localizer.h"
 #include "services/navigation/command_filter.h"
 #include "services/navigation/avoidance_behaviour.h"
+#include "services/navigation/brain_layout.h"
 #include "services/navigation/crowd_controller.h"
+#include "services/navigation/crowd_steering.h"
 #include "services/navigation/delivery_scheduler.h"
 #include "services/navigation/emergency_stop.h"
-#include "services/navigation/grid_reentry.h"
+#include "services/navigation/leg_planner.h"
 #include "services/navigation/localization_watch.h"
+#include "services/navigation/long_term_memory.h"
+#include "services/navigation/mission_requests.h"
 #include "services/navigation/moving_obstacle_avoidance.h"
 #include "services/navigation/moving_obstacle_detection.h"
 #include "services/navigation/moving_obstacle_detector.h"
@@ -41,33 +45,6 @@
 #include "services/planning/planning_engine.h"
 
 namespace navd::navigation {
-
-struct NavigateRequest {
-  Pose2 goal;
-  bool use_goal_heading = false;
-  std::string planner;
-  bool preempt = false;
-};
-
-struct MissionRequest {
-  std::vector<Pose2> waypoints;  // map frame; headings used only with use_goal_heading
-  bool use_goal_heading = false;
-  bool cyclic = false;
-  uint32_t laps = 0;          // with cyclic: 0 = until cancelled
-  double max_distance = 0.0;  // m, 0 = no limit
-  std::string planner;
-  bool preempt = false;
-};
-
-// A delivery mission: navd orders the tasks' stops (ScheduleDeliveries) and drives them as a
-// waypoint mission.
-struct DeliveryRequest {
-  std::vector<DeliveryTask> tasks;
-  DeliveryScheduleOptions options;
-  std::string planner;
-  bool preempt = false;
-};
-inline constexpr size_t kMaxDeliveryTasks = 25;
 
 // Seed 000's moving obstacles: the detection process (section 4.4), the avoidance behaviour
 // (section 4.5), and Delta, the range within which detected obstacles enter the leg plans (the
@@ -163,18 +140,20 @@ class NavigationExecutive {
 
   const Navigator& navigator() const { return navigator_; }
   // Book chapter 7's crowd controller, and whether it drove the last step (for the debug log).
-  const CrowdController& crowd() const { return crowd_; }
-  bool crowd_steering() const { return crowd_steering_; }
+  const CrowdController& crowd() const { return crowd_.controller(); }
+  bool crowd_steering() const { return crowd_.steering(); }
   bool localization_lost() const { return watch_.lost(); }
   // Times the pose has been lost since start: declared lost by the watch, or relocated by the
   // localiser on its own to where the scans fit (lost and found within a scan or two).
   uint64_t localization_losses() const { return watch_.losses(); }
   // The wake-up behaviour has the robot (its pose is lost): it turns the robot in place whether or
   // not a mission is active, since an idle robot that stands still can never be found again.
-  bool searching() const { return wake_up_ >= 0 && static_cast<long>(brain_.active_motor()) == wake_up_; }
+  bool searching() const { return layout_.wake_up >= 0 && static_cast<long>(brain_.active_motor()) == layout_.wake_up; }
   // Whether the localisation process runs (laser corrections of the pose); the control loop asks
   // before it hands the localiser a scan.
-  bool localization_active() const { return localization_ >= 0 && brain_.active(static_cast<size_t>(localization_)); }
+  bool localization_active() const {
+    return layout_.localization >= 0 && brain_.active(static_cast<size_t>(layout_.localization));
+  }
   // The detection process's danger level (its confirmed obstacles go out in the feedback).
   double danger() const;
   // The served map is being built as the robot drives (exploration): state variable
@@ -213,56 +192,30 @@ class NavigationExecutive {
   // among people or seed 004's sonar reflex.
   Decision Navigation(const ExecutiveInputs& in, const Pose2& pose, bool fresh, bool detecting, double now);
   std::optional<WheelSpeeds> Recover(const Pose2& pose, double rear_free, bool fresh, double now);
-  std::optional<WheelSpeeds> DriveBackOntoGrid(const Pose2& pose, bool fresh, double now);
-  // Asks the navigator to replan a leg that a tracked obstacle, a sensed disc or cell, or a
-  // changed map now blocks within planning_range.
-  void ReplanIfBlocked(const Pose2& pose);
   // Runs motor behaviour `behaviour` (brain process `process`): its command, with what it says
   // passed on to the navigator's feedback, the brain and the plans; nullopt when it leaves the
   // robot to navigation.
   std::optional<WheelSpeeds> Carry(MotorBehaviour& behaviour, size_t process, const MotorInputs& in);
-  // Plans the leg the navigator asks for; a start off the grid starts (or continues) the drive
-  // back onto it, any other failure ends the mission.
-  void PlanLeg(double now);
-  // Whether `e` says the robot is outside the navigation grid (the planner refuses its start) and
-  // the laser can lead it back.
-  bool StartsOffGrid(const Error& e) const;
-  // The nearest point where a leg could start (a costmap cell that is not lethal) within
-  // kReentrySearch of `p` along each axis, reachable from `p` or, from inside a wall (an estimate
-  // off the truth), through walls; map frame.
-  std::optional<Point2> NearestGridPoint(const Point2& p) const;
   // Seed 004's sonar reflex summed with the navigation behaviour's command.
   WheelSpeeds Reflex(const WheelSpeeds& wheels, const ExecutiveInputs& in, const Pose2& pose);
   // The echoes the reflex answers, within remember_within: with only_unexplained, those nearer than
   // both the map and the laser's last scan say anything is along the sensor's cone.
   std::vector<SonarEcho> Stimuli(const std::vector<SonarEcho>& echoes, const Pose2& pose) const;
-  // Metres from `origin` to the nearest occupied cell of `grid` within `half_angle` (rad) of
-  // `heading` (map frame) and `horizon` metres; infinity when there is none.
-  static double NearestInCone(const OccupancyGrid& grid, const Point2& origin, double heading, double half_angle,
-                              double horizon);
   // Keeps `stimuli` as obstacle discs for the plans (map frame), forgetting old ones.
   void RememberSonar(const std::vector<SonarEcho>& stimuli, const Pose2& pose, double now);
   // What the avoidance behaviour sees: the last scan's points and the rear clearance.
   AvoidanceSensing Sensing(const Pose2& pose, double rear_free) const;
-  planning::PlanningScene Scene(const Pose2& pose) const;
   // The rims of the moving tracked obstacles, now and within a second, in the frame of a robot at
   // `pose` (TrackedObstacleGuard's points).
   std::vector<Point2> MovingRims(const Pose2& pose) const;
-  // The crowd controller's command while it steers the current leg; nullopt when it does not.
-  std::optional<WheelSpeeds> SteerAmongPeople(const Pose2& pose, double now);
-  // Seed 000's long-term memory (section 4.6), one step: hands a newly served map to the
-  // localisers (on a worker thread), once the previous hand-over has finished.
-  void RememberMap();
 
   planning::PlanningEngine& planning_;
   localization::Localizer& localizer_;
   const Clock& clock_;
   Navigator navigator_;
   UtilityDecisionMaker brain_;
+  BrainLayout layout_;
   LocalizationWatch watch_;
-  size_t navigation_ = 0;
-  long emergency_stop_ = -1, wake_up_ = -1, localization_ = -1, detection_ = -1, avoidance_ = -1, memory_ = -1;
-  long z_contact_ = -1, z_stale_ = -1, z_lost_ = -1, z_danger_ = -1, z_map_building_ = -1;
   std::atomic<bool> map_building_{false};
   MovingObstacleOptions moving_;
   // The cognitive processes and what they found, which the behaviours, filters and plans read.
@@ -271,9 +224,9 @@ class NavigationExecutive {
   PeopleAwareOptions people_;
   PeopleTracking people_tracking_;
   SensedObstacles sensed_;
-  CrowdController crowd_;
-  bool crowd_steering_ = false;  // the crowd controller drove the last step
-  WheelSpeeds last_wheels_;      // the last command of Step (the crowd controller starts from it)
+  LongTermMemory memory_process_;
+  CrowdSteering crowd_;
+  WheelSpeeds last_wheels_;  // the last command of Step (the crowd controller starts from it)
   SonarReflex reflex_;
   bool reflex_acted_ = false;       // the reflex answered a stimulus this step
   std::vector<SonarEcho> stimuli_;  // this step's unexplained echoes
@@ -282,18 +235,8 @@ class NavigationExecutive {
   WakeUp wake_up_behaviour_;
   AvoidanceBehaviour avoidance_behaviour_;
   RecoveryBehaviour recovery_;
-  GridReentry reentry_;      // control thread only
-  std::string reentry_why_;  // what the planner said of the start
-  double reentry_checked_at_ = -1e9;
-  uint64_t reentry_mission_ = 0;  // the mission the reentry is for
-  std::atomic<uint64_t> localizer_map_version_{0};
-  // The localisers' SetMap under way: the map version it hands over, 0 if it failed. Control
-  // thread only.
-  std::future<uint64_t> map_handover_;
+  LegPlanner legs_;
   double last_blocked_check_ = -1e9;
-  // The served map's version the current leg was planned on (set by gRPC and control threads).
-  std::atomic<uint64_t> leg_map_version_{0};
-  std::string planner_;  // the active mission's planner
   double last_step_ = -1.0;
   // Run on every command, in the order the constructor adds them.
   CommandFilterChain filters_;
