@@ -179,6 +179,34 @@ class Round {
   std::vector<std::vector<double>> d_;
 };
 
+// Insertion, highest priority first (ties in the order given, then shuffled, seeded), each
+// order improved by local search; the shortest of restarts + 1 attempts.
+std::vector<size_t> InsertionOrder(const Round& round, const std::vector<DeliveryTask>& tasks,
+                                   const DeliveryScheduleOptions& options) {
+  std::vector<size_t> insertion(tasks.size());
+  std::iota(insertion.begin(), insertion.end(), size_t{0});
+  std::mt19937 rng(17);
+  double best = kInf;
+  std::vector<size_t> order;
+  for (int attempt = 0; attempt <= options.restarts; ++attempt) {
+    if (attempt > 0) std::shuffle(insertion.begin(), insertion.end(), rng);
+    std::stable_sort(insertion.begin(), insertion.end(),
+                     [&](size_t a, size_t b) { return tasks[a].priority > tasks[b].priority; });
+    std::vector<size_t> candidate;
+    for (size_t t : insertion) {
+      // Always possible: the pair appended at the end keeps every rule.
+      round.Insert(candidate, t);
+    }
+    while (round.Improve(candidate)) {
+    }
+    if (const double length = round.Length(candidate); length < best - 1e-9) {
+      best = length;
+      order = std::move(candidate);
+    }
+  }
+  return order;
+}
+
 }  // namespace
 
 DeliverySchedule ScheduleDeliveries(const Point2& start, const std::vector<DeliveryTask>& tasks,
@@ -219,32 +247,8 @@ DeliverySchedule ScheduleDeliveries(const Point2& start, const std::vector<Deliv
     given.push_back(2 * t + 1);
   }
 
-  std::vector<size_t> order;
-  if (tasks.size() <= options.exact_up_to) {
-    order = round.Exact();
-  } else {
-    // Insertion, highest priority first: ties in the order given, then shuffled (seeded).
-    std::vector<size_t> insertion(tasks.size());
-    std::iota(insertion.begin(), insertion.end(), size_t{0});
-    std::mt19937 rng(17);
-    double best = kInf;
-    for (int attempt = 0; attempt <= options.restarts; ++attempt) {
-      if (attempt > 0) std::shuffle(insertion.begin(), insertion.end(), rng);
-      std::stable_sort(insertion.begin(), insertion.end(),
-                       [&](size_t a, size_t b) { return tasks[a].priority > tasks[b].priority; });
-      std::vector<size_t> candidate;
-      for (size_t t : insertion) {
-        // Always possible: the pair appended at the end keeps every rule.
-        round.Insert(candidate, t);
-      }
-      while (round.Improve(candidate)) {
-      }
-      if (const double length = round.Length(candidate); length < best - 1e-9) {
-        best = length;
-        order = std::move(candidate);
-      }
-    }
-  }
+  const std::vector<size_t> order =
+      tasks.size() <= options.exact_up_to ? round.Exact() : InsertionOrder(round, tasks, options);
 
   DeliverySchedule schedule;
   size_t at = 0;

@@ -5,17 +5,11 @@
 #include <cstdio>
 
 #include "services/common/error.h"
+#include "services/navigation/mission_time_left.h"
 
 namespace navd::navigation {
 namespace {
 constexpr size_t kResultsKept = 64;
-
-// How many of `places` lie within `radius` (m) of `at`: bumps and recoveries are counted by place.
-int CountWithin(const std::vector<Point2>& places, const Point2& at, double radius) {
-  int n = 0;
-  for (const Point2& p : places) n += Distance(p, at) <= radius;
-  return n;
-}
 
 NavigationState FromFollower(FollowerState s) {
   switch (s) {
@@ -26,33 +20,6 @@ NavigationState FromFollower(FollowerState s) {
   }
 }
 }  // namespace
-
-const char* NavigationStateName(NavigationState s) {
-  switch (s) {
-    case NavigationState::kIdle: return "idle";
-    case NavigationState::kRotating: return "rotating";
-    case NavigationState::kDriving: return "driving";
-    case NavigationState::kFinalRotation: return "final_rotation";
-    case NavigationState::kStoppedStaleSensors: return "stopped_stale_sensors";
-    case NavigationState::kPaused: return "paused";
-    case NavigationState::kEmergencyStop: return "emergency_stop";
-    case NavigationState::kPlanning: return "planning";
-    case NavigationState::kAvoiding: return "avoiding";
-    case NavigationState::kRecovering: return "recovering";
-  }
-  return "unknown";
-}
-
-const char* OutcomeName(Outcome o) {
-  switch (o) {
-    case Outcome::kNone: return "none";
-    case Outcome::kSucceeded: return "succeeded";
-    case Outcome::kFailed: return "failed";
-    case Outcome::kCanceled: return "canceled";
-    case Outcome::kPreempted: return "preempted";
-  }
-  return "unknown";
-}
 
 void Navigator::BumpLocked() {
   ++status_.sequence;
@@ -101,14 +68,10 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
   path_length_ = path_length;
   // Without a path the first leg is planned later (the robot starts outside the navigation grid).
   leg_needs_path_ = path.empty();
-  stuck_ = false;
   f.recoveries = 0;
   f.reflexes = 0;
-  leg_recoveries_.clear();
-  leg_contacts_.clear();
-  best_remaining_ = follower_.DistanceRemaining(last_pose_);
-  best_remaining_at_ = now;
-  stale_since_ = held_since_ = -1.0;
+  progress_.StartMission(follower_.DistanceRemaining(last_pose_), now);
+  stale_since_ = -1.0;
   UpdateFeedbackLocked(leg_needs_path_ ? NavigationState::kPlanning : FromFollower(follower_.state()), last_pose_, now);
   BumpLocked();
   return status_.goal_id;
@@ -153,11 +116,7 @@ void Navigator::SetLegPath(const std::vector<Point2>& path, double path_length, 
   follower_.SetPath(path, HeadingOf(status_.goal));
   path_length_ += path_length;
   leg_needs_path_ = false;
-  // A new path restarts the distance measured, not the clock: the clock starts with the leg (and
-  // again after a recovery). A leg replanned every second because an obstacle too near to plan
-  // round lies across its path, while the scan guard holds the robot, would otherwise never be
-  // called stuck (an office run stood 1000 s so).
-  best_remaining_ = follower_.DistanceRemaining(last_pose_);
+  progress_.NewPath(follower_.DistanceRemaining(last_pose_));
   UpdateFeedbackLocked(FromFollower(follower_.state()), last_pose_, now);
   BumpLocked();
 }
@@ -210,15 +169,12 @@ void Navigator::TrackLocked(const Pose2& pose, double now, bool moving) {
   have_pose_ = true;
 }
 
-void Navigator::StopProgressClockLocked(double now) {
-  if (held_since_ < 0.0) held_since_ = now;
-}
+void Navigator::StopProgressClockLocked(double now) { progress_.Stop(now); }
 
 bool Navigator::AdvanceLocked(const Pose2& pose, double now) {
   NavigationFeedback& f = status_.feedback;
   ++f.waypoints_reached;
-  leg_recoveries_.clear();
-  leg_contacts_.clear();
+  progress_.WaypointReached(now);
   size_t next = f.mission_index + 1;
   if (next >= mission_.waypoints.size()) {
     const bool another_lap = mission_.cyclic && (mission_.laps == 0 || f.laps_completed + 1 < mission_.laps);
@@ -240,7 +196,6 @@ bool Navigator::AdvanceLocked(const Pose2& pose, double now) {
   status_.goal = mission_.waypoints[next];
   follower_.Clear();
   leg_needs_path_ = true;
-  best_remaining_at_ = now;  // the progress clock of the new leg
   return true;
 }
 
@@ -258,25 +213,7 @@ void Navigator::UpdateFeedbackLocked(NavigationState state, const Pose2& pose, d
     f.eta = 0.0;
     return;
   }
-  // Distance left: this leg's path, then straight lines through the remaining waypoints (to the
-  // mission's end, or to the lap's end when it repeats without end).
-  const auto& w = mission_.waypoints;
-  const auto leg = [&](size_t j) { return Distance(w[j - 1].pose.translation(), w[j].pose.translation()); };
-  double rest = f.distance_remaining;
-  for (size_t j = f.mission_index + 1; j < w.size(); ++j) rest += leg(j);
-  if (mission_.cyclic && mission_.laps > 0 && f.laps_completed + 1 < mission_.laps) {
-    double lap = Distance(w.back().pose.translation(), w.front().pose.translation());
-    for (size_t j = 1; j < w.size(); ++j) lap += leg(j);
-    rest += lap * (mission_.laps - f.laps_completed - 1);
-  }
-  if (mission_.max_distance > 0.0) {
-    const double left = std::max(0.0, mission_.max_distance - f.distance_travelled);
-    rest = mission_.cyclic && mission_.laps == 0 ? left : std::min(rest, left);
-  }
-  // The mission's own average speed once it has one; before that, a guess from the cruise speed.
-  const double speed =
-      moving_time_ > 5.0 ? std::max(0.05, f.distance_travelled / moving_time_) : 0.6 * options_.follower.v_nav;
-  f.eta = rest / speed;
+  f.eta = MissionTimeLeft(mission_, f, moving_time_, options_.follower.v_nav);
 }
 
 WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
@@ -297,27 +234,12 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
     return {};
   }
   if (!sensors_fresh) {
-    TrackLocked(pose, now, false);
-    StopProgressClockLocked(now);
-    if (stale_since_ < 0) stale_since_ = now;
-    if (now - stale_since_ > options_.stale_timeout) {
-      char msg[64];
-      std::snprintf(msg, sizeof msg, "sensors stale for more than %.1f s", options_.stale_timeout);
-      FinishLocked(Outcome::kFailed, msg, pose, now);
-      return {};
-    }
-    status_.hold_reason = "sensors stale";
-    UpdateFeedbackLocked(NavigationState::kStoppedStaleSensors, pose, now);
-    BumpLocked();
+    WaitForSensorsLocked(pose, now);
     return {};
   }
   stale_since_ = -1.0;
   status_.hold_reason.clear();
-  if (held_since_ >= 0.0) {
-    // Time spent stopped (stale sensors, pause, another behaviour) is not a lack of progress.
-    best_remaining_at_ += now - held_since_;
-    held_since_ = -1.0;
-  }
+  progress_.Drive(now);  // time spent stopped is not a lack of progress
   TrackLocked(pose, now, true);
   if (mission_.max_distance > 0.0 && status_.feedback.distance_travelled >= mission_.max_distance) {
     char msg[96];
@@ -339,38 +261,50 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
     return {};
   }
   UpdateFeedbackLocked(FromFollower(cmd.state), pose, now);
-  if (status_.feedback.distance_remaining < best_remaining_ - options_.progress_distance ||
-      cmd.state == FollowerState::kFinalRotation) {
-    best_remaining_ = status_.feedback.distance_remaining;
-    best_remaining_at_ = now;
-  } else if (now - best_remaining_at_ > options_.progress_timeout) {
-    char why[96];
-    std::snprintf(why, sizeof why, "no progress for %.0f s (%.2f m still to go)", options_.progress_timeout,
-                  status_.feedback.distance_remaining);
-    // The progress clock starts again after the recovery.
-    if (RecoverOrFailLocked(why, "the robot seems stuck", pose, now)) best_remaining_at_ = now;
-    return {};
-  }
+  if (!CheckProgressLocked(cmd.state, pose, now)) return {};
   BumpLocked();
   return cmd.wheels;
+}
+
+void Navigator::WaitForSensorsLocked(const Pose2& pose, double now) {
+  TrackLocked(pose, now, false);
+  StopProgressClockLocked(now);
+  if (stale_since_ < 0) stale_since_ = now;
+  if (now - stale_since_ > options_.stale_timeout) {
+    char msg[64];
+    std::snprintf(msg, sizeof msg, "sensors stale for more than %.1f s", options_.stale_timeout);
+    FinishLocked(Outcome::kFailed, msg, pose, now);
+    return;
+  }
+  status_.hold_reason = "sensors stale";
+  UpdateFeedbackLocked(NavigationState::kStoppedStaleSensors, pose, now);
+  BumpLocked();
+}
+
+bool Navigator::CheckProgressLocked(FollowerState state, const Pose2& pose, double now) {
+  if (progress_.Progressed(status_.feedback.distance_remaining, state == FollowerState::kFinalRotation, now))
+    return true;
+  char why[96];
+  std::snprintf(why, sizeof why, "no progress for %.0f s (%.2f m still to go)", options_.progress_timeout,
+                status_.feedback.distance_remaining);
+  // The progress clock starts again after the recovery.
+  if (RecoverOrFailLocked(why, "the robot seems stuck", pose, now)) progress_.RestartClock(now);
+  return false;
 }
 
 void Navigator::NoteContact(const Point2& where, double now) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!status_.active) return;
-  leg_contacts_.push_back(where);
-  const int here = CountWithin(leg_contacts_, where, options_.contact_radius);
+  const int here = progress_.Contact(where);
   if (here < options_.max_contacts) return;
   char why[96];
   std::snprintf(why, sizeof why, "bumped into something at (%.2f, %.2f) %d times", where.x(), where.y(), here);
-  if (RecoverOrFailLocked(why, "the way seems blocked", last_pose_, now)) leg_contacts_.clear();
+  if (RecoverOrFailLocked(why, "the way seems blocked", last_pose_, now)) progress_.ForgetContacts();
 }
 
 bool Navigator::RecoverOrFailLocked(const std::string& why, const std::string& verdict, const Pose2& pose, double now) {
-  if (CountWithin(leg_recoveries_, pose.translation(), options_.recovery_radius) < options_.max_recoveries) {
-    leg_recoveries_.push_back(pose.translation());
-    ++status_.feedback.recoveries;
-    stuck_ = true;  // the executive runs the recovery
+  if (progress_.AllowRecovery(pose.translation())) {
+    ++status_.feedback.recoveries;  // the executive runs the recovery
     BumpLocked();
     return true;
   }
@@ -434,9 +368,8 @@ void Navigator::SetMovingObstacles(double danger, std::vector<planning::MovingBo
 
 bool Navigator::TakeStuck() {
   std::lock_guard<std::mutex> lock(mutex_);
-  const bool stuck = stuck_ && status_.active;
-  stuck_ = false;
-  return stuck;
+  const bool due = progress_.TakeRecovery();
+  return due && status_.active;
 }
 
 void Navigator::SetSpeedLimit(double limit) {

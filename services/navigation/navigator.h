@@ -17,89 +17,14 @@
 #include "services/common/diff_drive.h"
 #include "services/common/pose2.h"
 #include "services/navigation/grid_reentry.h"
+#include "services/navigation/leg_progress.h"
+#include "services/navigation/navigation_status.h"
 #include "services/navigation/path_follower.h"
 #include "services/navigation/sonar_reflex.h"
 #include "services/navigation/utility_decision_maker.h"
 #include "services/planning/global_planner.h"
 
 namespace navd::navigation {
-
-// Mirrors navd.v1.NavigationState.
-enum class NavigationState {
-  kIdle = 1,
-  kRotating = 2,
-  kDriving = 3,
-  kFinalRotation = 4,
-  kStoppedStaleSensors = 5,
-  kPaused = 6,
-  kEmergencyStop = 7,  // held by the emergency-stop behaviour (contact, lost pose)
-  kPlanning = 8,       // between legs, or replanning after a hold or resume
-  kAvoiding = 9,       // the moving-obstacle avoidance behaviour has the robot
-  kRecovering = 10,    // stuck: a recovery runs before the leg is replanned
-};
-// Mirrors navd.v1.Outcome.
-enum class Outcome { kNone = 0, kSucceeded = 1, kFailed = 2, kCanceled = 3, kPreempted = 4 };
-
-struct NavigationGoal {
-  Pose2 pose;
-  bool use_heading = false;
-};
-
-// Waypoints visited in order. A single waypoint is a NavigateTo goal.
-struct Mission {
-  std::vector<NavigationGoal> waypoints;
-  bool cyclic = false;        // after the last waypoint, start over at the first
-  uint32_t laps = 0;          // with cyclic: end after this many laps; 0 = until cancelled
-  double max_distance = 0.0;  // m: end (succeeded) after travelling this far; 0 = no limit
-};
-
-struct NavigationResult {
-  Outcome outcome = Outcome::kNone;
-  std::string message;
-  Pose2 final_pose;
-  double distance_to_goal = 0.0;  // to the current waypoint when the mission ended
-  double elapsed = 0.0;
-  double path_length = 0.0;  // planned length of every leg started
-  double distance_travelled = 0.0;
-  uint32_t waypoints_reached = 0;
-};
-
-struct NavigationFeedback {
-  NavigationState state = NavigationState::kIdle;
-  Pose2 pose;
-  double distance_remaining = 0.0;  // m along the current leg's path
-  uint32_t waypoint_index = 0;      // path point being steered to
-  uint32_t waypoint_count = 0;
-  double stamp = 0.0;
-  uint32_t mission_index = 0;  // mission waypoint being driven to
-  uint32_t mission_count = 0;
-  uint32_t laps_completed = 0;
-  uint32_t waypoints_reached = 0;
-  double distance_travelled = 0.0;  // m since the mission started (estimated poses)
-  // s until the mission ends (until the end of the lap for an endless cyclic one), from the
-  // distance left (current leg's path, straight lines after it) and the mission's average speed.
-  double eta = 0.0;
-  std::string behaviour;  // the motor behaviour in control
-  std::vector<ProcessUtility> utilities;
-  double danger = 0.0;                                 // moving-obstacle danger level mu
-  std::vector<planning::MovingBody> moving_obstacles;  // confirmed by the detection process
-  double speed_limit = 0.0;                            // m/s: a speed zone's limit where the robot is; 0: none
-  uint32_t recoveries = 0;                             // recoveries run in this mission so far
-  std::string reflex;                                  // the sonar reflex acting now ("FRONT level 2"); empty: none
-  uint32_t reflexes = 0;                               // times the sonar reflex took a hand in this mission
-};
-
-struct NavigationStatus {
-  uint64_t goal_id = 0;  // id of the active or last mission; 0 before the first
-  bool active = false;
-  bool paused = false;
-  bool sensors_stale = false;
-  std::string hold_reason;  // why the robot is held, while it is
-  NavigationGoal goal;      // the current mission waypoint
-  NavigationFeedback feedback;
-  std::optional<NavigationResult> last_result;
-  uint64_t sequence = 0;  // increments on every change
-};
 
 // What the executive does when the robot is stuck, as Nav2's recovery behaviours, in turn: forget
 // the tracked obstacles and replan (Nav2's clear costmap), back up, spin in place (the laser sees
@@ -142,7 +67,11 @@ struct NavigatorOptions {
 
 class Navigator {
  public:
-  explicit Navigator(const NavigatorOptions& options = {}) : options_(options), follower_(options.follower) {}
+  explicit Navigator(const NavigatorOptions& options = {})
+      : options_(options),
+        follower_(options.follower),
+        progress_(LegProgressOptions{options.progress_distance, options.progress_timeout, options.recovery_radius,
+                                     options.max_recoveries, options.contact_radius, options.max_contacts}) {}
 
   // Starts `mission` with `path` (start first) for its first leg. When a mission is active: throws
   // navd::Error(kFailedPrecondition) unless preempt, in which case the old one ends PREEMPTED.
@@ -215,6 +144,11 @@ class Navigator {
   bool AdvanceLocked(const Pose2& pose, double now);
   void UpdateFeedbackLocked(NavigationState state, const Pose2& pose, double now);
   void StopProgressClockLocked(double now);
+  // A step with stale sensors: the robot stands, and the mission fails after stale_timeout.
+  void WaitForSensorsLocked(const Pose2& pose, double now);
+  // Whether the leg progressed (distance remaining down by progress_distance) within
+  // progress_timeout; when not, a recovery is due or the mission fails (false).
+  bool CheckProgressLocked(FollowerState state, const Pose2& pose, double now);
   // The robot is stuck on this leg: a recovery is due (true), or, when they are spent, the
   // mission fails: "<why> after N recoveries on this leg: <verdict>".
   bool RecoverOrFailLocked(const std::string& why, const std::string& verdict, const Pose2& pose, double now);
@@ -225,13 +159,8 @@ class Navigator {
   PathFollower follower_;
   Mission mission_;
   bool leg_needs_path_ = false;
-  bool stuck_ = false;                  // a recovery is due
-  std::vector<Point2> leg_recoveries_;  // where recoveries ran since the last waypoint was reached
-  std::vector<Point2> leg_contacts_;    // where bumpers were pressed since then
-  double best_remaining_ = 0.0;         // smallest distance left on this leg so far (progress check)
-  double best_remaining_at_ = 0.0;      // when it was reached
-  double held_since_ = -1.0;            // when a stop (stale, pause, hold) began; < 0 while driving
-  double stale_since_ = -1.0;           // when sensors went stale; < 0 while fresh
+  LegProgress progress_;
+  double stale_since_ = -1.0;  // when sensors went stale; < 0 while fresh
   NavigationStatus status_;
   std::vector<std::pair<uint64_t, NavigationResult>> results_;  // recent results by mission id
   double started_at_ = 0.0;
@@ -242,8 +171,5 @@ class Navigator {
   Point2 odometer_anchor_{0.0, 0.0};  // where distance_travelled was last booked
   bool have_pose_ = false;
 };
-
-const char* NavigationStateName(NavigationState s);
-const char* OutcomeName(Outcome o);
 
 }  // namespace navd::navigation

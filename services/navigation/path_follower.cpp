@@ -42,34 +42,42 @@ WheelSpeeds PathFollower::Rotate(double dphi) const {
   return dphi > 0 ? WheelSpeeds{-speed, speed} : WheelSpeeds{speed, -speed};
 }
 
-FollowerCommand PathFollower::Step(const Pose2& pose) {
-  if (state_ == FollowerState::kIdle || state_ == FollowerState::kArrived) return {{}, state_};
-
-  // Skip to the farthest waypoint already within reach (seed 000's waypoint skipping), e.g.
-  // when an avoidance manoeuvre carried the robot past some.
+void PathFollower::SkipReachedWaypoints(const Pose2& pose) {
+  // The farthest waypoint already within reach (seed 000's waypoint skipping), e.g. when an
+  // avoidance manoeuvre carried the robot past some.
   for (size_t j = waypoints_.size() - 1; j > index_; --j) {
     const double reach = j + 1 == waypoints_.size() ? p_.goal_tolerance : p_.waypoint_radius;
     if (Distance(pose.translation(), waypoints_[j]) <= reach) {
       index_ = j;
-      break;
+      return;
     }
   }
-  if (external_ && state_ != FollowerState::kFinalRotation) {
-    // Steered off the path (round people), the robot is level with the waypoint nearest to it;
-    // the one after is ahead. The window keeps a path that doubles back from being cut short.
-    constexpr size_t kWindow = 60;
-    // The search starts one behind the target: the target nearest means level with it, the one
-    // before it nearest means not there yet.
-    size_t nearest = index_ > 0 ? index_ - 1 : 0;
-    double best = Distance(pose.translation(), waypoints_[nearest]);
-    for (size_t j = nearest + 1; j < std::min(waypoints_.size(), index_ + kWindow); ++j) {
-      const double d = Distance(pose.translation(), waypoints_[j]);
-      if (d < best) {
-        best = d;
-        nearest = j;
-      }
+}
+
+void PathFollower::CatchUpWithSteering(const Pose2& pose) {
+  // Steered off the path (round people), the robot is level with the waypoint nearest to it; the
+  // one after is ahead. The window keeps a path that doubles back from being cut short.
+  constexpr size_t kWindow = 60;
+  // The search starts one behind the target: the target nearest means level with it, the one
+  // before it nearest means not there yet.
+  size_t nearest = index_ > 0 ? index_ - 1 : 0;
+  double best = Distance(pose.translation(), waypoints_[nearest]);
+  for (size_t j = nearest + 1; j < std::min(waypoints_.size(), index_ + kWindow); ++j) {
+    const double d = Distance(pose.translation(), waypoints_[j]);
+    if (d < best) {
+      best = d;
+      nearest = j;
     }
-    if (nearest >= index_) index_ = std::min(nearest + 1, waypoints_.size() - 1);
+  }
+  if (nearest >= index_) index_ = std::min(nearest + 1, waypoints_.size() - 1);
+}
+
+FollowerCommand PathFollower::Step(const Pose2& pose) {
+  if (state_ == FollowerState::kIdle || state_ == FollowerState::kArrived) return {{}, state_};
+
+  SkipReachedWaypoints(pose);
+  if (external_ && state_ != FollowerState::kFinalRotation) {
+    CatchUpWithSteering(pose);
     state_ = FollowerState::kDriving;
   }
   const bool last = index_ + 1 >= waypoints_.size();

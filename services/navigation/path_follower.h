@@ -69,6 +69,11 @@ class PathFollower {
 
  private:
   WheelSpeeds Rotate(double dphi) const;
+  // Moves the target to the farthest waypoint already within reach.
+  void SkipReachedWaypoints(const Pose2& pose);
+  // Steered off the path by someone else (the crowd controller): moves the target to the waypoint
+  // after the one the robot is level with.
+  void CatchUpWithSteering(const Pose2& pose);
 
   PathFollowerParams p_;
   std::vector<Point2> waypoints_;
