@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "services/common/grid_traversal.h"
+
 namespace navd::localization {
 
 namespace {
@@ -29,6 +31,7 @@ std::vector<float> SlidingMax(const std::vector<float>& in, int width, int heigh
 GlobalScanSearch::GlobalScanSearch(const OccupancyGrid& map, const LikelihoodField& field,
                                    const GlobalScanSearchOptions& options)
     : o_(options),
+      map_(map),
       field_(field),
       width_(map.width()),
       height_(map.height()),
@@ -149,6 +152,21 @@ std::vector<PoseCandidate> GlobalScanSearch::Search(const std::vector<Point2>& a
     if (!seen) distinct.push_back(c);
   }
   return distinct;
+}
+
+double GlobalScanSearch::SeeThrough(const Pose2& pose, const std::vector<Point2>& points, double margin) const {
+  int counted = 0, through = 0;
+  for (const Point2& p : points) {
+    const double range = p.norm();
+    if (!p.allFinite() || range <= margin) continue;
+    ++counted;
+    const Point2 end = pose * (p * ((range - margin) / range));
+    const bool clear = TraverseSegment(map_, pose.translation(), end, [&](const CellIndex& c, double) {
+      return !map_.Contains(c) || !map_.IsOccupied(c);
+    });
+    through += clear ? 0 : 1;
+  }
+  return counted > 0 ? static_cast<double>(through) / counted : 0.0;
 }
 
 }  // namespace navd::localization

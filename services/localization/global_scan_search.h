@@ -43,19 +43,26 @@ struct PoseCandidate {
 
 class GlobalScanSearch {
  public:
-  // Keeps a reference to `field`, which must outlive the search and be built on `map`.
+  // Keeps references to `map` and `field` (built on `map`), which must outlive the search.
   GlobalScanSearch(const OccupancyGrid& map, const LikelihoodField& field, const GlobalScanSearchOptions& options = {});
   // The best distinct poses for a scan's end points (robot frame), best first, on the whole map or
   // within `window`; empty for fewer than 5 usable points.
   std::vector<PoseCandidate> Search(const std::vector<Point2>& points, const SearchWindow* window = nullptr) const;
   // How well the same points fit at `pose`, on the candidates' scale.
   double Score(const Pose2& pose, const std::vector<Point2>& points) const;
+  // The share of the points that the scan, taken at `pose`, would have seen through a wall of the
+  // map: their beams cross an occupied cell more than `margin` metres before they end. Long beams
+  // count too: along a corridor, only the far ones contradict a pose a few metres off. People and carts in front of the
+  // walls make a right pose fit poorly but leave this near 0; a scan taken elsewhere contradicts the map from a wrong
+  // pose.
+  double SeeThrough(const Pose2& pose, const std::vector<Point2>& points, double margin) const;
 
  private:
   // The points scored: finite, within max_range, thinned to o_.points.
   std::vector<Point2> Scored(const std::vector<Point2>& all_points) const;
 
   GlobalScanSearchOptions o_;
+  const OccupancyGrid& map_;
   const LikelihoodField& field_;
   int width_ = 0, height_ = 0;
   int block_cells_ = 1;

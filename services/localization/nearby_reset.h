@@ -31,7 +31,14 @@ struct NearbyResetOptions {
   // estimate at 0.88 and its true pose 3 m on at 0.96 has a third of the misfit there.
   double min_score = 0.85;
   double misfit_ratio = 0.5;
-  double share = 0.1;  // of the particles drawn around it
+  // Clutter is not a lost pose: people, carts and boxes in front of the walls make a right
+  // estimate fit poorly, and a search among look-alike racks then finds a wrong pose that fits
+  // better, but from the right estimate the scan passes through no wall. A pose is drawn around
+  // only when fewer of the scan's beams pass through a wall from it than from the estimate
+  // (GlobalScanSearch::SeeThrough, by more than see_through_margin); a scan that passes through
+  // none from the estimate is not searched with.
+  double see_through_margin = 0.15;  // m
+  double share = 0.1;                // of the particles drawn around it
   double sigma_xy = 0.1, sigma_theta = 0.05;
   int blocks_refined = 30;  // coarse places searched finely (GlobalScanSearch)
   // Whether the next scan waits for a search still running (each run the same, as offline
