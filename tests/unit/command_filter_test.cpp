@@ -16,7 +16,7 @@ namespace {
 double Forward(const WheelSpeeds& w) { return 0.5 * (w.left + w.right); }
 
 // A context for a robot at the origin facing +x, with `returns` (robot frame) in front of it.
-CommandContext Context(CommandSource source, std::vector<Point2> returns, double rear_room = 1.0) {
+CommandContext Context(CommandSource source, const std::vector<Point2>& returns, double rear_room = 1.0) {
   CommandContext c;
   c.source = source;
   c.pose_valid = true;

@@ -140,7 +140,7 @@ TEST(NearbyReset, LeavesARightEstimateAmongCartsAloneAndFindsAMovedRobot) {
       double r = caster.CastOpenEdge(truth.translation(), truth.theta + a, 8.0);
       const double along = dir.dot(cart), across2 = cart.squaredNorm() - along * along;
       if (along > 0.0 && across2 < radius * radius) r = std::min(r, along - std::sqrt(radius * radius - across2));
-      if (r < 8.0) cluttered.push_back(r * dir);
+      if (r < 8.0) cluttered.emplace_back(r * dir);
     }
     EXPECT_EQ(search.SeeThrough(truth, cluttered, 0.15), 0.0);
     const std::optional<PoseCandidate> drawn = reset.Check(search, truth, 0.5, cluttered);
