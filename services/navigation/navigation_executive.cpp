@@ -1,13 +1,10 @@
 #include "services/navigation/navigation_executive.h"
 
-#include <chrono>
 #include <cmath>
-#include <initializer_list>
 #include <limits>
 
 #include "services/common/error.h"
 #include "services/localization/scan_points.h"
-#include "services/navigation/free_way.h"
 #include "services/navigation/leg_planner.h"
 #include "services/navigation/surroundings_sensing.h"
 #include "services/navigation/scan_guard.h"

@@ -1,12 +1,11 @@
 #pragma once
-// navd's executive, after Wahde et al. (seed 000): utility-function decision making picks the one
-// motor behaviour that drives the robot (navigation, the emergency stop, the wake-up search) and
-// the cognitive processes that run (laser localisation), from state variables it measures each
-// control step. Missions come in as goals or waypoint lists; it checks them, plans each leg with
-// the planning engine from the current pose estimate, and hands the paths to the navigator. The
-// gRPC adapter and the control loop both talk to this class only.
+// navd's executive, after Wahde et al. (seed 000): each control step it measures the state
+// variables (the cognitive processes update what the others read), lets the utility functions pick
+// one motor behaviour, runs it, and passes its command through the command filters
+// (docs/architecture.md, "The executive's control step"). Missions come in as goals, waypoint lists
+// or deliveries; LegPlanner checks them and plans each leg. The gRPC adapter and the control loop
+// both talk to this class only.
 #include <atomic>
-#include <future>
 #include <limits>
 #include <memory>
 #include <mutex>
