@@ -2,6 +2,17 @@
 
 namespace navd::navigation {
 
+void RecentResults::Add(uint64_t goal_id, const NavigationResult& result) {
+  results_.emplace_back(goal_id, result);
+  if (results_.size() > kKept) results_.erase(results_.begin());
+}
+
+std::optional<NavigationResult> RecentResults::Find(uint64_t goal_id) const {
+  for (const auto& [id, r] : results_)
+    if (id == goal_id) return r;
+  return std::nullopt;
+}
+
 const char* NavigationStateName(NavigationState s) {
   switch (s) {
     case NavigationState::kIdle: return "idle";

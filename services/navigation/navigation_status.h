@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "services/common/pose2.h"
@@ -31,6 +32,8 @@ enum class Outcome { kNone = 0, kSucceeded = 1, kFailed = 2, kCanceled = 3, kPre
 struct NavigationGoal {
   Pose2 pose;
   bool use_heading = false;
+  // The heading to end the leg with, when the goal has one.
+  std::optional<double> heading() const { return use_heading ? std::optional<double>(pose.theta) : std::nullopt; }
 };
 
 // Waypoints visited in order. A single waypoint is a NavigateTo goal.
@@ -87,6 +90,18 @@ struct NavigationStatus {
   NavigationFeedback feedback;
   std::optional<NavigationResult> last_result;
   uint64_t sequence = 0;  // increments on every change
+};
+
+// The results of the last few missions by id: a handler streaming a mission finds its result
+// after the mission ended, even when others ended since.
+class RecentResults {
+ public:
+  void Add(uint64_t goal_id, const NavigationResult& result);
+  std::optional<NavigationResult> Find(uint64_t goal_id) const;
+
+ private:
+  static constexpr size_t kKept = 64;
+  std::vector<std::pair<uint64_t, NavigationResult>> results_;  // oldest first
 };
 
 const char* NavigationStateName(NavigationState s);

@@ -9,8 +9,6 @@
 
 namespace navd::navigation {
 namespace {
-constexpr size_t kResultsKept = 64;
-
 NavigationState FromFollower(FollowerState s) {
   switch (s) {
     case FollowerState::kRotating: return NavigationState::kRotating;
@@ -26,16 +24,6 @@ void Navigator::BumpLocked() {
   changed_.notify_all();
 }
 
-namespace {
-std::optional<double> HeadingOf(const NavigationGoal& g) {
-  return g.use_heading ? std::optional<double>(g.pose.theta) : std::nullopt;
-}
-// A pose estimate that jumps farther than this in one control step was re-anchored (set-pose,
-// relocalisation); the jump is not distance the robot travelled.
-constexpr double kMaxStepTravel = 0.5;   // m
-constexpr double kOdometerChord = 0.05;  // m
-}  // namespace
-
 uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& path, double path_length, double now,
                           bool preempt) {
   if (mission.waypoints.empty()) throw Error(ErrorCode::kInvalidArgument, "waypoints: the mission has none");
@@ -49,7 +37,7 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
     FinishLocked(Outcome::kPreempted, "preempted by a new goal", last_pose_, now);
   }
   mission_ = mission;
-  follower_.SetPath(path, HeadingOf(mission.waypoints.front()));
+  follower_.SetPath(path, mission.waypoints.front().heading());
   status_.goal_id += 1;
   status_.active = true;
   status_.paused = false;
@@ -61,10 +49,8 @@ uint64_t Navigator::Start(const Mission& mission, const std::vector<Point2>& pat
   f.laps_completed = 0;
   f.waypoints_reached = 0;
   f.distance_travelled = 0.0;
-  odometer_anchor_ = last_pose_.translation();
+  odometer_.Start(last_pose_, now);
   started_at_ = now;
-  moving_time_ = 0.0;
-  last_step_ = now;
   path_length_ = path_length;
   // Without a path the first leg is planned later (the robot starts outside the navigation grid).
   leg_needs_path_ = path.empty();
@@ -89,7 +75,7 @@ void Navigator::Pause(double now) {
   if (!status_.active) throw Error(ErrorCode::kFailedPrecondition, "pause: no mission is active");
   if (status_.paused) throw Error(ErrorCode::kFailedPrecondition, "pause: the mission is paused already");
   status_.paused = true;
-  StopProgressClockLocked(now);
+  progress_.Stop(now);
   UpdateFeedbackLocked(NavigationState::kPaused, last_pose_, now);
   BumpLocked();
 }
@@ -113,7 +99,7 @@ std::optional<NavigationGoal> Navigator::LegToPlan() const {
 void Navigator::SetLegPath(const std::vector<Point2>& path, double path_length, double now) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!status_.active) return;
-  follower_.SetPath(path, HeadingOf(status_.goal));
+  follower_.SetPath(path, status_.goal.heading());
   path_length_ += path_length;
   leg_needs_path_ = false;
   progress_.NewPath(follower_.DistanceRemaining(last_pose_));
@@ -142,34 +128,18 @@ void Navigator::FinishLocked(Outcome outcome, const std::string& message, const 
   status_.last_result = r;
   status_.feedback.state = NavigationState::kIdle;
   status_.feedback.eta = 0.0;
-  results_.emplace_back(status_.goal_id, r);
-  if (results_.size() > kResultsKept) results_.erase(results_.begin());
+  results_.Add(status_.goal_id, r);
   follower_.Clear();
   leg_needs_path_ = false;
   BumpLocked();
 }
 
 void Navigator::TrackLocked(const Pose2& pose, double now, bool moving) {
-  if (status_.active && have_pose_) {
-    // Distance is booked in chords of at least kOdometerChord: summing every control step's
-    // displacement would also sum the estimate's millimetre jitter (about 1 % over 100 m).
-    const double step = Distance(pose.translation(), odometer_anchor_);
-    if (step >= kMaxStepTravel) {
-      odometer_anchor_ = pose.translation();  // a re-anchored estimate, not travel
-    } else if (step >= kOdometerChord) {
-      status_.feedback.distance_travelled += step;
-      odometer_anchor_ = pose.translation();
-    }
-    if (moving && last_step_ >= 0.0 && now > last_step_) moving_time_ += now - last_step_;
-  } else {
-    odometer_anchor_ = pose.translation();
-  }
-  last_step_ = now;
+  odometer_.Step(pose, now, moving, status_.active && have_pose_);
+  if (status_.active) status_.feedback.distance_travelled = odometer_.distance();
   last_pose_ = pose;
   have_pose_ = true;
 }
-
-void Navigator::StopProgressClockLocked(double now) { progress_.Stop(now); }
 
 bool Navigator::AdvanceLocked(const Pose2& pose, double now) {
   NavigationFeedback& f = status_.feedback;
@@ -180,12 +150,9 @@ bool Navigator::AdvanceLocked(const Pose2& pose, double now) {
     const bool another_lap = mission_.cyclic && (mission_.laps == 0 || f.laps_completed + 1 < mission_.laps);
     if (!another_lap) {
       if (mission_.cyclic) ++f.laps_completed;
-      char msg[96];
-      if (mission_.waypoints.size() == 1) {
-        std::snprintf(msg, sizeof msg, "goal reached");
-      } else {
-        std::snprintf(msg, sizeof msg, "mission complete: reached %u waypoints", f.waypoints_reached);
-      }
+      const std::string msg = mission_.waypoints.size() == 1
+                                  ? "goal reached"
+                                  : "mission complete: reached " + std::to_string(f.waypoints_reached) + " waypoints";
       FinishLocked(Outcome::kSucceeded, msg, pose, now);
       return false;
     }
@@ -213,7 +180,7 @@ void Navigator::UpdateFeedbackLocked(NavigationState state, const Pose2& pose, d
     f.eta = 0.0;
     return;
   }
-  f.eta = MissionTimeLeft(mission_, f, moving_time_, options_.follower.v_nav);
+  f.eta = MissionTimeLeft(mission_, f, odometer_.moving_time(), options_.follower.v_nav);
 }
 
 WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
@@ -268,7 +235,7 @@ WheelSpeeds Navigator::Step(const Pose2& pose, double now, bool sensors_fresh) {
 
 void Navigator::WaitForSensorsLocked(const Pose2& pose, double now) {
   TrackLocked(pose, now, false);
-  StopProgressClockLocked(now);
+  progress_.Stop(now);
   if (stale_since_ < 0) stale_since_ = now;
   if (now - stale_since_ > options_.stale_timeout) {
     char msg[64];
@@ -326,7 +293,7 @@ void Navigator::Hold(const Pose2& pose, double now, NavigationState state, const
     BumpLocked();
   }
   if (!status_.active) return;
-  StopProgressClockLocked(now);
+  progress_.Stop(now);
   status_.hold_reason = reason;
   if (!status_.paused) leg_needs_path_ = true;
   UpdateFeedbackLocked(status_.paused ? NavigationState::kPaused : state, pose, now);
@@ -420,9 +387,7 @@ NavigationStatus Navigator::Status() const {
 
 std::optional<NavigationResult> Navigator::ResultOf(uint64_t goal_id) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const auto& [id, r] : results_)
-    if (id == goal_id) return r;
-  return std::nullopt;
+  return results_.Find(goal_id);
 }
 
 uint64_t Navigator::WaitForChange(uint64_t seen, double timeout_s) const {

@@ -18,6 +18,7 @@
 #include "services/common/pose2.h"
 #include "services/navigation/grid_reentry.h"
 #include "services/navigation/leg_progress.h"
+#include "services/navigation/mission_odometer.h"
 #include "services/navigation/navigation_status.h"
 #include "services/navigation/path_follower.h"
 #include "services/navigation/sonar_reflex.h"
@@ -138,12 +139,11 @@ class Navigator {
  private:
   void FinishLocked(Outcome outcome, const std::string& message, const Pose2& pose, double now);
   void BumpLocked();
-  // Books the robot's motion from last_pose_ to `pose` and the time since the last step.
+  // Books the robot's motion to `pose` and the time since the last step.
   void TrackLocked(const Pose2& pose, double now, bool moving);
   // The current leg is done: next waypoint, next lap, or the end. Returns false when it ended.
   bool AdvanceLocked(const Pose2& pose, double now);
   void UpdateFeedbackLocked(NavigationState state, const Pose2& pose, double now);
-  void StopProgressClockLocked(double now);
   // A step with stale sensors: the robot stands, and the mission fails after stale_timeout.
   void WaitForSensorsLocked(const Pose2& pose, double now);
   // Whether the leg progressed (distance remaining down by progress_distance) within
@@ -162,13 +162,11 @@ class Navigator {
   LegProgress progress_;
   double stale_since_ = -1.0;  // when sensors went stale; < 0 while fresh
   NavigationStatus status_;
-  std::vector<std::pair<uint64_t, NavigationResult>> results_;  // recent results by mission id
+  RecentResults results_;
   double started_at_ = 0.0;
-  double moving_time_ = 0.0;  // s the navigation behaviour drove (for the ETA's speed)
-  double last_step_ = -1.0;
+  MissionOdometer odometer_;
   double path_length_ = 0.0;
   Pose2 last_pose_;
-  Point2 odometer_anchor_{0.0, 0.0};  // where distance_travelled was last booked
   bool have_pose_ = false;
 };
 
