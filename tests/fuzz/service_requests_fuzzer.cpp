@@ -9,8 +9,9 @@
 // which a fuzzer must not do to the machine it runs on (map_server_fuzzer fuzzes the map parsers).
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/message.h>
-#include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/grpcpp.h>
+#include <grpcpp/impl/client_unary_call.h>
+#include <grpcpp/support/sync_stream.h>
 
 #include <chrono>
 #include <memory>
@@ -43,7 +44,7 @@ struct Navd {
   navd::MapStore maps;
   std::unique_ptr<navd::planning::PlanningEngine> planning;
   navd::mapping::MapBuilder map_builder;
-  navd::localization::LocalizerSelector localizer{/*search_on_its_own_thread=*/false};
+  navd::localization::LocalizerSelector localizer{/*search_on_its_own_thread=*/true};
   navd::SystemClock clock;
   std::unique_ptr<navd::navigation::NavigationExecutive> executive;
   std::unique_ptr<navd::navigation::Explorer> explorer;
@@ -52,7 +53,7 @@ struct Navd {
   std::unique_ptr<navd::mapping::MappingService> mapping_service;
   std::unique_ptr<navd::navigation::NavigationService> navigation_service;
   std::unique_ptr<grpc::Server> server;
-  std::unique_ptr<grpc::GenericStub> stub;
+  std::shared_ptr<grpc::Channel> channel;
   std::vector<const google::protobuf::MethodDescriptor*> methods;
 
   Navd() {
@@ -86,7 +87,7 @@ struct Navd {
     builder.RegisterService(mapping_service.get());
     builder.RegisterService(navigation_service.get());
     server = builder.BuildAndStart();
-    stub = std::make_unique<grpc::GenericStub>(server->InProcessChannel(grpc::ChannelArguments()));
+    channel = server->InProcessChannel(grpc::ChannelArguments());
 
     const auto* pool = google::protobuf::DescriptorPool::generated_pool();
     for (const char* name : {"navd.v1.PlanningService", "navd.v1.LocalizationService", "navd.v1.MappingService",
@@ -99,34 +100,29 @@ struct Navd {
     }
   }
 
-  // One call of `method` with `request`, every response read, as any gRPC client makes it.
-  void Call(const google::protobuf::MethodDescriptor* method, const std::string& request) {
+  // One call of `method` with `request` as the generated stubs make it (their blocking unary call
+  // and server-streaming reader, over the serialized message; gRPC's generic stub offers only the
+  // asynchronous API here): every response read, then the status.
+  void Call(const google::protobuf::MethodDescriptor* method, const std::string& request) const {
     grpc::ClientContext context;
     context.set_deadline(std::chrono::system_clock::now() + kDeadline);
-    grpc::CompletionQueue queue;
     const std::string path = "/" + method->service()->full_name() + "/" + method->name();
-    std::unique_ptr<grpc::GenericClientAsyncReaderWriter> call = stub->PrepareCall(&context, path, &queue);
-    void* tag = nullptr;
-    bool ok = false;
-    auto wait = [&] { return queue.Next(&tag, &ok) && ok; };
-    call->StartCall(nullptr);
-    if (wait()) {
-      grpc::Slice slice(request);
-      call->Write(grpc::ByteBuffer(&slice, 1), nullptr);
-      if (wait()) {
-        call->WritesDone(nullptr);
-        wait();
-        grpc::ByteBuffer response;
-        do call->Read(&response, nullptr);
-        while (wait());
-      }
+    grpc::Slice slice(request);
+    const grpc::ByteBuffer message(&slice, 1);
+    grpc::ByteBuffer response;
+    if (!method->server_streaming()) {
+      grpc::internal::BlockingUnaryCall<grpc::ByteBuffer, grpc::ByteBuffer>(
+          channel.get(), grpc::internal::RpcMethod(path.c_str(), grpc::internal::RpcMethod::NORMAL_RPC), &context,
+          message, &response);
+      return;
     }
-    grpc::Status status;
-    call->Finish(&status, nullptr);
-    wait();
-    queue.Shutdown();
-    while (queue.Next(&tag, &ok)) {
+    std::unique_ptr<grpc::ClientReader<grpc::ByteBuffer>> reader(
+        grpc::internal::ClientReaderFactory<grpc::ByteBuffer>::Create(
+            channel.get(), grpc::internal::RpcMethod(path.c_str(), grpc::internal::RpcMethod::SERVER_STREAMING),
+            &context, message));
+    while (reader->Read(&response)) {
     }
+    reader->Finish();
   }
 };
 
