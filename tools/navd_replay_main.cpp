@@ -37,6 +37,11 @@ namespace {
 // Graph SLAM over the log's scans with the given odometry (one pose per scan): the TUM trajectory of every scan (the
 // final, optimised poses), judged against the log's corrected poses after SE(2) alignment; each
 // accepted loop closure judged against the corrected relative pose.
+// m: the longest reading the localiser judges. Further, a reading's end is rarely on a mapped
+// wall (the map is drawn to 15 m from each pose) and a heading error of a milliradian moves it
+// more than a map cell.
+constexpr double kLocalizationRange = 25.0;
+
 int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, const std::string& out,
          const std::string& map_out, const std::string& png, double resolution) {
   using namespace navd;
@@ -157,9 +162,9 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
     scan.angle_min = s.angle_min;
     scan.angle_increment = s.angle_increment;
     scan.range_min = 0.05;
-    // Beams beyond the mapper's usable range found no walls in the map: judging them would pull the
-    // estimate away from the truth.
-    scan.range_max = std::min(s.no_return_range(), navd::mapping::MapperOptions().usable_range);
+    // Beams are judged further than the map was drawn (its usable range): a corridor's far end,
+    // mapped when the robot was nearer, is what holds the position along the corridor.
+    scan.range_max = std::min(s.no_return_range(), kLocalizationRange);
     scan.stamp = s.timestamp;
     pf.AddScan(scan);
     const Pose2 e = pf.Estimate().pose;
@@ -243,12 +248,14 @@ int main(int argc, char** argv) {
                  "localize: amcl (particle filter, default), ekf (seed 002's EKF with scan-to-map matching) or "
                  "calibration (seed 000's odometric calibration)")
       ->check(CLI::IsMember({"amcl", "ekf", "calibration"}));
-  // AMCL's alphas are variances per unit of motion squared: 0.005 is a 7 % standard deviation of
-  // each step's translation and turn and 4 degrees per metre, just above the default odometry
-  // noise (5 %, 2 degrees per metre). Intel log, seeds 1-5: 0.038-0.040 m RMSE (0.02: 0.046-0.050).
-  double motion_noise = 0.005;
+  // AMCL's alphas are variances per unit of motion squared. Unset: with --odometry noisy the
+  // filter is told the noise the replay adds (alpha = T², a T standard deviation of each step's
+  // translation and turn); with --odometry log, whose noise is unknown, 0.005 (7 % and 4 degrees
+  // per metre, a little above a well-kept differential drive's).
+  double motion_noise = -1.0;
   app.add_option("--motion-noise", motion_noise,
-                 "localize: the filter's odometry noise alpha1..4 (variance per unit of motion squared)")
+                 "localize: the filter's odometry noise alpha1..4 (variance per unit of motion squared; default: "
+                 "T² of --odom-noise with --odometry noisy, 0.005 with --odometry log)")
       ->check(CLI::Range(0.0, 10.0));
   app.add_option("--resolution", resolution, "Map resolution, metres")->check(CLI::Range(0.005, 10.0));
   std::string png;
@@ -273,6 +280,7 @@ int main(int argc, char** argv) {
       rc = Slam(log, odometry, out, map_out, png, resolution);
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
+      if (motion_noise < 0.0) motion_noise = odometry_source == "log" ? 0.005 : noise.translation * noise.translation;
       rc = Localize(log, odometry, out, map, noise, seed, motion_noise, method);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
