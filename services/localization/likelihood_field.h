@@ -50,6 +50,10 @@ class LikelihoodField {
   // minus the distance to its free side, so fits are pushed out of walls), at most max_distance,
   // with its gradient (per metre) when `gradient` is given; false off the map.
   bool SurfaceDistance(const Point2& p, double* distance, Point2* gradient = nullptr) const;
+  // Builds the depths inside obstacles that SurfaceDistance reads (a distance transform of the
+  // whole map; otherwise built on its first call), for owners that must not pay for it at their
+  // first scan: on a large map it takes half a second, which a control loop cannot spare.
+  void PrepareSurfaceDistance() const { SignedDistance(); }
   // How well a scan (end points in the robot frame) agrees with the map at `pose`, 0..1: the mean
   // over the beams of each beam's likelihood relative to a perfect fit. A mean of ratios, not of
   // logs: a few beams on people or clutter lower it by their share, they do not sink it (which
