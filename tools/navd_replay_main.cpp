@@ -37,11 +37,6 @@ namespace {
 // Graph SLAM over the log's scans with the given odometry (one pose per scan): the TUM trajectory of every scan (the
 // final, optimised poses), judged against the log's corrected poses after SE(2) alignment; each
 // accepted loop closure judged against the corrected relative pose.
-// m: the longest reading the localiser judges. Further, a reading's end is rarely on a mapped
-// wall (the map is drawn to 15 m from each pose) and a heading error of a milliradian moves it
-// more than a map cell.
-constexpr double kLocalizationRange = 25.0;
-
 int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, const std::string& out,
          const std::string& map_out, const std::string& png, double resolution) {
   using namespace navd;
@@ -113,6 +108,11 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   }
   return 0;
 }
+
+// m: the longest reading the localiser judges. Further, a reading's end is rarely on a mapped
+// wall (the map is drawn to 15 m from each pose) and a heading error of a milliradian moves it
+// more than a map cell.
+constexpr double kLocalizationRange = 25.0;
 
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution);
 

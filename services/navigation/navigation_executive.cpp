@@ -54,9 +54,6 @@ NavigationExecutive::NavigationExecutive(planning::PlanningEngine& planning, loc
       recovery_(options.recovery, options.follower.wheel_base),
       legs_(planning, navigator_, obstacle_detection_, sensed_,
             LegPlannerOptions{moving.detection.robot_radius, moving.planning_range, options.reentry}) {
-  // The served map's caster is built now rather than at the first scan: on a large map it takes a
-  // third of a second, which the control loop would spend while the robot's messages pile up.
-  map_caster_.Get();
   // The command filters, in the order they act on the winning behaviour's command: the guards on
   // what the sensors see ahead first, then the speed zones, which cap whatever is left.
   const double radius = moving_.detection.robot_radius;

@@ -13,7 +13,9 @@ namespace navd::navigation {
 
 class ServedMapCaster {
  public:
-  explicit ServedMapCaster(const MapStore& maps) : maps_(maps) {}
+  // The caster of the map served now is built at once rather than at the first scan: on a large
+  // map it takes a third of a second, which a control loop would spend while messages pile up.
+  explicit ServedMapCaster(const MapStore& maps) : maps_(maps) { Get(); }
   // The caster of the map served now; null before there is one.
   std::shared_ptr<const RayCaster> Get() const;
 
