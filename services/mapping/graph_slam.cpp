@@ -31,6 +31,20 @@ std::vector<Point2> GraphSlam::Returns(const RangeScan& scan) const {
   return points;
 }
 
+ScanMatchOptions GraphSlam::FrontEndWindow(const Pose2& moved) const {
+  ScanMatchOptions window = o_.sequential;
+  const double travel = std::hypot(moved.x, moved.y);
+  const double grow_xy = std::max(1.0, o_.front_window_xy_per_metre * travel / window.window_xy);
+  const double grow_theta = std::max(
+      1.0, (o_.front_window_theta_per_metre * travel + o_.front_window_theta_per_radian * std::abs(moved.theta)) /
+               window.window_theta);
+  window.window_xy *= grow_xy;
+  window.prior_sigma_xy *= grow_xy;
+  window.window_theta *= grow_theta;
+  window.prior_sigma_theta *= grow_theta;
+  return window;
+}
+
 std::vector<Point2> GraphSlam::NodePointsInMap(int first, int last) const {
   std::vector<Point2> out;
   for (int n = std::max(0, first); n <= last && n < nodes(); ++n) {
@@ -66,7 +80,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   std::vector<Point2> local_points = NodePointsInMap(last - o_.local_map_nodes + 1, last);
   const CorrelationGrid local(local_points, o_.sequential.resolution, o_.sequential.sigma);
   const std::vector<Point2> thinned = ThinPoints(points, o_.match_point_spacing);
-  const ScanMatch match = MatchScan(local, thinned, predicted, o_.sequential);
+  const ScanMatch match = MatchScan(local, thinned, predicted, FrontEndWindow(moved));
   // A scan that explains too little of the local map (empty scan, a new room seen through a door)
   // keeps the odometry's prediction.
   const Pose2 pose = match.score > 0.1 ? Polish(std::move(local_points), points, match.pose, o_.polish) : predicted;

@@ -48,6 +48,14 @@ struct GraphSlamOptions {
     s.prior_sigma_theta = 0.15;
     return s;
   }();
+  // The odometry's error grows with the motion since the last node, so the window and its prior
+  // widen with it wherever these exceed the base: to front_window_xy_per_metre x travel (m), and to
+  // front_window_theta_per_metre x travel + front_window_theta_per_radian x turn (rad). A log with
+  // scans metres apart, or turning a right angle between two scans, needs that; one sampled every
+  // few centimetres keeps the base window.
+  double front_window_xy_per_metre = 0.2;
+  double front_window_theta_per_metre = 0.1;
+  double front_window_theta_per_radian = 0.1;
   double sequential_sigma_xy = 0.03, sequential_sigma_theta = 0.01;  // edge uncertainty
   // Every match (front end, loop closure, refinement) is polished by point-to-line matching
   // against the same reference points; a polish that moves the pose farther than this paired
@@ -142,6 +150,8 @@ class GraphSlam {
  private:
   std::vector<Point2> Returns(const RangeScan& scan) const;  // robot frame, no-returns dropped
   std::vector<Point2> NodePointsInMap(int first, int last) const;
+  // The front end's search window for a scan `moved` (odometry) from the last node.
+  ScanMatchOptions FrontEndWindow(const Pose2& moved) const;
   void TryLoopClosure(int node);
   bool TurnedOnTheSpot(int node) const;
   // `guess` polished by point-to-line matching of `returns` (robot frame) on `reference` (map

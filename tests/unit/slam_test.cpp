@@ -238,6 +238,24 @@ TEST(GraphSlam, MapsARoomFromNoisyOdometryAndClosesTheLoop) {
   EXPECT_LT(built.at(built.CellOf({5.0, 2.0})), 20);
 }
 
+// Scans metres apart (a decimated log) carry odometry errors beyond the base window: the front end's
+// window widens with the step, so the match still finds the scan's true pose.
+TEST(GraphSlam, FrontEndFindsAScanMetresAwayWhoseOdometryIsOffByMoreThanTheBaseWindow) {
+  const OccupancyGrid map = Room();
+  std::mt19937 rng(3);
+  GraphSlamOptions o = RoomSlamOptions();
+  o.first_pose = {2.0, 2.0, 0.0};
+  const Pose2 truth{4.5, 2.3, 0.0};
+  const Pose2 odometry{4.5 + 0.35, 2.3 - 0.1, 0.2};  // 0.36 m and 0.2 rad off after a 2.5 m step
+  ASSERT_GT(0.36, o.sequential.window_xy);
+  ASSERT_GT(0.2, o.sequential.window_theta);
+  GraphSlam slam(o);
+  slam.AddScan({2.0, 2.0, 0.0}, ScanFrom(map, o.first_pose, &rng));
+  const Pose2 found = slam.AddScan(odometry, ScanFrom(map, truth, &rng));
+  EXPECT_LT(Distance(found.translation(), truth.translation()), 0.05);
+  EXPECT_LT(std::abs(NormalizeAngle(found.theta - truth.theta)), 0.02);
+}
+
 TEST(GraphSlam, RefineMatchesEachNodeAgainstTheLapBeforeAndKeepsTheTrajectory) {
   const OccupancyGrid map = Room();
   GraphSlam slam(RoomSlamOptions());
