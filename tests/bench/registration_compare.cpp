@@ -5,7 +5,8 @@
 // nearest neighbours), PCL's point-to-point ICP (a FLANN kd-tree for its correspondences) in 3-D
 // and with its 2-D transformation estimate, and PCL's 2-D NDT. Prints, per method: the median and 95th percentile
 // translation and heading errors, the share of pairs off by more than 0.1 m or 0.05 rad, and the median time per match.
-//   registration_compare --log ../shared/data/carmen/intel-corrected.log.gz [--pairs 300] [--seed 1]
+//   registration_compare --log ../shared/data/carmen/intel-corrected.log.gz [--pairs 300] [--seed 1] [--row NAME]
+// --row NAME: one row of docs/results.md's table (scripts/registration-table prints the whole table).
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/icp.h>
@@ -77,6 +78,9 @@ int main(int argc, char** argv) {
   app.add_option("--log", log_path, "CARMEN log with corrected poses")->required();
   app.add_option("--pairs", pairs_wanted, "Scan pairs to match")->check(CLI::Range(1, 100000));
   app.add_option("--seed", seed, "Seed of the odometry noise of the starting guesses");
+  std::string row;
+  app.add_option("--row", row,
+                 "Print one table row named ROW instead (median mm / mrad, pairs off, ms per method), under a header");
   CLI11_PARSE(app, argc, argv);
 
   const CarmenLog log = ReadCarmenLog(log_path);
@@ -156,9 +160,12 @@ int main(int argc, char** argv) {
   std::printf("%zu scan pairs of %s, starting guesses off by median %.1f mm / %.1f mrad (95%%: %.1f mm / %.1f mrad)\n",
               pairs.size(), log_path.c_str(), 1e3 * quantile(guess_t, 0.5), 1e3 * quantile(guess_r, 0.5),
               1e3 * quantile(guess_t, 0.95), 1e3 * quantile(guess_r, 0.95));
-  std::printf(
-      "| method | translation error mm, median / 95%% | heading error mrad, median / 95%% | off > 0.1 m or 0.05 rad | "
-      "ms per match, median |\n|---|---|---|---|---|\n");
+  // Per method: median and 95th percentile errors, pairs off, median time.
+  struct Figures {
+    double t50, t95, r50, r95, ms;
+    int off;
+  };
+  std::vector<Figures> figures;
   for (const auto& [name, match] : methods) {
     std::vector<double> et, er, ms;
     int off = 0;
@@ -171,9 +178,26 @@ int main(int argc, char** argv) {
       er.push_back(std::abs(NormalizeAngle(e.theta)));
       off += et.back() > 0.1 || er.back() > 0.05;
     }
-    std::printf("| %s | %.1f / %.1f | %.1f / %.1f | %d of %zu | %.2f |\n", name.c_str(), 1e3 * quantile(et, 0.5),
-                1e3 * quantile(et, 0.95), 1e3 * quantile(er, 0.5), 1e3 * quantile(er, 0.95), off, pairs.size(),
-                quantile(ms, 0.5));
+    figures.push_back({1e3 * quantile(et, 0.5), 1e3 * quantile(et, 0.95), 1e3 * quantile(er, 0.5),
+                       1e3 * quantile(er, 0.95), quantile(ms, 0.5), off});
+  }
+  if (!row.empty()) {
+    std::printf("| log |");
+    for (const auto& method : methods) std::printf(" %s: mm / mrad (median), off*, ms |", method.first.c_str());
+    std::printf("\n|---|");
+    for (size_t m = 0; m < methods.size(); ++m) std::printf("---|");
+    std::printf("\n| %s |", row.c_str());
+    for (const Figures& f : figures) std::printf(" %.1f / %.1f, %d, %.2f |", f.t50, f.r50, f.off, f.ms);
+    std::printf("\n");
+    return 0;
+  }
+  std::printf(
+      "| method | translation error mm, median / 95%% | heading error mrad, median / 95%% | off > 0.1 m or 0.05 rad | "
+      "ms per match, median |\n|---|---|---|---|---|\n");
+  for (size_t m = 0; m < methods.size(); ++m) {
+    const Figures& f = figures[m];
+    std::printf("| %s | %.1f / %.1f | %.1f / %.1f | %d of %zu | %.2f |\n", methods[m].first.c_str(), f.t50, f.t95,
+                f.r50, f.r95, f.off, pairs.size(), f.ms);
   }
   return 0;
 }
