@@ -74,7 +74,10 @@ class Localizer {
   // one) while another localiser of the same kind searches the whole map. SearchEstimate says what
   // it has found so far (valid = false while none runs); EndSearch stops it, and with `adopt` moves
   // the estimate to the search's. Returns false for localisers that cannot (GlobalRelocalize then
-  // searches in place); a new search, SetPose and SearchAround end a running one.
+  // searches in place); a new search, SetPose and GlobalRelocalize end a running one. SearchAround
+  // re-anchors the estimate only and leaves a search beside running: the wake-up searches near
+  // where the robot was lost while the whole-map search, begun at the first poorly fitting scan,
+  // goes on.
   virtual bool StartSearch() { return false; }
   virtual PoseEstimate SearchEstimate() const { return {}; }
   virtual void EndSearch(bool adopt) {}

@@ -101,7 +101,6 @@ bool LocalizerSelector::GlobalRelocalize() {
 }
 
 bool LocalizerSelector::SearchAround(const Pose2& pose, const Eigen::Matrix3d& covariance) {
-  EndSearch(false);
   bool any = false;
   for (auto& l : localizers_) any |= l->SearchAround(pose, covariance);
   return any;

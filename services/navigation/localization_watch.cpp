@@ -16,8 +16,9 @@ void LocalizationWatch::Watch(const localization::PoseEstimate& e, const std::op
     if (e.relocations > relocations_seen_ && !lost_) ++losses_;
     relocations_seen_ = e.relocations;
   }
+  fits_as_found_ = e.quality >= options_.found_quality && spread <= options_.max_spread;
   if (lost_) {
-    if (e.quality >= options_.found_quality && spread <= options_.max_spread) lost_ = false;
+    if (fits_as_found_) lost_ = false;
     poor_fit_since_ = -1.0;
     poor_scans_ = 0;
     return;
@@ -25,6 +26,10 @@ void LocalizationWatch::Watch(const localization::PoseEstimate& e, const std::op
   if (e.quality < options_.lost_quality) {
     if (poor_fit_since_ < 0.0) poor_fit_since_ = now;
     if (new_scan) ++poor_scans_;
+    if (options_.search_ahead && !search_beside_ && (new_scan || now == poor_fit_since_)) {
+      search_beside_ = localizer_.StartSearch();
+      search_fits_ = 0;
+    }
     const bool enough_scans = scans == 0 || poor_scans_ >= options_.lost_scans;
     if (now - poor_fit_since_ >= options_.lost_after && enough_scans) {
       lost_ = true;
@@ -38,32 +43,43 @@ void LocalizationWatch::Watch(const localization::PoseEstimate& e, const std::op
   }
 }
 
-void LocalizationWatch::Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
-                               bool wake_up_active, double now) {
-  if (!lost_) {
-    if (search_beside_) localizer_.EndSearch(false);  // found by the estimate itself
-    search_beside_ = false;
-    search_ = Stage::kNone;
+void LocalizationWatch::CountSearchFits(bool* settling) {
+  *settling = false;
+  if (!search_beside_) return;
+  // Scans the search used: one stamp each.
+  const localization::PoseEstimate found = localizer_.SearchEstimate();
+  if (!found.valid) {
+    search_beside_ = false;  // ended by someone else (a pose set, a new map)
     return;
   }
-  bool search_settling = false;
-  if (search_beside_) {
-    // The whole-map search replaces the estimate only once it fits as a found pose does, for
-    // lost_scans scans in a row (scans it used: one stamp each).
-    const localization::PoseEstimate found = localizer_.SearchEstimate();
+  if (found.stamp != search_stamp_) {
+    search_stamp_ = found.stamp;
     const bool fits = found.quality >= options_.found_quality && found.PositionSpread() <= options_.max_spread;
-    if (!found.valid) {
-      search_beside_ = false;  // ended by someone else (a pose set, a new map)
-    } else if (found.stamp != search_stamp_) {
-      search_stamp_ = found.stamp;
-      search_fits_ = fits ? search_fits_ + 1 : 0;
-    }
-    if (search_beside_ && search_fits_ >= std::max(1, options_.lost_scans)) {
-      localizer_.EndSearch(true);
+    search_fits_ = fits ? search_fits_ + 1 : 0;
+  }
+  *settling = found.PositionSpread() > options_.max_spread;
+}
+
+void LocalizationWatch::Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry,
+                               bool wake_up_active, double now) {
+  bool search_settling = false;
+  if (!lost_) {
+    search_ = Stage::kNone;
+    if (search_beside_ && !fits_as_found_) {
+      CountSearchFits(&search_settling);  // begun ahead of a loss that may come
+    } else if (search_beside_) {
+      localizer_.EndSearch(false);  // found by the estimate itself, or it fits well again
       search_beside_ = false;
-      return;
     }
-    search_settling = search_beside_ && found.PositionSpread() > options_.max_spread;
+    return;
+  }
+  // The whole-map search replaces the estimate only once it fits as a found pose does, for
+  // lost_scans scans in a row.
+  CountSearchFits(&search_settling);
+  if (search_beside_ && search_fits_ >= std::max(1, options_.lost_scans)) {
+    localizer_.EndSearch(true);
+    search_beside_ = false;
+    return;
   }
   if (search_ == Stage::kNone) {
     if (!wake_up_active) return;
@@ -74,9 +90,12 @@ void LocalizationWatch::Search(const localization::PoseEstimate& estimate, const
         localizer_.SearchAround(centre, Eigen::Vector3d(sxy * sxy, sxy * sxy, st * st).asDiagonal())) {
       search_ = Stage::kNearby;
       global_search_at_ = now + options_.local_search_for;
-      // A robot carried away is not near: the whole map is searched beside from the start.
-      search_beside_ = localizer_.StartSearch();
-      search_fits_ = 0;
+      // A robot carried away is not near: the whole map is searched beside from the start (or
+      // since the first poor scan, where the search went ahead).
+      if (!search_beside_) {
+        search_beside_ = localizer_.StartSearch();
+        search_fits_ = 0;
+      }
       return;
     }
   } else if (now < global_search_at_) {

@@ -31,6 +31,12 @@ namespace navd::navigation {
 // (found_quality, max_spread) for lost_scans scans: on the Intel log the pose was declared lost
 // where the scans fitted poorly at a right pose, and a search in its place settled in the wrong
 // room (whole-log RMSE 6.7-6.9 m; beside, 0.08 m).
+// With search_ahead the search beside begins at the first poorly fitting scan, not once the loss
+// is declared, and ends once the estimate fits as a found pose does: a laser that scans once every few seconds
+// (a log that keeps a scan per metre driven) takes lost_scans scans to declare the loss and as
+// many for the search to be believed, and the two no longer come one after the other. A robot
+// carried away is then found as the loss is declared; a poor scan among people costs a search
+// that ends at the next good scan, and is adopted by the same rule as before.
 struct LocalizationWatchOptions {
   double lost_quality = 0.45;
   double lost_after = 3.0;  // s
@@ -44,6 +50,7 @@ struct LocalizationWatchOptions {
   double search_sigma_theta = 0.3;    // rad
   double local_search_for = 15.0;     // s: a full turn at search_turn_rate, and some; 0: global at once
   double global_search_every = 30.0;  // s
+  bool search_ahead = true;
 };
 
 class LocalizationWatch {
@@ -70,6 +77,9 @@ class LocalizationWatch {
 
  private:
   enum class Stage { kNone, kNearby, kGlobal };
+  // Counts the scans in a row in which the search beside fitted as a found pose does; returns
+  // whether it still runs and whether it is still spread over the map (settling).
+  void CountSearchFits(bool* settling);
 
   localization::Localizer& localizer_;
   LocalizationWatchOptions options_;
@@ -86,6 +96,7 @@ class LocalizationWatch {
   bool search_beside_ = false;
   int search_fits_ = 0;
   double search_stamp_ = -1.0;
+  bool fits_as_found_ = false;       // the last estimate fitted as a found pose does
   std::atomic<bool> lost_{false};    // read by gRPC threads
   std::atomic<uint64_t> losses_{0};  // likewise
 };
