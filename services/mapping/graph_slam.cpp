@@ -1,5 +1,6 @@
 #include "services/mapping/graph_slam.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -83,12 +84,25 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   const ScanMatch match = MatchScan(local, thinned, predicted, FrontEndWindow(moved));
   // A scan that explains too little of the local map (empty scan, a new room seen through a door)
   // keeps the odometry's prediction.
-  const Pose2 pose = match.score > 0.1 ? Polish(std::move(local_points), points, match.pose, o_.polish) : predicted;
+  Eigen::Matrix3d matched = Eigen::Matrix3d::Zero();
+  const Pose2 pose =
+      match.score > 0.1 ? Polish(std::move(local_points), points, match.pose, o_.polish, &matched) : predicted;
+  Eigen::Matrix3d information = Information(o_.sequential_sigma_xy, o_.sequential_sigma_theta);
+  if (!matched.isZero()) {
+    // The polish's information is about the pose in the map frame; the edge's error is in the new
+    // node's frame.
+    Eigen::Matrix3d to_node = Eigen::Matrix3d::Identity();
+    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    to_node.topLeftCorner<2, 2>() << c, s, -s, c;
+    const Eigen::Matrix3d geometric = (to_node * matched * to_node.transpose() +
+                                       Information(o_.sequential_free_sigma_xy, o_.sequential_free_sigma_theta))
+                                          .inverse();
+    information = (geometric + information.inverse()).inverse();
+  }
 
   travel_since_closure_ += Distance(pose.translation(), graph_.nodes()[last].translation());
   const int node = graph_.AddNode(pose);
-  graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose,
-                  Information(o_.sequential_sigma_xy, o_.sequential_sigma_theta), false});
+  graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose, information, false});
   node_scans_.push_back(scan);
   node_points_.push_back(std::move(points));
   node_odometry_.push_back(odometry);
@@ -157,11 +171,13 @@ bool GraphSlam::MatchAgainst(const std::vector<Point2>& scan, const std::vector<
 }
 
 Pose2 GraphSlam::Polish(std::vector<Point2> reference, const std::vector<Point2>& returns, const Pose2& guess,
-                        const PointToLineOptions& options) const {
+                        const PointToLineOptions& options, Eigen::Matrix3d* information) const {
   const PointToLineResult polished = PointToLineMatcher(std::move(reference), options).Match(returns, guess);
+  if (information) information->setZero();
   if (!polished.ok || Distance(polished.pose.translation(), guess.translation()) > o_.polish_max_shift_xy ||
       std::abs(NormalizeAngle(polished.pose.theta - guess.theta)) > o_.polish_max_shift_theta)
     return guess;
+  if (information) *information = polished.mean_information;
   return polished.pose;
 }
 

@@ -56,7 +56,14 @@ struct GraphSlamOptions {
   double front_window_xy_per_metre = 0.2;
   double front_window_theta_per_metre = 0.1;
   double front_window_theta_per_radian = 0.1;
-  double sequential_sigma_xy = 0.03, sequential_sigma_theta = 0.01;  // edge uncertainty
+  // The front end's edge: at least this uncertain in every direction, and more where the walls the
+  // scan matched leave its pose free (along a bare corridor, or an open hall's far, sparse walls):
+  // there, the polish's pair information (PointToLineResult::mean_information) is small, and the
+  // pose is held only by the odometry's prior, as uncertain as sequential_free_sigma_*. The
+  // covariances add, so a well-constrained match keeps the base uncertainty and a loop closure
+  // bends the chain where its matches were weak rather than evenly.
+  double sequential_sigma_xy = 0.03, sequential_sigma_theta = 0.01;           // m, rad
+  double sequential_free_sigma_xy = 0.1, sequential_free_sigma_theta = 0.05;  // m, rad
   // Every match (front end, loop closure, refinement) is polished by point-to-line matching
   // against the same reference points; a polish that moves the pose farther than this paired
   // points with the wrong walls, and the correlative pose stands.
@@ -146,6 +153,7 @@ class GraphSlam {
   // The latest node's pose and scan (for incremental maps), or nullptr before the first scan.
   const RangeScan* last_node_scan() const { return node_scans_.empty() ? nullptr : &node_scans_.back(); }
   Pose2 last_node_pose() const { return graph_.nodes().empty() ? Pose2{} : graph_.nodes().back(); }
+  const PoseGraph& graph() const { return graph_; }
 
  private:
   std::vector<Point2> Returns(const RangeScan& scan) const;  // robot frame, no-returns dropped
@@ -157,8 +165,10 @@ class GraphSlam {
   // `guess` polished by point-to-line matching of `returns` (robot frame) on `reference` (map
   // frame). The polish takes every return of the scan, not the thinned sample the correlative
   // search scores: each point on a wall is one more measurement of where that wall lies.
+  // `information`, when given, receives the polish's mean pair information (zero when the polish
+  // was refused).
   Pose2 Polish(std::vector<Point2> reference, const std::vector<Point2>& returns, const Pose2& guess,
-               const PointToLineOptions& options) const;
+               const PointToLineOptions& options, Eigen::Matrix3d* information = nullptr) const;
   // A scan's points (robot frame, thinned) matched against the map of nodes [first, last] around
   // `guess`, then polished with all its `returns`; false when the match is weak or slides along a
   // corridor.

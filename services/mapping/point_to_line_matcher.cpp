@@ -113,6 +113,7 @@ PointToLineResult PointToLineMatcher::Match(const std::vector<Point2>& points, c
     const double scale = point_information / pairs;
     const Eigen::Vector3d offset(pose.x - initial.x, pose.y - initial.y, NormalizeAngle(pose.theta - initial.theta));
     Eigen::Matrix3d a = scale * h;
+    result.mean_information = a;
     a.diagonal() += prior_information;
     const Eigen::Vector3d b = scale * g + prior_information.cwiseProduct(offset);
     const Eigen::Vector3d step = a.ldlt().solve(-b);

@@ -36,6 +36,9 @@ struct PointToLineResult {
   Pose2 pose;
   int pairs = 0;
   double rms = 0.0;  // m: root mean square point-to-line distance of the pairs
+  // The information of one mean pair about the pose (map-frame x, y in 1/m², theta in 1/rad²),
+  // at `pose`: its shape says which directions the walls constrain (along a bare corridor, none).
+  Eigen::Matrix3d mean_information = Eigen::Matrix3d::Zero();
 };
 
 // Reference points (map frame) with their lines, indexed for nearest-point queries.

@@ -15,8 +15,8 @@ namespace navd::navigation {
 namespace {
 
 struct CarriedOff {
-  int declared = -1;  // the scan at which the pose was declared lost
-  int found = -1;     // the scan after which it was found again
+  int declared = -1;   // the scan at which the pose was declared lost
+  int found = -1;      // the scan after which it was found again
   double error = 0.0;  // m from the truth when found
 };
 

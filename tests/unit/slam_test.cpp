@@ -256,6 +256,41 @@ TEST(GraphSlam, FrontEndFindsAScanMetresAwayWhoseOdometryIsOffByMoreThanTheBaseW
   EXPECT_LT(std::abs(NormalizeAngle(found.theta - truth.theta)), 0.02);
 }
 
+// The information (1/m²) of the front end's edge for a second scan 0.5 m on from `from`, along
+// `direction` (the new node's frame).
+double SequentialInformationAlong(const OccupancyGrid& map, const Pose2& from, const Point2& direction) {
+  std::mt19937 rng(5);
+  GraphSlamOptions o;
+  o.first_pose = from;
+  GraphSlam slam(o);
+  const Pose2 step(0.5, 0.0, 0.0), to = from * step;
+  slam.AddScan(Pose2(), ScanFrom(map, from, &rng));
+  slam.AddScan(step, ScanFrom(map, to, &rng));
+  const Eigen::Matrix3d& information = slam.graph().edges().back().information;
+  return direction.dot(information.topLeftCorner<2, 2>() * direction);
+}
+
+// Along a bare corridor (its ends beyond the laser's 20 m) the walls say nothing of how far the
+// robot went, so the front end's edge there is as uncertain as the odometry's prior (0.1 m), and
+// across it about as certain as a match in a room (the base 0.03 m and the match's own
+// uncertainty, a few centimetres, added): a loop closure then stretches the chain along the
+// corridor instead of bending it.
+TEST(GraphSlam, TheFrontEndsEdgeIsWeakAlongACorridorAndFirmAcrossIt) {
+  OccupancyGrid corridor(1000, 60, 0.05, Point2::Zero());
+  corridor.FillBox({0.0, 0.0}, {50.0, 0.1});
+  corridor.FillBox({0.0, 2.9}, {50.0, 3.0});
+  const double heading = 0.3;  // the robot drives at an angle to the corridor
+  const Pose2 from(22.0, 1.2, heading);
+  const Point2 along(std::cos(-heading), std::sin(-heading)), across(-along.y(), along.x());  // node frame
+  const double firm = 1.0 / (0.03 * 0.03), free = 1.0 / (0.1 * 0.1);
+  EXPECT_LT(SequentialInformationAlong(corridor, from, along), 1.2 * free);
+  EXPECT_GT(SequentialInformationAlong(corridor, from, across), 0.4 * firm);
+  EXPECT_LT(SequentialInformationAlong(corridor, from, across), firm);
+  const OccupancyGrid room = Room();
+  EXPECT_GT(SequentialInformationAlong(room, Pose2(1.5, 1.5, heading), along), 0.4 * firm);
+  EXPECT_GT(SequentialInformationAlong(room, Pose2(1.5, 1.5, heading), across), 0.4 * firm);
+}
+
 TEST(GraphSlam, RefineMatchesEachNodeAgainstTheLapBeforeAndKeepsTheTrajectory) {
   const OccupancyGrid map = Room();
   GraphSlam slam(RoomSlamOptions());
