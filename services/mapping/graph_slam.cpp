@@ -46,6 +46,20 @@ ScanMatchOptions GraphSlam::FrontEndWindow(const Pose2& moved) const {
   return window;
 }
 
+Eigen::Matrix3d GraphSlam::SequentialInformation(const Pose2& pose, const Eigen::Matrix3d& matched) const {
+  Eigen::Matrix3d base = Information(o_.sequential_sigma_xy, o_.sequential_sigma_theta);
+  if (matched.isZero()) return base;
+  // The polish's information is about the pose in the map frame; the edge's error is in the new
+  // node's frame.
+  Eigen::Matrix3d to_node = Eigen::Matrix3d::Identity();
+  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  to_node.topLeftCorner<2, 2>() << c, s, -s, c;
+  const Eigen::Matrix3d left_open = (to_node * matched * to_node.transpose() +
+                                     Information(o_.sequential_free_sigma_xy, o_.sequential_free_sigma_theta))
+                                        .inverse();
+  return (left_open + base.inverse()).inverse();
+}
+
 std::vector<Point2> GraphSlam::NodePointsInMap(int first, int last) const {
   std::vector<Point2> out;
   for (int n = std::max(0, first); n <= last && n < nodes(); ++n) {
@@ -87,22 +101,9 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   Eigen::Matrix3d matched = Eigen::Matrix3d::Zero();
   const Pose2 pose =
       match.score > 0.1 ? Polish(std::move(local_points), points, match.pose, o_.polish, &matched) : predicted;
-  Eigen::Matrix3d information = Information(o_.sequential_sigma_xy, o_.sequential_sigma_theta);
-  if (!matched.isZero()) {
-    // The polish's information is about the pose in the map frame; the edge's error is in the new
-    // node's frame.
-    Eigen::Matrix3d to_node = Eigen::Matrix3d::Identity();
-    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
-    to_node.topLeftCorner<2, 2>() << c, s, -s, c;
-    const Eigen::Matrix3d geometric = (to_node * matched * to_node.transpose() +
-                                       Information(o_.sequential_free_sigma_xy, o_.sequential_free_sigma_theta))
-                                          .inverse();
-    information = (geometric + information.inverse()).inverse();
-  }
-
   travel_since_closure_ += Distance(pose.translation(), graph_.nodes()[last].translation());
   const int node = graph_.AddNode(pose);
-  graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose, information, false});
+  graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose, SequentialInformation(pose, matched), false});
   node_scans_.push_back(scan);
   node_points_.push_back(std::move(points));
   node_odometry_.push_back(odometry);

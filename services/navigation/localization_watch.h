@@ -32,11 +32,11 @@ namespace navd::navigation {
 // where the scans fitted poorly at a right pose, and a search in its place settled in the wrong
 // room (whole-log RMSE 6.7-6.9 m; beside, 0.08 m).
 // With search_ahead the search beside begins at the first poorly fitting scan, not once the loss
-// is declared, and ends once the estimate fits as a found pose does: a laser that scans once every few seconds
-// (a log that keeps a scan per metre driven) takes lost_scans scans to declare the loss and as
-// many for the search to be believed, and the two no longer come one after the other. A robot
-// carried away is then found as the loss is declared; a poor scan among people costs a search
-// that ends at the next good scan, and is adopted by the same rule as before.
+// is declared, and ends once the estimate fits as a found pose does: a laser that scans once
+// every few seconds (a log that keeps a scan per metre driven) takes lost_scans scans to declare
+// the loss and as many for the search to be believed, and the two no longer come one after the
+// other. A poor scan among people costs a search that ends at the next scan that fits well; a
+// search is adopted only once the loss is declared, by the same rule as before.
 struct LocalizationWatchOptions {
   double lost_quality = 0.45;
   double lost_after = 3.0;  // s
@@ -77,8 +77,8 @@ class LocalizationWatch {
 
  private:
   enum class Stage { kNone, kNearby, kGlobal };
-  // Counts the scans in a row in which the search beside fitted as a found pose does; returns
-  // whether it still runs and whether it is still spread over the map (settling).
+  // Counts the scans in a row in which the search beside fitted as a found pose does (clears
+  // search_beside_ when someone else ended it); `settling`: still spread over the map.
   void CountSearchFits(bool* settling);
 
   localization::Localizer& localizer_;
