@@ -2,12 +2,12 @@
 
 #include <pcl/filters/extract_indices.h>
 #include <pcl/filters/passthrough.h>
-#include <pcl/filters/radius_outlier_removal.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/sample_consensus/method_types.h>
 #include <pcl/sample_consensus/model_types.h>
+#include <pcl/search/octree.h>
 #include <pcl/segmentation/sac_segmentation.h>
 
 #include <cmath>
@@ -110,11 +110,14 @@ FilteredCloud ObstacleCloudFilter::Filter(const std::vector<Eigen::Vector3f>& po
   if (candidates->empty()) return out;
   Cloud kept;
   if (o_.speckle_neighbours > 0) {
-    pcl::RadiusOutlierRemoval<pcl::PointXYZ> speckle;
-    speckle.setInputCloud(candidates);
-    speckle.setRadiusSearch(o_.speckle_radius);
-    speckle.setMinNeighborsInRadius(o_.speckle_neighbours);
-    speckle.filter(kept);
+    pcl::search::Octree<pcl::PointXYZ> near(o_.speckle_radius);
+    near.setInputCloud(candidates);
+    pcl::Indices found;
+    std::vector<float> distances;
+    const unsigned int enough = static_cast<unsigned int>(o_.speckle_neighbours) + 1;  // the point itself too
+    for (const pcl::PointXYZ& q : *candidates)
+      if (near.radiusSearch(q, o_.speckle_radius, found, distances, enough) >= static_cast<int>(enough))
+        kept.push_back(q);
   } else {
     kept = *candidates;
   }

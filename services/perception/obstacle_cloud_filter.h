@@ -3,8 +3,10 @@
 // it is obstacle_cloud_filter.cpp): the points go to the robot frame by the camera's mount, are cut
 // to the heights that matter (PassThrough), thinned to one per voxel (VoxelGrid), the floor is
 // found as a level plane near z = 0 by RANSAC (SACSegmentation) and split off, and lone points
-// left above it are dropped as speckle (RadiusOutlierRemoval). What remains between min_height
-// and the robot's top is an obstacle.
+// left above it are dropped as speckle (RadiusOutlierRemoval's test, a radius search per point, run on
+// PCL's octree: the kd-tree that filter builds starts an OpenMP region per query, which costs more
+// than the search on a few hundred points). What remains between min_height and the robot's top is
+// an obstacle.
 // Units: metres; robot frame (x ahead, y left, z up from the floor).
 #include <Eigen/Core>
 #include <functional>
