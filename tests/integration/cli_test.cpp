@@ -2,7 +2,10 @@
 // exit codes, one-line errors.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <map>
+#include <sstream>
 #include <memory>
 #include <filesystem>
 #include <fstream>
@@ -281,6 +284,61 @@ INSTANTIATE_TEST_SUITE_P(Localisers, NavdReplayLocalisation, ::testing::Values("
 // Graph SLAM on the Intel log with corrupted odometry (5%, 2 deg/m, seed 3): the trajectory of
 // every scan within 0.10 m RMSE of the corrected poses after SE(2) alignment, loops closed, none of
 // them wrong (each judged against the corrected poses), the map written as map_server YAML + PGM.
+// scripts/scan-consistency judges a trajectory by its own scans: in a 10 x 6 m room, the scans
+// placed at the poses they were taken from agree better than at poses that drift as SLAM's might
+// (2 mrad of heading and 1 cm sideways more per scan).
+TEST(ScanConsistency, ADriftingTrajectoryReadsWorseThanTheTrueOne) {
+  const std::string dir = MakeTempDir();
+  auto tum_line = [](double t, double x, double y, double theta) {
+    char line[160];
+    std::snprintf(line, sizeof(line), "%.3f %.6f %.6f 0 0 0 %.9f %.9f\n", t, x, y, std::sin(theta / 2),
+                  std::cos(theta / 2));
+    return std::string(line);
+  };
+  {
+    std::ofstream log(dir + "/room.log"), exact(dir + "/exact.tum"), drift(dir + "/drift.tum");
+    for (int k = 0; k < 40; ++k) {
+      const double x = -4.0 + 0.2 * k, y = 0.3 * std::sin(0.3 * k), theta = 0.2 * std::sin(0.2 * k), t = 100.0 + k;
+      log << "FLASER 181";
+      for (int i = 0; i <= 180; ++i) {
+        const double a = theta - M_PI / 2 + i * M_PI / 180, c = std::cos(a), s = std::sin(a);
+        // The nearest of the room's four walls (x = +-5, y = +-3) along the beam.
+        const double along_x = std::abs(c) > 1e-9 ? ((c > 0 ? 5.0 : -5.0) - x) / c : 1e9;
+        const double along_y = std::abs(s) > 1e-9 ? ((s > 0 ? 3.0 : -3.0) - y) / s : 1e9;
+        log << " " << std::min(along_x, along_y);
+      }
+      log << " " << x << " " << y << " " << theta << " " << x << " " << y << " " << theta << " " << t << " host " << t
+          << "\n";
+      exact << tum_line(t, x, y, theta);
+      drift << tum_line(t, x, y + 0.01 * k, theta + 0.002 * k);
+    }
+  }
+  const auto r = RunCommand(
+      {SourceDir() + "/scripts/scan-consistency", dir + "/room.log", dir + "/exact.tum", dir + "/drift.tum"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::map<std::string, std::pair<double, double>> read;  // mean distance (m), share within 3 cm
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);) {
+    char name[512];
+    double mean = 0, within = 0, close = 0;
+    if (std::sscanf(line.c_str(), "| %511[^|]| %lf | %lf | %lf |", name, &mean, &within, &close) == 4) {
+      std::string n(name);
+      read[n.substr(0, n.find_last_not_of(' ') + 1)] = {mean, close};
+    }
+  }
+  ASSERT_EQ(read.size(), 3u) << r.output;
+  const auto log_poses = read["the log's"], exact = read[dir + "/exact.tum"], drift = read[dir + "/drift.tum"];
+  EXPECT_NEAR(exact.first, log_poses.first, 1e-4) << r.output;  // the same poses, read from the TUM file
+  EXPECT_LT(exact.first, 0.01) << r.output;
+  EXPECT_GT(exact.second, 0.8) << r.output;
+  EXPECT_GT(drift.first, 2.0 * exact.first) << r.output;
+  EXPECT_LT(drift.second, exact.second - 0.2) << r.output;
+
+  const auto short_tum = RunCommand({SourceDir() + "/scripts/scan-consistency", dir + "/room.log", dir + "/room.log"});
+  EXPECT_NE(short_tum.exit_code, 0);
+  EXPECT_NE(short_tum.output.find("scan-consistency: "), std::string::npos) << short_tum.output;
+}
+
 TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
   const std::string log = SourceDir() + "/../shared/data/carmen/intel-corrected.log.gz";
   if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
