@@ -1,5 +1,6 @@
 #include "services/mapping/graph_slam.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
@@ -52,8 +53,7 @@ Eigen::Matrix3d GraphSlam::SequentialInformation(const Pose2& pose, const Eigen:
   // The polish's information is about the pose in the map frame; the edge's error is in the new
   // node's frame.
   Eigen::Matrix3d to_node = Eigen::Matrix3d::Identity();
-  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
-  to_node.topLeftCorner<2, 2>() << c, s, -s, c;
+  to_node.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(-pose.theta).toRotationMatrix();
   const Eigen::Matrix3d left_open = (to_node * matched * to_node.transpose() +
                                      Information(o_.sequential_free_sigma_xy, o_.sequential_free_sigma_theta))
                                         .inverse();
