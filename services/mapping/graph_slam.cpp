@@ -76,6 +76,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
     node_scans_.push_back(scan);
     node_points_.push_back(Returns(scan));
     node_odometry_.push_back(odometry);
+    node_distance_.push_back(0.0);
     node_scan_.push_back(0);
     scan_node_.push_back(0);
     scan_offset_.emplace_back();
@@ -101,7 +102,9 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   Eigen::Matrix3d matched = Eigen::Matrix3d::Zero();
   const Pose2 pose =
       match.score > 0.1 ? Polish(std::move(local_points), points, match.pose, o_.polish, &matched) : predicted;
-  travel_since_closure_ += Distance(pose.translation(), graph_.nodes()[last].translation());
+  const double step = Distance(pose.translation(), graph_.nodes()[last].translation());
+  travel_since_closure_ += step;
+  node_distance_.push_back(node_distance_.back() + step);
   const int node = graph_.AddNode(pose);
   graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose, SequentialInformation(pose, matched), false});
   node_scans_.push_back(scan);
@@ -131,12 +134,30 @@ void GraphSlam::TryLoopClosure(int node) {
   ++loop_attempts_;
   const std::vector<Point2> reference = NodePointsInMap(
       candidate - o_.loop_neighbourhood, std::min(node - o_.loop_min_node_gap, candidate + o_.loop_neighbourhood));
-  // Coarse over the wide window on a 10 cm grid, then fine on a 5 cm grid around the result.
+  // The gate and the window reach as far as the chain can have drifted since the last closure;
+  // failing that, as far as it can have drifted since it left the candidate (back at the end of a
+  // loop that the closures on the way did not hold rigid).
+  const double narrow = o_.loop_max_correction + o_.loop_correction_per_metre * travel_since_closure_;
+  const double wide = std::min(
+      o_.loop_wide_max_correction,
+      o_.loop_max_correction + o_.loop_correction_per_metre * (node_distance_[node] - node_distance_[candidate]));
+  ScanMatch match;
+  if (!LoopMatch(reference, scan, node, narrow, false, &match) &&
+      !(wide > narrow && LoopMatch(reference, scan, node, wide, true, &match)))
+    return;
+
+  const Pose2 relative = graph_.nodes()[candidate].inverse() * match.pose;
+  graph_.AddEdge({candidate, node, relative, Information(o_.loop_sigma_xy, o_.loop_sigma_theta), true});
+  closures_.push_back({node_scan_[candidate], node_scan_[node], relative, match.score});
+  travel_since_closure_ = 0.0;
+  graph_.Optimize(o_.optimizer);
+}
+
+ScanMatch GraphSlam::CoarseLoopMatch(const std::vector<Point2>& reference, const std::vector<Point2>& scan,
+                                     const Pose2& here, double allowance, bool wide_first, ScanMatch* ambiguity) const {
   ScanMatchOptions coarse = o_.sequential;
   coarse.resolution = 2.0 * o_.sequential.resolution;
   coarse.sigma = 2.0 * o_.sequential.sigma;
-  // The window only needs to reach as far as the correction gate lets a closure move the node.
-  const double allowance = o_.loop_max_correction + o_.loop_correction_per_metre * travel_since_closure_;
   coarse.window_xy = std::min(o_.loop_window_xy, allowance + coarse.resolution);
   coarse.window_theta = o_.loop_window_theta;
   coarse.angle_step = 2.0 * o_.sequential.angle_step;
@@ -144,22 +165,38 @@ void GraphSlam::TryLoopClosure(int node) {
   coarse.refine_candidates = 3;
   coarse.distinct_xy = o_.loop_distinct_xy;
   coarse.distinct_theta = o_.loop_distinct_theta;
-  const ScanMatch rough = MatchScan(CorrelationGrid(reference, coarse.resolution, coarse.sigma), scan, here, coarse);
+  if (!wide_first) {
+    *ambiguity = MatchScan(CorrelationGrid(reference, coarse.resolution, coarse.sigma), scan, here, coarse);
+    return *ambiguity;
+  }
+  // A wide window first on a grid twice as coarse again (a quarter of the poses at half the
+  // angles), which judges the ambiguity over all of it; then the 10 cm search around its best.
+  ScanMatchOptions wide = coarse;
+  wide.resolution *= 2.0;
+  wide.sigma *= 2.0;
+  wide.angle_step *= 2.0;
+  *ambiguity = MatchScan(CorrelationGrid(reference, wide.resolution, wide.sigma), scan, here, wide);
+  coarse.window_xy = 2.0 * wide.resolution;
+  coarse.window_theta = 2.0 * wide.angle_step;
+  coarse.distinct_xy = coarse.distinct_theta = 0.0;
+  return MatchScan(CorrelationGrid(reference, coarse.resolution, coarse.sigma), scan, ambiguity->pose, coarse);
+}
+
+bool GraphSlam::LoopMatch(const std::vector<Point2>& reference, const std::vector<Point2>& scan, int node,
+                          double allowance, bool wide, ScanMatch* match) const {
+  const Pose2 here = graph_.nodes()[node];
+  ScanMatch ambiguity;
+  const ScanMatch rough = CoarseLoopMatch(reference, scan, here, allowance, wide, &ambiguity);
   ScanMatchOptions fine = o_.sequential;
   fine.prior_sigma_xy = fine.prior_sigma_theta = 0.0;
-  fine.window_xy = 2.0 * coarse.resolution;
-  fine.window_theta = 2.0 * coarse.angle_step;
-  ScanMatch match = MatchScan(CorrelationGrid(reference, fine.resolution, fine.sigma), scan, rough.pose, fine);
-  if (match.score < o_.loop_min_score) return;
-  if (rough.coarse_elsewhere > o_.loop_max_ambiguity * rough.coarse_best) return;
-  match.pose = Polish(reference, node_points_[node], match.pose, o_.loop_polish);
-  if (Distance(match.pose.translation(), here.translation()) > allowance) return;
-
-  const Pose2 relative = graph_.nodes()[candidate].inverse() * match.pose;
-  graph_.AddEdge({candidate, node, relative, Information(o_.loop_sigma_xy, o_.loop_sigma_theta), true});
-  closures_.push_back({node_scan_[candidate], node_scan_[node], relative, match.score});
-  travel_since_closure_ = 0.0;
-  graph_.Optimize(o_.optimizer);
+  fine.window_xy = 4.0 * o_.sequential.resolution;
+  fine.window_theta = 4.0 * o_.sequential.angle_step;
+  *match = MatchScan(CorrelationGrid(reference, fine.resolution, fine.sigma), scan, rough.pose, fine);
+  if (match->score < o_.loop_min_score) return false;
+  if (ambiguity.coarse_elsewhere > (wide ? o_.loop_wide_max_ambiguity : o_.loop_max_ambiguity) * ambiguity.coarse_best)
+    return false;
+  match->pose = Polish(reference, node_points_[node], match->pose, o_.loop_polish);
+  return Distance(match->pose.translation(), here.translation()) <= allowance;
 }
 
 bool GraphSlam::MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns, int first, int last,

@@ -98,6 +98,13 @@ struct GraphSlamOptions {
   double loop_distinct_xy = 0.5;
   double loop_distinct_theta = 0.1;  // rad: turned this far is another pose too
   double loop_max_ambiguity = 0.9;
+  // A closure found no nearer than the drift since the last closure allows is searched again as
+  // far as the chain can have drifted since it left the candidate, up to loop_wide_max_correction
+  // (m): back at the end of a loop whose closures on the way did not hold the graph rigid. That
+  // wider search begins on a 20 cm grid, whose broad peaks read more alike, so it refuses
+  // ambiguity from loop_wide_max_ambiguity.
+  double loop_wide_max_correction = 1.0;
+  double loop_wide_max_ambiguity = 0.85;
   double loop_sigma_xy = 0.05, loop_sigma_theta = 0.02;
   // Refinement (Refine()): once the graph is consistent, every node is matched again against
   // each stretch of the chain passing near it, in a narrow window around where the graph puts it.
@@ -165,6 +172,17 @@ class GraphSlam {
   // node's), from the polish's mean pair information `matched` (zero: the polish was refused).
   Eigen::Matrix3d SequentialInformation(const Pose2& pose, const Eigen::Matrix3d& matched) const;
   void TryLoopClosure(int node);
+  // `scan` (node's points, thinned) against `reference` (the candidate's neighbourhood) for a
+  // correction up to `allowance` (m): the coarse search (`wide`: beginning on a 20 cm grid), the
+  // fine one, the score and ambiguity tests, the polish and the gate. True with the matched pose
+  // of `node` in `match`.
+  bool LoopMatch(const std::vector<Point2>& reference, const std::vector<Point2>& scan, int node, double allowance,
+                 bool wide, ScanMatch* match) const;
+  // The loop closure's coarse search around `here` for a correction up to `allowance` (m): on a
+  // 10 cm grid, or with `wide_first` first on a 20 cm one. `ambiguity` receives the match that
+  // judged the whole window (its coarse_best and coarse_elsewhere).
+  ScanMatch CoarseLoopMatch(const std::vector<Point2>& reference, const std::vector<Point2>& scan, const Pose2& here,
+                            double allowance, bool wide_first, ScanMatch* ambiguity) const;
   bool TurnedOnTheSpot(int node) const;
   // `guess` polished by point-to-line matching of `returns` (robot frame) on `reference` (map
   // frame). The polish takes every return of the scan, not the thinned sample the correlative
@@ -184,7 +202,8 @@ class GraphSlam {
   std::vector<RangeScan> node_scans_;
   std::vector<std::vector<Point2>> node_points_;  // robot frame
   std::vector<Pose2> node_odometry_;
-  std::vector<int> node_scan_;  // the scan each node was made from
+  std::vector<double> node_distance_;  // m along the chain from the first node, as the front end placed them
+  std::vector<int> node_scan_;         // the scan each node was made from
   // Per scan added: its node, and its odometry offset from that node.
   std::vector<int> scan_node_;
   std::vector<Pose2> scan_offset_;
