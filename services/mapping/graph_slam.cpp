@@ -132,8 +132,9 @@ void GraphSlam::TryLoopClosure(int node) {
   const std::vector<Point2> scan = ThinPoints(node_points_[node], o_.match_point_spacing);
   if (static_cast<int>(scan.size()) < o_.loop_min_points) return;
   ++loop_attempts_;
-  const std::vector<Point2> reference = NodePointsInMap(
-      candidate - o_.loop_neighbourhood, std::min(node - o_.loop_min_node_gap, candidate + o_.loop_neighbourhood));
+  LoopReference reference{NodePointsInMap(candidate - o_.loop_neighbourhood,
+                                          std::min(node - o_.loop_min_node_gap, candidate + o_.loop_neighbourhood)),
+                          {}};
   // The gate and the window reach as far as the chain can have drifted since the last closure;
   // failing that, as far as it can have drifted since it left the candidate (back at the end of a
   // loop that the closures on the way did not hold rigid).
@@ -153,8 +154,8 @@ void GraphSlam::TryLoopClosure(int node) {
   graph_.Optimize(o_.optimizer);
 }
 
-ScanMatch GraphSlam::CoarseLoopMatch(const std::vector<Point2>& reference, const std::vector<Point2>& scan,
-                                     const Pose2& here, double allowance, bool wide_first, ScanMatch* ambiguity) const {
+ScanMatch GraphSlam::CoarseLoopMatch(LoopReference& reference, const std::vector<Point2>& scan, const Pose2& here,
+                                     double allowance, bool wide_first, ScanMatch* ambiguity) const {
   ScanMatchOptions coarse = o_.sequential;
   coarse.resolution = 2.0 * o_.sequential.resolution;
   coarse.sigma = 2.0 * o_.sequential.sigma;
@@ -166,7 +167,7 @@ ScanMatch GraphSlam::CoarseLoopMatch(const std::vector<Point2>& reference, const
   coarse.distinct_xy = o_.loop_distinct_xy;
   coarse.distinct_theta = o_.loop_distinct_theta;
   if (!wide_first) {
-    *ambiguity = MatchScan(CorrelationGrid(reference, coarse.resolution, coarse.sigma), scan, here, coarse);
+    *ambiguity = MatchScan(reference.Grid(1, o_.sequential), scan, here, coarse);
     return *ambiguity;
   }
   // A wide window first on a grid twice as coarse again (a quarter of the poses at half the
@@ -175,15 +176,15 @@ ScanMatch GraphSlam::CoarseLoopMatch(const std::vector<Point2>& reference, const
   wide.resolution *= 2.0;
   wide.sigma *= 2.0;
   wide.angle_step *= 2.0;
-  *ambiguity = MatchScan(CorrelationGrid(reference, wide.resolution, wide.sigma), scan, here, wide);
+  *ambiguity = MatchScan(reference.Grid(2, o_.sequential), scan, here, wide);
   coarse.window_xy = 2.0 * wide.resolution;
   coarse.window_theta = 2.0 * wide.angle_step;
   coarse.distinct_xy = coarse.distinct_theta = 0.0;
-  return MatchScan(CorrelationGrid(reference, coarse.resolution, coarse.sigma), scan, ambiguity->pose, coarse);
+  return MatchScan(reference.Grid(1, o_.sequential), scan, ambiguity->pose, coarse);
 }
 
-bool GraphSlam::LoopMatch(const std::vector<Point2>& reference, const std::vector<Point2>& scan, int node,
-                          double allowance, bool wide, ScanMatch* match) const {
+bool GraphSlam::LoopMatch(LoopReference& reference, const std::vector<Point2>& scan, int node, double allowance,
+                          bool wide, ScanMatch* match) const {
   const Pose2 here = graph_.nodes()[node];
   ScanMatch ambiguity;
   const ScanMatch rough = CoarseLoopMatch(reference, scan, here, allowance, wide, &ambiguity);
@@ -191,11 +192,11 @@ bool GraphSlam::LoopMatch(const std::vector<Point2>& reference, const std::vecto
   fine.prior_sigma_xy = fine.prior_sigma_theta = 0.0;
   fine.window_xy = 4.0 * o_.sequential.resolution;
   fine.window_theta = 4.0 * o_.sequential.angle_step;
-  *match = MatchScan(CorrelationGrid(reference, fine.resolution, fine.sigma), scan, rough.pose, fine);
+  *match = MatchScan(reference.Grid(0, o_.sequential), scan, rough.pose, fine);
   if (match->score < o_.loop_min_score) return false;
   if (ambiguity.coarse_elsewhere > (wide ? o_.loop_wide_max_ambiguity : o_.loop_max_ambiguity) * ambiguity.coarse_best)
     return false;
-  match->pose = Polish(reference, node_points_[node], match->pose, o_.loop_polish);
+  match->pose = Polish(reference.points, node_points_[node], match->pose, o_.loop_polish);
   return Distance(match->pose.translation(), here.translation()) <= allowance;
 }
 

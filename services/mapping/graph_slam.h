@@ -13,7 +13,9 @@
 //    correlative grid's cells;
 //  - the map re-renders from the optimised poses (OccupancyGridMapper).
 // Map frame: the first scan sits at options.first_pose (the origin by default); metres, radians.
+#include <array>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
@@ -172,16 +174,28 @@ class GraphSlam {
   // node's), from the polish's mean pair information `matched` (zero: the polish was refused).
   Eigen::Matrix3d SequentialInformation(const Pose2& pose, const Eigen::Matrix3d& matched) const;
   void TryLoopClosure(int node);
-  // `scan` (node's points, thinned) against `reference` (the candidate's neighbourhood) for a
-  // correction up to `allowance` (m): the coarse search (`wide`: beginning on a 20 cm grid), the
-  // fine one, the score and ambiguity tests, the polish and the gate. True with the matched pose
-  // of `node` in `match`.
-  bool LoopMatch(const std::vector<Point2>& reference, const std::vector<Point2>& scan, int node, double allowance,
-                 bool wide, ScanMatch* match) const;
+  // The candidate's neighbourhood as a loop closure searches it: its points (map frame) and their
+  // correlation grids, each built at its first use, so the wide retry reuses the fine grid and the
+  // 10 cm one.
+  struct LoopReference {
+    std::vector<Point2> points;
+    std::array<std::optional<CorrelationGrid>, 3> grids;  // by resolution: the front end's, twice, four times
+    const CorrelationGrid& Grid(int level, const ScanMatchOptions& base) {
+      const double scale = 1 << level;
+      auto& grid = grids.at(level);
+      if (!grid) grid.emplace(points, base.resolution * scale, base.sigma * scale);
+      return *grid;
+    }
+  };
+  // `scan` (node's points, thinned) against `reference` for a correction up to `allowance` (m): the
+  // coarse search (`wide`: beginning on a 20 cm grid), the fine one, the score and ambiguity tests,
+  // the polish and the gate. True with the matched pose of `node` in `match`.
+  bool LoopMatch(LoopReference& reference, const std::vector<Point2>& scan, int node, double allowance, bool wide,
+                 ScanMatch* match) const;
   // The loop closure's coarse search around `here` for a correction up to `allowance` (m): on a
   // 10 cm grid, or with `wide_first` first on a 20 cm one. `ambiguity` receives the match that
   // judged the whole window (its coarse_best and coarse_elsewhere).
-  ScanMatch CoarseLoopMatch(const std::vector<Point2>& reference, const std::vector<Point2>& scan, const Pose2& here,
+  ScanMatch CoarseLoopMatch(LoopReference& reference, const std::vector<Point2>& scan, const Pose2& here,
                             double allowance, bool wide_first, ScanMatch* ambiguity) const;
   bool TurnedOnTheSpot(int node) const;
   // `guess` polished by point-to-line matching of `returns` (robot frame) on `reference` (map
