@@ -81,6 +81,7 @@ int RunFollow(Client& client, const FollowOptions& o) {
                    {"final_pose", PoseJson(result.final_pose())},
                    {"elapsed", result.elapsed()},
                    {"distance_travelled", result.distance_travelled()},
+                   {"waypoints", req.waypoints_size()},
                    {"waypoints_reached", result.waypoints_reached()},
                    {"recoveries", recoveries},
                    {"sonar_reflexes", reflexes}};

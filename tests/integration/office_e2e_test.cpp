@@ -84,6 +84,7 @@ OfficeRun RunOffice(const std::string& name, int count, const OfficeOptions& o =
   const auto& truth = j.at("truth");
   out.exit_code = run.exit_code;
   out.reached = j.at("waypoints_reached").get<int>();
+  EXPECT_EQ(j.at("waypoints").get<int>(), count) << run.output;
   out.reflexes = j.at("sonar_reflexes").get<int>();
   out.collisions = truth.at("collisions").get<int>();
   out.distance = truth.at("distance_travelled").get<double>();
