@@ -3,16 +3,36 @@
 namespace navd::localization {
 
 std::optional<PoseCandidate> NearbyReset::Check(const GlobalScanSearch& search, const Pose2& estimate, double quality,
-                                                const std::vector<Point2>& points) const {
+                                                const std::vector<Point2>& points, const Expected* expected) const {
   if (!o_.enabled || !(quality < o_.below_quality)) return std::nullopt;
   const double contradicted = search.SeeThrough(estimate, points, o_.see_through_margin);
-  if (contradicted <= 0.0) return std::nullopt;
-  const SearchWindow window{estimate, o_.radius, o_.max_turn, o_.blocks_refined};
+  // A pose awaiting confirmation was drawn by a scan that contradicted the estimate; along a
+  // corridor the next may not, and the pose is looked for all the same.
+  if (contradicted <= 0.0 && !expected) return std::nullopt;
+  const SearchWindow window{expected ? expected->pose : estimate, o_.radius, o_.max_turn, o_.blocks_refined};
   const std::vector<PoseCandidate> candidates = search.Search(points, &window);
   if (candidates.empty() || candidates.front().score < o_.min_score) return std::nullopt;
   if (1.0 - candidates.front().score > o_.misfit_ratio * (1.0 - search.Score(estimate, points))) return std::nullopt;
-  if (search.SeeThrough(candidates.front().pose, points, o_.see_through_margin) >= contradicted) return std::nullopt;
+  const double its = search.SeeThrough(candidates.front().pose, points, o_.see_through_margin);
+  if (expected ? its > contradicted : its >= contradicted) return std::nullopt;
   return candidates.front();
+}
+
+NearbyReset::Expected NearbyReset::Expect(const Pose2& found, const Pose2& found_at, const Pose2& now) const {
+  const double travel = Distance(found_at.translation(), now.translation());
+  return {found * (found_at.inverse() * now), o_.confirm_xy + o_.confirm_xy_per_metre * travel};
+}
+
+bool NearbyReset::Confirms(const Expected& expected, const Pose2& found) const {
+  return Distance(expected.pose.translation(), found.translation()) < expected.tolerance_xy &&
+         std::abs(NormalizeAngle(expected.pose.theta - found.theta)) < o_.confirm_theta;
+}
+
+Pose2 NearbyReset::Settle(const GlobalScanSearch& search, const Pose2& carried,
+                          const std::vector<Point2>& points) const {
+  const SearchWindow window{carried, o_.carried_xy, o_.carried_theta, o_.blocks_refined};
+  const std::vector<PoseCandidate> candidates = search.Search(points, &window);
+  return candidates.empty() ? carried : candidates.front().pose;
 }
 
 }  // namespace navd::localization

@@ -36,7 +36,9 @@ struct NearbyResetOptions {
   // better, but from the right estimate the scan passes through no wall. A pose is drawn around
   // only when fewer of the scan's beams pass through a wall from it than from the estimate
   // (GlobalScanSearch::SeeThrough, by more than see_through_margin); a scan that passes through
-  // none from the estimate is not searched with.
+  // none from the estimate is not searched with. A pose awaiting confirmation is looked for all
+  // the same (the scan that found it contradicted the estimate; along a corridor the next one may
+  // not), and confirmed where no more beams pass through a wall from it than from the estimate.
   double see_through_margin = 0.15;  // m
   double share = 0.1;                // of the particles drawn around it
   double sigma_xy = 0.1, sigma_theta = 0.05;
@@ -52,8 +54,20 @@ struct NearbyResetOptions {
   int within_scans = 10;
   double good_quality = 0.8;
   // A pose farther than relocated_jump from the estimate is drawn around only once a second search
-  // finds it again within this much of where the odometry since has carried it (m, rad).
+  // finds it again within this much of where the odometry since has carried it (m, rad), plus
+  // confirm_xy_per_metre of the odometry's travel between the two searches: each search's heading
+  // is good to a few hundredths of a radian, and a search that takes seconds while the robot
+  // drives on finds the second pose metres on.
   double confirm_xy = 0.3, confirm_theta = 0.15;
+  double confirm_xy_per_metre = 0.1;
+  // The searches after it are centred on where it should be (a lost estimate runs off); after this
+  // many of them find nothing, it is forgotten.
+  int confirm_searches = 3;
+  // The search takes a scan or two while the robot drives on, and its pose, carried on by the
+  // odometry to the scan that takes it, drifts with the odometry and the search's own heading
+  // error: that scan is searched for it again within this much (m, rad) before the particles are
+  // drawn.
+  double carried_xy = 0.5, carried_theta = 0.15;
   // m: an estimate that the scan after a draw moves this far from where the odometry put it, and
   // nearer the draws than that, has been relocated.
   double relocated_jump = 0.5;
@@ -63,10 +77,25 @@ class NearbyReset {
  public:
   explicit NearbyReset(const NearbyResetOptions& options = {}) : o_(options) {}
   const NearbyResetOptions& options() const { return o_; }
+  // Where a pose found away from the estimate should be found again: carried on by the odometry,
+  // within tolerance_xy (m) and the options' confirm_theta.
+  struct Expected {
+    Pose2 pose;
+    double tolerance_xy = 0.0;
+  };
   // Where a share of the particles should go for a scan with `points` whose estimate is
-  // `estimate` and fits at `quality`, if anywhere.
+  // `estimate` and fits at `quality`, if anywhere: searched within `radius` of the estimate, or of
+  // `expected` while a pose awaits confirmation (a lost estimate runs off meanwhile).
   std::optional<PoseCandidate> Check(const GlobalScanSearch& search, const Pose2& estimate, double quality,
-                                     const std::vector<Point2>& points) const;
+                                     const std::vector<Point2>& points, const Expected* expected = nullptr) const;
+  // Where a pose `found` by a search at odometry `found_at` should be found by one at odometry
+  // `now`: tolerance confirm_xy, plus confirm_xy_per_metre of the travel between.
+  Expected Expect(const Pose2& found, const Pose2& found_at, const Pose2& now) const;
+  // Whether `found` confirms the pose `expected`.
+  bool Confirms(const Expected& expected, const Pose2& found) const;
+  // `carried` (a found pose carried on by the odometry to a later scan with `points`) where that
+  // scan fits best within carried_xy and carried_theta, or `carried` if it fits nowhere there.
+  Pose2 Settle(const GlobalScanSearch& search, const Pose2& carried, const std::vector<Point2>& points) const;
 
  private:
   NearbyResetOptions o_;

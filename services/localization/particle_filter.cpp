@@ -226,8 +226,12 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   MoveParticles(last_odom_, at_scan);
   last_odom_ = at_scan;
   if (candidates && scan_search_due_ && searched == model_) DrawAround(*candidates);
-  const std::optional<Pose2> drawn = TakeNearbyReset(at_scan);
-  if (drawn) DrawShareAround(*drawn);
+  std::optional<Pose2> drawn = TakeNearbyReset(at_scan);
+  if (drawn) {
+    drawn = NearbyReset(o_.nearby_reset)
+                .Settle(model_->scan_search(o_.scan_search_options), *drawn, ScanEndPoints(scan, 0));
+    DrawShareAround(*drawn);
+  }
   const std::vector<Point2> ends = ScanEndPoints(scan, o_.beams);
   if (ends.size() < 5) return false;  // too little to judge by
   std::vector<double> sensor(particles_.size());
@@ -261,15 +265,17 @@ void ParticleFilterLocalizer::StartNearbyReset(const ScanReading& scan) {
   if (scans_since_good_fit_ > o_.nearby_reset.within_scans) return;
   if (global_mode_ || !o_.nearby_reset.enabled || nearby_reset_ || !(estimate_.quality < o_.nearby_reset.below_quality))
     return;
+  std::optional<NearbyReset::Expected> expected;
+  if (unconfirmed_) expected = NearbyReset(o_.nearby_reset).Expect(*unconfirmed_, unconfirmed_at_, last_odom_);
   // The search holds the map model it searches, whatever SetMap does meanwhile.
-  nearby_reset_ =
-      PendingReset{std::async(std::launch::async,
-                              [model = model_, options = o_, estimate = estimate_.pose, quality = estimate_.quality,
-                               points = ScanEndPoints(scan, 0)] {
-                                return NearbyReset(options.nearby_reset)
-                                    .Check(model->scan_search(options.scan_search_options), estimate, quality, points);
-                              }),
-                   last_odom_, estimate_.pose};
+  nearby_reset_ = PendingReset{std::async(std::launch::async,
+                                          [model = model_, options = o_, estimate = estimate_.pose,
+                                           quality = estimate_.quality, points = ScanEndPoints(scan, 0), expected] {
+                                            return NearbyReset(options.nearby_reset)
+                                                .Check(model->scan_search(options.scan_search_options), estimate,
+                                                       quality, points, expected ? &*expected : nullptr);
+                                          }),
+                               last_odom_, estimate_.pose, expected};
 }
 
 bool ParticleFilterLocalizer::NearbyResetReady() const {
@@ -281,20 +287,22 @@ std::optional<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_sc
   if (!NearbyResetReady()) return std::nullopt;
   const std::optional<PoseCandidate> found = nearby_reset_->found.get();
   const Pose2 odometry = nearby_reset_->odometry, estimate = nearby_reset_->estimate;
+  const std::optional<NearbyReset::Expected> expected = nearby_reset_->expected;
   nearby_reset_.reset();
-  if (!found) return std::nullopt;
+  if (!found) {
+    // Looked for where it should be now, and not found: looked for again, a few times.
+    if (unconfirmed_ && ++unconfirmed_searches_ >= o_.nearby_reset.confirm_searches) unconfirmed_.reset();
+    return std::nullopt;
+  }
   const Pose2 here = found->pose * (odometry.inverse() * at_scan);
   if (Distance(found->pose.translation(), estimate.translation()) <= o_.nearby_reset.relocated_jump) return here;
-  if (unconfirmed_) {
-    const Pose2 before = *unconfirmed_ * (unconfirmed_at_.inverse() * at_scan);
-    if (Distance(before.translation(), here.translation()) < o_.nearby_reset.confirm_xy &&
-        std::abs(NormalizeAngle(before.theta - here.theta)) < o_.nearby_reset.confirm_theta) {
-      unconfirmed_.reset();
-      return here;
-    }
+  if (expected && NearbyReset(o_.nearby_reset).Confirms(*expected, found->pose)) {
+    unconfirmed_.reset();
+    return here;
   }
   unconfirmed_ = found->pose;
   unconfirmed_at_ = odometry;
+  unconfirmed_searches_ = 0;
   return std::nullopt;
 }
 

@@ -196,8 +196,9 @@ class ParticleFilterLocalizer : public Localizer {
   PoseEstimate estimate_;
   struct PendingReset {
     std::future<std::optional<PoseCandidate>> found;
-    Pose2 odometry;  // at the searched scan
-    Pose2 estimate;  // then
+    Pose2 odometry;                                 // at the searched scan
+    Pose2 estimate;                                 // then
+    std::optional<NearbyReset::Expected> expected;  // of the pose awaiting confirmation
   };
   std::optional<PendingReset> nearby_reset_;
   // A pose found farther than relocated_jump from the estimate waits to be found again by the next
@@ -205,6 +206,7 @@ class ParticleFilterLocalizer : public Localizer {
   // well, seldom the same wrong pose two scans running. Map frame at the odometry `unconfirmed_at_`.
   std::optional<Pose2> unconfirmed_;
   Pose2 unconfirmed_at_;
+  int unconfirmed_searches_ = 0;                                // searches since that found nothing
   int scans_since_good_fit_ = std::numeric_limits<int>::max();  // since the pose was last set
   bool initialised_ = false;
   bool global_mode_ = false;  // relocalising globally: likelihood tempered

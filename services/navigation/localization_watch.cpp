@@ -100,8 +100,9 @@ void LocalizationWatch::Search(const localization::PoseEstimate& estimate, const
     }
   } else if (now < global_search_at_) {
     return;
-  } else if (search_settling) {
-    // Still spread over the map: let it settle rather than scatter it again.
+  } else if (search_settling || search_fits_ > 0) {
+    // Still spread over the map, or settled where its last scan fitted as a found pose does: let
+    // it settle or confirm rather than scatter it again.
     global_search_at_ = now + options_.global_search_every;
     return;
   }

@@ -64,7 +64,8 @@ class LocalizationWatch {
              double now);
   // The wake-up's search for a lost pose: begins once the wake-up has the robot (`wake_up_active`),
   // first nearby, then over the whole map (beside the estimate where the localiser can; one still
-  // settling is left to settle, one settled where it does not fit starts again). Ends the search
+  // settling is left to settle, one whose last scan fitted as a found pose does is left to
+  // confirm, one settled where it does not fit starts again). Ends the search
   // once the pose is found.
   void Search(const localization::PoseEstimate& estimate, const std::optional<Pose2>& odometry, bool wake_up_active,
               double now);

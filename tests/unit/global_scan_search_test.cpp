@@ -158,5 +158,45 @@ TEST(NearbyReset, LeavesARightEstimateAmongCartsAloneAndFindsAMovedRobot) {
   EXPECT_GE(moved_found, moved_runs * 9 / 10);
 }
 
+// A robot carried off is found by one search and must be found again by the next, where the
+// odometry has carried it since (1 m on); the estimate, lost, has meanwhile run 6 m the other
+// way, out of reach of a search around it. The search around the expected pose finds it, and that
+// confirms the expected pose but not one 1 m off. A found pose carried with a drifted heading
+// settles back onto the scan.
+TEST(NearbyReset, LooksForAPoseAwaitingConfirmationWhereTheOdometryCarriedIt) {
+  const World world = DefaultWorld();
+  const LikelihoodField field(world.map);
+  const GlobalScanSearch search(world.map, field);
+  const RayCaster caster(world.map);
+  const NearbyReset reset;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int runs = 0, confirmed = 0, confirmed_off = 0, settled = 0;
+  while (runs < 30) {
+    const Pose2 truth{world.map.origin().x() + u(rng) * world.map.width() * world.map.resolution(),
+                      world.map.origin().y() + u(rng) * world.map.height() * world.map.resolution(),
+                      NormalizeAngle(u(rng) * 2 * M_PI)};
+    if (caster.Clearance(truth.translation()) < 0.5) continue;
+    ++runs;
+    const std::vector<Point2> points = ScanFrom(caster, truth);
+    const Pose2 found = truth * Pose2(-1.0, 0.0, 0.0);  // where the first search found the robot
+    const NearbyReset::Expected expected = reset.Expect(found, Pose2(), Pose2(1.0, 0.0, 0.0));
+    EXPECT_NEAR(expected.tolerance_xy, reset.options().confirm_xy + reset.options().confirm_xy_per_metre, 1e-9);
+    const Pose2 run_off = truth * Pose2(0.0, 6.0, 0.0);
+    const std::optional<PoseCandidate> again = reset.Check(search, run_off, 0.2, points, &expected);
+    if (again && reset.Confirms(expected, again->pose)) ++confirmed;
+    NearbyReset::Expected off = expected;
+    off.pose = expected.pose * Pose2(0.0, 1.0, 0.0);
+    if (again && reset.Confirms(off, again->pose)) ++confirmed_off;
+    const Pose2 drifted = truth * Pose2(0.2, -0.15, 0.08);
+    if (Distance(reset.Settle(search, drifted, points).translation(), truth.translation()) < 0.1) ++settled;
+  }
+  std::printf("nearby reset: confirmed %d of %d where the odometry carried the pose, %d 1 m off; settled %d\n",
+              confirmed, runs, confirmed_off, settled);
+  EXPECT_GE(confirmed, runs * 9 / 10);
+  EXPECT_EQ(confirmed_off, 0);
+  EXPECT_GE(settled, runs * 9 / 10);
+}
+
 }  // namespace
 }  // namespace navd::localization
