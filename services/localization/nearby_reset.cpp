@@ -6,26 +6,32 @@ std::optional<PoseCandidate> NearbyReset::Check(const GlobalScanSearch& search, 
                                                 const std::vector<Point2>& points, const Expected* expected) const {
   if (!o_.enabled || !(quality < o_.below_quality)) return std::nullopt;
   const double contradicted = search.SeeThrough(estimate, points, o_.see_through_margin);
-  // A pose awaiting confirmation was drawn by a scan that contradicted the estimate; along a
+  // A pose awaiting confirmation was found by a scan that contradicted the estimate; along a
   // corridor the next may not, and the pose is looked for all the same.
   if (contradicted <= 0.0 && !expected) return std::nullopt;
-  const SearchWindow window{expected ? expected->pose : estimate, o_.radius, o_.max_turn, o_.blocks_refined};
+  // Around the estimate, unless the pose expected has left its reach.
+  const bool follow =
+      expected && Distance(expected->pose.translation(), estimate.translation()) + expected->tolerance_xy > o_.radius;
+  const SearchWindow window{follow ? expected->pose : estimate, o_.radius, o_.max_turn, o_.blocks_refined};
   const std::vector<PoseCandidate> candidates = search.Search(points, &window);
   if (candidates.empty() || candidates.front().score < o_.min_score) return std::nullopt;
   if (1.0 - candidates.front().score > o_.misfit_ratio * (1.0 - search.Score(estimate, points))) return std::nullopt;
+  // Fewer beams through walls than from the estimate; as few will do only for the pose expected.
   const double its = search.SeeThrough(candidates.front().pose, points, o_.see_through_margin);
-  if (expected ? its > contradicted : its >= contradicted) return std::nullopt;
+  if (its > contradicted || (its == contradicted && !(expected && Confirms(*expected, candidates.front().pose))))
+    return std::nullopt;
   return candidates.front();
 }
 
 NearbyReset::Expected NearbyReset::Expect(const Pose2& found, const Pose2& found_at, const Pose2& now) const {
   const double travel = Distance(found_at.translation(), now.translation());
-  return {found * (found_at.inverse() * now), o_.confirm_xy + o_.confirm_xy_per_metre * travel};
+  return {found * (found_at.inverse() * now), o_.confirm_xy + o_.confirm_xy_per_metre * travel,
+          o_.confirm_theta + o_.confirm_theta_per_metre * travel};
 }
 
 bool NearbyReset::Confirms(const Expected& expected, const Pose2& found) const {
   return Distance(expected.pose.translation(), found.translation()) < expected.tolerance_xy &&
-         std::abs(NormalizeAngle(expected.pose.theta - found.theta)) < o_.confirm_theta;
+         std::abs(NormalizeAngle(expected.pose.theta - found.theta)) < expected.tolerance_theta;
 }
 
 Pose2 NearbyReset::Settle(const GlobalScanSearch& search, const Pose2& carried,

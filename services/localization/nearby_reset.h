@@ -55,13 +55,15 @@ struct NearbyResetOptions {
   double good_quality = 0.8;
   // A pose farther than relocated_jump from the estimate is drawn around only once a second search
   // finds it again within this much of where the odometry since has carried it (m, rad), plus
-  // confirm_xy_per_metre of the odometry's travel between the two searches: each search's heading
-  // is good to a few hundredths of a radian, and a search that takes seconds while the robot
-  // drives on finds the second pose metres on.
+  // confirm_xy_per_metre of the straight-line distance between the odometry poses of the two
+  // searches: each search's heading is good to a few hundredths of a radian, and a search that
+  // takes seconds while the robot drives on finds the second pose metres on.
   double confirm_xy = 0.3, confirm_theta = 0.15;
   double confirm_xy_per_metre = 0.1;
-  // The searches after it are centred on where it should be (a lost estimate runs off); after this
-  // many of them find nothing, it is forgotten.
+  double confirm_theta_per_metre = 0.05;  // rad: the odometry's heading drifts as it goes too
+  // The searches after it are centred on where it should be once that is out of the estimate's
+  // reach (a lost estimate runs off meanwhile); a pose they find elsewhere awaits confirmation in
+  // its place, and after this many of them find nothing, it is forgotten.
   int confirm_searches = 3;
   // The search takes a scan or two while the robot drives on, and its pose, carried on by the
   // odometry to the scan that takes it, drifts with the odometry and the search's own heading
@@ -78,18 +80,19 @@ class NearbyReset {
   explicit NearbyReset(const NearbyResetOptions& options = {}) : o_(options) {}
   const NearbyResetOptions& options() const { return o_; }
   // Where a pose found away from the estimate should be found again: carried on by the odometry,
-  // within tolerance_xy (m) and the options' confirm_theta.
+  // within tolerance_xy (m) and tolerance_theta (rad).
   struct Expected {
     Pose2 pose;
-    double tolerance_xy = 0.0;
+    double tolerance_xy = 0.0, tolerance_theta = 0.0;
   };
   // Where a share of the particles should go for a scan with `points` whose estimate is
   // `estimate` and fits at `quality`, if anywhere: searched within `radius` of the estimate, or of
-  // `expected` while a pose awaits confirmation (a lost estimate runs off meanwhile).
+  // `expected` (a pose awaiting confirmation) once that is out of the estimate's reach.
   std::optional<PoseCandidate> Check(const GlobalScanSearch& search, const Pose2& estimate, double quality,
                                      const std::vector<Point2>& points, const Expected* expected = nullptr) const;
   // Where a pose `found` by a search at odometry `found_at` should be found by one at odometry
-  // `now`: tolerance confirm_xy, plus confirm_xy_per_metre of the travel between.
+  // `now`: tolerances confirm_xy and confirm_theta, plus confirm_xy_per_metre and
+  // confirm_theta_per_metre of the distance between the two.
   Expected Expect(const Pose2& found, const Pose2& found_at, const Pose2& now) const;
   // Whether `found` confirms the pose `expected`.
   bool Confirms(const Expected& expected, const Pose2& found) const;

@@ -76,6 +76,7 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   Reanchor(pose, covariance);
   scans_since_good_fit_ = std::numeric_limits<int>::max();
   unconfirmed_.reset();
+  ++poses_set_;
 }
 
 void ParticleFilterLocalizer::ResetForSearch(const Pose2& pose, const Eigen::Matrix3d& covariance) {
@@ -131,6 +132,7 @@ void ParticleFilterLocalizer::ScatterUniformly() {
   scan_search_due_ = o_.scan_search;
   scans_since_good_fit_ = std::numeric_limits<int>::max();
   unconfirmed_.reset();
+  ++poses_set_;
   last_odom_ = latest_odom_;
   moved_since_scan_ = true;
   w_slow_ = w_fast_ = 0.0;
@@ -275,7 +277,7 @@ void ParticleFilterLocalizer::StartNearbyReset(const ScanReading& scan) {
                                                 .Check(model->scan_search(options.scan_search_options), estimate,
                                                        quality, points, expected ? &*expected : nullptr);
                                           }),
-                               last_odom_, estimate_.pose, expected};
+                               last_odom_, estimate_.pose, expected, poses_set_};
 }
 
 bool ParticleFilterLocalizer::NearbyResetReady() const {
@@ -288,18 +290,23 @@ std::optional<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_sc
   const std::optional<PoseCandidate> found = nearby_reset_->found.get();
   const Pose2 odometry = nearby_reset_->odometry, estimate = nearby_reset_->estimate;
   const std::optional<NearbyReset::Expected> expected = nearby_reset_->expected;
+  const bool stale = nearby_reset_->poses_set != poses_set_;
   nearby_reset_.reset();
+  // Begun before the pose was set or scattered, or for a pose forgotten since (a good fit again).
+  if (stale || (expected && !unconfirmed_)) return std::nullopt;
   if (!found) {
-    // Looked for where it should be now, and not found: looked for again, a few times.
+    // A pose awaiting confirmation that a search did not find is looked for again, a few times.
     if (unconfirmed_ && ++unconfirmed_searches_ >= o_.nearby_reset.confirm_searches) unconfirmed_.reset();
     return std::nullopt;
   }
   const Pose2 here = found->pose * (odometry.inverse() * at_scan);
-  if (Distance(found->pose.translation(), estimate.translation()) <= o_.nearby_reset.relocated_jump) return here;
   if (expected && NearbyReset(o_.nearby_reset).Confirms(*expected, found->pose)) {
     unconfirmed_.reset();
     return here;
   }
+  if (!expected && Distance(found->pose.translation(), estimate.translation()) <= o_.nearby_reset.relocated_jump)
+    return here;
+  // A pose found elsewhere awaits confirmation in its place.
   unconfirmed_ = found->pose;
   unconfirmed_at_ = odometry;
   unconfirmed_searches_ = 0;

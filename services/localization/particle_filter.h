@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <future>
 #include <limits>
 #include <memory>
@@ -199,6 +200,7 @@ class ParticleFilterLocalizer : public Localizer {
     Pose2 odometry;                                 // at the searched scan
     Pose2 estimate;                                 // then
     std::optional<NearbyReset::Expected> expected;  // of the pose awaiting confirmation
+    uint64_t poses_set = 0;                         // poses_set_ when it began
   };
   std::optional<PendingReset> nearby_reset_;
   // A pose found farther than relocated_jump from the estimate waits to be found again by the next
@@ -206,7 +208,8 @@ class ParticleFilterLocalizer : public Localizer {
   // well, seldom the same wrong pose two scans running. Map frame at the odometry `unconfirmed_at_`.
   std::optional<Pose2> unconfirmed_;
   Pose2 unconfirmed_at_;
-  int unconfirmed_searches_ = 0;                                // searches since that found nothing
+  int unconfirmed_searches_ = 0;                                // searches since that did not find it again
+  uint64_t poses_set_ = 0;                                      // times the pose was set or scattered over the map
   int scans_since_good_fit_ = std::numeric_limits<int>::max();  // since the pose was last set
   bool initialised_ = false;
   bool global_mode_ = false;  // relocalising globally: likelihood tempered

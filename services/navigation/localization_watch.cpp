@@ -50,6 +50,7 @@ void LocalizationWatch::CountSearchFits(bool* settling) {
   const localization::PoseEstimate found = localizer_.SearchEstimate();
   if (!found.valid) {
     search_beside_ = false;  // ended by someone else (a pose set, a new map)
+    search_fits_ = 0;
     return;
   }
   if (found.stamp != search_stamp_) {
@@ -100,7 +101,7 @@ void LocalizationWatch::Search(const localization::PoseEstimate& estimate, const
     }
   } else if (now < global_search_at_) {
     return;
-  } else if (search_settling || search_fits_ > 0) {
+  } else if (search_settling || (search_beside_ && search_fits_ > 0)) {
     // Still spread over the map, or settled where its last scan fitted as a found pose does: let
     // it settle or confirm rather than scatter it again.
     global_search_at_ = now + options_.global_search_every;

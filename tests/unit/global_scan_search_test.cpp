@@ -109,8 +109,9 @@ TEST(GlobalScanSearch, SearchesAMapOfGradedValuesAsItsSavedForm) {
 
 // Clutter is not a lost pose. In the warehouse, with a cart (a disc of 0.35 m) 0.6-1 m from the
 // robot hiding the racks behind it, a scan fits the true pose poorly, yet from the true pose it
-// passes through no wall (SeeThrough 0), and the nearby reset draws no pose away from it. A robot
-// 2 m from the estimate is still found: the scan passes through walls from the estimate.
+// passes through no wall (SeeThrough 0), and the nearby reset draws no pose away from it, nor
+// while a pose 2 m off awaits confirmation. A robot 2 m from the estimate is still found: the
+// scan passes through walls from the estimate.
 TEST(NearbyReset, LeavesARightEstimateAmongCartsAloneAndFindsAMovedRobot) {
   const World world = DefaultWorld();
   const LikelihoodField field(world.map);
@@ -145,14 +146,19 @@ TEST(NearbyReset, LeavesARightEstimateAmongCartsAloneAndFindsAMovedRobot) {
     EXPECT_EQ(search.SeeThrough(truth, cluttered, 0.15), 0.0);
     const std::optional<PoseCandidate> drawn = reset.Check(search, truth, 0.5, cluttered);
     if (drawn && Distance(drawn->pose.translation(), truth.translation()) > 0.5) ++wrong_draws;
+    // Nor while a pose 2 m off awaits confirmation: found there, it would be drawn.
+    const NearbyReset::Expected elsewhere{truth * Pose2(0.0, 2.0, 0.0), 0.5, 0.2};
+    const std::optional<PoseCandidate> confirmed = reset.Check(search, truth, 0.5, cluttered, &elsewhere);
+    if (confirmed && Distance(confirmed->pose.translation(), truth.translation()) > 0.5) ++wrong_draws;
     const Pose2 beside = truth * Pose2(0.0, 2.0, 0.0);
     if (run % 3 != 0 || caster.Clearance(beside.translation()) < 0.4) continue;
     ++moved_runs;
     const std::optional<PoseCandidate> found = reset.Check(search, beside, 0.5, ScanFrom(caster, truth));
     if (found && Distance(found->pose.translation(), truth.translation()) < 0.3) ++moved_found;
   }
-  std::printf("nearby reset: poses drawn away from a right estimate among carts %d of 60, moved robot found %d of %d\n",
-              wrong_draws, moved_found, moved_runs);
+  std::printf(
+      "nearby reset: poses drawn away from a right estimate among carts %d of 120, moved robot found %d of %d\n",
+      wrong_draws, moved_found, moved_runs);
   EXPECT_EQ(wrong_draws, 0);
   EXPECT_GE(moved_runs, 5);
   EXPECT_GE(moved_found, moved_runs * 9 / 10);
@@ -179,8 +185,12 @@ TEST(NearbyReset, LooksForAPoseAwaitingConfirmationWhereTheOdometryCarriedIt) {
     if (caster.Clearance(truth.translation()) < 0.5) continue;
     ++runs;
     const std::vector<Point2> points = ScanFrom(caster, truth);
-    const Pose2 found = truth * Pose2(-1.0, 0.0, 0.0);  // where the first search found the robot
-    const NearbyReset::Expected expected = reset.Expect(found, Pose2(), Pose2(1.0, 0.0, 0.0));
+    // The first search found the robot 1 m back, at odometry `found_at` (its own frame, turned
+    // from the map's).
+    const Pose2 found = truth * Pose2(-1.0, 0.0, 0.0);
+    const Pose2 found_at(3.0, -2.0, 1.2), now = found_at * Pose2(1.0, 0.0, 0.0);
+    const NearbyReset::Expected expected = reset.Expect(found, found_at, now);
+    EXPECT_LT(Distance(expected.pose.translation(), truth.translation()), 1e-9);
     EXPECT_NEAR(expected.tolerance_xy, reset.options().confirm_xy + reset.options().confirm_xy_per_metre, 1e-9);
     const Pose2 run_off = truth * Pose2(0.0, 6.0, 0.0);
     const std::optional<PoseCandidate> again = reset.Check(search, run_off, 0.2, points, &expected);
