@@ -15,6 +15,16 @@
 namespace navd::localization {
 namespace {
 
+// A pose anywhere on `map`, any heading, at least 0.5 m from every wall.
+Pose2 RandomClearPose(const OccupancyGrid& map, const RayCaster& caster, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  while (true) {
+    const Pose2 p{map.origin().x() + u(rng) * map.width() * map.resolution(),
+                  map.origin().y() + u(rng) * map.height() * map.resolution(), NormalizeAngle(u(rng) * 2 * M_PI)};
+    if (caster.Clearance(p.translation()) > 0.5) return p;
+  }
+}
+
 // End points (robot frame) of a 360-degree, 8 m laser at `pose`, as navsim's; no-returns dropped.
 std::vector<Point2> ScanFrom(const RayCaster& caster, const Pose2& pose) {
   std::vector<Point2> points;
@@ -120,17 +130,9 @@ TEST(NearbyReset, LeavesARightEstimateAmongCartsAloneAndFindsAMovedRobot) {
   const NearbyReset reset;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  auto free_pose = [&] {
-    while (true) {
-      const Pose2 p{world.map.origin().x() + u(rng) * world.map.width() * world.map.resolution(),
-                    world.map.origin().y() + u(rng) * world.map.height() * world.map.resolution(),
-                    NormalizeAngle(u(rng) * 2 * M_PI)};
-      if (caster.Clearance(p.translation()) > 0.5) return p;
-    }
-  };
   int wrong_draws = 0, moved_found = 0, moved_runs = 0;
   for (int run = 0; run < 60; ++run) {
-    const Pose2 truth = free_pose();
+    const Pose2 truth = RandomClearPose(world.map, caster, rng);
     // The cart, robot frame, and the scan with it.
     const double bearing = (u(rng) - 0.5) * 2.0 * M_PI, distance = 0.6 + 0.4 * u(rng), radius = 0.35;
     const Point2 cart = distance * Point2(std::cos(bearing), std::sin(bearing));
@@ -176,14 +178,9 @@ TEST(NearbyReset, LooksForAPoseAwaitingConfirmationWhereTheOdometryCarriedIt) {
   const RayCaster caster(world.map);
   const NearbyReset reset;
   std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
   int runs = 0, confirmed = 0, confirmed_off = 0, settled = 0;
-  while (runs < 30) {
-    const Pose2 truth{world.map.origin().x() + u(rng) * world.map.width() * world.map.resolution(),
-                      world.map.origin().y() + u(rng) * world.map.height() * world.map.resolution(),
-                      NormalizeAngle(u(rng) * 2 * M_PI)};
-    if (caster.Clearance(truth.translation()) < 0.5) continue;
-    ++runs;
+  for (; runs < 30; ++runs) {
+    const Pose2 truth = RandomClearPose(world.map, caster, rng);
     const std::vector<Point2> points = ScanFrom(caster, truth);
     // The first search found the robot 1 m back, at odometry `found_at` (its own frame, turned
     // from the map's).
