@@ -1,9 +1,11 @@
 #include "services/localization/nearby_reset.h"
+#include <algorithm>
 
 namespace navd::localization {
 
-std::optional<PoseCandidate> NearbyReset::Check(const GlobalScanSearch& search, const Pose2& estimate, double quality,
-                                                const std::vector<Point2>& points, const Expected* expected) const {
+std::optional<NearbyReset::Found> NearbyReset::Check(const GlobalScanSearch& search, const Pose2& estimate,
+                                                     double quality, const std::vector<Point2>& points,
+                                                     const Expected* expected) const {
   if (!o_.enabled || !(quality < o_.below_quality)) return std::nullopt;
   const double contradicted = search.SeeThrough(estimate, points, o_.see_through_margin);
   // A pose awaiting confirmation was found by a scan that contradicted the estimate; along a
@@ -20,7 +22,14 @@ std::optional<PoseCandidate> NearbyReset::Check(const GlobalScanSearch& search, 
   const double its = search.SeeThrough(candidates.front().pose, points, o_.see_through_margin);
   if (its > contradicted || (its == contradicted && !(expected && Confirms(*expected, candidates.front().pose))))
     return std::nullopt;
-  return candidates.front();
+  Found found{candidates.front(), {}};
+  for (size_t i = 1; i < candidates.size() && static_cast<int>(found.rivals.size()) < o_.max_rivals; ++i) {
+    if (candidates[i].score >= o_.min_score &&
+        1.0 - candidates[i].score <= o_.rival_misfit_ratio * (1.0 - candidates.front().score) &&
+        Distance(candidates[i].pose.translation(), candidates.front().pose.translation()) >= o_.rival_distance)
+      found.rivals.push_back(candidates[i]);
+  }
+  return found;
 }
 
 NearbyReset::Expected NearbyReset::Expect(const Pose2& found, const Pose2& found_at, const Pose2& now) const {
@@ -32,6 +41,32 @@ NearbyReset::Expected NearbyReset::Expect(const Pose2& found, const Pose2& found
 bool NearbyReset::Confirms(const Expected& expected, const Pose2& found) const {
   return Distance(expected.pose.translation(), found.translation()) < expected.tolerance_xy &&
          std::abs(NormalizeAngle(expected.pose.theta - found.theta)) < expected.tolerance_theta;
+}
+
+std::optional<Pose2> NearbyReset::ConfirmWhereCarried(const GlobalScanSearch& search, const Found& found,
+                                                      const Pose2& found_at, const Pose2& now, const Pose2& estimate,
+                                                      const std::vector<Point2>& points) const {
+  const double misfit_there = 1.0 - search.Score(estimate, points);
+  const double contradicted = search.SeeThrough(estimate, points, o_.see_through_margin);
+  std::vector<PoseCandidate> fits;
+  auto try_pose = [&](const Pose2& pose) {
+    const Expected expected = Expect(pose, found_at, now);
+    const SearchWindow window{expected.pose, expected.tolerance_xy, expected.tolerance_theta, o_.blocks_refined};
+    const std::vector<PoseCandidate> candidates = search.Search(points, &window);
+    if (candidates.empty() || candidates.front().score < o_.min_score ||
+        1.0 - candidates.front().score > o_.misfit_ratio * misfit_there ||
+        search.SeeThrough(candidates.front().pose, points, o_.see_through_margin) > contradicted)
+      return;
+    for (const PoseCandidate& fit : fits)
+      if (Distance(fit.pose.translation(), candidates.front().pose.translation()) < o_.rival_distance) return;
+    fits.push_back(candidates.front());
+  };
+  try_pose(found.best.pose);
+  for (const PoseCandidate& rival : found.rivals) try_pose(rival.pose);
+  if (fits.empty()) return std::nullopt;
+  std::sort(fits.begin(), fits.end(), [](const PoseCandidate& a, const PoseCandidate& b) { return a.score > b.score; });
+  if (fits.size() > 1 && 1.0 - fits[0].score > o_.misfit_ratio * (1.0 - fits[1].score)) return std::nullopt;
+  return fits.front().pose;
 }
 
 Pose2 NearbyReset::Settle(const GlobalScanSearch& search, const Pose2& carried,

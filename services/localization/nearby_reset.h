@@ -31,6 +31,11 @@ struct NearbyResetOptions {
   // estimate at 0.88 and its true pose 3 m on at 0.96 has a third of the misfit there.
   double min_score = 0.85;
   double misfit_ratio = 0.5;
+  // Another pose the scan fits with at most rival_misfit_ratio times the best pose's misfit, and at
+  // least rival_distance (m) from it, is a rival: a later scan chooses between them.
+  double rival_misfit_ratio = 1.5;
+  double rival_distance = 1.0;
+  int max_rivals = 3;
   // Clutter is not a lost pose: people, carts and boxes in front of the walls make a right
   // estimate fit poorly, and a search among look-alike racks then finds a wrong pose that fits
   // better, but from the right estimate the scan passes through no wall. A pose is drawn around
@@ -53,11 +58,11 @@ struct NearbyResetOptions {
   // look-alike racks may fit as well as the true one.
   int within_scans = 10;
   double good_quality = 0.8;
-  // A pose farther than relocated_jump from the estimate is drawn around only once a second search
-  // finds it again within this much of where the odometry since has carried it (m, rad), plus
-  // confirm_xy_per_metre of the straight-line distance between the odometry poses of the two
-  // searches: each search's heading is good to a few hundredths of a radian, and a search that
-  // takes seconds while the robot drives on finds the second pose metres on.
+  // A pose farther than relocated_jump from the estimate is drawn around only once a later scan
+  // fits it (ConfirmWhereCarried), or a second search finds it again, within this much of where
+  // the odometry since has carried it (m, rad), plus confirm_xy_per_metre of the straight-line
+  // distance between the two odometry poses: each search's heading is good to a few hundredths of
+  // a radian, and a search that takes seconds while the robot drives on finds the pose metres on.
   double confirm_xy = 0.3, confirm_theta = 0.15;
   double confirm_xy_per_metre = 0.1;
   double confirm_theta_per_metre = 0.05;  // rad: the odometry's heading drifts as it goes too
@@ -85,17 +90,32 @@ class NearbyReset {
     Pose2 pose;
     double tolerance_xy = 0.0, tolerance_theta = 0.0;
   };
+  // A search's find: the pose the scan fits best, and the other poses, rival_distance or farther
+  // from it, that it fits nearly as well (look-alike places along a corridor: misfit within
+  // rival_misfit_ratio of the best's), for a later scan to choose between.
+  struct Found {
+    PoseCandidate best;
+    std::vector<PoseCandidate> rivals;
+  };
   // Where a share of the particles should go for a scan with `points` whose estimate is
   // `estimate` and fits at `quality`, if anywhere: searched within `radius` of the estimate, or of
   // `expected` (a pose awaiting confirmation) once that is out of the estimate's reach.
-  std::optional<PoseCandidate> Check(const GlobalScanSearch& search, const Pose2& estimate, double quality,
-                                     const std::vector<Point2>& points, const Expected* expected = nullptr) const;
+  std::optional<Found> Check(const GlobalScanSearch& search, const Pose2& estimate, double quality,
+                             const std::vector<Point2>& points, const Expected* expected = nullptr) const;
   // Where a pose `found` by a search at odometry `found_at` should be found by one at odometry
   // `now`: tolerances confirm_xy and confirm_theta, plus confirm_xy_per_metre and
   // confirm_theta_per_metre of the distance between the two.
   Expected Expect(const Pose2& found, const Pose2& found_at, const Pose2& now) const;
   // Whether `found` confirms the pose `expected`.
   bool Confirms(const Expected& expected, const Pose2& found) const;
+  // Which pose of `found` (searched at odometry `found_at`) a later scan with `points`, at
+  // odometry `now`, confirms without another search: the one it fits, where the odometry has
+  // carried it, as a search's find must fit (min_score, and misfit_ratio of its misfit at
+  // `estimate`, through no more walls than from there), and decisively better (misfit_ratio) than
+  // any other that fits so. Nothing when none does, or more than one alike.
+  std::optional<Pose2> ConfirmWhereCarried(const GlobalScanSearch& search, const Found& found, const Pose2& found_at,
+                                           const Pose2& now, const Pose2& estimate,
+                                           const std::vector<Point2>& points) const;
   // `carried` (a found pose carried on by the odometry to a later scan with `points`) where that
   // scan fits best within carried_xy and carried_theta, or `carried` if it fits nowhere there.
   Pose2 Settle(const GlobalScanSearch& search, const Pose2& carried, const std::vector<Point2>& points) const;

@@ -228,10 +228,10 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   MoveParticles(last_odom_, at_scan);
   last_odom_ = at_scan;
   if (candidates && scan_search_due_ && searched == model_) DrawAround(*candidates);
-  std::optional<Pose2> drawn = TakeNearbyReset(at_scan);
+  const std::vector<Point2> points = ScanEndPoints(scan, 0);
+  std::optional<Pose2> drawn = TakeNearbyReset(at_scan, carried, points);
   if (drawn) {
-    drawn = NearbyReset(o_.nearby_reset)
-                .Settle(model_->scan_search(o_.scan_search_options), *drawn, ScanEndPoints(scan, 0));
+    drawn = NearbyReset(o_.nearby_reset).Settle(model_->scan_search(o_.scan_search_options), *drawn, points);
     DrawShareAround(*drawn);
   }
   const std::vector<Point2> ends = ScanEndPoints(scan, o_.beams);
@@ -285,9 +285,10 @@ bool ParticleFilterLocalizer::NearbyResetReady() const {
                            nearby_reset_->found.wait_for(std::chrono::seconds(0)) == std::future_status::ready);
 }
 
-std::optional<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_scan) {
+std::optional<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_scan, const Pose2& carried,
+                                                              const std::vector<Point2>& points) {
   if (!NearbyResetReady()) return std::nullopt;
-  const std::optional<PoseCandidate> found = nearby_reset_->found.get();
+  const std::optional<NearbyReset::Found> found = nearby_reset_->found.get();
   const Pose2 odometry = nearby_reset_->odometry, estimate = nearby_reset_->estimate;
   const std::optional<NearbyReset::Expected> expected = nearby_reset_->expected;
   const bool stale = nearby_reset_->poses_set != poses_set_;
@@ -299,15 +300,23 @@ std::optional<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_sc
     if (unconfirmed_ && ++unconfirmed_searches_ >= o_.nearby_reset.confirm_searches) unconfirmed_.reset();
     return std::nullopt;
   }
-  const Pose2 here = found->pose * (odometry.inverse() * at_scan);
-  if (expected && NearbyReset(o_.nearby_reset).Confirms(*expected, found->pose)) {
+  const NearbyReset reset(o_.nearby_reset);
+  const Pose2& pose = found->best.pose;
+  const Pose2 here = pose * (odometry.inverse() * at_scan);
+  if (expected && reset.Confirms(*expected, pose)) {
     unconfirmed_.reset();
     return here;
   }
-  if (!expected && Distance(found->pose.translation(), estimate.translation()) <= o_.nearby_reset.relocated_jump)
-    return here;
-  // A pose found elsewhere awaits confirmation in its place.
-  unconfirmed_ = found->pose;
+  if (!expected && Distance(pose.translation(), estimate.translation()) <= o_.nearby_reset.relocated_jump) return here;
+  // A pose found elsewhere: this scan confirms it where the odometry has carried it, or it awaits
+  // the next search's confirmation.
+  const std::optional<Pose2> confirmed = reset.ConfirmWhereCarried(model_->scan_search(o_.scan_search_options), *found,
+                                                                   odometry, at_scan, carried, points);
+  if (confirmed) {
+    unconfirmed_.reset();
+    return confirmed;
+  }
+  unconfirmed_ = pose;
   unconfirmed_at_ = odometry;
   unconfirmed_searches_ = 0;
   return std::nullopt;

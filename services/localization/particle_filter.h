@@ -157,10 +157,13 @@ class ParticleFilterLocalizer : public Localizer {
   // The nearby reset: a search of the scan just weighed, started beside the filter when it fits
   // poorly; and, at a later scan (odometry `at_scan`), the pose it found carried on to that scan by
   // the odometry since. A new pose or a global search leaves a running search be: the pose it
-  // finds is where the scans fit, whatever the filter was told meanwhile. With the mutex held.
+  // finds is where the scans fit, whatever the filter was told meanwhile. A pose found away from
+  // the estimate is drawn around once confirmed: by that later scan's `points` fitting where it was
+  // carried (from the estimate carried to it, `carried`), or failing that by the next search.
+  // With the mutex held.
   void StartNearbyReset(const ScanReading& scan);
   bool NearbyResetReady() const;  // a search has ended (or is to be waited for)
-  std::optional<Pose2> TakeNearbyReset(const Pose2& at_scan);
+  std::optional<Pose2> TakeNearbyReset(const Pose2& at_scan, const Pose2& carried, const std::vector<Point2>& points);
   // Posterior weights from the sensor log-likelihoods (summed over `beams` beams), resampling,
   // estimate; with the mutex held.
   void Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams);
@@ -196,16 +199,17 @@ class ParticleFilterLocalizer : public Localizer {
   double w_slow_ = 0.0, w_fast_ = 0.0;
   PoseEstimate estimate_;
   struct PendingReset {
-    std::future<std::optional<PoseCandidate>> found;
+    std::future<std::optional<NearbyReset::Found>> found;
     Pose2 odometry;                                 // at the searched scan
     Pose2 estimate;                                 // then
     std::optional<NearbyReset::Expected> expected;  // of the pose awaiting confirmation
     uint64_t poses_set = 0;                         // poses_set_ when it began
   };
   std::optional<PendingReset> nearby_reset_;
-  // A pose found farther than relocated_jump from the estimate waits to be found again by the next
-  // search where the odometry since puts it: a map that lacks a wall lets a wrong pose fit one scan
-  // well, seldom the same wrong pose two scans running. Map frame at the odometry `unconfirmed_at_`.
+  // A pose found farther than relocated_jump from the estimate that the scan after its search did
+  // not confirm waits to be found again by the next search where the odometry since puts it: a
+  // map that lacks a wall lets a wrong pose fit one scan well, seldom the same wrong pose two scans
+  // running. Map frame at the odometry `unconfirmed_at_`.
   std::optional<Pose2> unconfirmed_;
   Pose2 unconfirmed_at_;
   int unconfirmed_searches_ = 0;                                // searches since that did not find it again
