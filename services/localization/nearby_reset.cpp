@@ -1,4 +1,5 @@
 #include "services/localization/nearby_reset.h"
+
 #include <algorithm>
 
 namespace navd::localization {
@@ -17,17 +18,18 @@ std::optional<NearbyReset::Found> NearbyReset::Check(const GlobalScanSearch& sea
   const SearchWindow window{follow ? expected->pose : estimate, o_.radius, o_.max_turn, o_.blocks_refined};
   const std::vector<PoseCandidate> candidates = search.Search(points, &window);
   if (candidates.empty() || candidates.front().score < o_.min_score) return std::nullopt;
-  if (1.0 - candidates.front().score > o_.misfit_ratio * (1.0 - search.Score(estimate, points))) return std::nullopt;
+  const double misfit_there = 1.0 - search.Score(estimate, points);
+  if (1.0 - candidates.front().score > o_.misfit_ratio * misfit_there) return std::nullopt;
   // Fewer beams through walls than from the estimate; as few will do only for the pose expected.
   const double its = search.SeeThrough(candidates.front().pose, points, o_.see_through_margin);
   if (its > contradicted || (its == contradicted && !(expected && Confirms(*expected, candidates.front().pose))))
     return std::nullopt;
   Found found{candidates.front(), {}};
   for (size_t i = 1; i < candidates.size() && static_cast<int>(found.rivals.size()) < o_.max_rivals; ++i) {
-    if (candidates[i].score >= o_.min_score &&
-        1.0 - candidates[i].score <= o_.rival_misfit_ratio * (1.0 - candidates.front().score) &&
-        Distance(candidates[i].pose.translation(), candidates.front().pose.translation()) >= o_.rival_distance)
-      found.rivals.push_back(candidates[i]);
+    const PoseCandidate& c = candidates[i];
+    const bool apart = Distance(c.pose.translation(), found.best.pose.translation()) >= o_.rival_distance ||
+                       std::abs(NormalizeAngle(c.pose.theta - found.best.pose.theta)) >= o_.rival_turn;
+    if (apart && c.score >= o_.min_score) found.rivals.push_back(c);
   }
   return found;
 }
@@ -43,11 +45,13 @@ bool NearbyReset::Confirms(const Expected& expected, const Pose2& found) const {
          std::abs(NormalizeAngle(expected.pose.theta - found.theta)) < expected.tolerance_theta;
 }
 
-std::optional<Pose2> NearbyReset::ConfirmWhereCarried(const GlobalScanSearch& search, const Found& found,
-                                                      const Pose2& found_at, const Pose2& now, const Pose2& estimate,
-                                                      const std::vector<Point2>& points) const {
+std::vector<Pose2> NearbyReset::ConfirmWhereCarried(const GlobalScanSearch& search, const Found& found,
+                                                    const Pose2& found_at, const Pose2& now, const Pose2& estimate,
+                                                    const std::vector<Point2>& points) const {
   const double misfit_there = 1.0 - search.Score(estimate, points);
   const double contradicted = search.SeeThrough(estimate, points, o_.see_through_margin);
+  // Where the scan fits each pose carried on, best first; a hypothesis that fits as a find must
+  // counts, whether or not it is the one confirmed.
   std::vector<PoseCandidate> fits;
   auto try_pose = [&](const Pose2& pose) {
     const Expected expected = Expect(pose, found_at, now);
@@ -57,16 +61,23 @@ std::optional<Pose2> NearbyReset::ConfirmWhereCarried(const GlobalScanSearch& se
         1.0 - candidates.front().score > o_.misfit_ratio * misfit_there ||
         search.SeeThrough(candidates.front().pose, points, o_.see_through_margin) > contradicted)
       return;
-    for (const PoseCandidate& fit : fits)
-      if (Distance(fit.pose.translation(), candidates.front().pose.translation()) < o_.rival_distance) return;
     fits.push_back(candidates.front());
   };
   try_pose(found.best.pose);
   for (const PoseCandidate& rival : found.rivals) try_pose(rival.pose);
-  if (fits.empty()) return std::nullopt;
   std::sort(fits.begin(), fits.end(), [](const PoseCandidate& a, const PoseCandidate& b) { return a.score > b.score; });
-  if (fits.size() > 1 && 1.0 - fits[0].score > o_.misfit_ratio * (1.0 - fits[1].score)) return std::nullopt;
-  return fits.front().pose;
+  // Two hypotheses carried onto one place are one; another that the best fits no more than
+  // decisively better is confirmed beside it, and the next scans choose.
+  std::vector<Pose2> confirmed;
+  for (const PoseCandidate& fit : fits) {
+    const bool again = std::any_of(confirmed.begin(), confirmed.end(), [&](const Pose2& pose) {
+      return Distance(fit.pose.translation(), pose.translation()) < o_.rival_distance &&
+             std::abs(NormalizeAngle(fit.pose.theta - pose.theta)) < o_.rival_turn;
+    });
+    if (!again && (confirmed.empty() || 1.0 - fits.front().score >= o_.misfit_ratio * (1.0 - fit.score)))
+      confirmed.push_back(fit.pose);
+  }
+  return confirmed;
 }
 
 Pose2 NearbyReset::Settle(const GlobalScanSearch& search, const Pose2& carried,

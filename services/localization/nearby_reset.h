@@ -31,11 +31,11 @@ struct NearbyResetOptions {
   // estimate at 0.88 and its true pose 3 m on at 0.96 has a third of the misfit there.
   double min_score = 0.85;
   double misfit_ratio = 0.5;
-  // Another pose the scan fits with at most rival_misfit_ratio times the best pose's misfit, and at
-  // least rival_distance (m) from it, is a rival: a later scan chooses between them.
-  double rival_misfit_ratio = 1.5;
+  // Another pose the scan fits at min_score or better, rival_distance (m) or rival_turn (rad) from
+  // the best, is a rival: a later scan chooses between them. The max_rivals best are kept.
   double rival_distance = 1.0;
-  int max_rivals = 3;
+  double rival_turn = 0.3;
+  int max_rivals = 5;
   // Clutter is not a lost pose: people, carts and boxes in front of the walls make a right
   // estimate fit poorly, and a search among look-alike racks then finds a wrong pose that fits
   // better, but from the right estimate the scan passes through no wall. A pose is drawn around
@@ -45,7 +45,7 @@ struct NearbyResetOptions {
   // the same (the scan that found it contradicted the estimate; along a corridor the next one may
   // not), and confirmed where no more beams pass through a wall from it than from the estimate.
   double see_through_margin = 0.15;  // m
-  double share = 0.1;                // of the particles drawn around it
+  double share = 0.1;                // of the particles drawn around it (shared out when several are)
   double sigma_xy = 0.1, sigma_theta = 0.05;
   int blocks_refined = 30;  // coarse places searched finely (GlobalScanSearch)
   // Whether the next scan waits for a search still running (each run the same, as offline
@@ -90,9 +90,8 @@ class NearbyReset {
     Pose2 pose;
     double tolerance_xy = 0.0, tolerance_theta = 0.0;
   };
-  // A search's find: the pose the scan fits best, and the other poses, rival_distance or farther
-  // from it, that it fits nearly as well (look-alike places along a corridor: misfit within
-  // rival_misfit_ratio of the best's), for a later scan to choose between.
+  // A search's find: the pose the scan fits best, and the other poses it fits nearly as well
+  // (look-alike places along a corridor), for a later scan to choose between.
   struct Found {
     PoseCandidate best;
     std::vector<PoseCandidate> rivals;
@@ -108,14 +107,15 @@ class NearbyReset {
   Expected Expect(const Pose2& found, const Pose2& found_at, const Pose2& now) const;
   // Whether `found` confirms the pose `expected`.
   bool Confirms(const Expected& expected, const Pose2& found) const;
-  // Which pose of `found` (searched at odometry `found_at`) a later scan with `points`, at
-  // odometry `now`, confirms without another search: the one it fits, where the odometry has
-  // carried it, as a search's find must fit (min_score, and misfit_ratio of its misfit at
-  // `estimate`, through no more walls than from there), and decisively better (misfit_ratio) than
-  // any other that fits so. Nothing when none does, or more than one alike.
-  std::optional<Pose2> ConfirmWhereCarried(const GlobalScanSearch& search, const Found& found, const Pose2& found_at,
-                                           const Pose2& now, const Pose2& estimate,
-                                           const std::vector<Point2>& points) const;
+  // Which poses of `found` (searched at odometry `found_at`) a later scan with `points`, at
+  // odometry `now`, confirms without another search: where the odometry has carried them, the
+  // scan fits them as a search's find must (min_score, and misfit_ratio of its misfit at
+  // `estimate`, through no more walls than from there); of those, the best, and beside it every
+  // other that the best does not fit decisively better (misfit_ratio), for the next scans to
+  // choose between. Empty when the scan fits none.
+  std::vector<Pose2> ConfirmWhereCarried(const GlobalScanSearch& search, const Found& found, const Pose2& found_at,
+                                         const Pose2& now, const Pose2& estimate,
+                                         const std::vector<Point2>& points) const;
   // `carried` (a found pose carried on by the odometry to a later scan with `points`) where that
   // scan fits best within carried_xy and carried_theta, or `carried` if it fits nowhere there.
   Pose2 Settle(const GlobalScanSearch& search, const Pose2& carried, const std::vector<Point2>& points) const;

@@ -229,11 +229,10 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   last_odom_ = at_scan;
   if (candidates && scan_search_due_ && searched == model_) DrawAround(*candidates);
   const std::vector<Point2> points = ScanEndPoints(scan, 0);
-  std::optional<Pose2> drawn = TakeNearbyReset(at_scan, carried, points);
-  if (drawn) {
-    drawn = NearbyReset(o_.nearby_reset).Settle(model_->scan_search(o_.scan_search_options), *drawn, points);
-    DrawShareAround(*drawn);
-  }
+  std::vector<Pose2> drawn = TakeNearbyReset(at_scan, carried, points);
+  for (Pose2& pose : drawn)
+    pose = NearbyReset(o_.nearby_reset).Settle(model_->scan_search(o_.scan_search_options), pose, points);
+  DrawShareAround(drawn);
   const std::vector<Point2> ends = ScanEndPoints(scan, o_.beams);
   if (ends.size() < 5) return false;  // too little to judge by
   std::vector<double> sensor(particles_.size());
@@ -250,8 +249,9 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   Reweigh(ends, sensor, beam_count);
   // Relocated: the scan moved the estimate far from where the odometry put it, to the draws.
   const double moved = Distance(estimate_.pose.translation(), carried.translation());
-  if (drawn && moved > o_.nearby_reset.relocated_jump &&
-      Distance(estimate_.pose.translation(), drawn->translation()) < moved)
+  if (moved > o_.nearby_reset.relocated_jump && std::any_of(drawn.begin(), drawn.end(), [&](const Pose2& pose) {
+        return Distance(estimate_.pose.translation(), pose.translation()) < moved;
+      }))
     ++estimate_.relocations;
   StartNearbyReset(scan);
   return true;
@@ -285,52 +285,55 @@ bool ParticleFilterLocalizer::NearbyResetReady() const {
                            nearby_reset_->found.wait_for(std::chrono::seconds(0)) == std::future_status::ready);
 }
 
-std::optional<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_scan, const Pose2& carried,
-                                                              const std::vector<Point2>& points) {
-  if (!NearbyResetReady()) return std::nullopt;
+std::vector<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_scan, const Pose2& carried,
+                                                            const std::vector<Point2>& points) {
+  if (!NearbyResetReady()) return {};
   const std::optional<NearbyReset::Found> found = nearby_reset_->found.get();
   const Pose2 odometry = nearby_reset_->odometry, estimate = nearby_reset_->estimate;
   const std::optional<NearbyReset::Expected> expected = nearby_reset_->expected;
   const bool stale = nearby_reset_->poses_set != poses_set_;
   nearby_reset_.reset();
   // Begun before the pose was set or scattered, or for a pose forgotten since (a good fit again).
-  if (stale || (expected && !unconfirmed_)) return std::nullopt;
+  if (stale || (expected && !unconfirmed_)) return {};
   if (!found) {
     // A pose awaiting confirmation that a search did not find is looked for again, a few times.
     if (unconfirmed_ && ++unconfirmed_searches_ >= o_.nearby_reset.confirm_searches) unconfirmed_.reset();
-    return std::nullopt;
+    return {};
   }
   const NearbyReset reset(o_.nearby_reset);
   const Pose2& pose = found->best.pose;
   const Pose2 here = pose * (odometry.inverse() * at_scan);
   if (expected && reset.Confirms(*expected, pose)) {
     unconfirmed_.reset();
-    return here;
+    return {here};
   }
-  if (!expected && Distance(pose.translation(), estimate.translation()) <= o_.nearby_reset.relocated_jump) return here;
+  if (!expected && Distance(pose.translation(), estimate.translation()) <= o_.nearby_reset.relocated_jump)
+    return {here};
   // A pose found elsewhere: this scan confirms it where the odometry has carried it, or it awaits
   // the next search's confirmation.
-  const std::optional<Pose2> confirmed = reset.ConfirmWhereCarried(model_->scan_search(o_.scan_search_options), *found,
-                                                                   odometry, at_scan, carried, points);
-  if (confirmed) {
+  std::vector<Pose2> confirmed = reset.ConfirmWhereCarried(model_->scan_search(o_.scan_search_options), *found,
+                                                           odometry, at_scan, carried, points);
+  if (!confirmed.empty()) {
     unconfirmed_.reset();
     return confirmed;
   }
   unconfirmed_ = pose;
   unconfirmed_at_ = odometry;
   unconfirmed_searches_ = 0;
-  return std::nullopt;
+  return {};
 }
 
-void ParticleFilterLocalizer::DrawShareAround(const Pose2& pose) {
+void ParticleFilterLocalizer::DrawShareAround(const std::vector<Pose2>& poses) {
   const NearbyResetOptions& r = o_.nearby_reset;
   const size_t count = static_cast<size_t>(std::lround(r.share * particles_.size()));
-  if (count == 0) return;
+  if (count == 0 || poses.empty()) return;
   const ZigguratNormal n;
-  // Every k-th particle, so the cloud keeps its shape; each drawn one gets the mean weight.
+  // Every k-th particle, so the cloud keeps its shape, the poses in turn; each drawn one gets the
+  // mean weight.
   const size_t every = std::max<size_t>(1, particles_.size() / count);
   const double weight = 1.0 / particles_.size();
-  for (size_t k = 0; k < particles_.size(); k += every) {
+  for (size_t k = 0, i = 0; k < particles_.size(); k += every, ++i) {
+    const Pose2& pose = poses[i % poses.size()];
     particles_[k] = {{pose.x + r.sigma_xy * n(rng_), pose.y + r.sigma_xy * n(rng_),
                       NormalizeAngle(pose.theta + r.sigma_theta * n(rng_))},
                      weight};

@@ -151,9 +151,9 @@ class ParticleFilterLocalizer : public Localizer {
   // Replaces the particles by draws around a whole-map search's candidates, when there are any;
   // with the mutex held.
   void DrawAround(const std::vector<PoseCandidate>& candidates);
-  // Replaces a share of the particles by draws around `pose`, before a scan weighs them. With the
-  // mutex held.
-  void DrawShareAround(const Pose2& pose);
+  // Replaces a share of the particles by draws around `poses` (shared out among them), before a
+  // scan weighs them. With the mutex held.
+  void DrawShareAround(const std::vector<Pose2>& poses);
   // The nearby reset: a search of the scan just weighed, started beside the filter when it fits
   // poorly; and, at a later scan (odometry `at_scan`), the pose it found carried on to that scan by
   // the odometry since. A new pose or a global search leaves a running search be: the pose it
@@ -163,7 +163,7 @@ class ParticleFilterLocalizer : public Localizer {
   // With the mutex held.
   void StartNearbyReset(const ScanReading& scan);
   bool NearbyResetReady() const;  // a search has ended (or is to be waited for)
-  std::optional<Pose2> TakeNearbyReset(const Pose2& at_scan, const Pose2& carried, const std::vector<Point2>& points);
+  std::vector<Pose2> TakeNearbyReset(const Pose2& at_scan, const Pose2& carried, const std::vector<Point2>& points);
   // Posterior weights from the sensor log-likelihoods (summed over `beams` beams), resampling,
   // estimate; with the mutex held.
   void Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams);

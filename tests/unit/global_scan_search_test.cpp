@@ -206,8 +206,10 @@ TEST(NearbyReset, LooksForAPoseAwaitingConfirmationWhereTheOdometryCarriedIt) {
 }
 
 // A later scan tells a search's find from a look-alike rival without another search: carried on
-// by the odometry (0.6 m and 0.2 rad on), the one the scan fits is confirmed, and a find it does
-// not fit is not, alone or beside the true pose. The lost estimate is 2 m off.
+// by the odometry (0.6 m and 0.2 rad on), the one the scan fits is confirmed. The look-alike is
+// the whole-map search's best pose 1 m or more from the truth (the warehouse's aisles): found
+// first with the truth as its rival, the truth is confirmed and the look-alike never. A find the
+// scan does not fit (2.5 m off, turned) is not confirmed. The lost estimate is 2 m off.
 TEST(NearbyReset, ALaterScanConfirmsTheFindOrItsRivalWhereTheOdometryCarriedThem) {
   const World world = DefaultWorld();
   const LikelihoodField field(world.map);
@@ -216,30 +218,68 @@ TEST(NearbyReset, ALaterScanConfirmsTheFindOrItsRivalWhereTheOdometryCarriedThem
   const NearbyReset reset;
   std::mt19937_64 rng(17);
   const Pose2 step(0.6, 0.0, 0.2), found_at(3.0, -2.0, 1.2), now = found_at * step;
-  int runs = 0, confirmed = 0, rival_confirmed = 0, wrong_confirmed = 0;
+  int runs = 0, confirmed = 0, look_alikes = 0, rival_confirmed = 0, wrong_confirmed = 0;
   while (runs < 30) {
     const Pose2 truth = RandomClearPose(world.map, caster, rng), later = truth * step;
     if (caster.Clearance(later.translation()) < 0.4) continue;
     ++runs;
     const std::vector<Point2> points = ScanFrom(caster, later);
     const Pose2 estimate = later * Pose2(-1.5, 1.3, 0.0);
-    const Pose2 wrong = truth * Pose2(0.0, 2.5, 0.3);
-    auto confirms = [&](const NearbyReset::Found& found, const Pose2& pose) {
-      const std::optional<Pose2> c = reset.ConfirmWhereCarried(search, found, found_at, now, estimate, points);
-      return c && Distance(c->translation(), pose.translation()) < 0.1;
+    auto confirmed_at = [&](const NearbyReset::Found& found) {
+      return reset.ConfirmWhereCarried(search, found, found_at, now, estimate, points);
     };
-    auto confirms_any = [&](const NearbyReset::Found& found) {
-      return reset.ConfirmWhereCarried(search, found, found_at, now, estimate, points).has_value();
+    // Only `where` confirmed.
+    auto just = [](const std::vector<Pose2>& poses, const Pose2& where) {
+      return poses.size() == 1 && Distance(poses.front().translation(), where.translation()) < 0.1;
     };
-    if (confirms({{truth, 0.95}, {}}, later)) ++confirmed;
-    if (confirms({{wrong, 0.95}, {{truth, 0.94}}}, later)) ++rival_confirmed;
-    if (confirms_any({{wrong, 0.95}, {}})) ++wrong_confirmed;
+    if (just(confirmed_at({{truth, 0.95}, {}}), later)) ++confirmed;
+    for (const PoseCandidate& c : search.Search(ScanFrom(caster, truth))) {
+      if (Distance(c.pose.translation(), truth.translation()) < 1.0) continue;
+      ++look_alikes;
+      const std::vector<Pose2> chosen = confirmed_at({c, {{truth, 0.95}}});
+      if (just(chosen, later)) ++rival_confirmed;
+      for (const Pose2& pose : chosen)
+        if (Distance(pose.translation(), later.translation()) > 0.5) ++wrong_confirmed;
+      break;
+    }
+    if (!confirmed_at({{truth * Pose2(0.0, 2.5, 0.3), 0.95}, {}}).empty()) ++wrong_confirmed;
   }
-  std::printf("nearby reset, a later scan: the find confirmed %d of %d, its rival %d, a wrong find %d\n", confirmed,
-              runs, rival_confirmed, wrong_confirmed);
+  std::printf(
+      "nearby reset, a later scan: the find confirmed %d of %d, the truth as a look-alike's rival %d of %d, "
+      "a wrong pose %d\n",
+      confirmed, runs, rival_confirmed, look_alikes, wrong_confirmed);
   EXPECT_GE(confirmed, runs * 9 / 10);
-  EXPECT_GE(rival_confirmed, runs * 9 / 10);
+  EXPECT_GE(look_alikes, runs * 9 / 10);
+  EXPECT_GE(rival_confirmed, look_alikes * 9 / 10);
   EXPECT_EQ(wrong_confirmed, 0);
+}
+
+// Along a featureless corridor a later scan fits a find and its rival 2 m on alike: both are
+// confirmed, for the next scans to choose between; one the scan does not fit (turned) is not.
+TEST(NearbyReset, ConfirmsBothOfTwoLookAlikesALaterScanFitsAlike) {
+  OccupancyGrid corridor(800, 60, 0.05, Point2(0.0, 0.0));
+  corridor.FillBox({0.0, 0.0}, {40.0, 0.1});
+  corridor.FillBox({0.0, 2.9}, {40.0, 3.0});
+  const LikelihoodField field(corridor);
+  const GlobalScanSearch search(corridor, field);
+  const RayCaster caster(corridor);
+  const NearbyReset reset;
+  const Pose2 found(15.0, 1.5, 0.0), rival(17.0, 1.5, 0.0), turned(20.0, 1.5, 0.8), step(0.6, 0.0, 0.0);
+  const Pose2 found_at(0.0, 0.0, 0.0), now = found_at * step;
+  const std::vector<Point2> points = ScanFrom(caster, found * step);
+  const Pose2 estimate(16.0, 1.5, 0.6);  // lost: turned across the corridor
+  const std::vector<Pose2> confirmed = reset.ConfirmWhereCarried(
+      search, {{found, 0.95}, {{rival, 0.95}, {turned, 0.9}}}, found_at, now, estimate, points);
+  // Each where it was carried (along a bare corridor, anywhere within the tolerance of 0.36 m).
+  ASSERT_EQ(confirmed.size(), 2u);
+  EXPECT_GT(Distance(confirmed[0].translation(), confirmed[1].translation()), 1.0);
+  for (const Pose2& pose : confirmed) {
+    const double off = std::min(Distance(pose.translation(), (found * step).translation()),
+                                Distance(pose.translation(), (rival * step).translation()));
+    EXPECT_LT(off, 0.4);
+    EXPECT_NEAR(pose.y, 1.5, 0.05);
+    EXPECT_NEAR(pose.theta, 0.0, 0.05);
+  }
 }
 
 }  // namespace
