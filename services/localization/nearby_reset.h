@@ -75,9 +75,13 @@ struct NearbyResetOptions {
   // error: that scan is searched for it again within this much (m, rad) before the particles are
   // drawn.
   double carried_xy = 0.5, carried_theta = 0.15;
-  // m: an estimate that the scan after a draw moves this far from where the odometry put it, and
-  // nearer the draws than that, has been relocated.
+  // An estimate that comes near (within relocated_jump m and relocated_turn rad) a pose drawn away
+  // from it, within relocated_scans of the draw (the pose carried on by the odometry), has been
+  // relocated. With several poses drawn, the cloud may settle on one a scan or two later; a robot
+  // carried off facing the other way may be found where the estimate, running on, passes by.
   double relocated_jump = 0.5;
+  double relocated_turn = 0.5;
+  int relocated_scans = 3;
 };
 
 class NearbyReset {
@@ -105,6 +109,11 @@ class NearbyReset {
   // `now`: tolerances confirm_xy and confirm_theta, plus confirm_xy_per_metre and
   // confirm_theta_per_metre of the distance between the two.
   Expected Expect(const Pose2& found, const Pose2& found_at, const Pose2& now) const;
+  // Whether two poses are within relocated_jump and relocated_turn of each other.
+  bool Near(const Pose2& a, const Pose2& b) const {
+    return Distance(a.translation(), b.translation()) < o_.relocated_jump &&
+           std::abs(NormalizeAngle(a.theta - b.theta)) < o_.relocated_turn;
+  }
   // Whether `found` confirms the pose `expected`.
   bool Confirms(const Expected& expected, const Pose2& found) const;
   // Which poses of `found` (searched at odometry `found_at`) a later scan with `points`, at

@@ -76,6 +76,7 @@ void ParticleFilterLocalizer::ResetPose(const Pose2& pose, const Eigen::Matrix3d
   Reanchor(pose, covariance);
   scans_since_good_fit_ = std::numeric_limits<int>::max();
   unconfirmed_.reset();
+  drawn_recently_.clear();
   ++poses_set_;
 }
 
@@ -132,6 +133,7 @@ void ParticleFilterLocalizer::ScatterUniformly() {
   scan_search_due_ = o_.scan_search;
   scans_since_good_fit_ = std::numeric_limits<int>::max();
   unconfirmed_.reset();
+  drawn_recently_.clear();
   ++poses_set_;
   last_odom_ = latest_odom_;
   moved_since_scan_ = true;
@@ -225,14 +227,24 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   if (!initialised_ || !have_odom_ || (!moved_since_scan_ && !NearbyResetReady())) return false;
   const Pose2 at_scan = odom_history_.At(scan.stamp);
   const Pose2 carried = estimate_.pose * (last_odom_.inverse() * at_scan);  // by the odometry alone
+  for (Pose2& pose : drawn_recently_) pose = pose * (last_odom_.inverse() * at_scan);
   MoveParticles(last_odom_, at_scan);
   last_odom_ = at_scan;
   if (candidates && scan_search_due_ && searched == model_) DrawAround(*candidates);
   const std::vector<Point2> points = ScanEndPoints(scan, 0);
+  const NearbyReset reset(o_.nearby_reset);
   std::vector<Pose2> drawn = TakeNearbyReset(at_scan, carried, points);
-  for (Pose2& pose : drawn)
-    pose = NearbyReset(o_.nearby_reset).Settle(model_->scan_search(o_.scan_search_options), pose, points);
+  for (Pose2& pose : drawn) pose = reset.Settle(model_->scan_search(o_.scan_search_options), pose, points);
   DrawShareAround(drawn);
+  if (!drawn.empty()) {
+    // Only draws away from the estimate relocate it.
+    drawn_recently_.clear();
+    for (const Pose2& pose : drawn)
+      if (!reset.Near(pose, carried)) drawn_recently_.push_back(pose);
+    scans_since_draw_ = 0;
+  } else if (++scans_since_draw_ >= o_.nearby_reset.relocated_scans) {
+    drawn_recently_.clear();
+  }
   const std::vector<Point2> ends = ScanEndPoints(scan, o_.beams);
   if (ends.size() < 5) return false;  // too little to judge by
   std::vector<double> sensor(particles_.size());
@@ -247,12 +259,12 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
     WeighByLikelihoodField(ends, sensor);
   }
   Reweigh(ends, sensor, beam_count);
-  // Relocated: the scan moved the estimate far from where the odometry put it, to the draws.
-  const double moved = Distance(estimate_.pose.translation(), carried.translation());
-  if (moved > o_.nearby_reset.relocated_jump && std::any_of(drawn.begin(), drawn.end(), [&](const Pose2& pose) {
-        return Distance(estimate_.pose.translation(), pose.translation()) < moved;
-      }))
+  // Relocated: the estimate has come to a pose drawn away from it.
+  if (std::any_of(drawn_recently_.begin(), drawn_recently_.end(),
+                  [&](const Pose2& pose) { return reset.Near(pose, estimate_.pose); })) {
     ++estimate_.relocations;
+    drawn_recently_.clear();
+  }
   StartNearbyReset(scan);
   return true;
 }

@@ -211,6 +211,11 @@ class ParticleFilterLocalizer : public Localizer {
   // map that lacks a wall lets a wrong pose fit one scan well, seldom the same wrong pose two scans
   // running. Map frame at the odometry `unconfirmed_at_`.
   std::optional<Pose2> unconfirmed_;
+  // The poses the nearby reset last drew around away from the estimate (carried on by the
+  // odometry since), for relocated_scans scans after: the estimate that comes to one of them has
+  // been relocated.
+  std::vector<Pose2> drawn_recently_;
+  int scans_since_draw_ = 0;
   Pose2 unconfirmed_at_;
   int unconfirmed_searches_ = 0;                                // searches since that did not find it again
   uint64_t poses_set_ = 0;                                      // times the pose was set or scattered over the map
