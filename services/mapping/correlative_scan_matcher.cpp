@@ -1,11 +1,69 @@
 #include "services/mapping/correlative_scan_matcher.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "services/common/error.h"
 
 namespace navd::mapping {
+namespace {
+
+// The fine search's sums: a scan's bilinear lookups at 7 x 7 offsets of a sixth of a cell, each
+// point adding its lookups at every offset (in the points' order, as adding the points offset by
+// offset would). Offsets of at most half a cell either way keep a point's lookups within the 3 x 3
+// cells from its lowest one, and the bilinear weights split by axis: its 49 lookups read 9 cells
+// and take 7 weights per axis.
+class SubCellSums {
+ public:
+  static constexpr int kSub = 3;  // sixths of a cell either way
+  static constexpr int kSide = 2 * kSub + 1;
+
+  SubCellSums() {
+    for (int i = 0; i < kSide; ++i) offsets_[i] = (i - kSub) / 6.0;
+  }
+  void Clear() { sums_.fill(0.0); }
+  // Adds the lookups of a point at (gx, gy), in cell units from cell (0, 0)'s centre.
+  void Add(const CorrelationGrid& grid, double gx, double gy) {
+    const int low_x = static_cast<int>(std::floor(gx + offsets_[0]));
+    const int low_y = static_cast<int>(std::floor(gy + offsets_[0]));
+    std::array<int, kSide> cell_x{}, cell_y{};
+    std::array<double, kSide> weight_x{}, weight_y{};
+    Split(gx, low_x, cell_x, weight_x);
+    Split(gy, low_y, cell_y, weight_y);
+    std::array<std::array<float, 3>, 3> patch{};  // [row][column] from the lowest cell
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) patch[r][q] = grid.AtCell(low_x + q, low_y + r);
+    std::array<std::array<double, kSide>, 3> along{};  // each row interpolated at each x offset
+    for (int r = 0; r < 3; ++r)
+      for (int i = 0; i < kSide; ++i)
+        along[r][i] = (1 - weight_x[i]) * patch[r][cell_x[i]] + weight_x[i] * patch[r][cell_x[i] + 1];
+    for (int j = 0; j < kSide; ++j) {
+      const std::array<double, kSide>& below = along[cell_y[j]];
+      const std::array<double, kSide>& above = along[cell_y[j] + 1];
+      for (int i = 0; i < kSide; ++i) sums_[j * kSide + i] += (1 - weight_y[j]) * below[i] + weight_y[j] * above[i];
+    }
+  }
+  // The sum at an offset of (i, j) sixths of a cell, each in -kSub..kSub.
+  double At(int i, int j) const { return sums_[(j + kSub) * kSide + (i + kSub)]; }
+
+ private:
+  // Where each offset's lookup along one axis falls: the lower of its two cells (0 or 1 from the
+  // lowest) and the upper one's weight.
+  void Split(double g, int lowest, std::array<int, kSide>& cell, std::array<double, kSide>& weight) const {
+    for (int i = 0; i < kSide; ++i) {
+      const double f = g + offsets_[i];
+      const int c = static_cast<int>(std::floor(f));
+      cell[i] = std::clamp(c - lowest, 0, 1);
+      weight[i] = f - c;
+    }
+  }
+
+  std::array<double, kSide> offsets_{};  // cells
+  std::array<double, kSide * kSide> sums_{};
+};
+
+}  // namespace
 
 CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double resolution, double sigma)
     : resolution_(resolution) {
@@ -36,14 +94,20 @@ CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double re
     for (int i = 0; i < kTable + 2; ++i) t[i] = static_cast<float>(std::exp(-kMaxQ * i / kTable));
     return t;
   }();
+  // Squared distances from the point to the centres of the columns around it (m²).
+  std::vector<double> dx2(static_cast<size_t>(2 * r + 1));
   for (const Point2& p : reference) {
     const int cx = CellX(p.x()), cy = CellY(p.y());
+    for (int x = cx - r; x <= cx + r; ++x) {
+      const double dx = origin_.x() + (x + 0.5) * resolution - p.x();
+      dx2[x - (cx - r)] = dx * dx;
+    }
     for (int y = cy - r; y <= cy + r; ++y) {
       const double dy = origin_.y() + (y + 0.5) * resolution - p.y();
+      const double dy2 = dy * dy;
       float* row = &cells_[static_cast<size_t>(y) * width_];
       for (int x = cx - r; x <= cx + r; ++x) {
-        const double dx = origin_.x() + (x + 0.5) * resolution - p.x();
-        const double q = (dx * dx + dy * dy) * inv * (kTable / kMaxQ);
+        const double q = (dx2[x - (cx - r)] + dy2) * inv * (kTable / kMaxQ);
         if (q >= kTable) continue;
         const int i = static_cast<int>(q);
         const float v = table[i] + static_cast<float>(q - i) * (table[i + 1] - table[i]);
@@ -83,7 +147,9 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
   };
   std::vector<Candidate> top;  // the best few, best first
   std::vector<int> cx(points.size()), cy(points.size());
+  std::vector<char> inside(points.size());  // every cell of the point's window lies on the grid
   const int side = 2 * n_xy + 1;
+  std::vector<double> row_sums(static_cast<size_t>(side));
   std::vector<float> coarse;  // every coarse score, for the ambiguity check
   if (o.distinct_xy > 0.0) coarse.resize(static_cast<size_t>(2 * n_theta + 1) * side * side);
   for (int a = -n_theta; a <= n_theta; ++a) {
@@ -93,12 +159,22 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
       const Point2& p = points[i];
       cx[i] = grid.CellX(prior.x + c * p.x() - s * p.y());
       cy[i] = grid.CellY(prior.y + s * p.x() + c * p.y());
+      inside[i] = cx[i] - n_xy >= 0 && cx[i] + n_xy < grid.width() && cy[i] - n_xy >= 0 && cy[i] + n_xy < grid.height();
     }
     for (int dy = -n_xy; dy <= n_xy; ++dy) {
+      // Each point adds its row of the window to every offset's sum at once: contiguous cells, in
+      // the points' order, so each sum is the same as adding the points offset by offset.
+      std::fill(row_sums.begin(), row_sums.end(), 0.0);
+      for (size_t i = 0; i < points.size(); ++i) {
+        if (inside[i]) {
+          const float* cells = grid.Row(cy[i] + dy) + (cx[i] - n_xy);
+          for (int k = 0; k < side; ++k) row_sums[k] += cells[k];
+        } else {
+          for (int k = 0; k < side; ++k) row_sums[k] += grid.AtCell(cx[i] - n_xy + k, cy[i] + dy);
+        }
+      }
       for (int dx = -n_xy; dx <= n_xy; ++dx) {
-        double sum = 0.0;
-        for (size_t i = 0; i < points.size(); ++i) sum += grid.AtCell(cx[i] + dx, cy[i] + dy);
-        const double score = sum * inv_n;
+        const double score = row_sums[dx + n_xy] * inv_n;
         if (!coarse.empty())
           coarse[(static_cast<size_t>(a + n_theta) * side + (dy + n_xy)) * side + (dx + n_xy)] =
               static_cast<float>(score);
@@ -134,20 +210,20 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
 
   // Fine: sixths of a cell and quarter angle steps, half a coarse step either way of each coarse
   // winner, bilinear lookups.
-  std::vector<Point2> turned(points.size());  // the scan's points turned to a fine heading
+  constexpr int kSub = SubCellSums::kSub;
+  SubCellSums sums;
   for (const Candidate& cand : top) {
     const double x0 = prior.x + cand.dx * res, y0 = prior.y + cand.dy * res;
     for (int a = -2; a <= 2; ++a) {
       const double theta = cand.theta + a * o.angle_step / 4.0;
       const double c = std::cos(theta), s = std::sin(theta);
-      for (size_t k = 0; k < points.size(); ++k)
-        turned[k] = Point2(c * points[k].x() - s * points[k].y(), s * points[k].x() + c * points[k].y());
-      for (int j = -3; j <= 3; ++j) {
-        for (int i = -3; i <= 3; ++i) {
+      sums.Clear();
+      for (const Point2& p : points)
+        sums.Add(grid, grid.CellUnitsX(x0 + c * p.x() - s * p.y()), grid.CellUnitsY(y0 + s * p.x() + c * p.y()));
+      for (int j = -kSub; j <= kSub; ++j) {
+        for (int i = -kSub; i <= kSub; ++i) {
           const double x = x0 + i * res / 6.0, y = y0 + j * res / 6.0;
-          double sum = 0.0;
-          for (const Point2& p : turned) sum += grid.At({x + p.x(), y + p.y()});
-          const double score = sum * inv_n;
+          const double score = sums.At(i, j) * inv_n;
           const double ranked = score * prior_weight(x - prior.x, y - prior.y, NormalizeAngle(theta - prior.theta));
           if (ranked > best_ranked) {
             best_ranked = ranked;

@@ -48,19 +48,18 @@ struct ScanMatch {
 class CorrelationGrid {
  public:
   CorrelationGrid(const std::vector<Point2>& reference, double resolution, double sigma);
-  // Bilinear lookup at a world point (0 outside); cell centres are the sample points. Inline: the
-  // fine search makes millions of these per scan.
-  double At(const Point2& p) const {
-    const double fx = (p.x() - origin_.x()) / resolution_ - 0.5, fy = (p.y() - origin_.y()) / resolution_ - 0.5;
-    const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
-    const double ax = fx - x0, ay = fy - y0;
-    return (1 - ay) * ((1 - ax) * AtCell(x0, y0) + ax * AtCell(x0 + 1, y0)) +
-           ay * ((1 - ax) * AtCell(x0, y0 + 1) + ax * AtCell(x0 + 1, y0 + 1));
-  }
+  // A world coordinate in cell units from cell (0, 0)'s centre: cell centres are the sample
+  // points of the fine search's bilinear lookups.
+  double CellUnitsX(double x) const { return (x - origin_.x()) / resolution_ - 0.5; }
+  double CellUnitsY(double y) const { return (y - origin_.y()) / resolution_ - 0.5; }
   // Lookup of the cell holding a world point, by integer cell (0 outside).
   float AtCell(int x, int y) const {
     return x >= 0 && y >= 0 && x < width_ && y < height_ ? cells_[static_cast<size_t>(y) * width_ + x] : 0.0f;
   }
+  // Row y's cells, x = 0 first (0 <= y < height()).
+  const float* Row(int y) const { return &cells_[static_cast<size_t>(y) * width_]; }
+  int width() const { return width_; }
+  int height() const { return height_; }
   int CellX(double x) const { return static_cast<int>(std::floor((x - origin_.x()) / resolution_)); }
   int CellY(double y) const { return static_cast<int>(std::floor((y - origin_.y()) / resolution_)); }
   double resolution() const { return resolution_; }

@@ -23,29 +23,34 @@ PointToLineMatcher::PointToLineMatcher(std::vector<Point2> reference, const Poin
     cells_.back().second.second = static_cast<int>(i) + 1;
   }
 
-  // Each point's line: the principal direction of its neighbours.
   normals_.assign(reference_.size(), Point2::Zero());
+  normal_known_.assign(reference_.size(), 0);
+}
+
+const Point2& PointToLineMatcher::Normal(int i) const {
+  if (normal_known_[i]) return normals_[i];
+  normal_known_[i] = 1;
+  // The line through the point: the principal direction of its neighbours.
+  const Point2& p = reference_[i];
   const double r2 = o_.normal_radius * o_.normal_radius;
-  for (size_t i = 0; i < reference_.size(); ++i) {
-    const Point2& p = reference_[i];
-    Point2 sum = Point2::Zero();
-    Eigen::Matrix2d outer = Eigen::Matrix2d::Zero();
-    int n = 0;
-    ForEachNear(p, [&](int j) {
-      const Point2 d = reference_[j] - p;
-      if (d.squaredNorm() > r2) return;
-      sum += d;
-      outer += d * d.transpose();
-      ++n;
-    });
-    if (n < 3) continue;
-    const Point2 mean = sum / n;
-    const Eigen::Matrix2d cov = outer / n - mean * mean.transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
-    const double small = eig.eigenvalues()(0), large = eig.eigenvalues()(1);
-    if (large <= 0.0 || small > o_.max_flatness * large) continue;
-    normals_[i] = eig.eigenvectors().col(0).normalized();
-  }
+  Point2 sum = Point2::Zero();
+  Eigen::Matrix2d outer = Eigen::Matrix2d::Zero();
+  int n = 0;
+  ForEachNear(p, [&](int j) {
+    const Point2 d = reference_[j] - p;
+    if (d.squaredNorm() > r2) return;
+    sum += d;
+    outer += d * d.transpose();
+    ++n;
+  });
+  if (n < 3) return normals_[i];
+  const Point2 mean = sum / n;
+  const Eigen::Matrix2d cov = outer / n - mean * mean.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+  const double small = eig.eigenvalues()(0), large = eig.eigenvalues()(1);
+  if (large <= 0.0 || small > o_.max_flatness * large) return normals_[i];
+  normals_[i] = eig.eigenvectors().col(0).normalized();
+  return normals_[i];
 }
 
 template <typename Visit>
@@ -66,9 +71,8 @@ int PointToLineMatcher::Nearest(const Point2& p) const {
   int best = -1;
   double best_d2 = o_.max_pair_distance * o_.max_pair_distance;
   ForEachNear(p, [&](int j) {
-    if (normals_[j].isZero()) return;
     const double d2 = (reference_[j] - p).squaredNorm();
-    if (d2 < best_d2) {
+    if (d2 < best_d2 && !Normal(j).isZero()) {
       best_d2 = d2;
       best = j;
     }
@@ -96,7 +100,7 @@ PointToLineResult PointToLineMatcher::Match(const std::vector<Point2>& points, c
       const Point2 w(pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y());
       const int j = Nearest(w);
       if (j < 0) continue;
-      const Point2& n = normals_[j];
+      const Point2& n = Normal(j);
       const double r = n.dot(w - reference_[j]);
       const double weight = 1.0 / (1.0 + r * r / c2);
       // d(world point)/d(theta) = R'(theta) p.

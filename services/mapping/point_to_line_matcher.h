@@ -60,7 +60,12 @@ class PointToLineMatcher {
   PointToLineOptions o_;
   double cell_;
   std::vector<Point2> reference_;
-  std::vector<Point2> normals_;                                   // unit; zero where a point has none
+  // A reference point's normal (unit; zero where it has none), worked out at its first use: a
+  // match pairs its scan with a part of the reference only, and normals cost most of a polish.
+  // A matcher is not to be shared between threads.
+  const Point2& Normal(int i) const;
+  mutable std::vector<Point2> normals_;
+  mutable std::vector<char> normal_known_;
   std::vector<int> order_;                                        // reference indices grouped by cell
   std::vector<std::pair<long long, std::pair<int, int>>> cells_;  // sorted: key, [begin, end) in order_
 };
