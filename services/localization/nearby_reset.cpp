@@ -3,6 +3,14 @@
 #include <algorithm>
 
 namespace navd::localization {
+namespace {
+
+// Whether two poses are less than `xy` metres and `theta` radians apart.
+bool PosesWithin(const Pose2& a, const Pose2& b, double xy, double theta) {
+  return Distance(a.translation(), b.translation()) < xy && std::abs(NormalizeAngle(a.theta - b.theta)) < theta;
+}
+
+}  // namespace
 
 std::optional<NearbyReset::Found> NearbyReset::Check(const GlobalScanSearch& search, const Pose2& estimate,
                                                      double quality, const std::vector<Point2>& points,
@@ -27,9 +35,8 @@ std::optional<NearbyReset::Found> NearbyReset::Check(const GlobalScanSearch& sea
   Found found{candidates.front(), {}};
   for (size_t i = 1; i < candidates.size() && static_cast<int>(found.rivals.size()) < o_.max_rivals; ++i) {
     const PoseCandidate& c = candidates[i];
-    const bool apart = Distance(c.pose.translation(), found.best.pose.translation()) >= o_.rival_distance ||
-                       std::abs(NormalizeAngle(c.pose.theta - found.best.pose.theta)) >= o_.rival_turn;
-    if (apart && c.score >= o_.min_score) found.rivals.push_back(c);
+    if (c.score >= o_.min_score && !PosesWithin(c.pose, found.best.pose, o_.rival_distance, o_.rival_turn))
+      found.rivals.push_back(c);
   }
   return found;
 }
@@ -41,8 +48,7 @@ NearbyReset::Expected NearbyReset::Expect(const Pose2& found, const Pose2& found
 }
 
 bool NearbyReset::Confirms(const Expected& expected, const Pose2& found) const {
-  return Distance(expected.pose.translation(), found.translation()) < expected.tolerance_xy &&
-         std::abs(NormalizeAngle(expected.pose.theta - found.theta)) < expected.tolerance_theta;
+  return PosesWithin(expected.pose, found, expected.tolerance_xy, expected.tolerance_theta);
 }
 
 std::vector<Pose2> NearbyReset::ConfirmWhereCarried(const GlobalScanSearch& search, const Found& found,
@@ -71,8 +77,7 @@ std::vector<Pose2> NearbyReset::ConfirmWhereCarried(const GlobalScanSearch& sear
   std::vector<Pose2> confirmed;
   for (const PoseCandidate& fit : fits) {
     const bool again = std::any_of(confirmed.begin(), confirmed.end(), [&](const Pose2& pose) {
-      return Distance(fit.pose.translation(), pose.translation()) < o_.rival_distance &&
-             std::abs(NormalizeAngle(fit.pose.theta - pose.theta)) < o_.rival_turn;
+      return PosesWithin(fit.pose, pose, o_.rival_distance, o_.rival_turn);
     });
     if (!again && (confirmed.empty() || 1.0 - fits.front().score >= o_.misfit_ratio * (1.0 - fit.score)))
       confirmed.push_back(fit.pose);

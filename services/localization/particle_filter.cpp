@@ -231,10 +231,8 @@ bool ParticleFilterLocalizer::AddScan(const ScanReading& scan) {
   MoveParticles(last_odom_, at_scan);
   last_odom_ = at_scan;
   if (candidates && scan_search_due_ && searched == model_) DrawAround(*candidates);
-  const std::vector<Point2> points = ScanEndPoints(scan, 0);
   const NearbyReset reset(o_.nearby_reset);
-  std::vector<Pose2> drawn = TakeNearbyReset(at_scan, carried, points);
-  for (Pose2& pose : drawn) pose = reset.Settle(model_->scan_search(o_.scan_search_options), pose, points);
+  const std::vector<Pose2> drawn = TakeNearbyReset(at_scan, carried, scan);
   DrawShareAround(drawn);
   if (!drawn.empty()) {
     // Only draws away from the estimate relocate it.
@@ -298,7 +296,7 @@ bool ParticleFilterLocalizer::NearbyResetReady() const {
 }
 
 std::vector<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_scan, const Pose2& carried,
-                                                            const std::vector<Point2>& points) {
+                                                            const ScanReading& scan) {
   if (!NearbyResetReady()) return {};
   const std::optional<NearbyReset::Found> found = nearby_reset_->found.get();
   const Pose2 odometry = nearby_reset_->odometry, estimate = nearby_reset_->estimate;
@@ -313,20 +311,22 @@ std::vector<Pose2> ParticleFilterLocalizer::TakeNearbyReset(const Pose2& at_scan
     return {};
   }
   const NearbyReset reset(o_.nearby_reset);
+  const GlobalScanSearch& search = model_->scan_search(o_.scan_search_options);
+  const std::vector<Point2> points = ScanEndPoints(scan, 0);
   const Pose2& pose = found->best.pose;
   const Pose2 here = pose * (odometry.inverse() * at_scan);
   if (expected && reset.Confirms(*expected, pose)) {
     unconfirmed_.reset();
-    return {here};
+    return {reset.Settle(search, here, points)};
   }
   if (!expected && Distance(pose.translation(), estimate.translation()) <= o_.nearby_reset.relocated_jump)
-    return {here};
+    return {reset.Settle(search, here, points)};
   // A pose found elsewhere: this scan confirms it where the odometry has carried it, or it awaits
   // the next search's confirmation.
-  std::vector<Pose2> confirmed = reset.ConfirmWhereCarried(model_->scan_search(o_.scan_search_options), *found,
-                                                           odometry, at_scan, carried, points);
+  std::vector<Pose2> confirmed = reset.ConfirmWhereCarried(search, *found, odometry, at_scan, carried, points);
   if (!confirmed.empty()) {
     unconfirmed_.reset();
+    for (Pose2& p : confirmed) p = reset.Settle(search, p, points);
     return confirmed;
   }
   unconfirmed_ = pose;

@@ -156,14 +156,14 @@ class ParticleFilterLocalizer : public Localizer {
   void DrawShareAround(const std::vector<Pose2>& poses);
   // The nearby reset: a search of the scan just weighed, started beside the filter when it fits
   // poorly; and, at a later scan (odometry `at_scan`), the pose it found carried on to that scan by
-  // the odometry since. A new pose or a global search leaves a running search be: the pose it
-  // finds is where the scans fit, whatever the filter was told meanwhile. A pose found away from
-  // the estimate is drawn around once confirmed: by that later scan's `points` fitting where it was
-  // carried (from the estimate carried to it, `carried`), or failing that by the next search.
-  // With the mutex held.
+  // the odometry since, and settled on that `scan`. A new pose or a global search leaves a running
+  // search be: the pose it finds is where the scans fit, whatever the filter was told meanwhile. A
+  // pose found away from the estimate is drawn around once confirmed: by that later scan fitting
+  // where it was carried (from the estimate carried to it, `carried`), or failing that by the next
+  // search. With the mutex held.
   void StartNearbyReset(const ScanReading& scan);
   bool NearbyResetReady() const;  // a search has ended (or is to be waited for)
-  std::vector<Pose2> TakeNearbyReset(const Pose2& at_scan, const Pose2& carried, const std::vector<Point2>& points);
+  std::vector<Pose2> TakeNearbyReset(const Pose2& at_scan, const Pose2& carried, const ScanReading& scan);
   // Posterior weights from the sensor log-likelihoods (summed over `beams` beams), resampling,
   // estimate; with the mutex held.
   void Reweigh(const std::vector<Point2>& ends, std::vector<double>& sensor, size_t beams);

@@ -25,6 +25,15 @@ Pose2 RandomClearPose(const OccupancyGrid& map, const RayCaster& caster, std::mt
   }
 }
 
+// navsim's warehouse and what the searches need on it: its likelihood field, the scan search, and a
+// ray caster for the scans.
+struct Warehouse {
+  World world = DefaultWorld();
+  LikelihoodField field{world.map};
+  GlobalScanSearch search{world.map, field};
+  RayCaster caster{world.map};
+};
+
 // End points (robot frame) of a 360-degree, 8 m laser at `pose`, as navsim's; no-returns dropped.
 std::vector<Point2> ScanFrom(const RayCaster& caster, const Pose2& pose) {
   std::vector<Point2> points;
@@ -36,10 +45,10 @@ std::vector<Point2> ScanFrom(const RayCaster& caster, const Pose2& pose) {
 }
 
 TEST(GlobalScanSearch, FindsRandomWarehousePosesFromOneScan) {
-  const World world = DefaultWorld();
-  const LikelihoodField field(world.map);
-  const GlobalScanSearch search(world.map, field);
-  const RayCaster caster(world.map);
+  const Warehouse warehouse;
+  const World& world = warehouse.world;
+  const GlobalScanSearch& search = warehouse.search;
+  const RayCaster& caster = warehouse.caster;
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   int first = 0, among = 0, runs = 0;
@@ -70,10 +79,9 @@ TEST(GlobalScanSearch, FindsRandomWarehousePosesFromOneScan) {
 // that pose finds it first; a window elsewhere finds nothing within it (every candidate is
 // inside), and Score rates the true pose as the search does.
 TEST(GlobalScanSearch, AWindowKeepsTheSearchNearItsCentre) {
-  const World world = DefaultWorld();
-  const LikelihoodField field(world.map);
-  const GlobalScanSearch search(world.map, field);
-  const RayCaster caster(world.map);
+  const Warehouse warehouse;
+  const GlobalScanSearch& search = warehouse.search;
+  const RayCaster& caster = warehouse.caster;
   const Pose2 truth{4.0, 5.0, 0.3};
   const std::vector<Point2> points = ScanFrom(caster, truth);
   const SearchWindow near{{5.5, 6.0, 1.0}, 3.0, 1.0};
@@ -123,10 +131,10 @@ TEST(GlobalScanSearch, SearchesAMapOfGradedValuesAsItsSavedForm) {
 // while a pose 2 m off awaits confirmation. A robot 2 m from the estimate is still found: the
 // scan passes through walls from the estimate.
 TEST(NearbyReset, LeavesARightEstimateAmongCartsAloneAndFindsAMovedRobot) {
-  const World world = DefaultWorld();
-  const LikelihoodField field(world.map);
-  const GlobalScanSearch search(world.map, field);
-  const RayCaster caster(world.map);
+  const Warehouse warehouse;
+  const World& world = warehouse.world;
+  const GlobalScanSearch& search = warehouse.search;
+  const RayCaster& caster = warehouse.caster;
   const NearbyReset reset;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -172,10 +180,10 @@ TEST(NearbyReset, LeavesARightEstimateAmongCartsAloneAndFindsAMovedRobot) {
 // confirms the expected pose but not one 1 m off. A found pose carried with a drifted heading
 // settles back onto the scan.
 TEST(NearbyReset, LooksForAPoseAwaitingConfirmationWhereTheOdometryCarriedIt) {
-  const World world = DefaultWorld();
-  const LikelihoodField field(world.map);
-  const GlobalScanSearch search(world.map, field);
-  const RayCaster caster(world.map);
+  const Warehouse warehouse;
+  const World& world = warehouse.world;
+  const GlobalScanSearch& search = warehouse.search;
+  const RayCaster& caster = warehouse.caster;
   const NearbyReset reset;
   std::mt19937_64 rng(5);
   int runs = 0, confirmed = 0, confirmed_off = 0, settled = 0;
@@ -211,10 +219,10 @@ TEST(NearbyReset, LooksForAPoseAwaitingConfirmationWhereTheOdometryCarriedIt) {
 // first with the truth as its rival, the truth is confirmed and the look-alike never. A find the
 // scan does not fit (2.5 m off, turned) is not confirmed. The lost estimate is 2 m off.
 TEST(NearbyReset, ALaterScanConfirmsTheFindOrItsRivalWhereTheOdometryCarriedThem) {
-  const World world = DefaultWorld();
-  const LikelihoodField field(world.map);
-  const GlobalScanSearch search(world.map, field);
-  const RayCaster caster(world.map);
+  const Warehouse warehouse;
+  const World& world = warehouse.world;
+  const GlobalScanSearch& search = warehouse.search;
+  const RayCaster& caster = warehouse.caster;
   const NearbyReset reset;
   std::mt19937_64 rng(17);
   const Pose2 step(0.6, 0.0, 0.2), found_at(3.0, -2.0, 1.2), now = found_at * step;
