@@ -3,14 +3,6 @@
 #include <algorithm>
 
 namespace navd::localization {
-namespace {
-
-// Whether two poses are less than `xy` metres and `theta` radians apart.
-bool PosesWithin(const Pose2& a, const Pose2& b, double xy, double theta) {
-  return Distance(a.translation(), b.translation()) < xy && std::abs(NormalizeAngle(a.theta - b.theta)) < theta;
-}
-
-}  // namespace
 
 std::optional<NearbyReset::Found> NearbyReset::Check(const GlobalScanSearch& search, const Pose2& estimate,
                                                      double quality, const std::vector<Point2>& points,

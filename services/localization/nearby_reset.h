@@ -110,10 +110,7 @@ class NearbyReset {
   // confirm_theta_per_metre of the distance between the two.
   Expected Expect(const Pose2& found, const Pose2& found_at, const Pose2& now) const;
   // Whether two poses are within relocated_jump and relocated_turn of each other.
-  bool Near(const Pose2& a, const Pose2& b) const {
-    return Distance(a.translation(), b.translation()) < o_.relocated_jump &&
-           std::abs(NormalizeAngle(a.theta - b.theta)) < o_.relocated_turn;
-  }
+  bool Near(const Pose2& a, const Pose2& b) const { return PosesWithin(a, b, o_.relocated_jump, o_.relocated_turn); }
   // Whether `found` confirms the pose `expected`.
   bool Confirms(const Expected& expected, const Pose2& found) const;
   // Which poses of `found` (searched at odometry `found_at`) a later scan with `points`, at
@@ -130,6 +127,10 @@ class NearbyReset {
   Pose2 Settle(const GlobalScanSearch& search, const Pose2& carried, const std::vector<Point2>& points) const;
 
  private:
+  // Whether two poses are less than `xy` metres and `theta` radians apart.
+  static bool PosesWithin(const Pose2& a, const Pose2& b, double xy, double theta) {
+    return Distance(a.translation(), b.translation()) < xy && std::abs(NormalizeAngle(a.theta - b.theta)) < theta;
+  }
   NearbyResetOptions o_;
 };
 
