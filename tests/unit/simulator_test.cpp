@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <cstring>
 #include <fstream>
-#include <unistd.h>
 
 #include "services/common/carmen_log.h"
 #include "services/common/error.h"
@@ -36,10 +35,11 @@ const char* kBoxWorld =
 
 World BoxWorld() { return ParseWorld(kBoxWorld, "box", "."); }
 
+// One fresh folder for this process's files, removed at exit: a folder named by the process id
+// can hold an earlier run's files once the id comes round again.
 std::string TempDir() {
-  const auto dir = std::filesystem::temp_directory_path() / ("navd_sim_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir.string();
+  static const std::string dir = testing::MakeTempDir();
+  return dir;
 }
 
 std::string WriteFile(const std::string& name, const std::string& text) {
