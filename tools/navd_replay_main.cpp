@@ -1,5 +1,6 @@
 // navd-replay: runs navd's library code over a recorded CARMEN log, as fast as it can.
 //   navd-replay --log FILE[.gz] --mode map --out MAP.yaml [--resolution 0.05]
+//   navd-replay --log FILE[.gz] --mode render --out RENDERED.log [--step M] [--turn RAD] [--range-noise M] [--seed N]
 //   navd-replay --log FILE[.gz] --mode localize|slam --out EST.tum [--odometry noisy|log]
 //               [--map MAP.yaml] [--odom-noise T,R] [--seed N] [--localizer amcl|ekf|calibration]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
@@ -10,7 +11,9 @@
 // heading error N(0, R * distance) plus N(0, T * |turn|)),
 // writes one TUM line (t x y z qx qy qz qw) per scan and prints the error against the corrected
 // poses. Without --map it first builds the map from those poses. `--odometry log` takes the
-// odometry the log itself holds instead (carmen_odometry.h): how raw robot logs run.
+// odometry the log itself holds instead (carmen_odometry.h): how raw robot logs run. `render`
+// writes a FLASER log whose scans are cast again in the map the log's poses draw (at --resolution),
+// at those poses or every --step metres between them (services/mapping/log_renderer.h).
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
@@ -28,7 +31,10 @@
 #include "services/localization/ekf_localizer.h"
 #include "services/localization/odometric_calibration.h"
 #include "services/localization/particle_filter.h"
+#include "services/common/ray_caster.h"
 #include "services/mapping/graph_slam.h"
+#include "services/mapping/known_pose_map.h"
+#include "services/mapping/log_renderer.h"
 #include "services/mapping/occupancy_grid_mapper.h"
 #include "services/common/trajectory_alignment.h"
 
@@ -191,29 +197,24 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   navd::mapping::MapperOptions o;
   o.resolution = resolution;
-  // The map covers every beam's end (cut at the usable range), with a margin.
-  navd::Point2 lo(1e18, 1e18), hi(-1e18, -1e18);
-  for (const auto& s : log.scans) {
-    for (size_t i = 0; i < s.ranges.size(); ++i) {
-      const double r = navd::mapping::TracedLength(o, s.ranges[i], s.no_return_range());
-      const double a = s.pose.theta + s.angle_min + i * s.angle_increment;
-      const navd::Point2 p = s.pose.translation() + r * navd::Point2(std::cos(a), std::sin(a));
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  }
-  lo -= navd::Point2(1, 1);
-  hi += navd::Point2(1, 1);
-  navd::mapping::OccupancyGridMapper mapper(lo, hi, o);
-  for (size_t k = 0; k < log.scans.size(); ++k) {
-    const auto& s = log.scans[k];
-    mapper.AddScan(s.pose, s.ranges, s.angle_min, s.angle_increment, s.no_return_range());
-    if ((k + 1) % 100 == 0 || k + 1 == log.scans.size()) {
-      std::fprintf(stderr, "\r  mapped %zu/%zu scans", k + 1, log.scans.size());
-    }
-  }
+  const navd::OccupancyGrid grid = navd::mapping::MapFromLogPoses(
+      log, o, [](size_t done, size_t total) { std::fprintf(stderr, "\r  mapped %zu/%zu scans", done, total); });
   std::fprintf(stderr, "\n");
-  return mapper.ToGrid();
+  return grid;
+}
+
+// The log's scans cast again in the map its poses draw (log_renderer.h), written as a FLASER log.
+int Render(const navd::CarmenLog& log, const std::string& out, double resolution,
+           const navd::mapping::LogRenderOptions& options) {
+  const navd::OccupancyGrid map = MapFromLog(log, resolution);
+  const navd::CarmenLog rendered = navd::mapping::RenderLog(log, navd::RayCaster(map), options);
+  std::string text;
+  for (const navd::CarmenScan& s : rendered.scans) text += navd::FormatFlaserLine(s, "navd-replay");
+  navd::WriteFileAtomically(out, text);
+  std::printf("render: %zu scans from the log's %zu, in its %dx%d-cell map at %.3f m, range noise %.3f m -> %s\n",
+              rendered.scans.size(), log.scans.size(), map.width(), map.height(), map.resolution(), options.range_noise,
+              out.c_str());
+  return 0;
 }
 
 }  // namespace
@@ -226,9 +227,17 @@ int main(int argc, char** argv) {
   app.add_option("--log", log_path, "CARMEN log (.log or .log.gz)")->required();
   app.add_option("--mode", mode,
                  "map: build a map from the log's corrected poses; localize: a localiser on a map; slam: graph SLAM "
-                 "from corrupted odometry")
-      ->check(CLI::IsMember({"map", "localize", "slam"}));
-  app.add_option("--out", out, "Output: map_server YAML (map) or TUM trajectory (localize, slam)")->required();
+                 "from corrupted odometry; render: the log's scans cast again in the map its poses draw")
+      ->check(CLI::IsMember({"map", "localize", "slam", "render"}));
+  app.add_option("--out", out, "Output: map_server YAML (map), TUM trajectory (localize, slam) or CARMEN log (render)")
+      ->required();
+  navd::mapping::LogRenderOptions render;
+  app.add_option("--step", render.step, "render: metres between rendered scans (default 0: at the log's own poses)")
+      ->check(CLI::Range(0.0, 100.0));
+  app.add_option("--turn", render.turn, "render: with --step, radians of turn between rendered scans")
+      ->check(CLI::Range(0.001, 10.0));
+  app.add_option("--range-noise", render.range_noise, "render: metres of Gaussian noise on each echo")
+      ->check(CLI::Range(0.0, 1.0));
   std::string map_out;
   app.add_option("--map-out", map_out, "slam: also write the map built as map_server YAML + PGM");
   std::string map_path, odom_noise = "0.05,0.035";
@@ -242,7 +251,8 @@ int main(int argc, char** argv) {
                  "protocol for corrected logs) or log (the odometry the log holds: ODOM lines interpolated to each "
                  "scan, else FLASER's odometry fields: raw logs)")
       ->check(CLI::IsMember({"noisy", "log"}));
-  app.add_option("--seed", seed, "localize, slam: seed of the odometry noise (and the filter)");
+  app.add_option("--seed", seed,
+                 "localize, slam: seed of the odometry noise (and the filter); render: of the range noise");
   std::string method = "amcl";
   app.add_option("--localizer", method,
                  "localize: amcl (particle filter, default), ekf (seed 002's EKF with scan-to-map matching) or "
@@ -276,6 +286,9 @@ int main(int argc, char** argv) {
     int rc;
     if (mode == "map") {
       rc = BuildMap(log, out, resolution, png);
+    } else if (mode == "render") {
+      render.seed = seed;
+      rc = Render(log, out, resolution, render);
     } else if (mode == "slam") {
       rc = Slam(log, odometry, out, map_out, png, resolution);
     } else {

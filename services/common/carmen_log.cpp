@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
@@ -150,6 +151,30 @@ int TimeScansInFileOrder(CarmenLog& log, double max_speed, double max_turn_rate,
     ++moved;
   }
   return moved;
+}
+
+std::string FormatFlaserLine(const CarmenScan& scan, const std::string& host) {
+  const size_t n = scan.ranges.size();
+  const bool flaser_angles =
+      n > 0 && std::abs(scan.angle_min - CarmenBeamAngle(0, n)) < 1e-6 &&
+      (n < 2 || std::abs(scan.angle_increment - (CarmenBeamAngle(1, n) - CarmenBeamAngle(0, n))) < 1e-9);
+  if (!flaser_angles)
+    throw Error(ErrorCode::kInvalidArgument,
+                "a FLASER line's " + std::to_string(n) + " beams must start at -90 degrees, 1 or 0.5 degree apart");
+  std::string line = "FLASER " + std::to_string(n);
+  char field[64];
+  for (const float r : scan.ranges) {
+    std::snprintf(field, sizeof field, " %.3f", r);
+    line += field;
+  }
+  for (const Pose2& p : {scan.pose, scan.odometry}) {
+    std::snprintf(field, sizeof field, " %.6f %.6f %.6f", p.x, p.y, p.theta);
+    line += field;
+  }
+  std::snprintf(field, sizeof field, " %.6f ", scan.timestamp);
+  line += field + host;
+  std::snprintf(field, sizeof field, " %.6f\n", scan.timestamp);
+  return line + field;
 }
 
 CarmenLog ReadCarmenLog(const std::string& path, bool strict) {

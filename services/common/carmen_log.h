@@ -86,6 +86,12 @@ bool PaceScansWhenStampsAreCoarse(CarmenLog& log, double speed = 0.5, double tur
 // robots do. Returns how many scans it re-stamped. Scans only.
 int TimeScansInFileOrder(CarmenLog& log, double max_speed = 3.0, double max_turn_rate = 4.0, double gap = 0.001);
 
+// One FLASER line (newline-terminated) that ReadCarmenLog reads back as `scan`: ranges to the
+// millimetre, laser pose, odometry pose and stamp (also as the logger's stamp), written by `host`.
+// FLASER carries no angles: throws navd::Error (kInvalidArgument) unless the scan's beams lie where
+// CarmenBeamAngle puts them.
+std::string FormatFlaserLine(const CarmenScan& scan, const std::string& host);
+
 // Beam i of an n-beam CARMEN front scan points at -pi/2 + i * increment in the laser frame. The
 // SICK scanners of these logs step by 1, 0.5 or 0.25 degrees from -90: 180 or 181 beams are
 // 1 degree apart, 360 or 361 beams half a degree.

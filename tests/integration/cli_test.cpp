@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "client_lib/telemetry.h"
+#include "services/common/carmen_log.h"
 #include "services/common/map_server_format.h"
 #include "tests/support/navd_fixture.h"
 
@@ -207,6 +208,47 @@ TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
                                "--out", dir + "/x.tum"});
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("--odometry"), std::string::npos) << bad.output;
+}
+
+// A log rendered again (navd-replay --mode render) holds the log's poses with scans cast in the map
+// those poses draw; with --step, more scans between them. The room log of the map test: eight
+// scans turning on the spot in a 4 m square.
+TEST(NavdReplay, RenderWritesALogWhoseScansAreCastInTheMapOfItsPoses) {
+  const std::string dir = MakeTempDir();
+  {
+    std::ofstream log(dir + "/room.log");
+    for (int k = 0; k < 8; ++k) {
+      const double heading = k * M_PI / 4;
+      log << "FLASER 181";
+      for (int i = 0; i <= 180; ++i) {
+        const double a = heading - M_PI / 2 + i * M_PI / 180;
+        log << " " << 2.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
+      }
+      log << " 0 0 " << heading << " 0 0 " << heading << " " << k << " host " << k << "\n";
+    }
+  }
+  const auto r = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "render", "--range-noise", "0",
+                             "--out", dir + "/rendered.log"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const CarmenLog source = ReadCarmenLog(dir + "/room.log", true);
+  const CarmenLog rendered = ReadCarmenLog(dir + "/rendered.log", true);
+  ASSERT_EQ(rendered.scans.size(), source.scans.size());
+  for (size_t k = 0; k < rendered.scans.size(); ++k) {
+    EXPECT_NEAR(rendered.scans[k].pose.theta, source.scans[k].pose.theta, 1e-6);
+    ASSERT_EQ(rendered.scans[k].ranges.size(), 181u);
+    // The walls are cells of the 5 cm map drawn from these very scans: within a cell and a half.
+    for (size_t i = 0; i < 181; ++i)
+      EXPECT_NEAR(rendered.scans[k].ranges[i], source.scans[k].ranges[i], 0.075) << "scan " << k << " beam " << i;
+  }
+  const auto dense = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "render", "--step", "0.1",
+                                 "--turn", "0.1", "--out", dir + "/dense.log"});
+  ASSERT_EQ(dense.exit_code, 0) << dense.output;
+  EXPECT_EQ(ReadCarmenLog(dir + "/dense.log", true).scans.size(), 7u * 8u + 1u);  // pi/4 in 0.1 rad turns
+  const auto bad = RunCommand(
+      {NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "render", "--step", "-1", "--out", dir + "/x.log"});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--step"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.log"));
 }
 
 // scripts/realdata, the evaluation over real logs, on CI's bounded subset: two logs, one seed,

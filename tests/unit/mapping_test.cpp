@@ -11,6 +11,7 @@
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
 #include "services/common/world.h"
+#include "services/mapping/log_renderer.h"
 #include "services/mapping/occupancy_grid_mapper.h"
 #include "simulator/laser_scanner.h"
 #include "tests/support/process.h"
@@ -194,6 +195,32 @@ TEST(CarmenLog, KeepsScansInFileOrderWhenStampsRepeatOrGoBack) {
   for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(log.scans[k].ranges[0], 1.0f + k);
 }
 
+// A FLASER line reads back as the scan it was made from; a scan whose beams FLASER cannot say is
+// refused, not written at the wrong angles.
+TEST(CarmenLog, FlaserLinesReadBackAsTheScanTheyWereMadeFrom) {
+  CarmenScan scan;
+  for (int i = 0; i < 181; ++i) scan.ranges.push_back(1.0f + 0.01f * i);
+  scan.angle_min = CarmenBeamAngle(0, 181);
+  scan.angle_increment = CarmenBeamAngle(1, 181) - CarmenBeamAngle(0, 181);
+  scan.pose = {1.5, -2.25, 0.75};
+  scan.odometry = {10.0, 20.0, -3.0};
+  scan.timestamp = 1234.5678;
+  const CarmenLog log = ParseCarmenLog(FormatFlaserLine(scan, "test") + FormatFlaserLine(scan, "test"), "lines", true);
+  ASSERT_EQ(log.scans.size(), 2u);
+  const CarmenScan& back = log.scans[0];
+  ASSERT_EQ(back.ranges.size(), 181u);
+  for (size_t i = 0; i < back.ranges.size(); ++i) EXPECT_NEAR(back.ranges[i], scan.ranges[i], 1e-3) << i;
+  EXPECT_NEAR(back.angle_min, scan.angle_min, 1e-12);
+  EXPECT_NEAR(back.angle_increment, scan.angle_increment, 1e-12);
+  EXPECT_NEAR(back.pose.x, 1.5, 1e-6);
+  EXPECT_NEAR(back.pose.y, -2.25, 1e-6);
+  EXPECT_NEAR(back.pose.theta, 0.75, 1e-6);
+  EXPECT_NEAR(back.odometry.theta, -3.0, 1e-6);
+  EXPECT_NEAR(back.timestamp, 1234.5678, 1e-6);
+  scan.angle_min = -2.0;  // a 240-degree scanner's first beam
+  EXPECT_THROW(FormatFlaserLine(scan, "test"), Error);
+}
+
 }  // namespace
 }  // namespace navd
 
@@ -288,6 +315,68 @@ TEST(MapperRules, AFewGrazingBeamsDoNotEraseAWall) {
   const OccupancyGrid g = mapper.ToGrid();
   EXPECT_TRUE(g.IsOccupied(g.CellOf(wall_cell))) << static_cast<int>(g.at(g.CellOf(wall_cell)));
   EXPECT_FALSE(g.IsOccupied(g.CellOf({3.0, 2.025})));
+}
+
+// A box room 10 m x 8 m (walls one cell thick on its edges, a 1 m gap in the east wall) and a log
+// of two scans in it: rendered, the scans read the distances to its walls from the log's poses, or
+// from poses every step between them.
+TEST(LogRenderer, CastsTheLogsBeamsInTheMapAtItsPosesOrBetweenThem) {
+  OccupancyGrid room(200, 160, 0.05, {0.0, 0.0});
+  for (int x = 0; x < 200; ++x)
+    room.set({x, 0}, OccupancyGrid::kOccupied), room.set({x, 159}, OccupancyGrid::kOccupied);
+  for (int y = 0; y < 160; ++y) {
+    room.set({0, y}, OccupancyGrid::kOccupied);
+    if (y < 70 || y >= 90) room.set({199, y}, OccupancyGrid::kOccupied);
+  }
+  const RayCaster world(room);
+  CarmenLog log;
+  for (const auto& [x, stamp] : {std::pair{3.0, 10.0}, std::pair{5.0, 12.0}}) {
+    CarmenScan s;
+    s.ranges.assign(181, 1.0f);
+    s.angle_min = -M_PI / 2;
+    s.angle_increment = M_PI / 180;
+    s.pose = {x, 2.0, 0.0};
+    s.timestamp = stamp;
+    log.scans.push_back(s);
+  }
+  LogRenderOptions o;
+  o.range_noise = 0.0;
+  const CarmenLog at_poses = RenderLog(log, world, o);
+  ASSERT_EQ(at_poses.scans.size(), 2u);
+  const CarmenScan& first = at_poses.scans[0];
+  EXPECT_DOUBLE_EQ(first.pose.x, 3.0);
+  EXPECT_DOUBLE_EQ(first.odometry.x, 3.0);
+  EXPECT_DOUBLE_EQ(first.pose.y, 2.0);
+  EXPECT_DOUBLE_EQ(first.timestamp, 10.0);
+  EXPECT_NEAR(first.ranges[0], 2.0 - 0.05, 0.06);                            // south wall, beam -90 degrees
+  EXPECT_NEAR(first.ranges[180], 8.0 - 2.0 - 0.05, 0.06);                    // north wall, beam +90 degrees
+  EXPECT_NEAR(first.ranges[135], (8.0 - 0.05 - 2.0) * std::sqrt(2.0), 0.1);  // north wall at 45 degrees
+  EXPECT_DOUBLE_EQ(first.range_max, o.no_return);
+  // Straight ahead from (5, 2) along y = 2 hits the east wall; from (5, 4) the beam leaves through the gap.
+  EXPECT_NEAR(at_poses.scans[1].ranges[90], 10.0 - 0.05 - 5.0, 0.06);
+  CarmenLog gap = log;
+  gap.scans[1].pose.y = 4.0;
+  EXPECT_FLOAT_EQ(RenderLog(gap, world, o).scans[1].ranges[90], static_cast<float>(o.no_return));
+
+  o.step = 0.5;
+  o.range_noise = 0.01;
+  const CarmenLog dense = RenderLog(log, world, o);
+  ASSERT_EQ(dense.scans.size(), 5u);  // 2 m in 0.5 m steps, and the last pose
+  for (size_t k = 0; k < dense.scans.size(); ++k) {
+    EXPECT_NEAR(dense.scans[k].pose.x, 3.0 + 0.5 * k, 1e-9);
+    EXPECT_NEAR(dense.scans[k].timestamp, 10.0 + 0.5 * k, 1e-9);
+  }
+  // The noise is the noise asked for: about 1 cm around the noiseless ranges.
+  double sum = 0.0, sum_sq = 0.0;
+  for (size_t i = 0; i < 181; ++i) {
+    const double d = dense.scans[0].ranges[i] - first.ranges[i];
+    sum += d;
+    sum_sq += d * d;
+  }
+  EXPECT_NEAR(sum / 181, 0.0, 0.003);
+  EXPECT_NEAR(std::sqrt(sum_sq / 181), 0.01, 0.003);
+  o.step = -1.0;
+  EXPECT_THROW(RenderLog(log, world, o), Error);
 }
 
 }  // namespace

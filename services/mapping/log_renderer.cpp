@@ -1,0 +1,54 @@
+#include "services/mapping/log_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "services/common/error.h"
+#include "services/common/ziggurat_normal.h"
+
+namespace navd::mapping {
+
+CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRenderOptions& options) {
+  if (log.scans.empty()) throw Error(ErrorCode::kInvalidArgument, "render: the log has no scans");
+  if (!(options.step >= 0.0) || !(options.turn > 0.0) || !(options.range_noise >= 0.0) || !(options.no_return > 0.0))
+    throw Error(ErrorCode::kInvalidArgument, "render: step and range noise must be >= 0, turn and no-return > 0");
+  std::mt19937_64 rng(options.seed);
+  const ZigguratNormal noise(0.0, options.range_noise);
+  CarmenLog out;
+  auto render = [&](const CarmenScan& beams, const Pose2& pose, double stamp) {
+    CarmenScan s;
+    s.angle_min = beams.angle_min;
+    s.angle_increment = beams.angle_increment;
+    s.range_max = beams.range_max > 0.0 ? beams.range_max : options.no_return;
+    s.pose = s.odometry = pose;
+    s.timestamp = stamp;
+    s.ranges.resize(beams.ranges.size());
+    for (size_t i = 0; i < s.ranges.size(); ++i) {
+      const double r = world.CastOpenEdge(pose.translation(), pose.theta + s.angle_min + i * s.angle_increment,
+                                          s.range_max);
+      s.ranges[i] = static_cast<float>(r >= s.range_max ? s.range_max
+                                                          : std::clamp(r + noise(rng), 0.0, std::nextafter(s.range_max, 0.0)));
+    }
+    out.scans.push_back(std::move(s));
+  };
+  for (size_t k = 0; k + 1 < log.scans.size(); ++k) {
+    const CarmenScan& a = log.scans[k];
+    const CarmenScan& b = log.scans[k + 1];
+    const Point2 travel = b.pose.translation() - a.pose.translation();
+    const double turn = NormalizeAngle(b.pose.theta - a.pose.theta);
+    const int pieces = options.step > 0.0
+                           ? std::max(1, static_cast<int>(std::ceil(
+                                             std::max(travel.norm() / options.step, std::abs(turn) / options.turn))))
+                           : 1;
+    for (int j = 0; j < pieces; ++j) {
+      const double u = static_cast<double>(j) / pieces;
+      const Point2 p = a.pose.translation() + u * travel;
+      render(a, {p.x(), p.y(), NormalizeAngle(a.pose.theta + u * turn)}, a.timestamp + u * (b.timestamp - a.timestamp));
+    }
+  }
+  render(log.scans.back(), log.scans.back().pose, log.scans.back().timestamp);
+  return out;
+}
+
+}  // namespace navd::mapping

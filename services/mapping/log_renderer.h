@@ -1,0 +1,33 @@
+#pragma once
+// A log's scans drawn again by ray casting in a map, at the log's own laser poses or at poses
+// between them: a log whose poses agree with its scans up to the map's cells and the range noise
+// added. On a real corrected log, an estimator's error against the corrected poses mixes its own
+// error with the log's: people, glass and the correction's own error make the scans and the poses
+// disagree by centimetres. On the log rendered from the map those poses draw, what remains is the
+// estimator's. With a step it also turns a log sampled every metre into a dense one, as lidars log
+// today. Metres, radians, seconds, the log's frame.
+#include <cstdint>
+
+#include "services/common/carmen_log.h"
+#include "services/common/ray_caster.h"
+
+namespace navd::mapping {
+
+struct LogRenderOptions {
+  // Travel (m) and turn (rad) between rendered scans, along the straight line and the even turn
+  // from each of the log's poses to the next; step 0: one scan at each of the log's poses.
+  double step = 0.0;
+  double turn = 0.05;
+  double range_noise = 0.01;  // m: standard deviation of the Gaussian noise added to every echo
+  // m: the reading of a beam that hits nothing, when the log has no no-return reading of its own
+  // (a SICK LMS's 81.91).
+  double no_return = 81.91;
+  uint64_t seed = 1;
+};
+
+// One scan per pose (see LogRenderOptions) with the beams of the log's scan it starts from; pose,
+// odometry and stamp are the rendered pose's (stamps interpolated). Beams that hit nothing within
+// the no-return range read it. Throws navd::Error when the log has no scans or a step is negative.
+CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRenderOptions& options);
+
+}  // namespace navd::mapping
