@@ -184,13 +184,15 @@ class LostWatch {
  private:
   void Run() {
     while (!stop_) {
-      const double now = log_time_.load();
+      // The log plays on while navd answers: a reply counts as before `from` only if the log had not
+      // reached it when the reply came, and a loss is dated no later than when it was asked for.
+      const double asked = log_time_.load();
       try {
         const auto status = client_->GetStatus();
-        if (now < from_) {
+        if (log_time_.load() < from_) {
           losses_before_ = status.localization_losses();
         } else if (first_lost_ < 0.0 && (status.localization_lost() || status.localization_losses() > losses_before_)) {
-          first_lost_ = now;
+          first_lost_ = std::max(asked, from_);
         }
       } catch (const std::exception&) {
         // navd busy or gone for a moment: the next poll tells.

@@ -134,6 +134,8 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   if (o.laser_model == "beam") filter_options.sensor_model = localization::SensorModel::kBeam;
   if (o.odom_alpha > 0.0)
     filter_options.alpha1 = filter_options.alpha2 = filter_options.alpha3 = filter_options.alpha4 = o.odom_alpha;
+  if (o.update_min_d > 0.0) filter_options.update_min_distance = o.update_min_d;
+  if (o.update_min_a > 0.0) filter_options.update_min_angle = o.update_min_a;
   // The control loop never waits for the nearby reset's search (tens of ms): a scan that comes
   // while it runs is weighed without it.
   filter_options.nearby_reset.wait_for_search = false;

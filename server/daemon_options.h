@@ -28,6 +28,10 @@ struct DaemonOptions {
   // The particle filter's odometry noise, AMCL's odom_alpha1..4 (variance per unit of motion
   // squared); 0: the filter's default, which suits navsim's robots. Better odometry wants less.
   double odom_alpha = 0.0;
+  // The particle filter weighs a scan only after this much motion since the last it weighed
+  // (AMCL's update_min_d in m, update_min_a in rad); 0: the filter's default (0.05, 0.05), for
+  // navsim's robots. A real scanner logging every few centimetres wants AMCL's 0.25 and 0.2.
+  double update_min_d = 0.0, update_min_a = 0.0;
   std::string brain_path;  // utility-function brain YAML; empty: the built-in default
   std::string rear_range_frame = "ir_2";
   bool sonar_reflexes = true;           // seed 004's reflexes on the sonar ring of rt/<ns>/sonar

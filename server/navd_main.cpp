@@ -65,6 +65,13 @@ int main(int argc, char** argv) {
                  "The particle filter's odometry noise, AMCL's odom_alpha1..4 (default 0.1, for navsim's robots; the "
                  "real logs: 0.01)")
       ->check(CLI::Range(1e-6, 10.0));
+  app.add_option("--update-min-d", o.update_min_d,
+                 "The particle filter weighs a scan after this many metres of motion, AMCL's update_min_d (default "
+                 "0.05, for navsim's robots; a real scanner logging every few centimetres: 0.25)")
+      ->check(CLI::Range(1e-6, 100.0));
+  app.add_option("--update-min-a", o.update_min_a,
+                 "... or this many radians of turn, AMCL's update_min_a (default 0.05; real scanners: 0.2)")
+      ->check(CLI::Range(1e-6, 10.0));
   app.add_option("--brain", o.brain_path, "Utility-function brain YAML (default: built in, as config/brain.yaml)");
   app.add_option("--rear-range-frame", o.rear_range_frame,
                  "frame_id of the rear-facing range sensor on rt/<ns>/ir, checked before backing up ('' for none)")

@@ -119,6 +119,12 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
 // wall (the map is drawn to 15 m from each pose) and a heading error of a milliradian moves it
 // more than a map cell.
 constexpr double kLocalizationRange = 25.0;
+// The particle filter weighs a scan after this much motion since the last it weighed: AMCL's
+// defaults (update_min_d, update_min_a) rather than navsim's 0.05, 0.05. Weighed at every scan, a
+// log sampled every few centimetres pulls the cloud after each scan's small disagreements with the
+// map; a log sampled every half metre is weighed at nearly every scan either way.
+constexpr double kRealUpdateMinDistance = 0.25;  // m
+constexpr double kRealUpdateMinAngle = 0.2;      // rad
 
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution);
 
@@ -153,6 +159,8 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
     o.seed = seed;
     o.range_max = 20.0;  // the z_rand density of a long-range (SICK) scanner's useful range
     o.alpha1 = o.alpha2 = o.alpha3 = o.alpha4 = motion_noise;
+    o.update_min_distance = kRealUpdateMinDistance;
+    o.update_min_angle = kRealUpdateMinAngle;
     localizer = std::make_unique<localization::ParticleFilterLocalizer>(map, o);
   }
   localization::Localizer& pf = *localizer;

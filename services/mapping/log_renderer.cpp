@@ -25,10 +25,10 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
     s.timestamp = stamp;
     s.ranges.resize(beams.ranges.size());
     for (size_t i = 0; i < s.ranges.size(); ++i) {
-      const double r = world.CastOpenEdge(pose.translation(), pose.theta + s.angle_min + i * s.angle_increment,
-                                          s.range_max);
-      s.ranges[i] = static_cast<float>(r >= s.range_max ? s.range_max
-                                                          : std::clamp(r + noise(rng), 0.0, std::nextafter(s.range_max, 0.0)));
+      const double r =
+          world.CastOpenEdge(pose.translation(), pose.theta + s.angle_min + i * s.angle_increment, s.range_max);
+      s.ranges[i] = static_cast<float>(
+          r >= s.range_max ? s.range_max : std::clamp(r + noise(rng), 0.0, std::nextafter(s.range_max, 0.0)));
     }
     out.scans.push_back(std::move(s));
   };
@@ -37,10 +37,11 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
     const CarmenScan& b = log.scans[k + 1];
     const Point2 travel = b.pose.translation() - a.pose.translation();
     const double turn = NormalizeAngle(b.pose.theta - a.pose.theta);
-    const int pieces = options.step > 0.0
-                           ? std::max(1, static_cast<int>(std::ceil(
-                                             std::max(travel.norm() / options.step, std::abs(turn) / options.turn))))
-                           : 1;
+    const int pieces =
+        options.step > 0.0
+            ? std::max(
+                  1, static_cast<int>(std::ceil(std::max(travel.norm() / options.step, std::abs(turn) / options.turn))))
+            : 1;
     for (int j = 0; j < pieces; ++j) {
       const double u = static_cast<double>(j) / pieces;
       const Point2 p = a.pose.translation() + u * travel;
