@@ -119,12 +119,6 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
 // wall (the map is drawn to 15 m from each pose) and a heading error of a milliradian moves it
 // more than a map cell.
 constexpr double kLocalizationRange = 25.0;
-// The particle filter weighs a scan after this much motion since the last it weighed: AMCL's
-// defaults (update_min_d, update_min_a) rather than navsim's 0.05, 0.05. Weighed at every scan, a
-// log sampled every few centimetres pulls the cloud after each scan's small disagreements with the
-// map; a log sampled every half metre is weighed at nearly every scan either way.
-constexpr double kRealUpdateMinDistance = 0.25;  // m
-constexpr double kRealUpdateMinAngle = 0.2;      // rad
 
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution);
 
@@ -137,9 +131,16 @@ int BuildMap(const navd::CarmenLog& log, const std::string& out, double resoluti
   return 0;
 }
 
+// The particle filter's settings a run may change: its odometry noise (AMCL's alphas) and the motion
+// between the scans it weighs (AMCL's update_min_d, update_min_a; 0: the filter's defaults).
+struct FilterTuning {
+  double motion_noise = 0.0;
+  double update_min_d = 0.0, update_min_a = 0.0;
+};
+
 int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, const std::string& out,
-             const navd::OccupancyGrid& map, const navd::OdometryNoise& noise, uint64_t seed, double motion_noise,
-             const std::string& method) {
+             const navd::OccupancyGrid& map, const navd::OdometryNoise& noise, uint64_t seed,
+             const FilterTuning& tuning, const std::string& method) {
   using namespace navd;
   std::unique_ptr<localization::Localizer> localizer;
   if (method == "calibration") {
@@ -158,9 +159,9 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
     localization::ParticleFilterOptions o;
     o.seed = seed;
     o.range_max = 20.0;  // the z_rand density of a long-range (SICK) scanner's useful range
-    o.alpha1 = o.alpha2 = o.alpha3 = o.alpha4 = motion_noise;
-    o.update_min_distance = kRealUpdateMinDistance;
-    o.update_min_angle = kRealUpdateMinAngle;
+    o.alpha1 = o.alpha2 = o.alpha3 = o.alpha4 = tuning.motion_noise;
+    if (tuning.update_min_d > 0.0) o.update_min_distance = tuning.update_min_d;
+    if (tuning.update_min_a > 0.0) o.update_min_angle = tuning.update_min_a;
     localizer = std::make_unique<localization::ParticleFilterLocalizer>(map, o);
   }
   localization::Localizer& pf = *localizer;
@@ -271,6 +272,14 @@ int main(int argc, char** argv) {
   // translation and turn); with --odometry log, whose noise is unknown, 0.005 (7 % and 4 degrees
   // per metre, a little above a well-kept differential drive's).
   double motion_noise = -1.0;
+  FilterTuning tuning;
+  app.add_option("--update-min-d", tuning.update_min_d,
+                 "localize: the particle filter weighs a scan after this many metres of motion, AMCL's update_min_d "
+                 "(default 0.05)")
+      ->check(CLI::Range(1e-6, 100.0));
+  app.add_option("--update-min-a", tuning.update_min_a,
+                 "localize: ... or this many radians of turn, AMCL's update_min_a (default 0.05)")
+      ->check(CLI::Range(1e-6, 10.0));
   app.add_option("--motion-noise", motion_noise,
                  "localize: the filter's odometry noise alpha1..4 (variance per unit of motion squared; default: "
                  "T² of --odom-noise with --odometry noisy, 0.005 with --odometry log)")
@@ -302,7 +311,8 @@ int main(int argc, char** argv) {
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
       if (motion_noise < 0.0) motion_noise = odometry_source == "log" ? 0.005 : noise.translation * noise.translation;
-      rc = Localize(log, odometry, out, map, noise, seed, motion_noise, method);
+      tuning.motion_noise = motion_noise;
+      rc = Localize(log, odometry, out, map, noise, seed, tuning, method);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double span = log.scans.back().timestamp - log.scans.front().timestamp;
