@@ -206,7 +206,7 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   navd::mapping::MapperOptions o;
   o.resolution = resolution;
-  const navd::OccupancyGrid grid = navd::mapping::MapFromLogPoses(
+  navd::OccupancyGrid grid = navd::mapping::MapFromLogPoses(
       log, o, [](size_t done, size_t total) { std::fprintf(stderr, "\r  mapped %zu/%zu scans", done, total); });
   std::fprintf(stderr, "\n");
   return grid;
