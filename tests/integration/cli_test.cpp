@@ -137,21 +137,27 @@ TEST(Navctl, HealthPlanPoseNavigateAgainstRealDaemons) {
   EXPECT_FALSE(active) << "navd kept the goal after navctl gave up";
 }
 
+// Eight FLASER scans turning on the spot at the centre of the square |x|, |y| <= 2 m, a quarter
+// turn apart, written to `log`.
+void WriteRoomScans(std::ostream& log) {
+  for (int k = 0; k < 8; ++k) {
+    const double heading = k * M_PI / 4;
+    log << "FLASER 181";
+    for (int i = 0; i <= 180; ++i) {
+      // Distance from (0, 0) to the walls of the square along this beam.
+      const double a = heading - M_PI / 2 + i * M_PI / 180;
+      log << " " << 2.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
+    }
+    log << " 0 0 " << heading << " 0 0 " << heading << " " << k << " host " << k << "\n";
+  }
+}
+
 // navd-replay builds a map from a CARMEN log's poses: a square room seen from its centre.
 TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   const std::string dir = MakeTempDir();
   {
     std::ofstream log(dir + "/room.log");
-    for (int k = 0; k < 8; ++k) {
-      const double heading = k * M_PI / 4;
-      log << "FLASER 181";
-      for (int i = 0; i <= 180; ++i) {
-        // Distance from (0, 0) to the walls of the square |x|, |y| <= 2 along this beam.
-        const double a = heading - M_PI / 2 + i * M_PI / 180;
-        log << " " << 2.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
-      }
-      log << " 0 0 " << heading << " 0 0 " << heading << " " << k << " host " << k << "\n";
-    }
+    WriteRoomScans(log);
     log << "FLASER 2 1.0\n";  // malformed: line 9
   }
   const auto ok = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--out", dir + "/room.yaml"});
@@ -217,15 +223,7 @@ TEST(NavdReplay, RenderWritesALogWhoseScansAreCastInTheMapOfItsPoses) {
   const std::string dir = MakeTempDir();
   {
     std::ofstream log(dir + "/room.log");
-    for (int k = 0; k < 8; ++k) {
-      const double heading = k * M_PI / 4;
-      log << "FLASER 181";
-      for (int i = 0; i <= 180; ++i) {
-        const double a = heading - M_PI / 2 + i * M_PI / 180;
-        log << " " << 2.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
-      }
-      log << " 0 0 " << heading << " 0 0 " << heading << " " << k << " host " << k << "\n";
-    }
+    WriteRoomScans(log);
   }
   const auto r = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "render", "--range-noise", "0",
                              "--out", dir + "/rendered.log"});
