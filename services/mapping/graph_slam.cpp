@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "services/common/error.h"
+#include "services/mapping/surface_facing_check.h"
 
 namespace navd::mapping {
 namespace {
@@ -132,9 +133,9 @@ void GraphSlam::TryLoopClosure(int node) {
   const std::vector<Point2> scan = ThinPoints(node_points_[node], o_.match_point_spacing);
   if (static_cast<int>(scan.size()) < o_.loop_min_points) return;
   ++loop_attempts_;
-  LoopReference reference{NodePointsInMap(candidate - o_.loop_neighbourhood,
-                                          std::min(node - o_.loop_min_node_gap, candidate + o_.loop_neighbourhood)),
-                          {}};
+  const int first = std::max(0, candidate - o_.loop_neighbourhood);
+  const int last = std::min(node - o_.loop_min_node_gap, candidate + o_.loop_neighbourhood);
+  LoopReference reference{NodePointsInMap(first, last), {}};
   // The gate and the window reach as far as the chain can have drifted since the last closure;
   // failing that, as far as it can have drifted since it left the candidate (back at the end of a
   // loop that the closures on the way did not hold rigid).
@@ -146,6 +147,9 @@ void GraphSlam::TryLoopClosure(int node) {
   if (!LoopMatch(reference, scan, node, narrow, false, &match) &&
       !(wide > narrow && LoopMatch(reference, scan, node, wide, true, &match)))
     return;
+  // The correlative score rewards points that land near the candidate's; a corner or corridor
+  // matched from behind fits as well, and only the walls' facing tells.
+  if (BehindShare(first, last, node_points_[node], match.pose) > o_.loop_max_behind) return;
 
   const Pose2 relative = graph_.nodes()[candidate].inverse() * match.pose;
   graph_.AddEdge({candidate, node, relative, Information(o_.loop_sigma_xy, o_.loop_sigma_theta), true});
@@ -218,6 +222,12 @@ Pose2 GraphSlam::Polish(std::vector<Point2> reference, const std::vector<Point2>
     return guess;
   if (information) *information = polished.mean_information;
   return polished.pose;
+}
+
+double GraphSlam::BehindShare(int first, int last, const std::vector<Point2>& returns, const Pose2& pose) const {
+  std::vector<PlacedReturns> reference;
+  for (int n = first; n <= last; ++n) reference.push_back({graph_.nodes()[n], &node_points_[n]});
+  return SurfaceFacingCheck(reference).BehindShare(pose, returns);
 }
 
 bool GraphSlam::TurnedOnTheSpot(int node) const {

@@ -108,6 +108,9 @@ struct GraphSlamOptions {
   double loop_wide_max_correction = 1.0;
   double loop_wide_max_ambiguity = 0.85;
   double loop_sigma_xy = 0.05, loop_sigma_theta = 0.02;
+  // Refused when more than this share of the new scan's returns near the candidate's, at the
+  // matched pose, see their wall from the other side (SurfaceFacingCheck).
+  double loop_max_behind = 0.5;
   // Refinement (Refine()): once the graph is consistent, every node is matched again against
   // each stretch of the chain passing near it, in a narrow window around where the graph puts it.
   // The many small constraints average out the front end's per-step errors the way Cartographer's
@@ -197,6 +200,9 @@ class GraphSlam {
   // judged the whole window (its coarse_best and coarse_elsewhere).
   ScanMatch CoarseLoopMatch(LoopReference& reference, const std::vector<Point2>& scan, const Pose2& here,
                             double allowance, bool wide_first, ScanMatch* ambiguity) const;
+  // The share of `returns` (robot frame, beam order) at `pose` seeing the walls of nodes
+  // first..last from behind.
+  double BehindShare(int first, int last, const std::vector<Point2>& returns, const Pose2& pose) const;
   bool TurnedOnTheSpot(int node) const;
   // `guess` polished by point-to-line matching of `returns` (robot frame) on `reference` (map
   // frame). The polish takes every return of the scan, not the thinned sample the correlative

@@ -8,6 +8,7 @@
 #include "services/mapping/graph_slam.h"
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
+#include "services/mapping/surface_facing_check.h"
 
 namespace navd::mapping {
 namespace {
@@ -306,6 +307,118 @@ TEST(GraphSlam, RefineMatchesEachNodeAgainstTheLapBeforeAndKeepsTheTrajectory) {
     EXPECT_LT(std::abs(diff.theta), 0.05) << c.from_scan << " -> " << c.to_scan;
   }
   EXPECT_LT(PositionRmse(slam.Trajectory(), truth), std::max(before, 0.03) * 1.1);
+}
+
+// A 180-degree, 1-degree scan of `map` from `pose` (as the logs' SICK scanners); no return reads 81.91.
+RangeScan FrontScanFrom(const OccupancyGrid& map, const Pose2& pose, std::mt19937* noise) {
+  const RayCaster caster(map);
+  RangeScan scan;
+  scan.angle_min = -M_PI / 2;
+  scan.angle_increment = M_PI / 180.0;
+  scan.range_max = 81.91;
+  std::normal_distribution<double> n(0.0, 0.01);
+  for (int i = 0; i < 180; ++i) {
+    const double r = caster.Cast(pose.translation(), pose.theta + scan.angle_min + i * scan.angle_increment, 30.0);
+    scan.ranges.push_back(static_cast<float>(r < 30.0 ? r + n(*noise) : 81.91));
+  }
+  return scan;
+}
+
+std::vector<PlacedReturns> Placed(const std::vector<Pose2>& poses, const std::vector<std::vector<Point2>>& points) {
+  std::vector<PlacedReturns> out;
+  for (size_t i = 0; i < poses.size(); ++i) out.push_back({poses[i], &points[i]});
+  return out;
+}
+
+TEST(SurfaceFacingCheck, ARightMatchSeesTheWallsFromTheReferencesSideAndAThinWallFromEither) {
+  OccupancyGrid map = Room();
+  map.FillBox({0.0, 4.0}, {5.0, 4.1});  // a 10 cm partition, seen from both sides below
+  std::mt19937 rng(2);
+  const std::vector<Pose2> reference_poses{{2.0, 2.0, 0.3}, {2.0, 6.0, -0.4}};
+  const std::vector<std::vector<Point2>> reference{Points(ScanFrom(map, reference_poses[0], &rng)),
+                                                   Points(ScanFrom(map, reference_poses[1], &rng))};
+  const SurfaceFacingCheck check(Placed(reference_poses, reference));
+  for (const Pose2& truth : {Pose2{2.6, 2.4, 0.5}, Pose2{1.5, 5.0, 2.0}}) {
+    EXPECT_LT(check.BehindShare(truth, Points(ScanFrom(map, truth, &rng))), 0.05);
+  }
+}
+
+// A corridor's outer corner (the robot inside it) laid on the inner corner of the block the
+// corridor runs round, which the reference saw from outside: every wall fits, each from behind.
+TEST(SurfaceFacingCheck, AnOuterCornerLaidOnAnInnerOneIsSeenFromBehind) {
+  OccupancyGrid map(240, 240, 0.05, Point2::Zero());
+  map.FillBox({0.0, 0.0}, {12.0, 0.1});  // the corridor's outer walls
+  map.FillBox({0.0, 0.0}, {0.1, 12.0});
+  map.FillBox({3.0, 3.0}, {12.0, 12.0});  // the block the corridor runs round
+  std::mt19937 rng(4);
+  const Pose2 reference_pose{1.5, 1.5, 0.0}, truth{1.5, 1.5, -M_PI / 2};
+  const std::vector<std::vector<Point2>> reference{Points(ScanFrom(map, reference_pose, &rng))};
+  const SurfaceFacingCheck check(Placed({reference_pose}, reference));
+  const std::vector<Point2> scan = Points(FrontScanFrom(map, truth, &rng));
+  EXPECT_LT(check.BehindShare(truth, scan), 0.05);
+  EXPECT_GT(check.BehindShare({4.5, 4.5, -M_PI / 2}, scan), 0.9);  // slid by the corridor's width both ways
+}
+
+// A loop of 3 m corridors round a 34 x 6 m block, driven 1.3 times from a corner, with door
+// recesses (0.9 m wide, 0.3 m deep, unevenly spaced) in the walls: nothing closes until the robot
+// is back at the start, where a scan looking into the start's corner fits the block's corner, 3 m
+// across and 3 m along, as well as its own.
+OccupancyGrid CorridorLoop() {
+  OccupancyGrid g(820, 260, 0.05, Point2::Zero());
+  g.FillBox({0.0, 0.0}, {41.0, 0.5});  // outer walls, 0.5 m thick
+  g.FillBox({0.0, 12.5}, {41.0, 13.0});
+  g.FillBox({0.0, 0.0}, {0.5, 13.0});
+  g.FillBox({40.5, 0.0}, {41.0, 13.0});
+  g.FillBox({3.5, 3.5}, {37.5, 9.5});  // the block
+  const double gaps[] = {7.0, 11.0, 9.0, 13.0, 6.0, 10.0, 8.0, 12.0};
+  int k = 0;
+  for (double x = 6.0; x < 34.0; x += gaps[k++ % 8]) {
+    g.FillBox({x, 0.2}, {x + 0.9, 0.5}, OccupancyGrid::kFree);
+    g.FillBox({x + 1.5, 3.5}, {x + 2.4, 3.8}, OccupancyGrid::kFree);
+    g.FillBox({x + 3.0, 12.5}, {x + 3.9, 12.8}, OccupancyGrid::kFree);
+    g.FillBox({x + 4.5, 9.2}, {x + 5.4, 9.5}, OccupancyGrid::kFree);
+  }
+  return g;
+}
+
+TEST(GraphSlam, BackAtTheStartOfACorridorLoopItClosesOnTheRightCornerNotTheBlocksCorner) {
+  const OccupancyGrid map = CorridorLoop();
+  std::mt19937 rng(6);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::vector<Pose2> truth;
+  const std::vector<Point2> corners{{2.0, 2.0}, {39.0, 2.0}, {39.0, 11.0}, {2.0, 11.0}};
+  for (int leg = 0; leg < 6; ++leg) {
+    const Point2 &a = corners[leg % 4], &b = corners[(leg + 1) % 4];
+    const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
+    if (!truth.empty()) {  // turn on the spot
+      const double from = truth.back().theta, turn = NormalizeAngle(heading - from);
+      for (int i = 1; i <= 5; ++i) truth.emplace_back(a.x(), a.y(), from + turn * i / 6.0);
+    }
+    const int steps = static_cast<int>(Distance(a, b) / 0.5);
+    for (int i = 0; i < steps; ++i) {
+      const Point2 q = a + (b - a) * (double(i) / steps);
+      truth.emplace_back(q.x(), q.y(), heading);
+    }
+  }
+  GraphSlamOptions o;
+  o.first_pose = truth.front();
+  o.loop_correction_per_metre = 0.05;  // a drift allowance wide enough to reach the block's corner
+  GraphSlam slam(o);
+  Pose2 odometry = truth.front();
+  for (size_t i = 0; i < truth.size(); ++i) {
+    if (i > 0) {
+      const Pose2 step = truth[i - 1].inverse() * truth[i];
+      const double d = std::hypot(step.x, step.y);
+      odometry = odometry * Pose2{step.x * (1.0 + 0.05 * n(rng)), step.y, step.theta + 0.035 * d * n(rng)};
+    }
+    slam.AddScan(odometry, FrontScanFrom(map, truth[i], &rng));
+  }
+  ASSERT_GE(slam.loop_closures(), 1);
+  for (const LoopClosure& c : slam.closures()) {
+    const Pose2 diff = (truth[c.from_scan].inverse() * truth[c.to_scan]).inverse() * c.measurement;
+    EXPECT_LT(std::hypot(diff.x, diff.y), 0.3) << c.from_scan << " -> " << c.to_scan;
+  }
+  EXPECT_LT(PositionRmse(slam.Trajectory(), truth), 0.1);
 }
 
 }  // namespace
