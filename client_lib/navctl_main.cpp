@@ -356,6 +356,10 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   replay->add_option("--range-max", replay_options.range_max, "Beams are cut at this range, metres")
       ->check(CLI::Range(0.1, 100.0));
+  replay
+      ->add_option("--far-range-max", replay_options.far_range_max,
+                   "... or at this range in a scan with too few echoes within --range-max (an open hall), metres")
+      ->check(CLI::Range(0.1, 100.0));
   replay->add_option("--out", replay_options.out, "Write navd's poses as TUM (t x y z qx qy qz qw)");
   replay->add_flag("--strict", replay_options.strict, "Stop at the first malformed log line");
   replay->add_option("--wait", replay_options.wait, "Seconds to wait for navd on DDS")->check(seconds);

@@ -23,6 +23,7 @@
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
 #include "services/common/odometry_noise.h"
+#include "services/common/scan_reach.h"
 #include "services/common/text_file.h"
 
 namespace navd::navctl {
@@ -300,7 +301,8 @@ int RunReplay(const ReplayOptions& o) {
     msg.angle_increment(static_cast<float>(s.angle_increment));
     msg.angle_max(static_cast<float>(s.angle_min + (s.ranges.size() - 1) * s.angle_increment));
     msg.range_min(0.05f);
-    msg.range_max(static_cast<float>(std::min(s.no_return_range(), o.range_max)));
+    msg.range_max(static_cast<float>(
+        std::min(s.no_return_range(), ScanReach(s.ranges, s.no_return_range(), {o.range_max, o.far_range_max}))));
     msg.ranges(s.ranges);
     scan.Write(msg);
   };

@@ -30,11 +30,12 @@ struct ReplayOptions {
   std::string server = "127.0.0.1:50051";  // navd's gRPC, to set the first pose ("" to skip)
   std::string odom_noise = "0.05,0.035";
   uint64_t seed = 1;
-  int max_scans = 0;        // 0: the whole log
-  double range_max = 15.0;  // m: beams are cut here, as navd-replay's map builder cuts them
-  double wait = 10.0;       // s for navd's DDS readers to appear
-  std::string out;          // TUM file of navd's poses ("" for none)
-  bool strict = false;      // stop at the first malformed log line
+  int max_scans = 0;            // 0: the whole log
+  double range_max = 15.0;      // m: beams are cut here, as navd-replay's map builder cuts them,
+  double far_range_max = 50.0;  // or here in a scan with too little within range_max (ScanReach)
+  double wait = 10.0;           // s for navd's DDS readers to appear
+  std::string out;              // TUM file of navd's poses ("" for none)
+  bool strict = false;          // stop at the first malformed log line
   // A disturbance `disturb_at` s of log time after the first scan (see Disturbance).
   Disturbance disturbance = Disturbance::kNone;
   double disturb_at = 0.0;                    // s

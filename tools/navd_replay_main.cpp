@@ -26,6 +26,7 @@
 #include "services/common/map_server_format.h"
 #include "services/common/odometry_noise.h"
 #include "services/common/png_format.h"
+#include "services/common/scan_reach.h"
 #include "services/common/text_file.h"
 #include "services/common/world.h"
 #include "services/localization/ekf_localizer.h"
@@ -117,8 +118,9 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
 
 // m: the longest reading the localiser judges. Further, a reading's end is rarely on a mapped
 // wall (the map is drawn to 15 m from each pose) and a heading error of a milliradian moves it
-// more than a map cell.
-constexpr double kLocalizationRange = 25.0;
+// more than a map cell; a scan with too little that near (an open hall) is judged to the far reach,
+// as the map drew it (ScanReach).
+constexpr navd::ScanReachOptions kLocalizationReach{25.0, 50.0};
 
 navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution);
 
@@ -179,7 +181,7 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
     scan.range_min = 0.05;
     // Beams are judged further than the map was drawn (its usable range): a corridor's far end,
     // mapped when the robot was nearer, is what holds the position along the corridor.
-    scan.range_max = std::min(s.no_return_range(), kLocalizationRange);
+    scan.range_max = std::min(s.no_return_range(), ScanReach(s.ranges, s.no_return_range(), kLocalizationReach));
     scan.stamp = s.timestamp;
     pf.AddScan(scan);
     const Pose2 e = pf.Estimate().pose;

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "services/common/error.h"
+#include "services/common/scan_reach.h"
 #include "services/mapping/surface_facing_check.h"
 
 namespace navd::mapping {
@@ -23,11 +24,13 @@ Eigen::Matrix3d Information(double sigma_xy, double sigma_theta) {
 GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options) {}
 
 std::vector<Point2> GraphSlam::Returns(const RangeScan& scan) const {
+  const double reach =
+      ScanReach(scan.ranges, scan.range_max, {o_.usable_range, o_.far_usable_range, o_.min_near_echoes});
   std::vector<Point2> points;
   points.reserve(scan.ranges.size());
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i];
-    if (!std::isfinite(r) || r < 0.05 || r >= o_.usable_range || r >= scan.range_max) continue;
+    if (!std::isfinite(r) || r < 0.05 || r >= reach || r >= scan.range_max) continue;
     const double a = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
     points.emplace_back(r * std::cos(a), r * std::sin(a));
   }

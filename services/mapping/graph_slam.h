@@ -37,7 +37,9 @@ struct RangeScan {
 
 struct GraphSlamOptions {
   Pose2 first_pose;                  // the first scan's pose in the map frame
-  double usable_range = 20.0;        // m: longer readings are no-returns for matching
+  double usable_range = 20.0;        // m: longer readings are no-returns for matching, except
+  double far_usable_range = 50.0;    // in a scan with fewer than min_near_echoes within usable_range
+  int min_near_echoes = 60;          // (an open hall's): then this far (ScanReach)
   double match_point_spacing = 0.1;  // m between the scan points matched
   int local_map_nodes = 8;           // recent nodes forming the local map
   double node_travel = 0.2;          // m, or

@@ -115,9 +115,10 @@ void MappingSession::Integrate(const Item& item) {
   const OccupancyGrid& g = geometry_;
   auto footprint = [&](const Pose2& pose, const RangeScan& scan) {
     // The cells a scan can touch: its reach around the pose (none when that lies off the map).
+    const double cut = ScanReachOf(o_.mapper, scan.ranges, scan.range_max);
     double reach = 0.0;
     for (float r : scan.ranges)
-      if (std::isfinite(r)) reach = std::max(reach, std::min<double>(r, o_.mapper.usable_range));
+      if (std::isfinite(r)) reach = std::max(reach, std::min<double>(r, cut));
     const CellIndex a = g.CellOf(pose.translation() - Point2(reach, reach));
     const CellIndex b = g.CellOf(pose.translation() + Point2(reach, reach));
     const MapRegion r{{std::max(0, a.x), std::max(0, a.y)},

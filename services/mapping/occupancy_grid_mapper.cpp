@@ -6,12 +6,17 @@
 
 #include "services/common/error.h"
 #include "services/common/grid_traversal.h"
+#include "services/common/scan_reach.h"
 
 namespace navd::mapping {
 
-double TracedLength(const MapperOptions& o, double range, double range_max) {
+double ScanReachOf(const MapperOptions& o, const std::vector<float>& ranges, double range_max) {
+  return ScanReach(ranges, std::min(o.max_range, range_max), {o.usable_range, o.far_usable_range, o.min_near_echoes});
+}
+
+double TracedLength(const MapperOptions& o, double range, double range_max, double reach) {
   const bool no_return = range >= std::min(o.max_range, range_max);
-  return std::min(no_return ? o.missing_data_ray_length : range, o.usable_range);
+  return std::min(no_return ? o.missing_data_ray_length : range, reach);
 }
 
 OccupancyGridMapper::OccupancyGridMapper(const Point2& min, const Point2& max, const MapperOptions& options)
@@ -45,11 +50,12 @@ void OccupancyGridMapper::Update(size_t k, double log_odds, int himm) {
 void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& ranges, double angle_min,
                                   double increment, double range_max) {
   const double no_return = std::min(o_.max_range, range_max);
+  const double reach = ScanReachOf(o_, ranges, no_return);
   for (size_t i = 0; i < ranges.size(); ++i) {
     const double r = ranges[i];
     if (!std::isfinite(r) || r <= 0.0) continue;
-    const bool hit = r < no_return && r <= o_.usable_range;
-    const double length = TracedLength(o_, r, no_return);
+    const bool hit = r < no_return && r <= reach;
+    const double length = TracedLength(o_, r, no_return, reach);
     if (length <= 0.0) continue;
     const double a = pose.theta + angle_min + i * increment;
     const Point2 from = pose.translation();

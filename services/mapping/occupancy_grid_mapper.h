@@ -32,14 +32,19 @@ struct MapperOptions {
   double l_free = -0.28;                 // log-odds added along a beam (p 0.43: about three misses undo a hit)
   double l_min = -4.0, l_max = 4.0;      // clamps keep the map responsive to change
   double max_range = 50.0;               // m: longer readings are no-returns
-  double usable_range = 15.0;            // m: beams are cut here (long beams are mostly noise); marks nothing
+  double usable_range = 15.0;            // m: beams are cut here (long beams are mostly noise); marks nothing,
+  double far_usable_range = 50.0;        // except in a scan with fewer than min_near_echoes within
+  int min_near_echoes = 60;              // usable_range (an open hall's): cut this far (ScanReach)
   double missing_data_ray_length = 5.0;  // m cleared along a no-return reading
   double l_free_sonar = -0.4;            // log-odds along a sonar cone's axis, weighted down off it (Elfes)
 };
 
+// How far a scan's beams are traced at most (m): usable_range, or far_usable_range for a scan that
+// finds too little within it (services/common/scan_reach.h).
+double ScanReachOf(const MapperOptions& options, const std::vector<float>& ranges, double range_max);
 // How far along its beam a reading is traced (m): a no-return (at or beyond range_max)
-// missing_data_ray_length, an echo its range; either cut at usable_range.
-double TracedLength(const MapperOptions& options, double range, double range_max);
+// missing_data_ray_length, an echo its range; either cut at the scan's `reach` (ScanReachOf).
+double TracedLength(const MapperOptions& options, double range, double range_max, double reach);
 
 class OccupancyGridMapper {
  public:

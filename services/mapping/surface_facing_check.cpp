@@ -17,8 +17,7 @@ int SurfaceFacingCheck::Sector(const Point2& normal) {
   return static_cast<int>(std::floor((a + kPi) / (2.0 * kPi) * kSectors)) % kSectors;
 }
 
-SurfaceFacingCheck::SurfaceFacingCheck(const std::vector<PlacedReturns>& reference,
-                                       const SurfaceFacingOptions& options)
+SurfaceFacingCheck::SurfaceFacingCheck(const std::vector<PlacedReturns>& reference, const SurfaceFacingOptions& options)
     : o_(options) {
   for (const PlacedReturns& r : reference) {
     if (!r.points) continue;
@@ -42,7 +41,7 @@ std::vector<Point2> SurfaceFacingCheck::Normals(const std::vector<Point2>& point
     if (length <= 0.0) continue;
     Point2 normal(-along.y() / length, along.x() / length);
     if (std::abs(normal.dot(p - a)) > o_.max_offset) continue;  // a corner or clutter, not a wall
-    if (normal.dot(-p) < 0.0) normal = -normal;                  // towards the sensor (the origin)
+    if (normal.dot(-p) < 0.0) normal = -normal;                 // towards the sensor (the origin)
     out[i] = normal;
   }
   return out;

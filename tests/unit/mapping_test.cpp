@@ -10,6 +10,7 @@
 #include "services/common/carmen_odometry.h"
 #include "services/common/error.h"
 #include "services/common/map_server_format.h"
+#include "services/common/scan_reach.h"
 #include "services/common/world.h"
 #include "services/mapping/log_renderer.h"
 #include "services/mapping/occupancy_grid_mapper.h"
@@ -315,6 +316,28 @@ TEST(MapperRules, AFewGrazingBeamsDoNotEraseAWall) {
   const OccupancyGrid g = mapper.ToGrid();
   EXPECT_TRUE(g.IsOccupied(g.CellOf(wall_cell))) << static_cast<int>(g.at(g.CellOf(wall_cell)));
   EXPECT_FALSE(g.IsOccupied(g.CellOf({3.0, 2.025})));
+}
+
+// Echoes beyond the usable range (15 m) mark nothing in a scan that finds plenty nearer (a room's,
+// one beam out through a door); in a scan that finds almost nothing near (an open hall's), they
+// are all it has, and mark its far wall, out to the far reach (50 m).
+TEST(MapperRules, FarEchoesMarkOnlyInAScanThatFindsTooLittleNear) {
+  EXPECT_EQ(ScanReach(std::vector<float>(180, 5.0f), 81.91, {}), 20.0);
+  EXPECT_EQ(ScanReach(std::vector<float>(180, 30.0f), 81.91, {}), 50.0);
+  EXPECT_EQ(ScanReach(std::vector<float>(180, 81.91f), 81.91, {}), 50.0);  // no-returns are not echoes near
+  MapperOptions o;
+  const Pose2 pose{1.0, 20.0, 0.0};
+  const double increment = M_PI / 180.0, angle_min = -M_PI / 2;
+  std::vector<float> hall(180, 30.0f), room(180, 4.0f);
+  room[90] = 30.0f;  // straight ahead, through the door
+  OccupancyGridMapper in_hall({0.0, 0.0}, {40.0, 40.0}, o), in_room({0.0, 0.0}, {40.0, 40.0}, o);
+  in_hall.AddScan(pose, hall, angle_min, increment);
+  in_room.AddScan(pose, room, angle_min, increment);
+  const OccupancyGrid h = in_hall.ToGrid(), r = in_room.ToGrid();
+  EXPECT_TRUE(h.IsOccupied(h.CellOf({31.0 + 0.01, 20.0})));
+  EXPECT_LT(h.at(h.CellOf({25.0, 20.0})), 50);  // cleared on the way
+  EXPECT_EQ(r.at(r.CellOf({31.0 + 0.01, 20.0})), OccupancyGrid::kUnknown);
+  EXPECT_EQ(r.at(r.CellOf({25.0, 20.0})), OccupancyGrid::kUnknown);  // traced to 15 m only
 }
 
 // A box room 10 m x 8 m (walls one cell thick on its edges, a 1 m gap in the east wall) and a log

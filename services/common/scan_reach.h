@@ -1,0 +1,22 @@
+#pragma once
+// How far a scan's echoes are used. Near walls are where a laser is precise: far echoes spread
+// with every milliradian of heading error and graze walls, so they are cut at `near`. A scan that
+// finds too little that near (an open hall, a convention centre, a yard) is used out to `far`
+// instead: far walls and pillars are all it has to go by. Metres.
+#include <vector>
+
+namespace navd {
+
+struct ScanReachOptions {
+  double near = 20.0;
+  double far = 50.0;
+  // Fewer echoes than this within `near` (of 180 to 361 beams: a room's or a corridor's scan has
+  // well over a hundred) and the scan reaches `far`.
+  int min_near_echoes = 60;
+};
+
+// The reach (m) for a scan's `ranges`, readings at or beyond `no_return` being no-returns: near,
+// or far for a scan with too few echoes within near.
+double ScanReach(const std::vector<float>& ranges, double no_return, const ScanReachOptions& options);
+
+}  // namespace navd
