@@ -23,9 +23,9 @@ Eigen::Matrix3d Information(double sigma_xy, double sigma_theta) {
 
 GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options) {}
 
-std::vector<Point2> GraphSlam::Returns(const RangeScan& scan) const {
-  const double reach =
-      ScanReach(scan.ranges, scan.range_max, {o_.usable_range, o_.far_usable_range, o_.min_near_echoes});
+std::vector<Point2> GraphSlam::Returns(const RangeScan& scan, double beyond) const {
+  const double cut = ScanReach(scan.ranges, scan.range_max, {o_.usable_range, o_.far_usable_range, o_.min_near_echoes});
+  const double reach = cut < o_.far_usable_range ? cut + beyond : cut;
   std::vector<Point2> points;
   points.reserve(scan.ranges.size());
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
@@ -68,7 +68,7 @@ std::vector<Point2> GraphSlam::NodePointsInMap(int first, int last) const {
   std::vector<Point2> out;
   for (int n = std::max(0, first); n <= last && n < nodes(); ++n) {
     const Pose2& pose = graph_.nodes()[n];
-    for (const Point2& p : node_points_[n]) out.push_back(pose * p);
+    for (const Point2& p : node_reference_points_[n]) out.push_back(pose * p);
   }
   return out;
 }
@@ -78,7 +78,8 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   if (graph_.nodes().empty()) {
     graph_.AddNode(o_.first_pose);
     node_scans_.push_back(scan);
-    node_points_.push_back(Returns(scan));
+    node_points_.push_back(Returns(scan, 0.0));
+    node_reference_points_.push_back(Returns(scan, o_.reference_extra_range));
     node_odometry_.push_back(odometry);
     node_distance_.push_back(0.0);
     node_scan_.push_back(0);
@@ -96,7 +97,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   }
 
   // Front end: the scan against the local map of recent nodes, around the odometry's prediction.
-  std::vector<Point2> points = Returns(scan);
+  std::vector<Point2> points = Returns(scan, 0.0);
   std::vector<Point2> local_points = NodePointsInMap(last - o_.local_map_nodes + 1, last);
   const CorrelationGrid local(local_points, o_.sequential.resolution, o_.sequential.sigma);
   const std::vector<Point2> thinned = ThinPoints(points, o_.match_point_spacing);
@@ -113,6 +114,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose, SequentialInformation(pose, matched), false});
   node_scans_.push_back(scan);
   node_points_.push_back(std::move(points));
+  node_reference_points_.push_back(Returns(scan, o_.reference_extra_range));
   node_odometry_.push_back(odometry);
   node_scan_.push_back(static_cast<int>(scan_node_.size()));
   scan_node_.push_back(node);

@@ -36,14 +36,20 @@ struct RangeScan {
 };
 
 struct GraphSlamOptions {
-  Pose2 first_pose;                  // the first scan's pose in the map frame
-  double usable_range = 20.0;        // m: longer readings are no-returns for matching, except
-  double far_usable_range = 50.0;    // in a scan with fewer than min_near_echoes within usable_range
-  int min_near_echoes = 60;          // (an open hall's): then this far (ScanReach)
-  double match_point_spacing = 0.1;  // m between the scan points matched
-  int local_map_nodes = 8;           // recent nodes forming the local map
-  double node_travel = 0.2;          // m, or
-  double node_turn = 0.2;            // rad, of odometry since the last node make a new node
+  Pose2 first_pose;                // the first scan's pose in the map frame
+  double usable_range = 20.0;      // m: longer readings are no-returns for matching, except
+  double far_usable_range = 50.0;  // in a scan with fewer than min_near_echoes within usable_range
+  int min_near_echoes = 60;        // (an open hall's): then this far (ScanReach)
+  // As a reference (the local map, a loop closure's candidate), a node's scan reaches this much
+  // further than usable_range, where it is matched: a wall a scan sees near the cut was seen by
+  // the nodes before it from elsewhere, often just beyond their own cut, and would be missing
+  // from the reference where the scan's far echoes need it (a hall's walls 10-30 m off). Scans
+  // cut at far_usable_range reach no further.
+  double reference_extra_range = 10.0;  // m
+  double match_point_spacing = 0.1;     // m between the scan points matched
+  int local_map_nodes = 8;              // recent nodes forming the local map
+  double node_travel = 0.2;             // m, or
+  double node_turn = 0.2;               // rad, of odometry since the last node make a new node
   // The front end's window (defaults: ±0.25 m, ±0.15 rad), with a mild prior on the odometry's
   // prediction so a scan in a corridor does not slide along it.
   ScanMatchOptions sequential = [] {
@@ -171,7 +177,8 @@ class GraphSlam {
   const PoseGraph& graph() const { return graph_; }
 
  private:
-  std::vector<Point2> Returns(const RangeScan& scan) const;  // robot frame, no-returns dropped
+  // The scan's returns (robot frame, no-returns dropped) within its reach plus `beyond` (m).
+  std::vector<Point2> Returns(const RangeScan& scan, double beyond) const;
   std::vector<Point2> NodePointsInMap(int first, int last) const;
   // The front end's search window for a scan `moved` (odometry) from the last node.
   ScanMatchOptions FrontEndWindow(const Pose2& moved) const;
@@ -222,7 +229,8 @@ class GraphSlam {
   GraphSlamOptions o_;
   PoseGraph graph_;
   std::vector<RangeScan> node_scans_;
-  std::vector<std::vector<Point2>> node_points_;  // robot frame
+  std::vector<std::vector<Point2>> node_points_;            // robot frame, as matched
+  std::vector<std::vector<Point2>> node_reference_points_;  // robot frame, as a reference (further)
   std::vector<Pose2> node_odometry_;
   std::vector<double> node_distance_;  // m along the chain from the first node, as the front end placed them
   std::vector<int> node_scan_;         // the scan each node was made from
