@@ -95,7 +95,7 @@ struct GraphSlamOptions {
   int loop_min_node_gap = 30;       // nodes back along the chain, at least
   int loop_neighbourhood = 5;       // candidate's neighbours either side forming its map
   double loop_window_xy = 3.0, loop_window_theta = 0.4;
-  double loop_min_score = 0.65;  // mean lookup value of the scan on the candidate's map
+  double loop_min_score = 0.66;  // mean lookup value of the scan on the candidate's map
   // Scans with fewer matched points (0.1 m apart) close no loops: a robot turning in a tight
   // corner sees a small, nearly round outline that matches at many headings.
   int loop_min_points = 50;
