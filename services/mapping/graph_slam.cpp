@@ -23,18 +23,19 @@ Eigen::Matrix3d Information(double sigma_xy, double sigma_theta) {
 
 GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options) {}
 
-std::vector<Point2> GraphSlam::Returns(const RangeScan& scan, double beyond) const {
+GraphSlam::NodeReturns GraphSlam::Returns(const RangeScan& scan) const {
   const double cut = ScanReach(scan.ranges, scan.range_max, {o_.usable_range, o_.far_usable_range, o_.min_near_echoes});
-  const double reach = cut < o_.far_usable_range ? cut + beyond : cut;
-  std::vector<Point2> points;
-  points.reserve(scan.ranges.size());
+  const double reach = cut < o_.far_usable_range ? cut + o_.reference_extra_range : cut;
+  NodeReturns out;
+  out.reference.reserve(scan.ranges.size());
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i];
     if (!std::isfinite(r) || r < 0.05 || r >= reach || r >= scan.range_max) continue;
     const double a = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
-    points.emplace_back(r * std::cos(a), r * std::sin(a));
+    out.reference.emplace_back(r * std::cos(a), r * std::sin(a));
+    if (r < cut) out.matched.push_back(out.reference.back());
   }
-  return points;
+  return out;
 }
 
 ScanMatchOptions GraphSlam::FrontEndWindow(const Pose2& moved) const {
@@ -78,8 +79,9 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   if (graph_.nodes().empty()) {
     graph_.AddNode(o_.first_pose);
     node_scans_.push_back(scan);
-    node_points_.push_back(Returns(scan, 0.0));
-    node_reference_points_.push_back(Returns(scan, o_.reference_extra_range));
+    NodeReturns returns = Returns(scan);
+    node_points_.push_back(std::move(returns.matched));
+    node_reference_points_.push_back(std::move(returns.reference));
     node_odometry_.push_back(odometry);
     node_distance_.push_back(0.0);
     node_scan_.push_back(0);
@@ -97,7 +99,8 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   }
 
   // Front end: the scan against the local map of recent nodes, around the odometry's prediction.
-  std::vector<Point2> points = Returns(scan, 0.0);
+  NodeReturns returns = Returns(scan);
+  std::vector<Point2>& points = returns.matched;
   std::vector<Point2> local_points = NodePointsInMap(last - o_.local_map_nodes + 1, last);
   const CorrelationGrid local(local_points, o_.sequential.resolution, o_.sequential.sigma);
   const std::vector<Point2> thinned = ThinPoints(points, o_.match_point_spacing);
@@ -114,7 +117,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose, SequentialInformation(pose, matched), false});
   node_scans_.push_back(scan);
   node_points_.push_back(std::move(points));
-  node_reference_points_.push_back(Returns(scan, o_.reference_extra_range));
+  node_reference_points_.push_back(std::move(returns.reference));
   node_odometry_.push_back(odometry);
   node_scan_.push_back(static_cast<int>(scan_node_.size()));
   scan_node_.push_back(node);

@@ -177,8 +177,12 @@ class GraphSlam {
   const PoseGraph& graph() const { return graph_; }
 
  private:
-  // The scan's returns (robot frame, no-returns dropped) within its reach plus `beyond` (m).
-  std::vector<Point2> Returns(const RangeScan& scan, double beyond) const;
+  // The scan's returns (robot frame, beam order, no-returns dropped): those matched, within its
+  // reach (ScanReach), and those it offers as a reference, reference_extra_range further.
+  struct NodeReturns {
+    std::vector<Point2> matched, reference;
+  };
+  NodeReturns Returns(const RangeScan& scan) const;
   std::vector<Point2> NodePointsInMap(int first, int last) const;
   // The front end's search window for a scan `moved` (odometry) from the last node.
   ScanMatchOptions FrontEndWindow(const Pose2& moved) const;

@@ -1,6 +1,7 @@
 // The parts of graph SLAM: the correlative and point-to-line scan matchers and the SE(2) pose graph.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <random>
 
 #include "services/common/ray_caster.h"
@@ -180,10 +181,24 @@ TEST(PoseGraph, ALoopClosureRemovesTheOdometryDrift) {
   EXPECT_NEAR(graph.nodes()[0].x, 0.0, 1e-9);  // the anchor stays
 }
 
+// Feeds `slam` a scan at each true pose with odometry 5 % and 2 degrees per metre off each step.
+void AddWithNoisyOdometry(GraphSlam& slam, const std::vector<Pose2>& truth, std::mt19937& rng,
+                          const std::function<RangeScan(const Pose2&)>& scan_at) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Pose2 odometry = truth.front();
+  for (size_t i = 0; i < truth.size(); ++i) {
+    if (i > 0) {
+      const Pose2 step = truth[i - 1].inverse() * truth[i];
+      const double d = std::hypot(step.x, step.y);
+      odometry = odometry * Pose2{step.x * (1.0 + 0.05 * n(rng)), step.y, step.theta + 0.035 * d * n(rng)};
+    }
+    slam.AddScan(odometry, scan_at(truth[i]));
+  }
+}
+
 // Round the room twice, 0.4 m steps, odometry 5% and 2 degrees per metre off: the true poses.
 std::vector<Pose2> DriveTwoLaps(const OccupancyGrid& map, GraphSlam& slam) {
   std::mt19937 rng(5);
-  std::normal_distribution<double> n(0.0, 1.0);
   std::vector<Pose2> truth;
   const std::vector<Point2> corners{{1.5, 1.5}, {8.5, 1.5}, {8.5, 4.0}, {4.5, 4.0}, {4.5, 6.5}, {1.5, 6.5}};
   for (int lap = 0; lap < 2; ++lap) {
@@ -197,15 +212,7 @@ std::vector<Pose2> DriveTwoLaps(const OccupancyGrid& map, GraphSlam& slam) {
       }
     }
   }
-  Pose2 odometry = truth.front();
-  for (size_t i = 0; i < truth.size(); ++i) {
-    if (i > 0) {
-      const Pose2 step = truth[i - 1].inverse() * truth[i];
-      const double d = std::hypot(step.x, step.y);
-      odometry = odometry * Pose2{step.x * (1.0 + 0.05 * n(rng)), step.y, step.theta + 0.035 * d * n(rng)};
-    }
-    slam.AddScan(odometry, ScanFrom(map, truth[i], &rng));
-  }
+  AddWithNoisyOdometry(slam, truth, rng, [&](const Pose2& pose) { return ScanFrom(map, pose, &rng); });
   return truth;
 }
 
@@ -384,7 +391,6 @@ OccupancyGrid CorridorLoop() {
 TEST(GraphSlam, BackAtTheStartOfACorridorLoopItClosesOnTheRightCornerNotTheBlocksCorner) {
   const OccupancyGrid map = CorridorLoop();
   std::mt19937 rng(6);
-  std::normal_distribution<double> n(0.0, 1.0);
   std::vector<Pose2> truth;
   const std::vector<Point2> corners{{2.0, 2.0}, {39.0, 2.0}, {39.0, 11.0}, {2.0, 11.0}};
   for (int leg = 0; leg < 6; ++leg) {
@@ -404,15 +410,7 @@ TEST(GraphSlam, BackAtTheStartOfACorridorLoopItClosesOnTheRightCornerNotTheBlock
   o.first_pose = truth.front();
   o.loop_correction_per_metre = 0.05;  // a drift allowance wide enough to reach the block's corner
   GraphSlam slam(o);
-  Pose2 odometry = truth.front();
-  for (size_t i = 0; i < truth.size(); ++i) {
-    if (i > 0) {
-      const Pose2 step = truth[i - 1].inverse() * truth[i];
-      const double d = std::hypot(step.x, step.y);
-      odometry = odometry * Pose2{step.x * (1.0 + 0.05 * n(rng)), step.y, step.theta + 0.035 * d * n(rng)};
-    }
-    slam.AddScan(odometry, FrontScanFrom(map, truth[i], &rng));
-  }
+  AddWithNoisyOdometry(slam, truth, rng, [&](const Pose2& pose) { return FrontScanFrom(map, pose, &rng); });
   ASSERT_GE(slam.loop_closures(), 1);
   for (const LoopClosure& c : slam.closures()) {
     const Pose2 diff = (truth[c.from_scan].inverse() * truth[c.to_scan]).inverse() * c.measurement;
