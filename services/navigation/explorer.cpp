@@ -60,6 +60,8 @@ ExplorationProgress Explorer::Start(const ExplorerOptions& options) {
   last_position_ = estimate.pose.translation();
   mission_ = 0;
   empty_decisions_ = 0;
+  goal_record_ = ExplorationGoalRecord(options.exploration.exclusion_radius);
+  for (const Point2& p : options.exploration.excluded) goal_record_.Reached(p);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     progress_ = ExplorationProgress{};
@@ -133,6 +135,7 @@ bool Explorer::Decide(double now) {
 
   if (!TrackMission(position, now)) return false;
 
+  options_.exploration.excluded = goal_record_.Excluded();
   const std::optional<ExplorationStep> step =
       NextExplorationStep(*map, estimate.pose, options_.method, visited_, options_.exploration);
   {
@@ -144,11 +147,13 @@ bool Explorer::Decide(double now) {
   }
   if (!step) {
     // Three decisions in a row: a map redrawn after a loop closure can hide a frontier for a moment.
-    if (++empty_decisions_ >= options_.complete_after) {
-      End(ExplorationState::kComplete, "no reachable frontier is left");
-      return false;
+    if (++empty_decisions_ < options_.complete_after) return true;
+    if (goal_record_.RetryGivenUp()) {
+      empty_decisions_ = 0;
+      return true;
     }
-    return true;
+    End(ExplorationState::kComplete, "no reachable frontier is left");
+    return false;
   }
   empty_decisions_ = 0;
 
@@ -236,7 +241,10 @@ std::optional<Point2> Explorer::ReachableEnd(const std::vector<Point2>& path) co
 }
 
 void Explorer::Exclude(const Point2& frontier_goal, bool given_up) {
-  options_.exploration.excluded.push_back(frontier_goal);
+  if (given_up)
+    goal_record_.GivenUp(frontier_goal);
+  else
+    goal_record_.Reached(frontier_goal);
   std::lock_guard<std::mutex> lock(mutex_);
   progress_.goals_given_up += given_up;
 }

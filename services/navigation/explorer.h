@@ -15,6 +15,7 @@
 #include "services/common/map_store.h"
 #include "services/localization/localizer_selector.h"
 #include "services/mapping/map_builder.h"
+#include "services/navigation/exploration_goal_record.h"
 #include "services/navigation/frontier_exploration.h"
 #include "services/navigation/navigation_executive.h"
 
@@ -85,7 +86,7 @@ class Explorer {
   // The point of `path` farthest along that the executive can drive to (not lethal in the
   // current costmap), or nullopt.
   std::optional<Point2> ReachableEnd(const std::vector<Point2>& path) const;
-  // Not chosen again: reached, or (given_up) unreachable or stuck.
+  // Not chosen again: reached, or (given_up) unreachable or stuck, until the last retry.
   void Exclude(const Point2& frontier_goal, bool given_up);
 
   MapStore& maps_;
@@ -111,6 +112,7 @@ class Explorer {
   Point2 frontier_goal_ = Point2::Zero();  // the frontier cell the mission heads for
   double best_remaining_ = 0.0, last_progress_ = 0.0;
   int empty_decisions_ = 0;
+  ExplorationGoalRecord goal_record_{0.0};
 
   mutable std::mutex mutex_;
   ExplorationProgress progress_;

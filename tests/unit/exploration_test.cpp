@@ -5,6 +5,7 @@
 
 #include "services/common/error.h"
 #include "services/mapping/mapping_session.h"
+#include "services/navigation/exploration_goal_record.h"
 #include "services/navigation/frontier_exploration.h"
 
 namespace navd {
@@ -96,6 +97,26 @@ TEST(MappingSession, SynchronousRunsReportChangedRegionsAndRefuseAbsurdSizes) {
   slam.Submit({NAN, 0.0, 0.0}, {}, scan);
   EXPECT_EQ(slam.status().dropped, 1u);
   EXPECT_TRUE(slam.status().active);
+}
+
+TEST(ExplorationGoalRecord, AGoalGivenUpIsTriedOnceMoreWhenNothingElseIsLeft) {
+  navigation::ExplorationGoalRecord record(0.5);
+  record.Reached({1.0, 0.0});
+  record.GivenUp({5.0, 0.0});
+  EXPECT_EQ(record.Excluded().size(), 2u);
+  // Nothing else left: the goal given up comes back, the one reached does not.
+  EXPECT_TRUE(record.RetryGivenUp());
+  ASSERT_EQ(record.Excluded().size(), 1u);
+  EXPECT_EQ(record.Excluded()[0], Point2(1.0, 0.0));
+  // Given up again (a few centimetres off, the same frontier): out for good, no third try.
+  record.GivenUp({5.2, 0.1});
+  EXPECT_EQ(record.Excluded().size(), 2u);
+  EXPECT_FALSE(record.RetryGivenUp());
+  EXPECT_EQ(record.Excluded().size(), 2u);
+  // A new goal given up elsewhere gets its own second try.
+  record.GivenUp({9.0, 0.0});
+  EXPECT_TRUE(record.RetryGivenUp());
+  EXPECT_EQ(record.Excluded().size(), 2u);
 }
 
 }  // namespace
