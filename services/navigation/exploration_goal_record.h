@@ -26,9 +26,9 @@ class ExplorationGoalRecord {
 
  private:
   double radius_;
-  std::vector<Point2> done_;        // reached, or given up twice
-  std::vector<Point2> given_up_;    // once, not retried yet
-  std::vector<Point2> retrying_;    // given up once and choosable again
+  std::vector<Point2> done_;      // reached, or given up twice
+  std::vector<Point2> given_up_;  // once, not retried yet
+  std::vector<Point2> retrying_;  // given up once and choosable again
 };
 
 }  // namespace navd::navigation
