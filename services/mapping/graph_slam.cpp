@@ -74,6 +74,14 @@ std::vector<Point2> GraphSlam::NodePointsInMap(int first, int last) const {
   return out;
 }
 
+int GraphSlam::LocalMapFirst(int last) const {
+  int first = std::max(0, last - o_.local_map_nodes + 1);
+  while (first > 0 && last - first + 1 < o_.local_map_max_nodes &&
+         node_distance_[last] - node_distance_[first - 1] <= o_.local_map_travel)
+    --first;
+  return first;
+}
+
 Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   if (!odometry.finite()) throw Error(ErrorCode::kInvalidArgument, "odometry pose is not finite");
   if (graph_.nodes().empty()) {
@@ -101,7 +109,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   // Front end: the scan against the local map of recent nodes, around the odometry's prediction.
   NodeReturns returns = Returns(scan);
   std::vector<Point2>& points = returns.matched;
-  std::vector<Point2> local_points = NodePointsInMap(last - o_.local_map_nodes + 1, last);
+  std::vector<Point2> local_points = NodePointsInMap(LocalMapFirst(last), last);
   const CorrelationGrid local(local_points, o_.sequential.resolution, o_.sequential.sigma);
   const std::vector<Point2> thinned = ThinPoints(points, o_.match_point_spacing);
   const ScanMatch match = MatchScan(local, thinned, predicted, FrontEndWindow(moved));

@@ -1,7 +1,7 @@
 #pragma once
 // Graph SLAM with a correlative scan-matching front end and a pose-graph back end (the design of
 // Karto and slam_toolbox, with Cartographer's "submap" as the recent scans):
-//  - each scan is matched against a local map made of the last few node scans, around the
+//  - each scan is matched against a local map made of the node scans of the last few metres, around the
 //    odometry prediction (CorrelativeScanMatcher): the match is the node's pose and the edge to
 //    the previous node;
 //  - each new node looks for a loop: the nearest old node (farther back along the chain than the
@@ -47,9 +47,15 @@ struct GraphSlamOptions {
   // cut at far_usable_range reach no further.
   double reference_extra_range = 10.0;  // m
   double match_point_spacing = 0.1;     // m between the scan points matched
-  int local_map_nodes = 8;              // recent nodes forming the local map
-  double node_travel = 0.2;             // m, or
-  double node_turn = 0.2;               // rad, of odometry since the last node make a new node
+  // The local map: the last local_map_nodes nodes, and as many more (up to local_map_max_nodes, no
+  // more than loop closing's loop_min_node_gap) as lie within local_map_travel m of chain. A log with a scan every
+  // 0.5-1 m has its 4 m in 8 nodes; one with a scan every 10 cm (a node every 20 cm) would otherwise match against the
+  // last 1.6 m only, where each node adds its small error to the next.
+  int local_map_nodes = 8;
+  double local_map_travel = 4.0;  // m
+  int local_map_max_nodes = 30;
+  double node_travel = 0.2;  // m, or
+  double node_turn = 0.2;    // rad, of odometry since the last node make a new node
   // The front end's window (defaults: ±0.25 m, ±0.15 rad), with a mild prior on the odometry's
   // prediction so a scan in a corridor does not slide along it.
   ScanMatchOptions sequential = [] {
@@ -184,6 +190,8 @@ class GraphSlam {
   };
   NodeReturns Returns(const RangeScan& scan) const;
   std::vector<Point2> NodePointsInMap(int first, int last) const;
+  // The first node of the local map that ends at node `last`.
+  int LocalMapFirst(int last) const;
   // The front end's search window for a scan `moved` (odometry) from the last node.
   ScanMatchOptions FrontEndWindow(const Pose2& moved) const;
   // The information of the front-end edge to a node matched at `pose` (the edge's error frame: the
