@@ -92,6 +92,13 @@ bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::string
     o.line = line_no;
     if (!ParseOdometry(in, o)) return false;
     log.odometry.push_back(o);
+  } else if (type == "PARAM") {
+    std::string name;
+    double value = 0.0;
+    if (in >> name && name == "robot_frontlaser_offset") {
+      if (!(in >> value) || !std::isfinite(value) || std::abs(value) > 10.0) return false;
+      log.front_laser_offset = value;
+    }
   } else if (type == "TRUEPOS") {
     CarmenTruth o;
     o.line = line_no;

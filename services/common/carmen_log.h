@@ -1,9 +1,9 @@
 #pragma once
 // Reader of CARMEN logs (the format of the classic public 2-D laser datasets): `FLASER` laser scans
 // with the laser's pose (corrected, in "corrected" logs) and odometry pose, `ROBOTLASER1` scans
-// (which carry their own angles, as navsim's recorder writes them), `ODOM` odometry and `TRUEPOS`
-// ground truth (simulators). Plain or gzip-compressed. FLASER front lasers are assumed to span 180
-// degrees, centred on the heading, as the CARMEN logs of SICK LMS scanners do. Metres, radians,
+// (which carry their own angles, as navsim's recorder writes them), `ODOM` odometry, `TRUEPOS`
+// ground truth (simulators) and the `PARAM robot_frontlaser_offset`. Plain or gzip-compressed. FLASER front lasers are
+// assumed to span 180 degrees, centred on the heading, as the CARMEN logs of SICK LMS scanners do. Metres, radians,
 // seconds.
 #include <cstddef>
 #include <functional>
@@ -45,6 +45,10 @@ struct CarmenLog {
   std::vector<CarmenScan> scans;
   std::vector<CarmenOdometry> odometry;
   std::vector<CarmenTruth> truth;
+  // m ahead of the robot's centre, where FLASER's scanner sits (PARAM robot_frontlaser_offset; 0
+  // when the log does not say): its scans' origin, while ODOM lines and FLASER's odom fields are
+  // the centre's.
+  double front_laser_offset = 0.0;
   int skipped_lines = 0;  // malformed lines skipped (when not strict)
 };
 
@@ -63,8 +67,9 @@ constexpr size_t kNoReturnMinCount = 5;
 double InferNoReturnRange(const CarmenLog& log);
 
 // Reads `path` (".gz" or plain). FLASER scans get the inferred no-return range as range_max.
-// Malformed FLASER/ODOM lines throw navd::Error naming the file and line when `strict`, else are
-// skipped and counted. Unknown message types are ignored.
+// Malformed FLASER/ODOM lines (and a PARAM robot_frontlaser_offset that is no number) throw
+// navd::Error naming the file and line when `strict`, else are skipped and counted. Unknown
+// message types are ignored.
 CarmenLog ReadCarmenLog(const std::string& path, bool strict = false);
 // The same from text already in memory (`source` names it in errors).
 CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, bool strict = false);

@@ -5,7 +5,10 @@
 
 namespace navd {
 
-std::vector<Pose2> OdometryAtScans(const CarmenLog& log) {
+namespace {
+
+// The robot centre's odometry at each scan.
+std::vector<Pose2> CentreOdometryAtScans(const CarmenLog& log) {
   std::vector<const CarmenOdometry*> stamped;
   for (const CarmenOdometry& o : log.odometry)
     if (o.timestamp > 0.0) stamped.push_back(&o);
@@ -32,6 +35,15 @@ std::vector<Pose2> OdometryAtScans(const CarmenLog& log) {
       out.push_back(after->pose);
     }
   }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Pose2> OdometryAtScans(const CarmenLog& log) {
+  std::vector<Pose2> out = CentreOdometryAtScans(log);
+  const Pose2 scanner(log.front_laser_offset, 0.0, 0.0);
+  for (Pose2& p : out) p = p * scanner;
   return out;
 }
 

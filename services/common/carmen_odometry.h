@@ -15,7 +15,10 @@ namespace navd {
 // interpolated by stamp when their stamps bracket the scan's, else the one nearer in stamp (the
 // one before on a tie, so logs with repeated or fake stamps follow the file). ODOM lines stamped
 // 0 or less carry no time and are left out (corrected logs echo their corrected pose that way).
-// Without ODOM lines, each scan's own odometry fields (FLASER odom_x odom_y odom_theta).
+// Without ODOM lines, each scan's own odometry fields (FLASER odom_x odom_y odom_theta). Those are
+// the robot centre's; each is carried forward by the log's front_laser_offset to the scanner,
+// whose motion the scans show (turning on the spot, a scanner 0.2 m ahead moves 0.28 m per
+// quarter turn while the centre stays).
 std::vector<Pose2> OdometryAtScans(const CarmenLog& log);
 
 // The evaluation protocol for corrected logs: each scan's corrected pose, corrupted step by step

@@ -145,6 +145,29 @@ TEST(CarmenOdometry, InterpolatesOdomLinesToEachScanAndFollowsTheFileWhenStampsR
   EXPECT_NEAR(own.theta, 0.5, 1e-9);
 }
 
+// The scans' origin is the scanner's: a log whose PARAM puts it 0.2 m ahead of the centre has its
+// odometry carried there, so turning on the spot moves it on a 0.2 m circle.
+TEST(CarmenOdometry, IsCarriedToTheFrontLaserThatTheParamPlaces) {
+  const std::string text =
+      "PARAM robot_frontlaser_offset 0.2 nohost 0\n"
+      "ODOM 1 1 0 0 0 0 10.0 h 10.0\n"
+      "FLASER 1 1.0 9 9 1 1 1 0 10.0 h 10.0\n"
+      "ODOM 1 1 1.5707963267948966 0 0 0 11.0 h 11.0\n"
+      "FLASER 1 1.0 9 9 1 1 1 1.5707963267948966 11.0 h 11.0\n";
+  const CarmenLog log = ParseCarmenLog(text, "offset");
+  EXPECT_DOUBLE_EQ(log.front_laser_offset, 0.2);
+  const std::vector<Pose2> odometry = OdometryAtScans(log);
+  ASSERT_EQ(odometry.size(), 2u);
+  EXPECT_NEAR(odometry[0].x, 1.2, 1e-9);
+  EXPECT_NEAR(odometry[0].y, 1.0, 1e-9);
+  EXPECT_NEAR(odometry[1].x, 1.0, 1e-9);
+  EXPECT_NEAR(odometry[1].y, 1.2, 1e-9);
+  EXPECT_NEAR(odometry[1].theta, M_PI / 2, 1e-9);
+  // A PARAM whose value is not a number is a malformed line.
+  EXPECT_THROW(ParseCarmenLog("PARAM robot_frontlaser_offset abc h 0\n" + text, "bad", true), Error);
+  EXPECT_DOUBLE_EQ(ParseCarmenLog("PARAM robot_frontlaser_offset abc h 0\n" + text, "lenient").front_laser_offset, 0.2);
+}
+
 // A log whose stamps cannot time its scans (most repeat) gets them paced from its odometry; a log
 // with usable stamps keeps them.
 TEST(CarmenLogStamps, CoarseStampsArePacedFromOdometry) {
