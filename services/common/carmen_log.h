@@ -2,9 +2,9 @@
 // Reader of CARMEN logs (the format of the classic public 2-D laser datasets): `FLASER` laser scans
 // with the laser's pose (corrected, in "corrected" logs) and odometry pose, `ROBOTLASER1` scans
 // (which carry their own angles, as navsim's recorder writes them), `ODOM` odometry, `TRUEPOS`
-// ground truth (simulators) and the `PARAM robot_frontlaser_offset`. Plain or gzip-compressed. FLASER front lasers are
-// assumed to span 180 degrees, centred on the heading, as the CARMEN logs of SICK LMS scanners do. Metres, radians,
-// seconds.
+// ground truth (simulators) and the `PARAM robot_frontlaser_offset`. Plain or gzip-compressed.
+// FLASER front lasers are assumed to span 180 degrees, centred on the heading, as the CARMEN logs
+// of SICK LMS scanners do. Metres, radians, seconds.
 #include <cstddef>
 #include <functional>
 #include <limits>

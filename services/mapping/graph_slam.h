@@ -1,9 +1,9 @@
 #pragma once
 // Graph SLAM with a correlative scan-matching front end and a pose-graph back end (the design of
 // Karto and slam_toolbox, with Cartographer's "submap" as the recent scans):
-//  - each scan is matched against a local map made of the node scans of the last few metres, around the
-//    odometry prediction (CorrelativeScanMatcher): the match is the node's pose and the edge to
-//    the previous node;
+//  - each scan is matched against a local map made of the node scans of the last few metres,
+//    around the odometry prediction (CorrelativeScanMatcher): the match is the node's pose and
+//    the edge to the previous node;
 //  - each new node looks for a loop: the nearest old node (farther back along the chain than the
 //    local map reaches) within a search radius; the new scan is matched against that node's
 //    neighbourhood over a wide window, coarse (10 cm) then fine (5 cm); a match that explains
@@ -47,10 +47,11 @@ struct GraphSlamOptions {
   // cut at far_usable_range reach no further.
   double reference_extra_range = 10.0;  // m
   double match_point_spacing = 0.1;     // m between the scan points matched
-  // The local map: the last local_map_nodes nodes, and as many more (up to local_map_max_nodes, no
-  // more than loop closing's loop_min_node_gap) as lie within local_map_travel m of chain. A log with a scan every
-  // 0.5-1 m has its 4 m in 8 nodes; one with a scan every 10 cm (a node every 20 cm) would otherwise match against the
-  // last 1.6 m only, where each node adds its small error to the next.
+  // The local map: the last local_map_nodes nodes, and as many more (up to local_map_max_nodes,
+  // no more than loop closing's loop_min_node_gap) as lie within local_map_travel m of chain. A
+  // log with a scan every 0.5-1 m has its 4 m in 8 nodes; one with a scan every 10 cm (a node
+  // every 20 cm) would otherwise match against the last 1.6 m only, where each node adds its
+  // small error to the next.
   int local_map_nodes = 8;
   double local_map_travel = 4.0;  // m
   int local_map_max_nodes = 30;
