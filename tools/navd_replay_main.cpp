@@ -3,6 +3,7 @@
 //   navd-replay --log FILE[.gz] --mode render --out RENDERED.log [--step M] [--turn RAD] [--range-noise M] [--seed N]
 //   navd-replay --log FILE[.gz] --mode localize|slam --out EST.tum [--odometry noisy|log]
 //               [--map MAP.yaml] [--odom-noise T,R] [--seed N] [--localizer amcl|ekf|calibration]
+//               [--front-recovery SCORE]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with, by default,
@@ -11,7 +12,8 @@
 // heading error N(0, R * distance) plus N(0, T * |turn|)),
 // writes one TUM line (t x y z qx qy qz qw) per scan and prints the error against the corrected
 // poses. Without --map it first builds the map from those poses. `--odometry log` takes the
-// odometry the log itself holds instead (carmen_odometry.h): how raw robot logs run. `render`
+// odometry the log itself holds instead (carmen_odometry.h): how raw robot logs run; SLAM then
+// searches again wider where a scan fits its predicted pose poorly (--front-recovery). `render`
 // writes a FLASER log whose scans are cast again in the map the log's poses draw (at --resolution),
 // at those poses or every --step metres between them (services/mapping/log_renderer.h).
 #include <CLI/CLI.hpp>
@@ -43,13 +45,15 @@ namespace {
 
 // Graph SLAM over the log's scans with the given odometry (one pose per scan): the TUM trajectory of every scan (the
 // final, optimised poses), judged against the log's corrected poses after SE(2) alignment; each
-// accepted loop closure judged against the corrected relative pose.
-int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, const std::string& out,
-         const std::string& map_out, const std::string& png, double resolution) {
+// accepted loop closure judged against the corrected relative pose. front_recovery: the front end's
+// FrontEndRecoveryOptions::below_score (0: off).
+int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, double front_recovery,
+         const std::string& out, const std::string& map_out, const std::string& png, double resolution) {
   using namespace navd;
   // The map frame starts at the log's first pose, so the map lines up with the log's own.
   mapping::GraphSlamOptions options;
   options.first_pose = log.scans.front().pose;
+  options.front_recovery.below_score = front_recovery;
   mapping::GraphSlam slam(options);
   double busy = 0.0;
   for (size_t k = 0; k < log.scans.size(); ++k) {
@@ -264,6 +268,14 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"noisy", "log"}));
   app.add_option("--seed", seed,
                  "localize, slam: seed of the odometry noise (and the filter); render: of the range noise");
+  // A log's own odometry errs beyond the front end's window between some scans (its ODOM lines
+  // misaligned with the scans, wheels slipping): by default, with --odometry log, matches
+  // explaining less than 60 % of the local map are searched again wider (FrontEndRecovery).
+  double front_recovery = -1.0;
+  app.add_option("--front-recovery", front_recovery,
+                 "slam: a front-end match scoring below this (0..1) is searched again over a wider window "
+                 "(default 0.6 with --odometry log, 0: off, with --odometry noisy)")
+      ->check(CLI::Range(0.0, 1.0));
   std::string method = "amcl";
   app.add_option("--localizer", method,
                  "localize: amcl (particle filter, default), ekf (seed 002's EKF with scan-to-map matching) or "
@@ -309,7 +321,8 @@ int main(int argc, char** argv) {
       render.seed = seed;
       rc = Render(log, out, resolution, render);
     } else if (mode == "slam") {
-      rc = Slam(log, odometry, out, map_out, png, resolution);
+      if (front_recovery < 0.0) front_recovery = odometry_source == "log" ? 0.6 : 0.0;
+      rc = Slam(log, odometry, front_recovery, out, map_out, png, resolution);
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
       if (motion_noise < 0.0) motion_noise = odometry_source == "log" ? 0.005 : noise.translation * noise.translation;

@@ -21,7 +21,7 @@ Eigen::Matrix3d Information(double sigma_xy, double sigma_theta) {
 
 }  // namespace
 
-GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options) {}
+GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options), recovery_(options.front_recovery) {}
 
 GraphSlam::NodeReturns GraphSlam::Returns(const RangeScan& scan) const {
   const double cut = ScanReach(scan.ranges, scan.range_max, {o_.usable_range, o_.far_usable_range, o_.min_near_echoes});
@@ -100,11 +100,14 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   const int last = nodes() - 1;
   const Pose2 moved = node_odometry_[last].inverse() * odometry;
   const Pose2 predicted = graph_.nodes()[last] * moved;
-  if (std::hypot(moved.x, moved.y) < o_.node_travel && std::abs(moved.theta) < o_.node_turn) {
-    scan_node_.push_back(last);  // too close to the last node to add anything: carried by odometry
+  // A scan too close to the last node to add anything, or one the front end holds back, is
+  // carried by odometry.
+  auto carry = [&] {
+    scan_node_.push_back(last);
     scan_offset_.push_back(moved);
     return predicted;
-  }
+  };
+  if (std::hypot(moved.x, moved.y) < o_.node_travel && std::abs(moved.theta) < o_.node_turn) return carry();
 
   // Front end: the scan against the local map of recent nodes, around the odometry's prediction.
   NodeReturns returns = Returns(scan);
@@ -112,7 +115,11 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   std::vector<Point2> local_points = NodePointsInMap(LocalMapFirst(last), last);
   const CorrelationGrid local(local_points, o_.sequential.resolution, o_.sequential.sigma);
   const std::vector<Point2> thinned = ThinPoints(points, o_.match_point_spacing);
-  const ScanMatch match = MatchScan(local, thinned, predicted, FrontEndWindow(moved));
+  const ScanMatchOptions window = FrontEndWindow(moved);
+  const FrontEndRecovery::Outcome checked =
+      recovery_.Check(local, thinned, predicted, window, MatchScan(local, thinned, predicted, window));
+  if (checked.held) return carry();
+  const ScanMatch& match = checked.match;
   // A scan that explains too little of the local map (empty scan, a new room seen through a door)
   // keeps the odometry's prediction.
   Eigen::Matrix3d matched = Eigen::Matrix3d::Zero();

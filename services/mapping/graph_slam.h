@@ -3,7 +3,8 @@
 // Karto and slam_toolbox, with Cartographer's "submap" as the recent scans):
 //  - each scan is matched against a local map made of the node scans of the last few metres,
 //    around the odometry prediction (CorrelativeScanMatcher): the match is the node's pose and
-//    the edge to the previous node;
+//    the edge to the previous node; where odometry errs beyond that window, FrontEndRecovery
+//    searches a poorly matched scan again wider (when its options turn it on);
 //  - each new node looks for a loop: the nearest old node (farther back along the chain than the
 //    local map reaches) within a search radius; the new scan is matched against that node's
 //    neighbourhood over a wide window, coarse (10 cm) then fine (5 cm); a match that explains
@@ -21,6 +22,7 @@
 #include "services/common/occupancy_grid.h"
 #include "services/common/pose2.h"
 #include "services/mapping/correlative_scan_matcher.h"
+#include "services/mapping/front_end_recovery.h"
 #include "services/mapping/occupancy_grid_mapper.h"
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
@@ -73,6 +75,8 @@ struct GraphSlamOptions {
   double front_window_xy_per_metre = 0.2;
   double front_window_theta_per_metre = 0.1;
   double front_window_theta_per_radian = 0.1;
+  // Odometry that errs beyond that window (FrontEndRecovery): off unless below_score is set.
+  FrontEndRecoveryOptions front_recovery;
   // The front end's edge: at least this uncertain in every direction, and more where the walls the
   // scan matched leave its pose free (along a bare corridor, or an open hall's far, sparse walls):
   // there, the polish's pair information (PointToLineResult::mean_information) is small, and the
@@ -240,6 +244,7 @@ class GraphSlam {
                     const Pose2& guess, const ScanMatchOptions& window, ScanMatch* match) const;
 
   GraphSlamOptions o_;
+  FrontEndRecovery recovery_;
   PoseGraph graph_;
   std::vector<RangeScan> node_scans_;
   std::vector<std::vector<Point2>> node_points_;            // robot frame, as matched

@@ -196,22 +196,28 @@ void AddWithNoisyOdometry(GraphSlam& slam, const std::vector<Pose2>& truth, std:
   }
 }
 
+// Once round the room in 0.4 m steps: the true poses.
+std::vector<Pose2> OneLap() {
+  std::vector<Pose2> truth;
+  const std::vector<Point2> corners{{1.5, 1.5}, {8.5, 1.5}, {8.5, 4.0}, {4.5, 4.0}, {4.5, 6.5}, {1.5, 6.5}};
+  for (size_t c = 0; c < corners.size(); ++c) {
+    const Point2 &a = corners[c], &b = corners[(c + 1) % corners.size()];
+    const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
+    const int steps = static_cast<int>(Distance(a, b) / 0.4);
+    for (int k = 0; k < steps; ++k) {
+      const Point2 q = a + (b - a) * (double(k) / steps);
+      truth.emplace_back(q.x(), q.y(), heading);
+    }
+  }
+  return truth;
+}
+
 // Round the room twice, 0.4 m steps, odometry 5% and 2 degrees per metre off: the true poses.
 std::vector<Pose2> DriveTwoLaps(const OccupancyGrid& map, GraphSlam& slam) {
   std::mt19937 rng(5);
-  std::vector<Pose2> truth;
-  const std::vector<Point2> corners{{1.5, 1.5}, {8.5, 1.5}, {8.5, 4.0}, {4.5, 4.0}, {4.5, 6.5}, {1.5, 6.5}};
-  for (int lap = 0; lap < 2; ++lap) {
-    for (size_t c = 0; c < corners.size(); ++c) {
-      const Point2 &a = corners[c], &b = corners[(c + 1) % corners.size()];
-      const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
-      const int steps = static_cast<int>(Distance(a, b) / 0.4);
-      for (int k = 0; k < steps; ++k) {
-        const Point2 q = a + (b - a) * (double(k) / steps);
-        truth.emplace_back(q.x(), q.y(), heading);
-      }
-    }
-  }
+  std::vector<Pose2> truth = OneLap();
+  const size_t lap = truth.size();
+  for (size_t i = 0; i < lap; ++i) truth.push_back(truth[i]);
   AddWithNoisyOdometry(slam, truth, rng, [&](const Pose2& pose) { return ScanFrom(map, pose, &rng); });
   return truth;
 }
@@ -262,6 +268,57 @@ TEST(GraphSlam, FrontEndFindsAScanMetresAwayWhoseOdometryIsOffByMoreThanTheBaseW
   const Pose2 found = slam.AddScan(odometry, ScanFrom(map, truth, &rng));
   EXPECT_LT(Distance(found.translation(), truth.translation()), 0.05);
   EXPECT_LT(std::abs(NormalizeAngle(found.theta - truth.theta)), 0.02);
+}
+
+// One lap whose odometry turns 0.4 rad too far between scans 9 and 10 (wheels slipping) and is
+// exact otherwise: the position RMSE of every scan.
+double LapRmseAfterAnOdometryJump(const FrontEndRecoveryOptions& recovery) {
+  const OccupancyGrid map = Room();
+  std::mt19937 rng(4);
+  GraphSlamOptions o = RoomSlamOptions();
+  o.front_recovery = recovery;
+  GraphSlam slam(o);
+  const std::vector<Pose2> truth = OneLap();
+  Pose2 odometry = truth.front();
+  for (size_t i = 0; i < truth.size(); ++i) {
+    if (i > 0) odometry = odometry * (truth[i - 1].inverse() * truth[i]);
+    if (i == 10) odometry = odometry * Pose2(0.0, 0.0, 0.4);
+    slam.AddScan(odometry, ScanFrom(map, truth[i], &rng));
+  }
+  return PositionRmse(slam.Trajectory(), truth);
+}
+
+// Beyond the front end's ±0.15 rad window the scan is found again by the wider search, and the
+// next scan, needing the same correction, confirms it.
+TEST(GraphSlam, FrontEndRecoveryFollowsOdometryThatErrsBeyondTheWindow) {
+  FrontEndRecoveryOptions on;
+  on.below_score = 0.6;
+  ASSERT_GT(0.4, GraphSlamOptions().sequential.window_theta);
+  EXPECT_LT(LapRmseAfterAnOdometryJump(on), 0.05);
+  EXPECT_GT(LapRmseAfterAnOdometryJump(FrontEndRecoveryOptions()), 0.2);  // off: the chain turns away
+}
+
+// A scan that fits 0.4 rad from where exact odometry puts it, once (its own stamp or pose off), is
+// held back; the next scan matches where the odometry puts it, so the held one is dropped and the
+// chain does not follow it.
+TEST(GraphSlam, FrontEndRecoveryDropsAScanThatFitsFarFromItsOdometryOnce) {
+  const OccupancyGrid map = Room();
+  std::mt19937 rng(4);
+  GraphSlamOptions o = RoomSlamOptions();
+  o.front_recovery.below_score = 0.6;
+  GraphSlam slam(o);
+  const std::vector<Pose2> truth = OneLap();
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const Pose2 seen_from = i == 10 ? truth[i] * Pose2(0.0, 0.0, 0.4) : truth[i];
+    slam.AddScan(truth[i], ScanFrom(map, seen_from, &rng));
+  }
+  EXPECT_EQ(slam.nodes(), static_cast<int>(truth.size()) - 1);
+  const std::vector<Pose2> estimate = slam.Trajectory();
+  ASSERT_EQ(estimate.size(), truth.size());
+  for (size_t i = 0; i < truth.size(); ++i) {
+    EXPECT_LT(Distance(estimate[i].translation(), truth[i].translation()), 0.05) << "scan " << i;
+    EXPECT_LT(std::abs(NormalizeAngle(estimate[i].theta - truth[i].theta)), 0.02) << "scan " << i;
+  }
 }
 
 // The information (1/m²) of the front end's edge for a second scan 0.5 m on from `from`, along

@@ -1,0 +1,50 @@
+#include "services/mapping/front_end_recovery.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace navd::mapping {
+namespace {
+
+// Whether `pose` lies outside `window` around `centre` but for its last cell or angular step: a
+// fit the first search could not have reached.
+bool Beyond(const Pose2& pose, const Pose2& centre, const ScanMatchOptions& window) {
+  return std::max(std::abs(pose.x - centre.x), std::abs(pose.y - centre.y)) > window.window_xy - window.resolution ||
+         std::abs(NormalizeAngle(pose.theta - centre.theta)) > window.window_theta - window.angle_step;
+}
+
+}  // namespace
+
+FrontEndRecovery::Outcome FrontEndRecovery::Settle(const ScanMatch& match) {
+  pending_ = false;
+  held_ = 0;
+  return {match, false};
+}
+
+FrontEndRecovery::Outcome FrontEndRecovery::Check(const CorrelationGrid& local, const std::vector<Point2>& points,
+                                                  const Pose2& predicted, const ScanMatchOptions& window,
+                                                  const ScanMatch& match) {
+  if (match.score >= o_.below_score) return Settle(match);
+  if (pending_) {
+    const ScanMatch corrected = MatchScan(local, points, predicted * pending_correction_, window);
+    if (corrected.score > match.score + o_.min_gain) return Settle(corrected);
+  }
+  ScanMatchOptions wide = window;
+  const double grow_xy = std::max(1.0, o_.window_xy / window.window_xy);
+  const double grow_theta = std::max(1.0, o_.window_theta / window.window_theta);
+  wide.window_xy *= grow_xy;
+  wide.prior_sigma_xy *= grow_xy;
+  wide.window_theta *= grow_theta;
+  wide.prior_sigma_theta *= grow_theta;
+  const ScanMatch wider = MatchScan(local, points, predicted, wide);
+  if (wider.score <= match.score + o_.min_gain || !Beyond(wider.pose, predicted, window)) return Settle(match);
+  const bool same = Distance(wider.pose.translation(), match.pose.translation()) <= o_.same_xy &&
+                    std::abs(NormalizeAngle(wider.pose.theta - match.pose.theta)) <= o_.same_theta;
+  if (same || held_ >= o_.max_held) return Settle(wider);
+  pending_ = true;
+  pending_correction_ = predicted.inverse() * wider.pose;
+  ++held_;
+  return {match, true};
+}
+
+}  // namespace navd::mapping

@@ -1,0 +1,65 @@
+#pragma once
+// The front end's answer to odometry that errs by more than its window: wheels slipping, a log
+// whose odometry lines are misaligned with its scans (10-40 degrees between two scans of the
+// aces, intel and csail logs). A front-end match that explains little of the local map is
+// searched again over a window several times wider; a wider fit that scores clearly better and
+// lies beyond the first window either corrects the odometry or is a fit of the wrong place (a
+// scan whose own stamp or pose is off, a room seen from its middle turned by a few tens of
+// degrees). The two read alike on one scan and differ on the next: after a real odometry error
+// the next scan needs the same correction, after a stray fit it matches where the odometry puts
+// it. So a far wider fit holds its scan back (no node) and the next scan confirms it: matched
+// around its own prediction corrected the same way, it takes that pose and the correction stands;
+// otherwise the held scan is dropped. After max_held scans held in a row the wider fit is taken
+// as it is (odometry that keeps erring).
+//
+// The wide search costs about as much as five ordinary matches, on every poorly matched scan, so
+// it is off by default: odometry whose error stays inside the window (the replay's noise model,
+// the simulator's) gains nothing from it. navd-replay turns it on for a log's own odometry.
+// Map frame, metres, radians.
+#include <vector>
+
+#include "services/common/pose2.h"
+#include "services/mapping/correlative_scan_matcher.h"
+
+namespace navd::mapping {
+
+struct FrontEndRecoveryOptions {
+  // A front-end match scoring below this (mean lookup value, 0..1) is searched again; 0: never.
+  double below_score = 0.0;
+  // The wider window's half-sizes, its prior widened in proportion (never narrower than the
+  // front end's own window).
+  double window_xy = 0.6;     // m
+  double window_theta = 0.8;  // rad
+  // The wider fit must score this much more than the first match.
+  double min_gain = 0.05;
+  // A wider fit this close to the first match is the same fit, which the first window's prior
+  // ranked lower: taken at once.
+  double same_xy = 0.1;      // m
+  double same_theta = 0.05;  // rad
+  int max_held = 2;          // scans held back in a row at most
+};
+
+class FrontEndRecovery {
+ public:
+  explicit FrontEndRecovery(const FrontEndRecoveryOptions& options) : o_(options) {}
+
+  struct Outcome {
+    ScanMatch match;    // the match to keep (the first one unless recovery replaced it)
+    bool held = false;  // the scan is held back: add no node for it
+  };
+
+  // `match` is the front end's match of `points` (robot frame) on `local` within `window` around
+  // the odometry's prediction `predicted`. Call once per scan the front end matches, in order.
+  Outcome Check(const CorrelationGrid& local, const std::vector<Point2>& points, const Pose2& predicted,
+                const ScanMatchOptions& window, const ScanMatch& match);
+
+ private:
+  Outcome Settle(const ScanMatch& match);
+
+  FrontEndRecoveryOptions o_;
+  bool pending_ = false;
+  Pose2 pending_correction_;  // the held scan's wider fit, in the frame of its prediction
+  int held_ = 0;              // scans held back in a row
+};
+
+}  // namespace navd::mapping
