@@ -36,6 +36,12 @@ FrontEndRecovery::Outcome FrontEndRecovery::Check(const CorrelationGrid& local, 
   wide.prior_sigma_xy *= grow_xy;
   wide.window_theta *= grow_theta;
   wide.prior_sigma_theta *= grow_theta;
+  // Most poorly matched scans (a hall's sparse walls, a new room through a door) fit no better
+  // elsewhere: a sparse pass over the wider window settles those for a tenth of the full search.
+  ScanMatchOptions sparse = wide;
+  sparse.angle_step *= o_.gate_angle_step_factor;
+  const ScanMatch rough = MatchScan(local, ThinPoints(points, o_.gate_point_spacing), predicted, sparse);
+  if (!Beyond(rough.pose, predicted, window)) return Settle(match);
   const ScanMatch wider = MatchScan(local, points, predicted, wide);
   if (wider.score <= match.score + o_.min_gain || !Beyond(wider.pose, predicted, window)) return Settle(match);
   const bool same = Distance(wider.pose.translation(), match.pose.translation()) <= o_.same_xy &&

@@ -12,9 +12,8 @@
 // otherwise the held scan is dropped. After max_held scans held in a row the wider fit is taken
 // as it is (odometry that keeps erring).
 //
-// The wide search costs about as much as five ordinary matches, on every poorly matched scan, so
-// it is off by default: odometry whose error stays inside the window (the replay's noise model,
-// the simulator's) gains nothing from it. navd-replay turns it on for a log's own odometry.
+// Off by default: odometry whose error stays inside the window (the replay's noise model, the
+// simulator's) gains nothing from it. navd-replay turns it on for a log's own odometry.
 // Map frame, metres, radians.
 #include <vector>
 
@@ -30,6 +29,11 @@ struct FrontEndRecoveryOptions {
   // front end's own window).
   double window_xy = 0.6;     // m
   double window_theta = 0.8;  // rad
+  // The wider window is searched first with points this far apart and this many times the
+  // front end's angular step; only when that pass's best lies beyond the first window is it
+  // searched in full.
+  double gate_point_spacing = 0.3;  // m
+  double gate_angle_step_factor = 4.0;
   // The wider fit must score this much more than the first match.
   double min_gain = 0.05;
   // A wider fit this close to the first match is the same fit, which the first window's prior
