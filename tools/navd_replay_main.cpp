@@ -274,7 +274,7 @@ int main(int argc, char** argv) {
   double front_recovery = -1.0;
   app.add_option("--front-recovery", front_recovery,
                  "slam: a front-end match scoring below this (0..1) is searched again over a wider window "
-                 "(default 0.6 with --odometry log, 0: off, with --odometry noisy)")
+                 "(default: 0.6 with --odometry log, 0 (off) with --odometry noisy)")
       ->check(CLI::Range(0.0, 1.0));
   std::string method = "amcl";
   app.add_option("--localizer", method,

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "services/common/error.h"
+
 namespace navd::mapping {
 namespace {
 
-// Whether `pose` lies outside `window` around `centre` but for its last cell or angular step: a
-// fit the first search could not have reached.
+// Whether `pose` lies on the rim of `window` around `centre` (its last cell or angular step) or
+// outside it: a fit the first search could not reach, or may have clipped.
 bool Beyond(const Pose2& pose, const Pose2& centre, const ScanMatchOptions& window) {
   return std::max(std::abs(pose.x - centre.x), std::abs(pose.y - centre.y)) > window.window_xy - window.resolution ||
          std::abs(NormalizeAngle(pose.theta - centre.theta)) > window.window_theta - window.angle_step;
@@ -15,10 +17,20 @@ bool Beyond(const Pose2& pose, const Pose2& centre, const ScanMatchOptions& wind
 
 }  // namespace
 
-FrontEndRecovery::Outcome FrontEndRecovery::Settle(const ScanMatch& match) {
+FrontEndRecovery::FrontEndRecovery(const FrontEndRecoveryOptions& options) : o_(options) {
+  if (!(o_.gate_angle_step_factor >= 1.0))
+    throw Error(ErrorCode::kInvalidArgument, "front_recovery.gate_angle_step_factor must be at least 1");
+  if (!(o_.gate_point_spacing > 0.0))
+    throw Error(ErrorCode::kInvalidArgument, "front_recovery.gate_point_spacing must be above 0");
+  if (o_.max_held < 0) throw Error(ErrorCode::kInvalidArgument, "front_recovery.max_held must not be negative");
+}
+
+FrontEndRecovery::Outcome FrontEndRecovery::Settle(const ScanMatch& match, bool confirmed) {
+  Outcome out{match, false, std::nullopt};
+  if (confirmed) out.held_fit = held_fit_;
   pending_ = false;
   held_ = 0;
-  return {match, false};
+  return out;
 }
 
 FrontEndRecovery::Outcome FrontEndRecovery::Check(const CorrelationGrid& local, const std::vector<Point2>& points,
@@ -27,11 +39,12 @@ FrontEndRecovery::Outcome FrontEndRecovery::Check(const CorrelationGrid& local, 
   if (match.score >= o_.below_score) return Settle(match);
   if (pending_) {
     const ScanMatch corrected = MatchScan(local, points, predicted * pending_correction_, window);
-    if (corrected.score > match.score + o_.min_gain) return Settle(corrected);
+    if (corrected.score > match.score + o_.min_gain) return Settle(corrected, true);
   }
-  ScanMatchOptions wide = window;
   const double grow_xy = std::max(1.0, o_.window_xy / window.window_xy);
   const double grow_theta = std::max(1.0, o_.window_theta / window.window_theta);
+  if (grow_xy == 1.0 && grow_theta == 1.0) return Settle(match);  // the first window was as wide
+  ScanMatchOptions wide = window;
   wide.window_xy *= grow_xy;
   wide.prior_sigma_xy *= grow_xy;
   wide.window_theta *= grow_theta;
@@ -49,8 +62,9 @@ FrontEndRecovery::Outcome FrontEndRecovery::Check(const CorrelationGrid& local, 
   if (same || held_ >= o_.max_held) return Settle(wider);
   pending_ = true;
   pending_correction_ = predicted.inverse() * wider.pose;
+  held_fit_ = wider.pose;
   ++held_;
-  return {match, true};
+  return {match, true, std::nullopt};
 }
 
 }  // namespace navd::mapping

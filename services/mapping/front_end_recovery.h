@@ -8,13 +8,20 @@
 // degrees). The two read alike on one scan and differ on the next: after a real odometry error
 // the next scan needs the same correction, after a stray fit it matches where the odometry puts
 // it. So a far wider fit holds its scan back (no node) and the next scan confirms it: matched
-// around its own prediction corrected the same way, it takes that pose and the correction stands;
-// otherwise the held scan is dropped. After max_held scans held in a row the wider fit is taken
-// as it is (odometry that keeps erring).
+// around its own prediction moved by the same correction, it takes that pose, and the held scan
+// its wider fit; otherwise the held scan is dropped (left to odometry). After max_held scans held
+// in a row the wider fit is taken as it is (odometry that keeps erring).
+//
+// The correction is carried in the robot's frame: odometry that lags or leads its scans errs by
+// the motion it missed, which the next scan repeats. A slip that turns the odometry once by γ is
+// a turn about the place it erred, which the robot-frame correction misses at the next scan by
+// 2 d sin(γ/2) for a step of d between them (0.16 m for 0.4 rad over 0.4 m, inside the window);
+// on the logs' own odometry the robot frame holds better than the map frame (docs/results.md).
 //
 // Off by default: odometry whose error stays inside the window (the replay's noise model, the
 // simulator's) gains nothing from it. navd-replay turns it on for a log's own odometry.
 // Map frame, metres, radians.
+#include <optional>
 #include <vector>
 
 #include "services/common/pose2.h"
@@ -45,11 +52,15 @@ struct FrontEndRecoveryOptions {
 
 class FrontEndRecovery {
  public:
-  explicit FrontEndRecovery(const FrontEndRecoveryOptions& options) : o_(options) {}
+  // Throws Error(kInvalidArgument) for options that cannot search (a gate step factor below 1, a
+  // spacing not above 0, max_held below 0).
+  explicit FrontEndRecovery(const FrontEndRecoveryOptions& options);
 
   struct Outcome {
     ScanMatch match;    // the match to keep (the first one unless recovery replaced it)
     bool held = false;  // the scan is held back: add no node for it
+    // This scan confirmed the correction of the scan held just before it: that one's pose.
+    std::optional<Pose2> held_fit;
   };
 
   // `match` is the front end's match of `points` (robot frame) on `local` within `window` around
@@ -58,11 +69,12 @@ class FrontEndRecovery {
                 const ScanMatchOptions& window, const ScanMatch& match);
 
  private:
-  Outcome Settle(const ScanMatch& match);
+  Outcome Settle(const ScanMatch& match, bool confirmed = false);
 
   FrontEndRecoveryOptions o_;
   bool pending_ = false;
-  Pose2 pending_correction_;  // the held scan's wider fit, in the frame of its prediction
+  Pose2 pending_correction_;  // the held scan's wider fit in the frame of its prediction
+  Pose2 held_fit_;            // the held scan's wider fit, map frame
   int held_ = 0;              // scans held back in a row
 };
 

@@ -118,7 +118,12 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   const ScanMatchOptions window = FrontEndWindow(moved);
   const FrontEndRecovery::Outcome checked =
       recovery_.Check(local, thinned, predicted, window, MatchScan(local, thinned, predicted, window));
-  if (checked.held) return carry();
+  if (checked.held) {
+    held_scan_ = static_cast<int>(scan_node_.size());
+    return carry();
+  }
+  // The scan held just before, confirmed: its pose is its wider fit, not the odometry's.
+  if (checked.held_fit) scan_offset_[held_scan_] = graph_.nodes()[last].inverse() * *checked.held_fit;
   const ScanMatch& match = checked.match;
   // A scan that explains too little of the local map (empty scan, a new room seen through a door)
   // keeps the odometry's prediction.

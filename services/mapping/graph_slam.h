@@ -255,6 +255,7 @@ class GraphSlam {
   // Per scan added: its node, and its odometry offset from that node.
   std::vector<int> scan_node_;
   std::vector<Pose2> scan_offset_;
+  int held_scan_ = -1;  // the last scan the front end held back (FrontEndRecovery)
   std::vector<LoopClosure> closures_;
   std::vector<LoopClosure> refinements_;
   double travel_since_closure_ = 0.0;  // m

@@ -4,6 +4,7 @@
 #include <functional>
 #include <random>
 
+#include "services/common/error.h"
 #include "services/common/ray_caster.h"
 #include "services/mapping/correlative_scan_matcher.h"
 #include "services/mapping/graph_slam.h"
@@ -270,32 +271,47 @@ TEST(GraphSlam, FrontEndFindsAScanMetresAwayWhoseOdometryIsOffByMoreThanTheBaseW
   EXPECT_LT(std::abs(NormalizeAngle(found.theta - truth.theta)), 0.02);
 }
 
-// One lap whose odometry turns 0.4 rad too far between scans 9 and 10 (wheels slipping) and is
-// exact otherwise: the position RMSE of every scan.
-double LapRmseAfterAnOdometryJump(const FrontEndRecoveryOptions& recovery) {
+// One lap whose odometry turns `jump` rad too far between scans 9 and 10 (wheels slipping) and
+// is exact otherwise, into `slam`: the true poses.
+std::vector<Pose2> LapWithAnOdometryJump(GraphSlam& slam, double jump) {
   const OccupancyGrid map = Room();
   std::mt19937 rng(4);
-  GraphSlamOptions o = RoomSlamOptions();
-  o.front_recovery = recovery;
-  GraphSlam slam(o);
-  const std::vector<Pose2> truth = OneLap();
+  std::vector<Pose2> truth = OneLap();
   Pose2 odometry = truth.front();
   for (size_t i = 0; i < truth.size(); ++i) {
     if (i > 0) odometry = odometry * (truth[i - 1].inverse() * truth[i]);
-    if (i == 10) odometry = odometry * Pose2(0.0, 0.0, 0.4);
+    if (i == 10) odometry = odometry * Pose2(0.0, 0.0, jump);
     slam.AddScan(odometry, ScanFrom(map, truth[i], &rng));
   }
-  return PositionRmse(slam.Trajectory(), truth);
+  return truth;
 }
 
-// Beyond the front end's ±0.15 rad window the scan is found again by the wider search, and the
-// next scan, needing the same correction, confirms it.
+// Beyond the front end's ±0.15 rad window scan 10 is found again by the wider search and held;
+// scan 11, needing about the same correction, confirms it, and both keep their true poses.
 TEST(GraphSlam, FrontEndRecoveryFollowsOdometryThatErrsBeyondTheWindow) {
-  FrontEndRecoveryOptions on;
-  on.below_score = 0.6;
-  ASSERT_GT(0.4, GraphSlamOptions().sequential.window_theta);
-  EXPECT_LT(LapRmseAfterAnOdometryJump(on), 0.05);
-  EXPECT_GT(LapRmseAfterAnOdometryJump(FrontEndRecoveryOptions()), 0.2);  // off: the chain turns away
+  ASSERT_GT(0.3, GraphSlamOptions().sequential.window_theta);
+  for (const double jump : {0.3, 0.45}) {
+    GraphSlamOptions o = RoomSlamOptions();
+    o.front_recovery.below_score = 0.6;
+    GraphSlam slam(o);
+    const std::vector<Pose2> truth = LapWithAnOdometryJump(slam, jump);
+    EXPECT_EQ(slam.nodes(), static_cast<int>(truth.size()) - 1) << "one scan held, jump " << jump;
+    const std::vector<Pose2> estimate = slam.Trajectory();
+    ASSERT_EQ(estimate.size(), truth.size());
+    for (size_t i = 0; i < truth.size(); ++i) {
+      EXPECT_LT(Distance(estimate[i].translation(), truth[i].translation()), 0.05) << "scan " << i << ", " << jump;
+      EXPECT_LT(std::abs(NormalizeAngle(estimate[i].theta - truth[i].theta)), 0.02) << "scan " << i << ", " << jump;
+    }
+  }
+  GraphSlam off(RoomSlamOptions());  // the chain turns away at scan 10
+  const std::vector<Pose2> truth = LapWithAnOdometryJump(off, 0.4);
+  EXPECT_GT(PositionRmse(off.Trajectory(), truth), 0.2);
+}
+
+TEST(GraphSlam, FrontEndRecoveryRefusesOptionsThatCannotSearch) {
+  GraphSlamOptions o;
+  o.front_recovery.gate_angle_step_factor = 0.0;
+  EXPECT_THROW(GraphSlam{o}, Error);
 }
 
 // A scan that fits 0.4 rad from where exact odometry puts it, once (its own stamp or pose off), is
