@@ -31,6 +31,17 @@ struct ScanMatchOptions {
   // Likewise poses turned at least this far (rad) from the best: a room seen from its middle can
   // fit nearly as well turned by a few degrees. 0: headings are not judged apart.
   double distinct_theta = 0.0;
+
+  // This window grown by the given factors, its prior in proportion (a prior as wide, relative to
+  // its window, as before).
+  ScanMatchOptions Widened(double grow_xy, double grow_theta) const {
+    ScanMatchOptions out = *this;
+    out.window_xy *= grow_xy;
+    out.prior_sigma_xy *= grow_xy;
+    out.window_theta *= grow_theta;
+    out.prior_sigma_theta *= grow_theta;
+    return out;
+  }
 };
 
 struct ScanMatch {

@@ -44,11 +44,7 @@ FrontEndRecovery::Outcome FrontEndRecovery::Check(const CorrelationGrid& local, 
   const double grow_xy = std::max(1.0, o_.window_xy / window.window_xy);
   const double grow_theta = std::max(1.0, o_.window_theta / window.window_theta);
   if (grow_xy == 1.0 && grow_theta == 1.0) return Settle(match);  // the first window was as wide
-  ScanMatchOptions wide = window;
-  wide.window_xy *= grow_xy;
-  wide.prior_sigma_xy *= grow_xy;
-  wide.window_theta *= grow_theta;
-  wide.prior_sigma_theta *= grow_theta;
+  const ScanMatchOptions wide = window.Widened(grow_xy, grow_theta);
   // Most poorly matched scans (a hall's sparse walls, a new room through a door) fit no better
   // elsewhere: a sparse pass over the wider window settles those for a tenth of the full search.
   ScanMatchOptions sparse = wide;

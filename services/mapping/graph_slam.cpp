@@ -39,17 +39,13 @@ GraphSlam::NodeReturns GraphSlam::Returns(const RangeScan& scan) const {
 }
 
 ScanMatchOptions GraphSlam::FrontEndWindow(const Pose2& moved) const {
-  ScanMatchOptions window = o_.sequential;
+  const ScanMatchOptions& base = o_.sequential;
   const double travel = std::hypot(moved.x, moved.y);
-  const double grow_xy = std::max(1.0, o_.front_window_xy_per_metre * travel / window.window_xy);
+  const double grow_xy = std::max(1.0, o_.front_window_xy_per_metre * travel / base.window_xy);
   const double grow_theta = std::max(
       1.0, (o_.front_window_theta_per_metre * travel + o_.front_window_theta_per_radian * std::abs(moved.theta)) /
-               window.window_theta);
-  window.window_xy *= grow_xy;
-  window.prior_sigma_xy *= grow_xy;
-  window.window_theta *= grow_theta;
-  window.prior_sigma_theta *= grow_theta;
-  return window;
+               base.window_theta);
+  return base.Widened(grow_xy, grow_theta);
 }
 
 Eigen::Matrix3d GraphSlam::SequentialInformation(const Pose2& pose, const Eigen::Matrix3d& matched) const {
