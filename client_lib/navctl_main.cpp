@@ -349,6 +349,11 @@ int main(int argc, char** argv) {
   replay->add_option("--domain", replay_options.domain, "navd's DDS domain id")->check(CLI::Range(0, 232));
   replay->add_option("--namespace", replay_options.robot_namespace, "Robot namespace of navd's topics");
   replay->add_option("--server", replay_options.server, "navd's gRPC address, to set the first pose (\"\" to skip)");
+  replay
+      ->add_option("--odometry", replay_options.odometry,
+                   "noisy (the log's corrected poses corrupted by --odom-noise, seeded: the evaluation protocol, "
+                   "default) or log (the odometry the log holds: ODOM lines, else FLASER's odometry fields)")
+      ->check(CLI::IsMember({"noisy", "log"}));
   replay->add_option("--odom-noise", replay_options.odom_noise,
                      "T,R: relative translation noise, rad of heading noise per metre");
   replay->add_option("--seed", replay_options.seed, "Seed of the odometry noise");

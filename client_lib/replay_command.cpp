@@ -234,7 +234,10 @@ int RunReplay(const ReplayOptions& o) {
   if (log.skipped_lines > 0) std::fprintf(stderr, "navctl replay: skipped %d malformed lines\n", log.skipped_lines);
   if (o.max_scans > 0 && log.scans.size() > static_cast<size_t>(o.max_scans)) log.scans.resize(o.max_scans);
   if (log.scans.size() < 2) throw std::runtime_error(o.log + ": fewer than two laser scans to replay");
-  std::vector<Pose2> odometry = NoisyOdometryAtScans(log, noise, o.seed);  // by the log's own stamps
+  if (o.odometry != "noisy" && o.odometry != "log")
+    throw std::runtime_error("--odometry must be noisy or log, not '" + o.odometry + "'");
+  // Taken at the log's own stamps, before the scans are re-timed below.
+  std::vector<Pose2> odometry = o.odometry == "log" ? OdometryAtScans(log) : NoisyOdometryAtScans(log, noise, o.seed);
   if (PaceScansWhenStampsAreCoarse(log)) {
     std::printf(
         "replay: the log's scan stamps are too coarse to time by; scans paced from its odometry (0.5 m/s, 0.5 "

@@ -2,7 +2,8 @@
 // navctl replay: plays a CARMEN log over DDS like a robot (rt/clock in log time, rt/<ns>/odom,
 // rt/<ns>/scan) while navd localises with --use-sim-time, and judges navd's published poses
 // (rt/<ns>/pose) against the log's corrected poses. The odometry is made from the corrected poses
-// with the seeded noise model navd-replay uses (services/common/odometry_noise.h). With a kidnap
+// with the seeded noise model navd-replay uses (services/common/odometry_noise.h), or is the log's
+// own (ReplayOptions::odometry). With a kidnap
 // or a slip it also reports when navd declared the pose lost (its GetStatus, polled) and when its
 // pose was back within 0.1 m.
 #include <cstdint>
@@ -28,6 +29,10 @@ struct ReplayOptions {
   std::string dds_security;  // DDS Security enclave (navctl --dds-security); empty: none
   std::string robot_namespace;
   std::string server = "127.0.0.1:50051";  // navd's gRPC, to set the first pose ("" to skip)
+  // noisy: the log's corrected poses corrupted by odom_noise, seeded (the evaluation protocol);
+  // log: the odometry the log holds (ODOM lines or FLASER's odometry fields, OdometryAtScans), as
+  // a robot would send it.
+  std::string odometry = "noisy";
   std::string odom_noise = "0.05,0.035";
   uint64_t seed = 1;
   int max_scans = 0;            // 0: the whole log

@@ -175,6 +175,7 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
   pf.SetPose(log.scans.front().pose, Eigen::Matrix3d::Zero());
   std::string tum;
   double sq_pos = 0.0, sq_head = 0.0, worst = 0.0;
+  std::vector<Pose2> estimate, truth;
   for (size_t k = 0; k < log.scans.size(); ++k) {
     const CarmenScan& s = log.scans[k];
     if (k > 0) pf.AddOdometry({odometry[k], Eigen::Matrix3d::Zero(), s.timestamp});
@@ -189,6 +190,8 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
     scan.stamp = s.timestamp;
     pf.AddScan(scan);
     const Pose2 e = pf.Estimate().pose;
+    estimate.push_back(e);
+    truth.push_back(s.pose);
     const double ep = std::hypot(e.x - s.pose.x, e.y - s.pose.y), eh = std::abs(NormalizeAngle(e.theta - s.pose.theta));
     sq_pos += ep * ep;
     sq_head += eh * eh;
@@ -206,6 +209,10 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
   std::printf("localize (%s): %zu scans, position RMSE %.4f m, heading RMSE %.4f rad, worst %.3f m%s -> %s\n",
               method.c_str(), log.scans.size(), std::sqrt(sq_pos / n_scans), std::sqrt(sq_head / n_scans), worst,
               worst > 0.5 ? " (lost at times)" : ", never lost", out.c_str());
+  // A map drawn in a frame of its own (a SLAM run's, which starts where its localiser put the
+  // first scan) is judged by its shape: the trajectory on it aligned to the corrected poses.
+  std::printf("localize: position RMSE %.4f m after SE(2) alignment\n",
+              AlignedTrajectoryError(estimate, truth).position_rmse);
   return 0;
 }
 
@@ -321,7 +328,8 @@ int main(int argc, char** argv) {
       render.seed = seed;
       rc = Render(log, out, resolution, render);
     } else if (mode == "slam") {
-      if (front_recovery < 0.0) front_recovery = odometry_source == "log" ? 0.6 : 0.0;
+      if (front_recovery < 0.0)
+        front_recovery = odometry_source == "log" ? navd::mapping::RobotOdometryRecovery().below_score : 0.0;
       rc = Slam(log, odometry, front_recovery, out, map_out, png, resolution);
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);

@@ -17,6 +17,12 @@ bool Beyond(const Pose2& pose, const Pose2& centre, const ScanMatchOptions& wind
 
 }  // namespace
 
+FrontEndRecoveryOptions RobotOdometryRecovery() {
+  FrontEndRecoveryOptions o;
+  o.below_score = 0.6;
+  return o;
+}
+
 FrontEndRecovery::FrontEndRecovery(const FrontEndRecoveryOptions& options) : o_(options) {
   if (!(o_.gate_angle_step_factor >= 1.0))
     throw Error(ErrorCode::kInvalidArgument, "front_recovery.gate_angle_step_factor must be at least 1");

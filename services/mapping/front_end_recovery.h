@@ -18,8 +18,9 @@
 // 2 d sin(γ/2) for a step of d between them (0.16 m for 0.4 rad over 0.4 m, inside the window);
 // on the logs' own odometry the robot frame holds better than the map frame (docs/results.md).
 //
-// Off by default: odometry whose error stays inside the window (the replay's noise model, the
-// simulator's) gains nothing from it. navd-replay turns it on for a log's own odometry.
+// Off in FrontEndRecoveryOptions' defaults: odometry whose error stays inside the window (the
+// replay's noise model) gains nothing from it. A robot's own odometry (navd's mapping runs,
+// navd-replay --odometry log) takes RobotOdometryRecovery().
 // Map frame, metres, radians.
 #include <optional>
 #include <vector>
@@ -49,6 +50,12 @@ struct FrontEndRecoveryOptions {
   double same_theta = 0.05;  // rad
   int max_held = 2;          // scans held back in a row at most
 };
+
+// On for odometry that errs beyond the front end's window at times: a match explaining less than
+// 60 % of the local map is searched again. On the six CARMEN logs' own odometry (10-40 degrees
+// between two scans at times) that takes SLAM from metres off to decimetres; where the odometry
+// holds, it changes little (docs/results.md).
+FrontEndRecoveryOptions RobotOdometryRecovery();
 
 class FrontEndRecovery {
  public:

@@ -28,14 +28,11 @@ MappingSession::MappingSession(const MappingSessionOptions& options, const Pose2
                                                  " cells is more than " + std::to_string(OccupancyGrid::kMaxCells) +
                                                  " cells");
   if (!start.finite()) throw Error(ErrorCode::kInvalidArgument, "start pose is not finite");
+  if (o_.max_waiting < 1) throw Error(ErrorCode::kInvalidArgument, "max_waiting must be at least 1");
   o_.mapper.resolution = o_.resolution;
   const Point2 half(o_.size / 2, o_.size / 2);
   mapper_ = std::make_unique<OccupancyGridMapper>(start.translation() - half, start.translation() + half, o_.mapper);
   geometry_ = mapper_->geometry();
-  if (o_.mode == MappingMode::kSlam) {
-    o_.slam.first_pose = start;
-    slam_ = std::make_unique<GraphSlam>(o_.slam);
-  }
   status_.active = true;
   status_.mode = o_.mode;
   status_.pose = start;
@@ -58,8 +55,11 @@ void MappingSession::Submit(const Pose2& odometry, const Pose2& localised, const
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (finishing_) return;
-    if (waiting_) ++status_.dropped;
-    waiting_ = Item{odometry, localised, scan};
+    if (static_cast<int>(waiting_.size()) >= o_.max_waiting) {
+      waiting_.pop_front();
+      ++status_.dropped;
+    }
+    waiting_.push_back(Item{odometry, localised, scan});
   }
   wake_.notify_one();
 }
@@ -74,7 +74,10 @@ void MappingSession::Finish() {
   }
   wake_.notify_one();
   if (worker_.joinable()) worker_.join();
-  if (slam_ && slam_->loop_closures() != rendered_closures_) {
+  if (slam_) {
+    // The run's end, as Cartographer's final optimisation: every node matched again against the
+    // other passes near it (GraphSlam::Refine), and the map drawn from the poses that leaves.
+    slam_->Refine();
     Render();
     std::lock_guard<std::mutex> lock(mutex_);
     MarkChanged({{0, 0}, {geometry_.width() - 1, geometry_.height() - 1}});
@@ -86,10 +89,10 @@ void MappingSession::Work() {
     Item item;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return finishing_ || waiting_.has_value(); });
-      if (finishing_) return;
-      item = std::move(*waiting_);
-      waiting_.reset();
+      wake_.wait(lock, [this] { return finishing_ || !waiting_.empty(); });
+      if (waiting_.empty()) return;  // finishing, every scan handed over taken
+      item = std::move(waiting_.front());
+      waiting_.pop_front();
     }
     try {
       Integrate(item);
@@ -128,7 +131,14 @@ void MappingSession::Integrate(const Item& item) {
   Pose2 pose = item.localised;
   std::optional<MapRegion> changed;
   int nodes = 0, closures = 0;
-  if (slam_) {
+  if (o_.mode == MappingMode::kSlam) {
+    if (!slam_) {
+      // The first node sits where the localiser puts the first scan: the robot may have moved
+      // since the run started.
+      GraphSlamOptions first = o_.slam;
+      first.first_pose = item.localised;
+      slam_ = std::make_unique<GraphSlam>(first);
+    }
     const int nodes_before = slam_->nodes();
     pose = slam_->AddScan(item.odometry, item.scan);
     nodes = slam_->nodes();

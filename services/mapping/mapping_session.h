@@ -1,8 +1,9 @@
 #pragma once
 // A mapping run inside navd: scans (with the odometry and the localiser's pose at the time) are
 // handed over without blocking the caller, a worker thread builds the map, and readers take
-// snapshots. Two modes: SLAM (GraphSlam from odometry and scans; the map re-renders from the
-// optimised poses after loop closures) and known poses (the localiser's pose, each scan straight
+// snapshots. Two modes: SLAM (GraphSlam from odometry and scans, its first node at the
+// localiser's pose of the first scan; the map re-renders from the optimised poses after loop
+// closures) and known poses (the localiser's pose, each scan straight
 // into the grid). The map is a square of `size` metres centred on the robot's pose at the start,
 // in navd's map frame; it tracks which cells changed so clients can fetch changed regions only.
 #include <condition_variable>
@@ -26,9 +27,20 @@ struct MappingSessionOptions {
   double size = 60.0;            // m, the side of the square mapped
   double rerender_period = 2.0;  // s of wall time between re-renders after loop closures
   // Submit integrates in the caller's thread and nothing is dropped (offline tools, simulations
-  // in one process); otherwise a worker thread does, newest scan first.
+  // in one process); otherwise a worker thread does, in order.
   bool synchronous = false;
-  GraphSlamOptions slam;
+  // Scans the worker may fall behind by: SLAM takes a few milliseconds per scan but ten times that
+  // now and then (a loop closure's optimisation, a front-end recovery's wider search), and a scan
+  // it drops leaves a gap the next scan's odometry must bridge. Beyond this, the oldest waiting
+  // scan is dropped.
+  int max_waiting = 10;
+  // A robot's odometry errs beyond the SLAM front end's window at times (wheels slipping, a
+  // sharp turn between two scans), so the front end searches poorly matched scans again wider.
+  GraphSlamOptions slam = [] {
+    GraphSlamOptions s;
+    s.front_recovery = RobotOdometryRecovery();
+    return s;
+  }();
   MapperOptions mapper;
 };
 
@@ -50,16 +62,18 @@ struct MappingStatus {
 
 class MappingSession {
  public:
-  // Throws navd::Error(kInvalidArgument) for a bad resolution or size (refused before allocating).
+  // Throws navd::Error(kInvalidArgument) for a bad resolution, size (refused before allocating) or
+  // max_waiting.
   MappingSession(const MappingSessionOptions& options, const Pose2& start);
   ~MappingSession();
   MappingSession(const MappingSession&) = delete;
   MappingSession& operator=(const MappingSession&) = delete;
 
-  // Hands a scan to the worker; a scan still waiting is replaced (the newest wins).
+  // Hands a scan to the worker (queued behind up to max_waiting others).
   void Submit(const Pose2& odometry, const Pose2& localised, const RangeScan& scan);
-  // Stops taking scans and waits for the worker to finish the scan in hand and draw the map once
-  // more if loop closures moved nodes since it last did. The map stays readable.
+  // Stops taking scans, waits for the worker to finish the scans handed over, refines a SLAM run
+  // (GraphSlam::Refine: about a loop closure's match per node, a second or two for a building's
+  // few hundred nodes) and draws the map again. The map stays readable meanwhile.
   void Finish();
 
   MappingStatus status() const;
@@ -88,7 +102,7 @@ class MappingSession {
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;
-  std::optional<Item> waiting_;
+  std::deque<Item> waiting_;
   bool finishing_ = false;
   std::mutex finish_mutex_;  // one Finish at a time
   MappingStatus status_;

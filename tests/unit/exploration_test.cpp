@@ -99,6 +99,28 @@ TEST(MappingSession, SynchronousRunsReportChangedRegionsAndRefuseAbsurdSizes) {
   EXPECT_TRUE(slam.status().active);
 }
 
+// The worker takes the scans in order, falls behind by at most max_waiting (dropping the oldest
+// waiting beyond), and takes every scan still waiting before Finish returns.
+TEST(MappingSession, TheWorkerQueuesScansAndFinishTakesTheLastOnes) {
+  mapping::MappingSessionOptions o;
+  o.mode = mapping::MappingMode::kKnownPoses;
+  o.size = 10.0;
+  o.max_waiting = 3;
+  mapping::MappingSession session(o, {5.0, 5.0, 0.0});
+  mapping::RangeScan scan;
+  scan.angle_min = -0.1;
+  scan.angle_increment = 0.1;
+  scan.ranges = {2.0f, 2.0f, 2.0f};
+  for (int k = 0; k < 40; ++k) session.Submit({}, {5.0, 5.0 + 0.01 * k, 0.0}, scan);
+  session.Finish();
+  const mapping::MappingStatus status = session.status();
+  EXPECT_EQ(status.scans + status.dropped, 40u);
+  EXPECT_GE(status.scans, 3u);
+  EXPECT_NEAR(status.pose.y, 5.39, 1e-9);  // the last scan was taken, and taken last
+  o.max_waiting = 0;
+  EXPECT_THROW(mapping::MappingSession(o, {}), Error);
+}
+
 TEST(ExplorationGoalRecord, AGoalGivenUpIsTriedOnceMoreWhenNothingElseIsLeft) {
   navigation::ExplorationGoalRecord record(0.5);
   record.Reached({1.0, 0.0});
