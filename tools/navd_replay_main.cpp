@@ -3,7 +3,7 @@
 //   navd-replay --log FILE[.gz] --mode render --out RENDERED.log [--step M] [--turn RAD] [--range-noise M] [--seed N]
 //   navd-replay --log FILE[.gz] --mode localize|slam --out EST.tum [--odometry noisy|log]
 //               [--map MAP.yaml] [--odom-noise T,R] [--seed N] [--localizer amcl|ekf|calibration]
-//               [--front-recovery SCORE]
+//               [--front-recovery SCORE] [--frame-turn RAD]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with, by default,
@@ -43,17 +43,24 @@
 
 namespace {
 
+struct SlamTuning {
+  double front_recovery = 0.0;  // the front end's FrontEndRecoveryOptions::below_score (0: off)
+  double frame_turn = 0.0;      // rad the map frame is turned by at the first pose
+};
+
 // Graph SLAM over the log's scans with the given odometry (one pose per scan): the TUM trajectory of every scan (the
 // final, optimised poses), judged against the log's corrected poses after SE(2) alignment; each
-// accepted loop closure judged against the corrected relative pose. front_recovery: the front end's
-// FrontEndRecoveryOptions::below_score (0: off).
-int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, double front_recovery,
+// accepted loop closure judged against the corrected relative pose.
+int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, const SlamTuning& tuning,
          const std::string& out, const std::string& map_out, const std::string& png, double resolution) {
   using namespace navd;
-  // The map frame starts at the log's first pose, so the map lines up with the log's own.
+  // The map frame starts at the log's first pose, so the map lines up with the log's own (turned
+  // by frame_turn: the correlative grids' axes lie along the map frame's, so a turned frame
+  // shows how much a result owes to where those axes fall).
   mapping::GraphSlamOptions options;
   options.first_pose = log.scans.front().pose;
-  options.front_recovery.below_score = front_recovery;
+  options.first_pose.theta = NormalizeAngle(options.first_pose.theta + tuning.frame_turn);
+  options.front_recovery.below_score = tuning.front_recovery;
   mapping::GraphSlam slam(options);
   double busy = 0.0;
   for (size_t k = 0; k < log.scans.size(); ++k) {
@@ -211,7 +218,7 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
               worst > 0.5 ? " (lost at times)" : ", never lost", out.c_str());
   // A map drawn in a frame of its own (a SLAM run's, which starts where its localiser put the
   // first scan) is judged by its shape: the trajectory on it aligned to the corrected poses.
-  std::printf("localize: position RMSE %.4f m after SE(2) alignment\n",
+  std::printf("localize: RMSE %.4f m after SE(2) alignment\n",
               AlignedTrajectoryError(estimate, truth).position_rmse);
   return 0;
 }
@@ -278,11 +285,16 @@ int main(int argc, char** argv) {
   // A log's own odometry errs beyond the front end's window between some scans (its ODOM lines
   // misaligned with the scans, wheels slipping): by default, with --odometry log, matches
   // explaining less than 60 % of the local map are searched again wider (FrontEndRecovery).
-  double front_recovery = -1.0;
-  app.add_option("--front-recovery", front_recovery,
+  SlamTuning slam_tuning;
+  slam_tuning.front_recovery = -1.0;
+  app.add_option("--front-recovery", slam_tuning.front_recovery,
                  "slam: a front-end match scoring below this (0..1) is searched again over a wider window "
                  "(default: 0.6 with --odometry log, 0 (off) with --odometry noisy)")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--frame-turn", slam_tuning.frame_turn,
+                 "slam: turn the map frame by this many radians at the first pose (the ATE is aligned; how much a "
+                 "run owes to the grid's axes)")
+      ->check(CLI::Range(-3.2, 3.2));
   std::string method = "amcl";
   app.add_option("--localizer", method,
                  "localize: amcl (particle filter, default), ekf (seed 002's EKF with scan-to-map matching) or "
@@ -328,9 +340,10 @@ int main(int argc, char** argv) {
       render.seed = seed;
       rc = Render(log, out, resolution, render);
     } else if (mode == "slam") {
-      if (front_recovery < 0.0)
-        front_recovery = odometry_source == "log" ? navd::mapping::RobotOdometryRecovery().below_score : 0.0;
-      rc = Slam(log, odometry, front_recovery, out, map_out, png, resolution);
+      if (slam_tuning.front_recovery < 0.0)
+        slam_tuning.front_recovery =
+            odometry_source == "log" ? navd::mapping::RobotOdometryRecovery().below_score : 0.0;
+      rc = Slam(log, odometry, slam_tuning, out, map_out, png, resolution);
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
       if (motion_noise < 0.0) motion_noise = odometry_source == "log" ? 0.005 : noise.translation * noise.translation;

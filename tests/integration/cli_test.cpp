@@ -752,10 +752,10 @@ TEST_F(NavctlReplay, NavdMapsTheAcesLogFromItsOwnOdometry) {
   // The map's frame is where navd's localiser put the first scan SLAM took (a centimetre or a
   // hundredth of a radian off the log's): the localiser's trajectory on it is judged after SE(2)
   // alignment, which leaves the map's shape.
-  const size_t at = localised.output.find("localize: position RMSE ");
+  const size_t at = localised.output.find("localize: RMSE ");
   ASSERT_NE(at, std::string::npos) << localised.output;
   double aligned = -1.0;
-  ASSERT_EQ(std::sscanf(localised.output.c_str() + at, "localize: position RMSE %lf m after SE(2) alignment", &aligned),
+  ASSERT_EQ(std::sscanf(localised.output.c_str() + at, "localize: RMSE %lf m after SE(2) alignment", &aligned),
             1);
   std::printf("localised on navd's map: position RMSE %.4f m after SE(2) alignment\n", aligned);
   EXPECT_LE(aligned, 0.2) << localised.output;
