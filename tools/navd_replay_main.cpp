@@ -218,8 +218,7 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
               worst > 0.5 ? " (lost at times)" : ", never lost", out.c_str());
   // A map drawn in a frame of its own (a SLAM run's, which starts where its localiser put the
   // first scan) is judged by its shape: the trajectory on it aligned to the corrected poses.
-  std::printf("localize: RMSE %.4f m after SE(2) alignment\n",
-              AlignedTrajectoryError(estimate, truth).position_rmse);
+  std::printf("localize: RMSE %.4f m after SE(2) alignment\n", AlignedTrajectoryError(estimate, truth).position_rmse);
   return 0;
 }
 

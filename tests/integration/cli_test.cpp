@@ -755,8 +755,7 @@ TEST_F(NavctlReplay, NavdMapsTheAcesLogFromItsOwnOdometry) {
   const size_t at = localised.output.find("localize: RMSE ");
   ASSERT_NE(at, std::string::npos) << localised.output;
   double aligned = -1.0;
-  ASSERT_EQ(std::sscanf(localised.output.c_str() + at, "localize: RMSE %lf m after SE(2) alignment", &aligned),
-            1);
+  ASSERT_EQ(std::sscanf(localised.output.c_str() + at, "localize: RMSE %lf m after SE(2) alignment", &aligned), 1);
   std::printf("localised on navd's map: position RMSE %.4f m after SE(2) alignment\n", aligned);
   EXPECT_LE(aligned, 0.2) << localised.output;
 }
