@@ -76,8 +76,12 @@ void MappingSession::Finish() {
   if (worker_.joinable()) worker_.join();
   if (slam_) {
     // The run's end, as Cartographer's final optimisation: every node matched again against the
-    // other passes near it (GraphSlam::Refine), and the map drawn from the poses that leaves.
-    slam_->Refine();
+    // other passes near it (GraphSlam::Refine), and the map drawn from the poses that leaves. A
+    // graph the refinement cannot solve keeps the poses it had (Finish runs in the destructor too).
+    try {
+      slam_->Refine();
+    } catch (const std::exception&) {
+    }
     Render();
     std::lock_guard<std::mutex> lock(mutex_);
     MarkChanged({{0, 0}, {geometry_.width() - 1, geometry_.height() - 1}});
