@@ -13,7 +13,9 @@
 // writes one TUM line (t x y z qx qy qz qw) per scan and prints the error against the corrected
 // poses. Without --map it first builds the map from those poses. `--odometry log` takes the
 // odometry the log itself holds instead (carmen_odometry.h): how raw robot logs run; SLAM then
-// searches again wider where a scan fits its predicted pose poorly (--front-recovery). `render`
+// searches again wider where a scan fits its predicted pose poorly (--front-recovery). SLAM's front
+// end widens its window with the motion by --odom-noise's model (with --odometry log: the robot's
+// odometry's noise, as far as it is known). `render`
 // writes a FLASER log whose scans are cast again in the map the log's poses draw (at --resolution),
 // at those poses or every --step metres between them (services/mapping/log_renderer.h).
 #include <CLI/CLI.hpp>
@@ -44,8 +46,9 @@
 namespace {
 
 struct SlamTuning {
-  double front_recovery = 0.0;  // the front end's FrontEndRecoveryOptions::below_score (0: off)
-  double frame_turn = 0.0;      // rad the map frame is turned by at the first pose
+  double front_recovery = 0.0;   // the front end's FrontEndRecoveryOptions::below_score (0: off)
+  double frame_turn = 0.0;       // rad the map frame is turned by at the first pose
+  navd::OdometryNoise odometry;  // the odometry's noise, which the front end's window allows for
 };
 
 // Graph SLAM over the log's scans with the given odometry (one pose per scan): the TUM trajectory of every scan (the
@@ -61,6 +64,7 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   options.first_pose = log.scans.front().pose;
   options.first_pose.theta = NormalizeAngle(options.first_pose.theta + tuning.frame_turn);
   options.front_recovery.below_score = tuning.front_recovery;
+  options.odometry = tuning.odometry;
   mapping::GraphSlam slam(options);
   double busy = 0.0;
   for (size_t k = 0; k < log.scans.size(); ++k) {
@@ -272,7 +276,8 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   app.add_option("--map", map_path, "localize: map to localise on (default: built from the log's poses)");
   app.add_option("--odom-noise", odom_noise,
-                 "localize, slam: T,R = relative translation noise, rad of heading noise per metre");
+                 "localize, slam: T,R = relative translation noise, rad of heading noise per metre (slam: also the "
+                 "noise its front end's window allows for, with --odometry log the robot's)");
   std::string odometry_source = "noisy";
   app.add_option("--odometry", odometry_source,
                  "localize, slam: noisy (the log's laser poses corrupted by --odom-noise, seeded: the evaluation "
@@ -342,6 +347,7 @@ int main(int argc, char** argv) {
       if (slam_tuning.front_recovery < 0.0)
         slam_tuning.front_recovery =
             odometry_source == "log" ? navd::mapping::RobotOdometryRecovery().below_score : 0.0;
+      slam_tuning.odometry = noise;
       rc = Slam(log, odometry, slam_tuning, out, map_out, png, resolution);
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);

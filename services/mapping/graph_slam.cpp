@@ -41,10 +41,11 @@ GraphSlam::NodeReturns GraphSlam::Returns(const RangeScan& scan) const {
 ScanMatchOptions GraphSlam::FrontEndWindow(const Pose2& moved) const {
   const ScanMatchOptions& base = o_.sequential;
   const double travel = std::hypot(moved.x, moved.y);
-  const double grow_xy = std::max(1.0, o_.front_window_xy_per_metre * travel / base.window_xy);
-  const double grow_theta = std::max(
-      1.0, (o_.front_window_theta_per_metre * travel + o_.front_window_theta_per_radian * std::abs(moved.theta)) /
-               base.window_theta);
+  const OdometryNoise& noise = o_.odometry;
+  const double grow_xy = std::max(1.0, o_.front_window_sigmas_xy * noise.translation * travel / base.window_xy);
+  const double grow_theta = std::max(1.0, (o_.front_window_sigmas_heading * noise.rotation_per_metre * travel +
+                                           o_.front_window_sigmas_turn * noise.translation * std::abs(moved.theta)) /
+                                              base.window_theta);
   return base.Widened(grow_xy, grow_theta);
 }
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
+#include "services/common/odometry_noise.h"
 #include "services/common/pose2.h"
 #include "services/mapping/correlative_scan_matcher.h"
 #include "services/mapping/front_end_recovery.h"
@@ -67,14 +68,20 @@ struct GraphSlamOptions {
     s.prior_sigma_theta = 0.15;
     return s;
   }();
-  // The odometry's error grows with the motion since the last node, so the window and its prior
-  // widen with it wherever these exceed the base: to front_window_xy_per_metre x travel (m), and to
-  // front_window_theta_per_metre x travel + front_window_theta_per_radian x turn (rad). A log with
-  // scans metres apart, or turning a right angle between two scans, needs that; one sampled every
-  // few centimetres keeps the base window.
-  double front_window_xy_per_metre = 0.2;
-  double front_window_theta_per_metre = 0.1;
-  double front_window_theta_per_radian = 0.1;
+  // The odometry's noise (the model of services/common/odometry_noise.h: T of each step's
+  // translation, R rad of heading per metre driven, T of each turn). Its error grows with the motion
+  // since the last node, so the window and its prior widen with it wherever these exceed the base:
+  // to front_window_sigmas_xy x T x travel (m), and to front_window_sigmas_heading x R x travel +
+  // front_window_sigmas_turn x T x |turn| (rad). A log with scans metres apart, or turning a right
+  // angle between two scans, needs that; one sampled every few centimetres keeps the base window.
+  // Odometry noisier than the default needs the window as much wider: a scan whose true heading
+  // lies beyond the window fits a wrong one, and the chain bends there. The turn's share is held to
+  // two sigma: a wider turn window lets a scan in an open hall, whose walls are far and sparse, turn
+  // onto the wrong wall.
+  OdometryNoise odometry;
+  double front_window_sigmas_xy = 4.0;
+  double front_window_sigmas_heading = 3.0;
+  double front_window_sigmas_turn = 2.0;
   // Odometry that errs beyond that window (FrontEndRecovery): off unless below_score is set.
   FrontEndRecoveryOptions front_recovery;
   // The front end's edge: at least this uncertain in every direction, and more where the walls the

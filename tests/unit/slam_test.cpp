@@ -271,6 +271,28 @@ TEST(GraphSlam, FrontEndFindsAScanMetresAwayWhoseOdometryIsOffByMoreThanTheBaseW
   EXPECT_LT(std::abs(NormalizeAngle(found.theta - truth.theta)), 0.02);
 }
 
+// Odometry noisier than the default turns 0.3 rad off over a 1.5 m step, beyond the window the
+// default noise model (3 x 0.035 rad/m) opens: told the noise, the front end widens its window
+// that much and finds the scan's true heading; told the default, it cannot.
+TEST(GraphSlam, FrontEndWindowWidensWithTheOdometryNoiseItIsTold) {
+  const OccupancyGrid map = Room();
+  const Pose2 start{2.0, 2.0, 0.0}, truth{3.5, 2.2, 0.0};
+  const Pose2 odometry{3.5, 2.2, 0.3};
+  auto heading_error = [&](const OdometryNoise& noise) {
+    std::mt19937 rng(5);
+    GraphSlamOptions o = RoomSlamOptions();
+    o.first_pose = start;
+    o.odometry = noise;
+    GraphSlam slam(o);
+    slam.AddScan(start, ScanFrom(map, start, &rng));
+    return std::abs(NormalizeAngle(slam.AddScan(odometry, ScanFrom(map, truth, &rng)).theta - truth.theta));
+  };
+  const OdometryNoise defaults;
+  ASSERT_LT(std::max(GraphSlamOptions().sequential.window_theta, 3.0 * defaults.rotation_per_metre * 1.5), 0.3);
+  EXPECT_GT(heading_error(defaults), 0.05);
+  EXPECT_LT(heading_error({defaults.translation, 0.08}), 0.02);
+}
+
 // One lap whose odometry turns `jump` rad too far between scans 9 and 10 (wheels slipping) and
 // is exact otherwise, into `slam`: the true poses.
 std::vector<Pose2> LapWithAnOdometryJump(GraphSlam& slam, double jump) {
