@@ -152,6 +152,7 @@ int BuildMap(const navd::CarmenLog& log, const std::string& out, double resoluti
 // between the scans it weighs (AMCL's update_min_d, update_min_a; 0: the filter's defaults).
 struct FilterTuning {
   double motion_noise = 0.0;
+  double heading_per_metre_noise = 0.0;  // AMCL's alpha2 (rad² per m² driven) at least this
   double update_min_d = 0.0, update_min_a = 0.0;
 };
 
@@ -177,6 +178,7 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
     o.seed = seed;
     o.range_max = 20.0;  // the z_rand density of a long-range (SICK) scanner's useful range
     o.alpha1 = o.alpha2 = o.alpha3 = o.alpha4 = tuning.motion_noise;
+    o.alpha2 = std::max(o.alpha2, tuning.heading_per_metre_noise);
     if (tuning.update_min_d > 0.0) o.update_min_distance = tuning.update_min_d;
     if (tuning.update_min_a > 0.0) o.update_min_angle = tuning.update_min_a;
     localizer = std::make_unique<localization::ParticleFilterLocalizer>(map, o);
@@ -306,8 +308,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"amcl", "ekf", "calibration"}));
   // AMCL's alphas are variances per unit of motion squared. Unset: with --odometry noisy the
   // filter is told the noise the replay adds (alpha = T², a T standard deviation of each step's
-  // translation and turn); with --odometry log, whose noise is unknown, 0.005 (7 % and 4 degrees
-  // per metre, a little above a well-kept differential drive's).
+  // translation and turn, and alpha2, the heading's per metre driven, at least R²); with --odometry log, whose noise is
+  // unknown, 0.005 (7 % and 4 degrees per metre, a little above a well-kept differential drive's).
   double motion_noise = -1.0;
   FilterTuning tuning;
   app.add_option("--update-min-d", tuning.update_min_d,
@@ -351,7 +353,11 @@ int main(int argc, char** argv) {
       rc = Slam(log, odometry, slam_tuning, out, map_out, png, resolution);
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
-      if (motion_noise < 0.0) motion_noise = odometry_source == "log" ? 0.005 : noise.translation * noise.translation;
+      if (motion_noise < 0.0) {
+        motion_noise = odometry_source == "log" ? 0.005 : noise.translation * noise.translation;
+        if (odometry_source != "log")
+          tuning.heading_per_metre_noise = noise.rotation_per_metre * noise.rotation_per_metre;
+      }
       tuning.motion_noise = motion_noise;
       rc = Localize(log, odometry, out, map, noise, seed, tuning, method);
     }
