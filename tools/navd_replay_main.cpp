@@ -14,11 +14,12 @@
 // poses. Without --map it first builds the map from those poses. `--odometry log` takes the
 // odometry the log itself holds instead (carmen_odometry.h): how raw robot logs run; SLAM then
 // searches again wider where a scan fits its predicted pose poorly (--front-recovery). SLAM's front
-// end widens its window with the motion by --odom-noise's model (with --odometry log: the robot's
-// odometry's noise, as far as it is known). `render`
+// end widens its window with the motion by --odom-noise's model, never less than the default one
+// (with --odometry log: the robot's odometry's noise, as far as it is known). `render`
 // writes a FLASER log whose scans are cast again in the map the log's poses draw (at --resolution),
 // at those poses or every --step metres between them (services/mapping/log_renderer.h).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -279,7 +280,8 @@ int main(int argc, char** argv) {
   app.add_option("--map", map_path, "localize: map to localise on (default: built from the log's poses)");
   app.add_option("--odom-noise", odom_noise,
                  "localize, slam: T,R = relative translation noise, rad of heading noise per metre (slam: also the "
-                 "noise its front end's window allows for, with --odometry log the robot's)");
+                 "noise its front end's window allows for, never less than the default, with --odometry log the "
+                 "robot's)");
   std::string odometry_source = "noisy";
   app.add_option("--odometry", odometry_source,
                  "localize, slam: noisy (the log's laser poses corrupted by --odom-noise, seeded: the evaluation "
@@ -349,7 +351,11 @@ int main(int argc, char** argv) {
       if (slam_tuning.front_recovery < 0.0)
         slam_tuning.front_recovery =
             odometry_source == "log" ? navd::mapping::RobotOdometryRecovery().below_score : 0.0;
-      slam_tuning.odometry = noise;
+      // Never less than the default model: a replay that adds no noise (--odom-noise 0,0) is run on
+      // logs whose own poses are odometry already.
+      const navd::OdometryNoise least;
+      slam_tuning.odometry = {std::max(noise.translation, least.translation),
+                              std::max(noise.rotation_per_metre, least.rotation_per_metre)};
       rc = Slam(log, odometry, slam_tuning, out, map_out, png, resolution);
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
