@@ -359,10 +359,11 @@ int main(int argc, char** argv) {
       rc = Slam(log, odometry, slam_tuning, out, map_out, png, resolution);
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
-      if (motion_noise < 0.0) {
-        motion_noise = odometry_source == "log" ? 0.005 : noise.translation * noise.translation;
-        if (odometry_source != "log")
-          tuning.heading_per_metre_noise = noise.rotation_per_metre * noise.rotation_per_metre;
+      if (motion_noise < 0.0 && odometry_source == "log") {
+        motion_noise = 0.005;
+      } else if (motion_noise < 0.0) {
+        motion_noise = noise.translation * noise.translation;
+        tuning.heading_per_metre_noise = noise.rotation_per_metre * noise.rotation_per_metre;
       }
       tuning.motion_noise = motion_noise;
       rc = Localize(log, odometry, out, map, noise, seed, tuning, method);
