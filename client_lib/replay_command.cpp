@@ -25,6 +25,7 @@
 #include "services/common/odometry_noise.h"
 #include "services/common/scan_reach.h"
 #include "services/common/text_file.h"
+#include "services/mapping/odometry_pairing.h"
 
 namespace navd::navctl {
 namespace {
@@ -237,7 +238,14 @@ int RunReplay(const ReplayOptions& o) {
   if (o.odometry != "noisy" && o.odometry != "log")
     throw std::runtime_error("--odometry must be noisy or log, not '" + o.odometry + "'");
   // Taken at the log's own stamps, before the scans are re-timed below.
-  std::vector<Pose2> odometry = o.odometry == "log" ? OdometryAtScans(log) : NoisyOdometryAtScans(log, noise, o.seed);
+  std::vector<Pose2> odometry;
+  if (o.odometry == "log") {
+    mapping::OdometryPairingEstimate pairing;
+    odometry = mapping::PairedOdometryAtScans(log, &pairing);
+    std::printf("replay: odometry: %s\n", mapping::Summary(pairing).c_str());
+  } else {
+    odometry = NoisyOdometryAtScans(log, noise, o.seed);
+  }
   if (PaceScansWhenStampsAreCoarse(log)) {
     std::printf(
         "replay: the log's scan stamps are too coarse to time by; scans paced from its odometry (0.5 m/s, 0.5 "

@@ -30,8 +30,8 @@ struct ReplayOptions {
   std::string robot_namespace;
   std::string server = "127.0.0.1:50051";  // navd's gRPC, to set the first pose ("" to skip)
   // noisy: the log's corrected poses corrupted by odom_noise, seeded (the evaluation protocol);
-  // log: the odometry the log holds (ODOM lines or FLASER's odometry fields, OdometryAtScans), as
-  // a robot would send it.
+  // log: the odometry the log holds (ODOM lines, paired with the scans as they agree, or FLASER's
+  // odometry fields: mapping::PairedOdometryAtScans), as a robot would send it.
   std::string odometry = "noisy";
   std::string odom_noise = "0.05,0.035";
   uint64_t seed = 1;

@@ -42,6 +42,7 @@
 #include "services/mapping/known_pose_map.h"
 #include "services/mapping/log_renderer.h"
 #include "services/mapping/occupancy_grid_mapper.h"
+#include "services/mapping/odometry_pairing.h"
 #include "services/common/trajectory_alignment.h"
 
 namespace {
@@ -339,8 +340,14 @@ int main(int argc, char** argv) {
     const navd::CarmenLog log = navd::ReadCarmenLog(log_path, strict);
     if (log.skipped_lines > 0) std::fprintf(stderr, "navd-replay: skipped %d malformed lines\n", log.skipped_lines);
     const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
-    const std::vector<navd::Pose2> odometry =
-        odometry_source == "log" ? navd::OdometryAtScans(log) : navd::NoisyOdometryAtScans(log, noise, seed);
+    std::vector<navd::Pose2> odometry;
+    if (odometry_source == "log") {
+      navd::mapping::OdometryPairingEstimate pairing;
+      odometry = navd::mapping::PairedOdometryAtScans(log, &pairing);
+      std::printf("odometry: %s\n", navd::mapping::Summary(pairing).c_str());
+    } else {
+      odometry = navd::NoisyOdometryAtScans(log, noise, seed);
+    }
     int rc;
     if (mode == "map") {
       rc = BuildMap(log, out, resolution, png);

@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace navd {
 
 namespace {
 
 // The robot centre's odometry at each scan.
-std::vector<Pose2> CentreOdometryAtScans(const CarmenLog& log) {
+std::vector<Pose2> CentreOdometryAtScans(const CarmenLog& log, const OdometryPairing& pairing) {
   std::vector<const CarmenOdometry*> stamped;
   for (const CarmenOdometry& o : log.odometry)
     if (o.timestamp > 0.0) stamped.push_back(&o);
@@ -24,8 +25,10 @@ std::vector<Pose2> CentreOdometryAtScans(const CarmenLog& log) {
     while (next < stamped.size() && stamped[next]->line < s.line) ++next;
     const CarmenOdometry* before = next > 0 ? stamped[next - 1] : nullptr;
     const CarmenOdometry* after = next < stamped.size() ? stamped[next] : nullptr;
-    if (before && after && before->timestamp <= s.timestamp && s.timestamp <= after->timestamp &&
-        after->timestamp > before->timestamp) {
+    if (!pairing.by_stamp && before && after && after->timestamp - before->timestamp <= pairing.max_gap) {
+      out.push_back(Interpolate(before->pose, after->pose, pairing.position));
+    } else if (before && after && before->timestamp <= s.timestamp && s.timestamp <= after->timestamp &&
+               after->timestamp > before->timestamp) {
       out.push_back(Interpolate(before->pose, after->pose,
                                 (s.timestamp - before->timestamp) / (after->timestamp - before->timestamp)));
     } else if (before &&
@@ -40,8 +43,26 @@ std::vector<Pose2> CentreOdometryAtScans(const CarmenLog& log) {
 
 }  // namespace
 
-std::vector<Pose2> OdometryAtScans(const CarmenLog& log) {
-  std::vector<Pose2> out = CentreOdometryAtScans(log);
+std::vector<OdometryPairing> OdometryPairingCandidates() {
+  std::vector<OdometryPairing> out{{true, 0.0}};
+  for (int quarter = 0; quarter <= 4; ++quarter) out.push_back({false, 0.25 * quarter});
+  return out;
+}
+
+std::string Describe(const OdometryPairing& pairing) {
+  if (pairing.by_stamp) return "by stamp";
+  char text[64];
+  std::snprintf(text, sizeof text, "at %.2f of the way to the next ODOM line", pairing.position);
+  return text;
+}
+
+bool HasStampedOdometry(const CarmenLog& log) {
+  return std::any_of(log.odometry.begin(), log.odometry.end(),
+                     [](const CarmenOdometry& o) { return o.timestamp > 0.0; });
+}
+
+std::vector<Pose2> OdometryAtScans(const CarmenLog& log, const OdometryPairing& pairing) {
+  std::vector<Pose2> out = CentreOdometryAtScans(log, pairing);
   const Pose2 scanner(log.front_laser_offset, 0.0, 0.0);
   for (Pose2& p : out) p = p * scanner;
   return out;

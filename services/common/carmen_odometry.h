@@ -1,6 +1,7 @@
 #pragma once
 // The odometry a CARMEN log holds, at each of its scans: what a robot's own wheels said, for SLAM
 // and localisation on raw logs (no corrected poses). Metres, radians, the odometry's own frame.
+#include <string>
 #include <vector>
 
 #include <cstdint>
@@ -10,16 +11,36 @@
 
 namespace navd {
 
+// How a scan is paired with the log's stamped ODOM lines. Loggers differ: in the public CARMEN
+// logs a scan shares its stamp with the ODOM line before it, yet moves with the one after it
+// (the odometry was read later than the scan's stamp says), while a logger that stamps both at
+// the time of reading puts the scan between its neighbours by stamp. mapping/odometry_pairing.h
+// tells which from the scans themselves.
+struct OdometryPairing {
+  // By stamp: interpolated between the last stamped ODOM line before the scan in the file and the
+  // first after it when their stamps bracket the scan's, else the one nearer in stamp (the one
+  // before on a tie, so logs with repeated or fake stamps follow the file).
+  bool by_stamp = true;
+  // Else by place in the file: this far from the line before (0) to the line after (1), where
+  // those two are stamped at most max_gap apart; across a longer gap in the odometry (a stalled
+  // stream, the robot turning on the spot meanwhile) by stamp.
+  double position = 0.0;
+  double max_gap = 1.0;  // s
+};
+// The pairings mapping/odometry_pairing.h chooses among: by stamp, and by file place 0, 1/4, ..., 1.
+std::vector<OdometryPairing> OdometryPairingCandidates();
+std::string Describe(const OdometryPairing& pairing);
+
 // One odometry pose per scan, in the log's scan order (file order). With ODOM lines, each scan
-// takes the ODOM lines next to it in the file (the last before it and the first after it):
-// interpolated by stamp when their stamps bracket the scan's, else the one nearer in stamp (the
-// one before on a tie, so logs with repeated or fake stamps follow the file). ODOM lines stamped
-// 0 or less carry no time and are left out (corrected logs echo their corrected pose that way).
-// Without ODOM lines, each scan's own odometry fields (FLASER odom_x odom_y odom_theta). Those are
-// the robot centre's; each is carried forward by the log's front_laser_offset to the scanner,
-// whose motion the scans show (turning on the spot, a scanner 0.2 m ahead moves 0.28 m per
-// quarter turn while the centre stays).
-std::vector<Pose2> OdometryAtScans(const CarmenLog& log);
+// takes the stamped ODOM lines next to it in the file (the last before it and the first after
+// it) as `pairing` says. ODOM lines stamped 0 or less carry no time and are left out (corrected
+// logs echo their corrected pose that way). Without ODOM lines, each scan's own odometry fields
+// (FLASER odom_x odom_y odom_theta). Those are the robot centre's; each is carried forward by
+// the log's front_laser_offset to the scanner, whose motion the scans show (turning on the
+// spot, a scanner 0.2 m ahead moves 0.28 m per quarter turn while the centre stays).
+std::vector<Pose2> OdometryAtScans(const CarmenLog& log, const OdometryPairing& pairing = {});
+// Whether the log has stamped ODOM lines (else the pairing makes no difference).
+bool HasStampedOdometry(const CarmenLog& log);
 
 // The evaluation protocol for corrected logs: each scan's corrected pose, corrupted step by step
 // by the seeded noise model of odometry_noise.h. One pose per scan, in scan order.

@@ -1,13 +1,18 @@
 // The parts of graph SLAM: the correlative and point-to-line scan matchers and the SE(2) pose graph.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
+#include <sstream>
 #include <random>
 
+#include "services/common/carmen_log.h"
+#include "services/common/carmen_odometry.h"
 #include "services/common/error.h"
 #include "services/common/ray_caster.h"
 #include "services/mapping/correlative_scan_matcher.h"
 #include "services/mapping/graph_slam.h"
+#include "services/mapping/odometry_pairing.h"
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
 #include "services/mapping/surface_facing_check.h"
@@ -512,6 +517,76 @@ TEST(GraphSlam, BackAtTheStartOfACorridorLoopItClosesOnTheRightCornerNotTheBlock
     EXPECT_LT(std::hypot(diff.x, diff.y), 0.3) << c.from_scan << " -> " << c.to_scan;
   }
   EXPECT_LT(PositionRmse(slam.Trajectory(), truth), 0.1);
+}
+
+// A raw log of a robot weaving through a 8 m x 6 m room, one ODOM line every 0.2 s and a scan
+// after every fourth, the scan stamped like the ODOM line before it. `lead` ODOM lines: how far
+// ahead of that line the scan was really taken (0: at it; 1: at the line after it, as the public
+// CARMEN logs' scans move).
+std::string WeavingRoomLog(int lead) {
+  const auto range = [](const Pose2& p, double a) {
+    const double c = std::cos(p.theta + a), s = std::sin(p.theta + a);
+    const double tx = c > 0 ? (8.0 - p.x) / c : c < 0 ? -p.x / c : 1e9;
+    const double ty = s > 0 ? (6.0 - p.y) / s : s < 0 ? -p.y / s : 1e9;
+    return std::min(tx, ty);
+  };
+  std::vector<Pose2> ticks{{2.0, 0.8, 0.0}};
+  for (int k = 1; k < 160; ++k) {
+    const double t = 0.2 * k, turn = 0.8 * std::sin(0.5 * t) * 0.2;
+    const Pose2& b = ticks.back();
+    ticks.push_back(b * Pose2(0.06, 0.0, turn));
+  }
+  std::ostringstream log;
+  for (size_t k = 0; k + 1 < ticks.size(); ++k) {
+    const Pose2& o = ticks[k];
+    const double stamp = 100.0 + 0.2 * static_cast<double>(k);
+    log << "ODOM " << o.x << " " << o.y << " " << o.theta << " 0 0 0 " << stamp << " h " << stamp << "\n";
+    if (k % 4 != 3) continue;
+    const Pose2& at = ticks[k + static_cast<size_t>(lead)];
+    EXPECT_TRUE(at.x > 0.5 && at.x < 7.5 && at.y > 0.5 && at.y < 5.5) << "the path leaves the room";
+    log << "FLASER 181";
+    for (int i = 0; i <= 180; ++i) log << " " << range(at, (i - 90) * M_PI / 180);
+    log << " " << at.x << " " << at.y << " " << at.theta << " " << at.x << " " << at.y << " " << at.theta << " "
+        << stamp << " h " << stamp << "\n";
+  }
+  return log.str();
+}
+
+// The median per-step error (m + rad) of a log's odometry at its scans against its scans' poses.
+double MedianStepError(const CarmenLog& log, const std::vector<Pose2>& odometry) {
+  std::vector<double> errors;
+  for (size_t k = 1; k < log.scans.size(); ++k) {
+    const Pose2 d =
+        (log.scans[k - 1].pose.inverse() * log.scans[k].pose).inverse() * (odometry[k - 1].inverse() * odometry[k]);
+    errors.push_back(std::hypot(d.x, d.y) + std::abs(d.theta));
+  }
+  std::sort(errors.begin(), errors.end());
+  return errors[errors.size() / 2];
+}
+
+// The scans tell which ODOM line they were taken at: a log whose scans move with the line after
+// them is paired there, one whose scans move with the line before them keeps that, and either
+// way the paired odometry steps as the scans do.
+TEST(OdometryPairing, FollowsTheOdomLineTheScansMoveWith) {
+  const CarmenLog ahead = ParseCarmenLog(WeavingRoomLog(1), "ahead");
+  const OdometryPairingEstimate found = EstimateOdometryPairing(ahead);
+  EXPECT_GE(found.pairs, 20);
+  EXPECT_FALSE(found.pairing.by_stamp) << Summary(found);
+  EXPECT_GE(found.pairing.position, 0.75) << Summary(found);
+  const double paired = MedianStepError(ahead, OdometryAtScans(ahead, found.pairing));
+  const double stamped = MedianStepError(ahead, OdometryAtScans(ahead));
+  EXPECT_LT(paired, 0.02) << Summary(found);
+  EXPECT_GT(stamped, 3 * paired) << paired;
+
+  const CarmenLog at = ParseCarmenLog(WeavingRoomLog(0), "at");
+  const OdometryPairingEstimate kept = EstimateOdometryPairing(at);
+  EXPECT_TRUE(kept.pairing.by_stamp || kept.pairing.position <= 0.25) << Summary(kept);
+  EXPECT_LT(MedianStepError(at, PairedOdometryAtScans(at)), 0.02);
+
+  // A log without ODOM lines keeps its scans' own odometry fields, and nothing is matched.
+  const CarmenLog fields = ParseCarmenLog("FLASER 1 1.0 9 9 1 5 6 0.5 11.5 h 11.5\n", "fields");
+  EXPECT_EQ(EstimateOdometryPairing(fields).pairs, 0);
+  EXPECT_NEAR(PairedOdometryAtScans(fields).at(0).x, 5.0, 1e-9);
 }
 
 }  // namespace

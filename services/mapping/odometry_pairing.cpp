@@ -1,0 +1,127 @@
+#include "services/mapping/odometry_pairing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "services/common/scan_reach.h"
+#include "services/mapping/correlative_scan_matcher.h"
+#include "services/mapping/point_to_line_matcher.h"
+
+namespace navd::mapping {
+
+namespace {
+
+// The scan's returns within its reach (ScanReach: near walls, or far ones in an open hall;
+// scanner frame).
+std::vector<Point2> Returns(const CarmenScan& scan, const ScanReachOptions& reach) {
+  const double cut = std::min(ScanReach(scan.ranges, scan.no_return_range(), reach), scan.no_return_range());
+  std::vector<Point2> out;
+  out.reserve(scan.ranges.size());
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double r = scan.ranges[i];
+    if (!std::isfinite(r) || r < 0.05 || r >= cut) continue;
+    const double a = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
+    out.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  return out;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+}  // namespace
+
+OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const OdometryPairingOptions& o) {
+  OdometryPairingEstimate out;
+  if (!HasStampedOdometry(log) || log.scans.size() < 2) return out;
+  out.candidates = OdometryPairingCandidates();
+  std::vector<std::vector<Pose2>> odometry;
+  for (const OdometryPairing& c : out.candidates) odometry.push_back(OdometryAtScans(log, c));
+  // Halfway by file place centres each window.
+  const size_t middle = static_cast<size_t>(
+      std::find_if(out.candidates.begin(), out.candidates.end(),
+                   [](const OdometryPairing& c) { return !c.by_stamp && c.position == 0.5; }) -
+      out.candidates.begin());
+
+  struct Pair {
+    size_t scan;
+    Pose2 centre;
+    double window_xy, window_theta;
+  };
+  std::vector<Pair> informative;
+  for (size_t k = 1; k < log.scans.size(); ++k) {
+    const Pose2 centre = odometry[middle][k - 1].inverse() * odometry[middle][k];
+    double spread_xy = 0.0, spread_theta = 0.0;
+    for (const std::vector<Pose2>& c : odometry) {
+      const Pose2 d = centre.inverse() * (c[k - 1].inverse() * c[k]);
+      spread_xy = std::max(spread_xy, std::hypot(d.x, d.y));
+      spread_theta = std::max(spread_theta, std::abs(d.theta));
+    }
+    if (spread_xy < o.min_spread_xy && spread_theta < o.min_spread_theta) continue;
+    const double window_xy = spread_xy + o.margin_xy, window_theta = spread_theta + o.margin_theta;
+    if (window_xy > o.max_window_xy || window_theta > o.max_window_theta) continue;
+    informative.push_back({k, centre, window_xy, window_theta});
+  }
+  const size_t take = std::min(informative.size(), static_cast<size_t>(std::max(o.max_pairs, 0)));
+  std::vector<std::vector<double>> disagreements(out.candidates.size());
+  PointToLineOptions polish;
+  polish.prior_sigma_xy = 0.3;
+  for (size_t i = 0; i < take; ++i) {
+    const Pair& p = informative[i * informative.size() / take];
+    std::vector<Point2> reference = Returns(log.scans[p.scan - 1], o.reach);
+    const std::vector<Point2> points = ThinPoints(Returns(log.scans[p.scan], o.reach), 0.1);
+    if (reference.size() < 20 || points.size() < 20) continue;
+    ScanMatchOptions window;
+    window.window_xy = p.window_xy;
+    window.window_theta = p.window_theta;
+    const CorrelationGrid grid(reference, window.resolution, window.sigma);
+    const ScanMatch match = MatchScan(grid, points, p.centre, window);
+    if (match.score < o.min_score) continue;
+    Pose2 step = match.pose;
+    const PointToLineResult polished = PointToLineMatcher(std::move(reference), polish).Match(points, step);
+    const Pose2 moved = step.inverse() * polished.pose;
+    if (polished.ok && std::hypot(moved.x, moved.y) < 0.05 && std::abs(moved.theta) < 0.03) step = polished.pose;
+    ++out.pairs;
+    for (size_t c = 0; c < out.candidates.size(); ++c) {
+      const Pose2 d = step.inverse() * (odometry[c][p.scan - 1].inverse() * odometry[c][p.scan]);
+      disagreements[c].push_back(std::hypot(d.x, d.y) + o.metres_per_radian * std::abs(d.theta));
+    }
+  }
+  for (const std::vector<double>& d : disagreements) out.disagreement.push_back(Median(d));
+  if (out.pairs < o.min_pairs) return out;
+  const auto best = std::min_element(out.disagreement.begin(), out.disagreement.end());
+  out.pairing = out.candidates[static_cast<size_t>(best - out.disagreement.begin())];
+  return out;
+}
+
+std::string Summary(const OdometryPairingEstimate& e) {
+  if (e.candidates.empty()) return "the scans' own odometry fields (no stamped ODOM lines)";
+  std::string out = "ODOM lines paired " + Describe(e.pairing) + ", as " + std::to_string(e.pairs) +
+                    " scan pairs matched agree (median step disagreement, m:";
+  char field[64];
+  for (size_t i = 0; i < e.candidates.size(); ++i) {
+    const OdometryPairing& c = e.candidates[i];
+    if (c.by_stamp) {
+      std::snprintf(field, sizeof field, " by stamp %.3f;", e.disagreement[i]);
+    } else {
+      std::snprintf(field, sizeof field, " at %.2f %.3f%s", c.position, e.disagreement[i],
+                    i + 1 < e.candidates.size() ? "," : ")");
+    }
+    out += field;
+  }
+  return out;
+}
+
+std::vector<Pose2> PairedOdometryAtScans(const CarmenLog& log, OdometryPairingEstimate* estimate) {
+  OdometryPairingEstimate found = EstimateOdometryPairing(log);
+  std::vector<Pose2> out = OdometryAtScans(log, found.pairing);
+  if (estimate) *estimate = std::move(found);
+  return out;
+}
+
+}  // namespace navd::mapping
