@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -231,6 +232,7 @@ void ParseDisturbance(const std::string& flag, const std::string& text, Disturba
 int RunReplay(const ReplayOptions& o) {
   if (!(o.rate > 0.0) || !std::isfinite(o.rate)) throw std::runtime_error("--rate must be a positive number");
   const OdometryNoise noise = ParseOdometryNoise(o.odom_noise);
+  const std::optional<OdometryPairing> given_pairing = ParseOdometryPairing(o.pairing, "--pairing");
   CarmenLog log = ReadCarmenLog(o.log, o.strict);
   if (log.skipped_lines > 0) std::fprintf(stderr, "navctl replay: skipped %d malformed lines\n", log.skipped_lines);
   if (o.max_scans > 0 && log.scans.size() > static_cast<size_t>(o.max_scans)) log.scans.resize(o.max_scans);
@@ -241,7 +243,7 @@ int RunReplay(const ReplayOptions& o) {
   std::vector<Pose2> odometry;
   if (o.odometry == "log") {
     mapping::OdometryPairingEstimate pairing;
-    odometry = mapping::PairedOdometryAtScans(log, &pairing);
+    odometry = mapping::PairedOdometryAtScans(log, given_pairing, &pairing);
     std::printf("replay: odometry: %s\n", mapping::Summary(pairing).c_str());
   } else {
     odometry = NoisyOdometryAtScans(log, noise, o.seed);

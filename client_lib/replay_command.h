@@ -33,6 +33,7 @@ struct ReplayOptions {
   // log: the odometry the log holds (ODOM lines, paired with the scans as they agree, or FLASER's
   // odometry fields: mapping::PairedOdometryAtScans), as a robot would send it.
   std::string odometry = "noisy";
+  std::string pairing = "auto";  // with odometry "log": ParseOdometryPairing's text
   std::string odom_noise = "0.05,0.035";
   uint64_t seed = 1;
   int max_scans = 0;            // 0: the whole log

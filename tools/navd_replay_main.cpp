@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
@@ -286,9 +287,14 @@ int main(int argc, char** argv) {
   std::string odometry_source = "noisy";
   app.add_option("--odometry", odometry_source,
                  "localize, slam: noisy (the log's laser poses corrupted by --odom-noise, seeded: the evaluation "
-                 "protocol for corrected logs) or log (the odometry the log holds: ODOM lines interpolated to each "
-                 "scan, else FLASER's odometry fields: raw logs)")
+                 "protocol for corrected logs) or log (the odometry the log holds: ODOM lines taken to each scan as "
+                 "--pairing says, else FLASER's odometry fields: raw logs)")
       ->check(CLI::IsMember({"noisy", "log"}));
+  std::string pairing = "auto";
+  app.add_option("--pairing", pairing,
+                 "with --odometry log: how each scan takes the ODOM lines next to it: auto (as consecutive scans "
+                 "matched against each other agree, default), stamp, or a share of the way from the line before "
+                 "the scan (0) to the line after it (1)");
   app.add_option("--seed", seed,
                  "localize, slam: seed of the odometry noise (and the filter); render: of the range noise");
   // A log's own odometry errs beyond the front end's window between some scans (its ODOM lines
@@ -337,14 +343,15 @@ int main(int argc, char** argv) {
   }
   try {
     const auto t0 = std::chrono::steady_clock::now();
+    const std::optional<navd::OdometryPairing> given_pairing = navd::ParseOdometryPairing(pairing, "--pairing");
     const navd::CarmenLog log = navd::ReadCarmenLog(log_path, strict);
     if (log.skipped_lines > 0) std::fprintf(stderr, "navd-replay: skipped %d malformed lines\n", log.skipped_lines);
     const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
     std::vector<navd::Pose2> odometry;
     if (odometry_source == "log") {
-      navd::mapping::OdometryPairingEstimate pairing;
-      odometry = navd::mapping::PairedOdometryAtScans(log, &pairing);
-      std::printf("odometry: %s\n", navd::mapping::Summary(pairing).c_str());
+      navd::mapping::OdometryPairingEstimate estimate;
+      odometry = navd::mapping::PairedOdometryAtScans(log, given_pairing, &estimate);
+      std::printf("odometry: %s\n", navd::mapping::Summary(estimate).c_str());
     } else {
       odometry = navd::NoisyOdometryAtScans(log, noise, seed);
     }

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+
+#include "services/common/error.h"
 
 namespace navd {
 
@@ -54,6 +57,22 @@ std::string Describe(const OdometryPairing& pairing) {
   char text[64];
   std::snprintf(text, sizeof text, "at %.2f of the way to the next ODOM line", pairing.position);
   return text;
+}
+
+std::optional<OdometryPairing> ParseOdometryPairing(const std::string& text, const std::string& field) {
+  if (text == "auto") return std::nullopt;
+  if (text == "stamp") return OdometryPairing{};
+  size_t used = 0;
+  double position = -1.0;
+  try {
+    position = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !(position >= 0.0 && position <= 1.0))
+    throw Error(ErrorCode::kInvalidArgument,
+                field + " must be auto, stamp or a share of the way from 0 to 1, not '" + text + "'");
+  return OdometryPairing{false, position};
 }
 
 bool HasStampedOdometry(const CarmenLog& log) {

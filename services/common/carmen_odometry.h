@@ -1,6 +1,7 @@
 #pragma once
 // The odometry a CARMEN log holds, at each of its scans: what a robot's own wheels said, for SLAM
 // and localisation on raw logs (no corrected poses). Metres, radians, the odometry's own frame.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ struct OdometryPairing {
 // The pairings mapping/odometry_pairing.h chooses among: by stamp, and by file place 0, 1/4, ..., 1.
 std::vector<OdometryPairing> OdometryPairingCandidates();
 std::string Describe(const OdometryPairing& pairing);
+// A pairing as people write it: "stamp", or a share of the way (0 to 1); "auto" (nullopt): let
+// the scans tell (mapping/odometry_pairing.h). Throws navd::Error naming `field` otherwise.
+std::optional<OdometryPairing> ParseOdometryPairing(const std::string& text, const std::string& field);
 
 // One odometry pose per scan, in the log's scan order (file order). With ODOM lines, each scan
 // takes the stamped ODOM lines next to it in the file (the last before it and the first after

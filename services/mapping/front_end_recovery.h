@@ -1,7 +1,7 @@
 #pragma once
 // The front end's answer to odometry that errs by more than its window: wheels slipping, a log
-// whose odometry lines are misaligned with its scans (10-40 degrees between two scans of the
-// aces, intel and csail logs). A front-end match that explains little of the local map is
+// whose stamps cannot pair its odometry lines with its scans (0.2-0.4 rad between a tenth of the
+// csail log's scans, however its lines are paired). A front-end match that explains little of the local map is
 // searched again over a window several times wider; a wider fit that scores clearly better and
 // lies beyond the first window either corrects the odometry or is a fit of the wrong place (a
 // scan whose own stamp or pose is off, a room seen from its middle turned by a few tens of
@@ -52,9 +52,9 @@ struct FrontEndRecoveryOptions {
 };
 
 // On for odometry that errs beyond the front end's window at times: a match explaining less than
-// 60 % of the local map is searched again. On the six CARMEN logs' own odometry (10-40 degrees
-// between two scans at times) that takes SLAM from metres off to decimetres; where the odometry
-// holds, it changes little (docs/results.md).
+// 60 % of the local map is searched again. On the csail log's own odometry that takes SLAM from
+// metres off to decimetres; on the other CARMEN logs, whose own odometry holds once paired with
+// their scans (mapping/odometry_pairing.h), it changes little (docs/results.md).
 FrontEndRecoveryOptions RobotOdometryRecovery();
 
 class FrontEndRecovery {

@@ -43,10 +43,10 @@ OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const Odom
   std::vector<std::vector<Pose2>> odometry;
   for (const OdometryPairing& c : out.candidates) odometry.push_back(OdometryAtScans(log, c));
   // Halfway by file place centres each window.
-  const size_t middle = static_cast<size_t>(
-      std::find_if(out.candidates.begin(), out.candidates.end(),
-                   [](const OdometryPairing& c) { return !c.by_stamp && c.position == 0.5; }) -
-      out.candidates.begin());
+  const size_t middle =
+      static_cast<size_t>(std::find_if(out.candidates.begin(), out.candidates.end(),
+                                       [](const OdometryPairing& c) { return !c.by_stamp && c.position == 0.5; }) -
+                          out.candidates.begin());
 
   struct Pair {
     size_t scan;
@@ -100,6 +100,7 @@ OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const Odom
 }
 
 std::string Summary(const OdometryPairingEstimate& e) {
+  if (e.given) return "ODOM lines paired " + Describe(e.pairing) + ", as asked";
   if (e.candidates.empty()) return "the scans' own odometry fields (no stamped ODOM lines)";
   std::string out = "ODOM lines paired " + Describe(e.pairing) + ", as " + std::to_string(e.pairs) +
                     " scan pairs matched agree (median step disagreement, m:";
@@ -117,8 +118,15 @@ std::string Summary(const OdometryPairingEstimate& e) {
   return out;
 }
 
-std::vector<Pose2> PairedOdometryAtScans(const CarmenLog& log, OdometryPairingEstimate* estimate) {
-  OdometryPairingEstimate found = EstimateOdometryPairing(log);
+std::vector<Pose2> PairedOdometryAtScans(const CarmenLog& log, const std::optional<OdometryPairing>& given,
+                                         OdometryPairingEstimate* estimate) {
+  OdometryPairingEstimate found;
+  if (given && HasStampedOdometry(log)) {
+    found.pairing = *given;
+    found.given = true;
+  } else if (!given) {
+    found = EstimateOdometryPairing(log);
+  }
   std::vector<Pose2> out = OdometryAtScans(log, found.pairing);
   if (estimate) *estimate = std::move(found);
   return out;

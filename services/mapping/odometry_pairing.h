@@ -7,6 +7,7 @@
 // filter's motion noise expects. So consecutive scans are matched against each other, and the
 // candidate pairing whose odometry steps come nearest the matched steps, at the median over the
 // log, is the log's pairing. Scanner frame, metres, radians.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,12 +25,12 @@ struct OdometryPairingOptions {
   double min_spread_theta = 0.02;  // rad
   // The match's window: the candidates' spread around the middle one and this much more; pairs
   // whose candidates spread wider than the cap are left out.
-  double margin_xy = 0.2;       // m
-  double margin_theta = 0.1;    // rad
-  double max_window_xy = 1.0;   // m
+  double margin_xy = 0.2;         // m
+  double margin_theta = 0.1;      // rad
+  double max_window_xy = 1.0;     // m
   double max_window_theta = 0.6;  // rad
-  ScanReachOptions reach;  // how far each scan's returns are used
-  double min_score = 0.2;   // matches scoring lower (correlative mean lookup, 0..1) are left out
+  ScanReachOptions reach;         // how far each scan's returns are used
+  double min_score = 0.2;         // matches scoring lower (correlative mean lookup, 0..1) are left out
   // A step's disagreement: the distance between the two steps' translations plus this many metres
   // per radian between their turns (a heading error of 0.01 rad moves a wall 10 m off by 0.1 m).
   double metres_per_radian = 1.0;
@@ -38,6 +39,7 @@ struct OdometryPairingOptions {
 
 struct OdometryPairingEstimate {
   OdometryPairing pairing;  // the chosen one (the default when the log cannot tell)
+  bool given = false;       // asked for, not estimated
   int pairs = 0;            // scan pairs matched and scored
   // Each candidate of OdometryPairingCandidates() with its median disagreement (m) over the pairs.
   std::vector<OdometryPairing> candidates;
@@ -51,7 +53,9 @@ OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const Odom
 // One line for people: the pairing chosen, from how many pairs, and each candidate's disagreement.
 std::string Summary(const OdometryPairingEstimate& estimate);
 
-// The log's odometry at each scan, paired as its scans agree (OdometryAtScans with the estimate).
-std::vector<Pose2> PairedOdometryAtScans(const CarmenLog& log, OdometryPairingEstimate* estimate = nullptr);
+// The log's odometry at each scan (OdometryAtScans), paired as `given` says, or without it as
+// its scans agree; `estimate`, when given, is told how (no candidates when nothing was matched).
+std::vector<Pose2> PairedOdometryAtScans(const CarmenLog& log, const std::optional<OdometryPairing>& given = {},
+                                         OdometryPairingEstimate* estimate = nullptr);
 
 }  // namespace navd::mapping

@@ -216,6 +216,13 @@ TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
                                "--out", dir + "/x.tum"});
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("--odometry"), std::string::npos) << bad.output;
+  for (const char* pairing : {"later", "1.5", "-0.1"}) {
+    const auto refused = RunCommand({NavdReplayBinary(), "--log", dir + "/raw.log", "--mode", "slam", "--odometry",
+                                     "log", "--pairing", pairing, "--out", dir + "/x.tum"});
+    EXPECT_NE(refused.exit_code, 0) << pairing;
+    EXPECT_NE(refused.output.find("--pairing"), std::string::npos) << refused.output;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/x.tum"));
+  }
 }
 
 // A log rendered again (navd-replay --mode render) holds the log's poses with scans cast in the map
