@@ -357,7 +357,8 @@ int main(int argc, char** argv) {
   replay->add_option("--pairing", replay_options.pairing,
                      "with --odometry log: how each scan takes the ODOM lines next to it: auto (as consecutive scans "
                      "matched against each other agree, default), stamp, or a share of the way from the line before "
-                     "the scan (0) to the line after it (1)");
+                     "the scan (0) to the line after it (1), by stamp across a gap of over 1 s or where scans share "
+                     "their two lines");
   replay->add_option("--odom-noise", replay_options.odom_noise,
                      "T,R: relative translation noise, rad of heading noise per metre");
   replay->add_option("--seed", replay_options.seed, "Seed of the odometry noise");

@@ -294,11 +294,12 @@ int main(int argc, char** argv) {
   app.add_option("--pairing", pairing,
                  "with --odometry log: how each scan takes the ODOM lines next to it: auto (as consecutive scans "
                  "matched against each other agree, default), stamp, or a share of the way from the line before "
-                 "the scan (0) to the line after it (1)");
+                 "the scan (0) to the line after it (1), by stamp across a gap of over 1 s or where scans share "
+                 "their two lines");
   app.add_option("--seed", seed,
                  "localize, slam: seed of the odometry noise (and the filter); render: of the range noise");
-  // A log's own odometry errs beyond the front end's window between some scans (its ODOM lines
-  // misaligned with the scans, wheels slipping): by default, with --odometry log, matches
+  // A log's own odometry errs beyond the front end's window between some scans (stamps that
+  // cannot pair its ODOM lines with its scans, wheels slipping): by default, with --odometry log, matches
   // explaining less than 60 % of the local map are searched again wider (FrontEndRecovery).
   SlamTuning slam_tuning;
   slam_tuning.front_recovery = -1.0;
@@ -348,7 +349,9 @@ int main(int argc, char** argv) {
     if (log.skipped_lines > 0) std::fprintf(stderr, "navd-replay: skipped %d malformed lines\n", log.skipped_lines);
     const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
     std::vector<navd::Pose2> odometry;
-    if (odometry_source == "log") {
+    if (mode != "slam" && mode != "localize") {
+      // map and render take the log's poses, no odometry
+    } else if (odometry_source == "log") {
       navd::mapping::OdometryPairingEstimate estimate;
       odometry = navd::mapping::PairedOdometryAtScans(log, given_pairing, &estimate);
       std::printf("odometry: %s\n", navd::mapping::Summary(estimate).c_str());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cctype>
 #include <cstdio>
 #include <exception>
 
@@ -22,13 +23,20 @@ std::vector<Pose2> CentreOdometryAtScans(const CarmenLog& log, const OdometryPai
     for (const CarmenScan& s : log.scans) out.push_back(s.odometry);
     return out;
   }
-  // Both lists are in file order: walk them together.
-  size_t next = 0;
-  for (const CarmenScan& s : log.scans) {
-    while (next < stamped.size() && stamped[next]->line < s.line) ++next;
+  // Both lists are in file order: walk them together. nexts[i]: the first stamped line after scan i.
+  std::vector<size_t> nexts(log.scans.size());
+  for (size_t i = 0, next = 0; i < log.scans.size(); ++i) {
+    while (next < stamped.size() && stamped[next]->line < log.scans[i].line) ++next;
+    nexts[i] = next;
+  }
+  for (size_t i = 0; i < log.scans.size(); ++i) {
+    const CarmenScan& s = log.scans[i];
+    const size_t next = nexts[i];
     const CarmenOdometry* before = next > 0 ? stamped[next - 1] : nullptr;
     const CarmenOdometry* after = next < stamped.size() ? stamped[next] : nullptr;
-    if (!pairing.by_stamp && before && after && after->timestamp - before->timestamp <= pairing.max_gap) {
+    // Scans sharing their two lines (a laser faster than the odometry) would all take one pose.
+    const bool shared = (i > 0 && nexts[i - 1] == next) || (i + 1 < nexts.size() && nexts[i + 1] == next);
+    if (!pairing.by_stamp && !shared && before && after && after->timestamp - before->timestamp <= pairing.max_gap) {
       out.push_back(Interpolate(before->pose, after->pose, pairing.position));
     } else if (before && after && before->timestamp <= s.timestamp && s.timestamp <= after->timestamp &&
                after->timestamp > before->timestamp) {
@@ -45,12 +53,6 @@ std::vector<Pose2> CentreOdometryAtScans(const CarmenLog& log, const OdometryPai
 }
 
 }  // namespace
-
-std::vector<OdometryPairing> OdometryPairingCandidates() {
-  std::vector<OdometryPairing> out{{true, 0.0}};
-  for (int quarter = 0; quarter <= 4; ++quarter) out.push_back({false, 0.25 * quarter});
-  return out;
-}
 
 std::string Describe(const OdometryPairing& pairing) {
   if (pairing.by_stamp) return "by stamp";
@@ -69,10 +71,11 @@ std::optional<OdometryPairing> ParseOdometryPairing(const std::string& text, con
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used == 0 || used != text.size() || !(position >= 0.0 && position <= 1.0))
+  if (used == 0 || used != text.size() || std::isspace(static_cast<unsigned char>(text[0])) ||
+      !(position >= 0.0 && position <= 1.0))
     throw Error(ErrorCode::kInvalidArgument,
                 field + " must be auto, stamp or a share of the way from 0 to 1, not '" + text + "'");
-  return OdometryPairing{false, position};
+  return OdometryPairing{false, position + 0.0};  // -0 reads as 0
 }
 
 bool HasStampedOdometry(const CarmenLog& log) {

@@ -23,13 +23,12 @@ struct OdometryPairing {
   // before on a tie, so logs with repeated or fake stamps follow the file).
   bool by_stamp = true;
   // Else by place in the file: this far from the line before (0) to the line after (1), where
-  // those two are stamped at most max_gap apart; across a longer gap in the odometry (a stalled
-  // stream, the robot turning on the spot meanwhile) by stamp.
+  // those two are stamped at most max_gap apart and no other scan lies between them; across a
+  // longer gap in the odometry (a stalled stream, the robot turning on the spot meanwhile), or
+  // for scans sharing their two lines (a laser faster than the odometry), by stamp.
   double position = 0.0;
   double max_gap = 1.0;  // s
 };
-// The pairings mapping/odometry_pairing.h chooses among: by stamp, and by file place 0, 1/4, ..., 1.
-std::vector<OdometryPairing> OdometryPairingCandidates();
 std::string Describe(const OdometryPairing& pairing);
 // A pairing as people write it: "stamp", or a share of the way (0 to 1); "auto" (nullopt): let
 // the scans tell (mapping/odometry_pairing.h). Throws navd::Error naming `field` otherwise.

@@ -6,7 +6,6 @@
 
 #include "services/common/scan_reach.h"
 #include "services/mapping/correlative_scan_matcher.h"
-#include "services/mapping/point_to_line_matcher.h"
 
 namespace navd::mapping {
 
@@ -36,17 +35,22 @@ double Median(std::vector<double> values) {
 
 }  // namespace
 
+std::vector<OdometryPairing> OdometryPairingCandidates() {
+  std::vector<OdometryPairing> out{OdometryPairing{}};
+  for (int quarter = 0; quarter <= 4; ++quarter) out.push_back({false, 0.25 * quarter});
+  return out;
+}
+
 OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const OdometryPairingOptions& o) {
   OdometryPairingEstimate out;
-  if (!HasStampedOdometry(log) || log.scans.size() < 2) return out;
+  if (!HasStampedOdometry(log)) return out;
   out.candidates = OdometryPairingCandidates();
+  out.disagreement.assign(out.candidates.size(), 0.0);
+  if (log.scans.size() < 2) return out;
   std::vector<std::vector<Pose2>> odometry;
   for (const OdometryPairing& c : out.candidates) odometry.push_back(OdometryAtScans(log, c));
-  // Halfway by file place centres each window.
-  const size_t middle =
-      static_cast<size_t>(std::find_if(out.candidates.begin(), out.candidates.end(),
-                                       [](const OdometryPairing& c) { return !c.by_stamp && c.position == 0.5; }) -
-                          out.candidates.begin());
+  // Each window is centred halfway by file place (candidate 3: by stamp, then 0, 1/4, 1/2, ...).
+  const std::vector<Pose2>& middle = odometry.at(3);
 
   struct Pair {
     size_t scan;
@@ -55,7 +59,7 @@ OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const Odom
   };
   std::vector<Pair> informative;
   for (size_t k = 1; k < log.scans.size(); ++k) {
-    const Pose2 centre = odometry[middle][k - 1].inverse() * odometry[middle][k];
+    const Pose2 centre = middle[k - 1].inverse() * middle[k];
     double spread_xy = 0.0, spread_theta = 0.0;
     for (const std::vector<Pose2>& c : odometry) {
       const Pose2 d = centre.inverse() * (c[k - 1].inverse() * c[k]);
@@ -69,13 +73,11 @@ OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const Odom
   }
   const size_t take = std::min(informative.size(), static_cast<size_t>(std::max(o.max_pairs, 0)));
   std::vector<std::vector<double>> disagreements(out.candidates.size());
-  PointToLineOptions polish;
-  polish.prior_sigma_xy = 0.3;
   for (size_t i = 0; i < take; ++i) {
     const Pair& p = informative[i * informative.size() / take];
     std::vector<Point2> reference = Returns(log.scans[p.scan - 1], o.reach);
-    const std::vector<Point2> points = ThinPoints(Returns(log.scans[p.scan], o.reach), 0.1);
-    if (reference.size() < 20 || points.size() < 20) continue;
+    const std::vector<Point2> points = ThinPoints(Returns(log.scans[p.scan], o.reach), o.point_spacing);
+    if (static_cast<int>(reference.size()) < o.min_points || static_cast<int>(points.size()) < o.min_points) continue;
     ScanMatchOptions window;
     window.window_xy = p.window_xy;
     window.window_theta = p.window_theta;
@@ -83,17 +85,20 @@ OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const Odom
     const ScanMatch match = MatchScan(grid, points, p.centre, window);
     if (match.score < o.min_score) continue;
     Pose2 step = match.pose;
-    const PointToLineResult polished = PointToLineMatcher(std::move(reference), polish).Match(points, step);
+    const PointToLineResult polished = PointToLineMatcher(std::move(reference), o.polish).Match(points, step);
     const Pose2 moved = step.inverse() * polished.pose;
-    if (polished.ok && std::hypot(moved.x, moved.y) < 0.05 && std::abs(moved.theta) < 0.03) step = polished.pose;
+    if (polished.ok && std::hypot(moved.x, moved.y) < o.polish_max_shift_xy &&
+        std::abs(moved.theta) < o.polish_max_shift_theta)
+      step = polished.pose;
     ++out.pairs;
     for (size_t c = 0; c < out.candidates.size(); ++c) {
       const Pose2 d = step.inverse() * (odometry[c][p.scan - 1].inverse() * odometry[c][p.scan]);
       disagreements[c].push_back(std::hypot(d.x, d.y) + o.metres_per_radian * std::abs(d.theta));
     }
   }
-  for (const std::vector<double>& d : disagreements) out.disagreement.push_back(Median(d));
+  for (size_t c = 0; c < out.candidates.size(); ++c) out.disagreement[c] = Median(disagreements[c]);
   if (out.pairs < o.min_pairs) return out;
+  out.decided = true;
   const auto best = std::min_element(out.disagreement.begin(), out.disagreement.end());
   out.pairing = out.candidates[static_cast<size_t>(best - out.disagreement.begin())];
   return out;
@@ -102,6 +107,9 @@ OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const Odom
 std::string Summary(const OdometryPairingEstimate& e) {
   if (e.given) return "ODOM lines paired " + Describe(e.pairing) + ", as asked";
   if (e.candidates.empty()) return "the scans' own odometry fields (no stamped ODOM lines)";
+  if (!e.decided)
+    return "ODOM lines paired " + Describe(e.pairing) + ": too few scan pairs (" + std::to_string(e.pairs) +
+           ") to tell otherwise";
   std::string out = "ODOM lines paired " + Describe(e.pairing) + ", as " + std::to_string(e.pairs) +
                     " scan pairs matched agree (median step disagreement, m:";
   char field[64];

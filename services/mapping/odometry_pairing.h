@@ -14,6 +14,7 @@
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
 #include "services/common/scan_reach.h"
+#include "services/mapping/point_to_line_matcher.h"
 
 namespace navd::mapping {
 
@@ -30,18 +31,37 @@ struct OdometryPairingOptions {
   double max_window_xy = 1.0;     // m
   double max_window_theta = 0.6;  // rad
   ScanReachOptions reach;         // how far each scan's returns are used
-  double min_score = 0.2;         // matches scoring lower (correlative mean lookup, 0..1) are left out
+  double point_spacing = 0.1;     // m between the later scan's points matched
+  int min_points = 20;            // fewer returns in either scan: the pair is left out
+  // One scan as the reference has gaps between its far points that a local map would fill, so
+  // its matches score lower than the front end's; this keeps out only those that fit nothing.
+  double min_score = 0.2;  // correlative mean lookup, 0..1
+  // The correlative pose is polished point to line (PointToLineMatcher, as the SLAM front end
+  // does), the polish held loosely to it; a polish moving it farther than this paired points
+  // with the wrong walls, and the correlative pose stands.
+  PointToLineOptions polish = [] {
+    PointToLineOptions p;
+    p.prior_sigma_xy = 0.3;
+    return p;
+  }();
+  double polish_max_shift_xy = 0.05;     // m
+  double polish_max_shift_theta = 0.03;  // rad
   // A step's disagreement: the distance between the two steps' translations plus this many metres
   // per radian between their turns (a heading error of 0.01 rad moves a wall 10 m off by 0.1 m).
   double metres_per_radian = 1.0;
   int min_pairs = 10;  // fewer scored pairs: the default pairing stands
 };
 
+// The pairings chosen among: by stamp, and by file place 0, 1/4, 1/2, 3/4 and 1.
+std::vector<OdometryPairing> OdometryPairingCandidates();
+
 struct OdometryPairingEstimate {
   OdometryPairing pairing;  // the chosen one (the default when the log cannot tell)
   bool given = false;       // asked for, not estimated
+  bool decided = false;     // estimated from at least min_pairs scored pairs
   int pairs = 0;            // scan pairs matched and scored
-  // Each candidate of OdometryPairingCandidates() with its median disagreement (m) over the pairs.
+  // With stamped ODOM lines: each candidate of OdometryPairingCandidates() with its median
+  // disagreement (m) over the pairs (0 when none was scored).
   std::vector<OdometryPairing> candidates;
   std::vector<double> disagreement;
 };

@@ -216,7 +216,7 @@ TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
                                "--out", dir + "/x.tum"});
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("--odometry"), std::string::npos) << bad.output;
-  for (const char* pairing : {"later", "1.5", "-0.1"}) {
+  for (const char* pairing : {"later", "1.5", "-0.1", "nan", "inf", " 0.5"}) {
     const auto refused = RunCommand({NavdReplayBinary(), "--log", dir + "/raw.log", "--mode", "slam", "--odometry",
                                      "log", "--pairing", pairing, "--out", dir + "/x.tum"});
     EXPECT_NE(refused.exit_code, 0) << pairing;
@@ -738,7 +738,8 @@ TEST_F(NavctlReplay, NavdLocalisesTheIntelLogOverDds) {
   }
   for (const std::vector<std::string>& bad : {std::vector<std::string>{"--kidnap", "100,3"},
                                               std::vector<std::string>{"--slip", "100,3,0", "--kidnap", "100,3,0"},
-                                              std::vector<std::string>{"--kidnap", "100,300,0"}}) {
+                                              std::vector<std::string>{"--kidnap", "100,300,0"},
+                                              std::vector<std::string>{"--pairing", "later", "--odometry", "log"}}) {
     std::vector<std::string> args = {"--max-scans", "200"};
     args.insert(args.end(), bad.begin(), bad.end());
     const auto refused = Replay(args, 30.0);

@@ -145,6 +145,33 @@ TEST(CarmenOdometry, InterpolatesOdomLinesToEachScanAndFollowsTheFileWhenStampsR
   EXPECT_NEAR(own.theta, 0.5, 1e-9);
 }
 
+// Paired by place in the file, a scan takes the share of the way between the ODOM lines next to
+// it, but by stamp across a gap in the odometry (over max_gap) and where two scans share their
+// two lines (they would take one pose). "stamp", "auto" and shares parse; anything else is refused.
+TEST(CarmenOdometry, PairsByPlaceInTheFileButByStampAcrossGapsAndSharedLines) {
+  const std::string text =
+      "ODOM 0 0 0 0 0 0 10.0 h 10.0\n"
+      "FLASER 1 1.0 9 9 0 9 9 0 10.0 h 10.0\n"  // halfway: 0.5
+      "ODOM 1 0 0 0 0 0 10.2 h 10.2\n"
+      "FLASER 1 1.0 9 9 0 9 9 0 10.2 h 10.2\n"  // 4.8 s to the next line: by stamp, 1
+      "ODOM 3 0 0 0 0 0 15.0 h 15.0\n"
+      "FLASER 1 1.0 9 9 0 9 9 0 15.0 h 15.0\n"  // shares its lines with the next scan: by stamp, 3
+      "FLASER 1 1.0 9 9 0 9 9 0 15.1 h 15.1\n"  // and 3.5
+      "ODOM 4 0 0 0 0 0 15.2 h 15.2\n";
+  const CarmenLog log = ParseCarmenLog(text, "pairing");
+  const std::vector<Pose2> odometry = OdometryAtScans(log, *ParseOdometryPairing("0.5", "--pairing"));
+  ASSERT_EQ(odometry.size(), 4u);
+  EXPECT_NEAR(odometry[0].x, 0.5, 1e-9);
+  EXPECT_NEAR(odometry[1].x, 1.0, 1e-9);
+  EXPECT_NEAR(odometry[2].x, 3.0, 1e-9);
+  EXPECT_NEAR(odometry[3].x, 3.5, 1e-9);
+  EXPECT_FALSE(ParseOdometryPairing("auto", "--pairing").has_value());
+  EXPECT_TRUE(ParseOdometryPairing("stamp", "--pairing")->by_stamp);
+  EXPECT_FALSE(std::signbit(ParseOdometryPairing("-0", "--pairing")->position));
+  for (const char* bad : {"", "later", "1.5", "-0.1", "nan", " 0.5", "0.5x"})
+    EXPECT_THROW(ParseOdometryPairing(bad, "--pairing"), Error) << bad;
+}
+
 // The scans' origin is the scanner's: a log whose PARAM puts it 0.2 m ahead of the centre has its
 // odometry carried there, so turning on the spot moves it on a 0.2 m circle.
 TEST(CarmenOdometry, IsCarriedToTheFrontLaserThatTheParamPlaces) {

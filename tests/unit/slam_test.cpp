@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <functional>
-#include <sstream>
 #include <random>
+#include <sstream>
 
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
@@ -519,7 +519,7 @@ TEST(GraphSlam, BackAtTheStartOfACorridorLoopItClosesOnTheRightCornerNotTheBlock
   EXPECT_LT(PositionRmse(slam.Trajectory(), truth), 0.1);
 }
 
-// A raw log of a robot weaving through a 8 m x 6 m room, one ODOM line every 0.2 s and a scan
+// A raw log of a robot weaving through an 8 m x 6 m room, one ODOM line every 0.2 s and a scan
 // after every fourth, the scan stamped like the ODOM line before it. `lead` ODOM lines: how far
 // ahead of that line the scan was really taken (0: at it; 1: at the line after it, as the public
 // CARMEN logs' scans move).
