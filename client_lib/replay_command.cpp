@@ -24,6 +24,7 @@
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
 #include "services/common/odometry_noise.h"
+#include "services/common/quantile.h"
 #include "services/common/scan_reach.h"
 #include "services/common/text_file.h"
 #include "services/mapping/odometry_pairing.h"
@@ -161,8 +162,7 @@ double BackWithin(const std::vector<std::pair<double, double>>& errors, double f
     std::vector<double> next;
     for (size_t j = i; j < errors.size() && errors[j].first <= errors[i].first + hold; ++j)
       next.push_back(errors[j].second);
-    std::nth_element(next.begin(), next.begin() + next.size() / 2, next.end());
-    if (next[next.size() / 2] <= within) return errors[i].first;
+    if (Quantile(std::move(next), 0.5) <= within) return errors[i].first;
   }
   return -1.0;
 }

@@ -4,16 +4,10 @@
 
 #include <algorithm>
 
+#include "services/common/quantile.h"
+
 namespace navd::server {
 namespace {
-
-// The q-quantile (0..1) of the samples, nearest rank; 0 without samples.
-float Quantile(std::vector<float> samples, double q) {
-  if (samples.empty()) return 0.0f;
-  const size_t k = std::min(samples.size() - 1, static_cast<size_t>(q * static_cast<double>(samples.size())));
-  std::nth_element(samples.begin(), samples.begin() + static_cast<long>(k), samples.end());
-  return samples[k];
-}
 
 float Milliseconds(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<float, std::milli>(d).count();

@@ -12,4 +12,18 @@ double ScanReach(const std::vector<float>& ranges, double no_return, const ScanR
   return echoes < o.min_near_echoes ? std::max(o.near, o.far) : o.near;
 }
 
+std::vector<Point2> ScanReturns(const std::vector<float>& ranges, double angle_min, double angle_increment,
+                                double no_return, double reach) {
+  const double cut = std::min(reach, no_return);
+  std::vector<Point2> out;
+  out.reserve(ranges.size());
+  for (size_t i = 0; i < ranges.size(); ++i) {
+    const double r = ranges[i];
+    if (!std::isfinite(r) || r < 0.05 || r >= cut) continue;
+    const double a = angle_min + static_cast<double>(i) * angle_increment;
+    out.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  return out;
+}
+
 }  // namespace navd

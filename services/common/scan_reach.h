@@ -5,6 +5,8 @@
 // instead: far walls and pillars are all it has to go by. Metres.
 #include <vector>
 
+#include "services/common/pose2.h"
+
 namespace navd {
 
 struct ScanReachOptions {
@@ -18,5 +20,11 @@ struct ScanReachOptions {
 // The reach (m) for a scan's `ranges`, readings at or beyond `no_return` being no-returns: near,
 // or far for a scan with too few echoes within near.
 double ScanReach(const std::vector<float>& ranges, double no_return, const ScanReachOptions& options);
+
+// The echoes of a scan (beam i at angle_min + i x angle_increment, rad) shorter than `reach` and
+// than `no_return`, and no shorter than 5 cm (the scanner's own housing), as points in the
+// scanner frame (m), in beam order.
+std::vector<Point2> ScanReturns(const std::vector<float>& ranges, double angle_min, double angle_increment,
+                                double no_return, double reach);
 
 }  // namespace navd

@@ -26,16 +26,8 @@ GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options), recovery_(o
 GraphSlam::NodeReturns GraphSlam::Returns(const RangeScan& scan) const {
   const double cut = ScanReach(scan.ranges, scan.range_max, {o_.usable_range, o_.far_usable_range, o_.min_near_echoes});
   const double reach = cut < o_.far_usable_range ? cut + o_.reference_extra_range : cut;
-  NodeReturns out;
-  out.reference.reserve(scan.ranges.size());
-  for (size_t i = 0; i < scan.ranges.size(); ++i) {
-    const double r = scan.ranges[i];
-    if (!std::isfinite(r) || r < 0.05 || r >= reach || r >= scan.range_max) continue;
-    const double a = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
-    out.reference.emplace_back(r * std::cos(a), r * std::sin(a));
-    if (r < cut) out.matched.push_back(out.reference.back());
-  }
-  return out;
+  return {ScanReturns(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max, cut),
+          ScanReturns(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max, reach)};
 }
 
 ScanMatchOptions GraphSlam::FrontEndWindow(const Pose2& moved) const {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "services/common/quantile.h"
 #include "services/common/scan_reach.h"
 #include "services/mapping/correlative_scan_matcher.h"
 
@@ -11,26 +12,10 @@ namespace navd::mapping {
 
 namespace {
 
-// The scan's returns within its reach (ScanReach: near walls, or far ones in an open hall;
-// scanner frame).
+// The scan's returns within its reach (ScanReach: near walls, or far ones in an open hall).
 std::vector<Point2> Returns(const CarmenScan& scan, const ScanReachOptions& reach) {
-  const double cut = std::min(ScanReach(scan.ranges, scan.no_return_range(), reach), scan.no_return_range());
-  std::vector<Point2> out;
-  out.reserve(scan.ranges.size());
-  for (size_t i = 0; i < scan.ranges.size(); ++i) {
-    const double r = scan.ranges[i];
-    if (!std::isfinite(r) || r < 0.05 || r >= cut) continue;
-    const double a = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
-    out.emplace_back(r * std::cos(a), r * std::sin(a));
-  }
-  return out;
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
+  return ScanReturns(scan.ranges, scan.angle_min, scan.angle_increment, scan.no_return_range(),
+                     ScanReach(scan.ranges, scan.no_return_range(), reach));
 }
 
 }  // namespace
@@ -96,7 +81,7 @@ OdometryPairingEstimate EstimateOdometryPairing(const CarmenLog& log, const Odom
       disagreements[c].push_back(std::hypot(d.x, d.y) + o.metres_per_radian * std::abs(d.theta));
     }
   }
-  for (size_t c = 0; c < out.candidates.size(); ++c) out.disagreement[c] = Median(disagreements[c]);
+  for (size_t c = 0; c < out.candidates.size(); ++c) out.disagreement[c] = Quantile(std::move(disagreements[c]), 0.5);
   if (out.pairs < o.min_pairs) return out;
   out.decided = true;
   const auto best = std::min_element(out.disagreement.begin(), out.disagreement.end());
