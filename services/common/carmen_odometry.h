@@ -18,14 +18,15 @@ namespace navd {
 // the time of reading puts the scan between its neighbours by stamp. mapping/odometry_pairing.h
 // tells which from the scans themselves.
 struct OdometryPairing {
-  // By stamp: interpolated between the last stamped ODOM line before the scan in the file and the
+  // true: interpolated between the last stamped ODOM line before the scan in the file and the
   // first after it when their stamps bracket the scan's, else the one nearer in stamp (the one
   // before on a tie, so logs with repeated or fake stamps follow the file).
   bool by_stamp = true;
-  // Else by place in the file: this far from the line before (0) to the line after (1), where
-  // those two are stamped at most max_gap apart and no other scan lies between them; across a
-  // longer gap in the odometry (a stalled stream, the robot turning on the spot meanwhile), or
-  // for scans sharing their two lines (a laser faster than the odometry), by stamp.
+  // With by_stamp false: the share of the way from the line before the scan (0) to the line after
+  // it (1). It applies where those two are stamped at most max_gap apart and no other scan lies
+  // between them; across a longer gap in the odometry (a stalled stream, the robot turning on the
+  // spot meanwhile), or for scans sharing their two lines (a laser faster than the odometry), the
+  // stamp rule above does.
   double position = 0.0;
   double max_gap = 1.0;  // s
 };
