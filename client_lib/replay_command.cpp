@@ -240,14 +240,11 @@ int RunReplay(const ReplayOptions& o) {
   if (o.odometry != "noisy" && o.odometry != "log")
     throw std::runtime_error("--odometry must be noisy or log, not '" + o.odometry + "'");
   // Taken at the log's own stamps, before the scans are re-timed below.
-  std::vector<Pose2> odometry;
-  if (o.odometry == "log") {
-    mapping::OdometryPairingEstimate pairing;
-    odometry = mapping::PairedOdometryAtScans(log, given_pairing, &pairing);
-    std::printf("replay: odometry: %s\n", mapping::Summary(pairing).c_str());
-  } else {
-    odometry = NoisyOdometryAtScans(log, noise, o.seed);
-  }
+  std::string how;
+  std::vector<Pose2> odometry = mapping::ReplayOdometryAtScans(
+      log, o.odometry == "log" ? mapping::OdometrySource::kLog : mapping::OdometrySource::kNoisy, given_pairing, noise,
+      o.seed, &how);
+  if (!how.empty()) std::printf("replay: odometry: %s\n", how.c_str());
   if (PaceScansWhenStampsAreCoarse(log)) {
     std::printf(
         "replay: the log's scan stamps are too coarse to time by; scans paced from its odometry (0.5 m/s, 0.5 "

@@ -348,15 +348,14 @@ int main(int argc, char** argv) {
     const navd::CarmenLog log = navd::ReadCarmenLog(log_path, strict);
     if (log.skipped_lines > 0) std::fprintf(stderr, "navd-replay: skipped %d malformed lines\n", log.skipped_lines);
     const navd::OdometryNoise noise = navd::ParseOdometryNoise(odom_noise);
+    // map and render take the log's poses, no odometry
     std::vector<navd::Pose2> odometry;
-    if (mode != "slam" && mode != "localize") {
-      // map and render take the log's poses, no odometry
-    } else if (odometry_source == "log") {
-      navd::mapping::OdometryPairingEstimate estimate;
-      odometry = navd::mapping::PairedOdometryAtScans(log, given_pairing, &estimate);
-      std::printf("odometry: %s\n", navd::mapping::Summary(estimate).c_str());
-    } else {
-      odometry = navd::NoisyOdometryAtScans(log, noise, seed);
+    if (mode == "slam" || mode == "localize") {
+      std::string how;
+      odometry = navd::mapping::ReplayOdometryAtScans(
+          log, odometry_source == "log" ? navd::mapping::OdometrySource::kLog : navd::mapping::OdometrySource::kNoisy,
+          given_pairing, noise, seed, &how);
+      if (!how.empty()) std::printf("odometry: %s\n", how.c_str());
     }
     int rc;
     if (mode == "map") {

@@ -125,4 +125,14 @@ std::vector<Pose2> PairedOdometryAtScans(const CarmenLog& log, const std::option
   return out;
 }
 
+std::vector<Pose2> ReplayOdometryAtScans(const CarmenLog& log, OdometrySource source,
+                                         const std::optional<OdometryPairing>& given, const OdometryNoise& noise,
+                                         uint64_t seed, std::string* how) {
+  if (source == OdometrySource::kNoisy) return NoisyOdometryAtScans(log, noise, seed);
+  OdometryPairingEstimate estimate;
+  std::vector<Pose2> out = PairedOdometryAtScans(log, given, &estimate);
+  if (how) *how = Summary(estimate);
+  return out;
+}
+
 }  // namespace navd::mapping

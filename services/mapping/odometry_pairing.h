@@ -7,12 +7,14 @@
 // filter's motion noise expects. So consecutive scans are matched against each other, and the
 // candidate pairing whose odometry steps come nearest the matched steps, at the median over the
 // log, is the log's pairing. Scanner frame, metres, radians.
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
+#include "services/common/odometry_noise.h"
 #include "services/common/scan_reach.h"
 #include "services/mapping/point_to_line_matcher.h"
 
@@ -77,5 +79,16 @@ std::string Summary(const OdometryPairingEstimate& estimate);
 // its scans agree; `estimate`, when given, is told how (no candidates when nothing was matched).
 std::vector<Pose2> PairedOdometryAtScans(const CarmenLog& log, const std::optional<OdometryPairing>& given = {},
                                          OdometryPairingEstimate* estimate = nullptr);
+
+// Where a replay's odometry comes from: the log's corrected poses corrupted by a seeded noise
+// model (the evaluation protocol), or the odometry the log holds (a raw robot log).
+enum class OdometrySource { kNoisy, kLog };
+
+// The odometry a replay of `log` gives at each scan. kLog: PairedOdometryAtScans with `given`, and
+// `how` (when given) receives the pairing's Summary(); kNoisy: NoisyOdometryAtScans with `noise`
+// and `seed`, and `how` is left alone.
+std::vector<Pose2> ReplayOdometryAtScans(const CarmenLog& log, OdometrySource source,
+                                         const std::optional<OdometryPairing>& given, const OdometryNoise& noise,
+                                         uint64_t seed, std::string* how = nullptr);
 
 }  // namespace navd::mapping
