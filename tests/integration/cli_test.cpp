@@ -179,7 +179,8 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
 }
 
 // A raw robot log: no corrected poses, odometry in ODOM lines, stamps that repeat. SLAM runs on
-// the log's own odometry and writes one TUM line per FLASER line, in file order.
+// the log's own odometry and writes one TUM line per FLASER line, in file order. Bad --odometry,
+// --pairing and --min-particles values are refused, naming the flag, and nothing is written.
 TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
   const std::string dir = MakeTempDir();
   {
@@ -221,6 +222,13 @@ TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
                                      "log", "--pairing", pairing, "--out", dir + "/x.tum"});
     EXPECT_NE(refused.exit_code, 0) << pairing;
     EXPECT_NE(refused.output.find("--pairing"), std::string::npos) << refused.output;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/x.tum"));
+  }
+  for (const char* count : {"5", "many", "1e9"}) {
+    const auto refused = RunCommand({NavdReplayBinary(), "--log", dir + "/raw.log", "--mode", "localize", "--odometry",
+                                     "log", "--min-particles", count, "--out", dir + "/x.tum"});
+    EXPECT_NE(refused.exit_code, 0) << count;
+    EXPECT_NE(refused.output.find("--min-particles"), std::string::npos) << refused.output;
     EXPECT_FALSE(std::filesystem::exists(dir + "/x.tum"));
   }
 }
