@@ -26,8 +26,17 @@ GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options), recovery_(o
 GraphSlam::NodeReturns GraphSlam::Returns(const RangeScan& scan) const {
   const double cut = ScanReach(scan.ranges, scan.range_max, {o_.usable_range, o_.far_usable_range, o_.min_near_echoes});
   const double reach = cut < o_.far_usable_range ? cut + o_.reference_extra_range : cut;
-  return {ScanReturns(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max, cut),
-          ScanReturns(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max, reach)};
+  NodeReturns out;
+  out.reference = ScanReturns(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max, reach);
+  // Those matched are the reference's nearer than the cut (reach is never shorter): one pass of
+  // trigonometry per scan, in beam order still. A reading exactly at the cut (logs written to the
+  // centimetre hold 20.00 m) stays out, as it would by its range: the bound is a hair inside the
+  // rounding of r cos a, r sin a.
+  const double matched_bound = cut * cut * (1.0 - 1e-12);
+  out.matched.reserve(out.reference.size());
+  for (const Point2& p : out.reference)
+    if (p.squaredNorm() < matched_bound) out.matched.push_back(p);
+  return out;
 }
 
 ScanMatchOptions GraphSlam::FrontEndWindow(const Pose2& moved) const {
