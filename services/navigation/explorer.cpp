@@ -1,5 +1,6 @@
 #include "services/navigation/explorer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "services/common/error.h"
@@ -28,6 +29,8 @@ ExplorationProgress Explorer::Start(const ExplorerOptions& options) {
     throw Error(ErrorCode::kInvalidArgument, "max_time must be a non-negative number of seconds");
   if (!(options.extra_inflation >= 0.0) || !std::isfinite(options.extra_inflation))
     throw Error(ErrorCode::kInvalidArgument, "extra_inflation must be a non-negative number of metres");
+  if (!(options.squeeze >= 0.0) || !std::isfinite(options.squeeze))
+    throw Error(ErrorCode::kInvalidArgument, "squeeze must be a non-negative number of metres");
   if (executive_.navigator().Status().active)
     throw Error(ErrorCode::kFailedPrecondition, "a navigation mission is active: cancel it before exploring");
   if (!options.planner.empty()) {
@@ -136,8 +139,17 @@ bool Explorer::Decide(double now) {
   if (!TrackMission(position, now)) return false;
 
   options_.exploration.excluded = goal_record_.Excluded();
-  const std::optional<ExplorationStep> step =
+  std::optional<ExplorationStep> step =
       NextExplorationStep(*map, estimate.pose, options_.method, visited_, options_.exploration);
+  bool squeeze = false;
+  if (!step && SqueezeClearance() < options_.exploration.clearance) {
+    ExplorationOptions squeezed = options_.exploration;
+    squeezed.squeeze_trail = visited_;
+    squeezed.squeeze_trail.push_back(position);
+    squeezed.squeeze_clearance = SqueezeClearance();
+    step = NextExplorationStep(*map, estimate.pose, options_.method, visited_, squeezed);
+    squeeze = step.has_value();
+  }
   {
     std::lock_guard<std::mutex> lock(mutex_);
     progress_.explored_area = static_cast<double>(free_cells) * map->resolution() * map->resolution();
@@ -160,7 +172,7 @@ bool Explorer::Decide(double now) {
   const bool refresh = mission_ == 0 || Distance(step->goal, frontier_goal_) > options_.goal_switch_distance ||
                        now - mission_started_ > options_.mission_refresh;
   if (!refresh) return true;
-  SendGoal(*step, position, now);
+  SendGoal(*step, position, now, squeeze);
   return true;
 }
 
@@ -194,7 +206,8 @@ bool Explorer::TrackMission(const Point2& position, double now) {
   return true;
 }
 
-void Explorer::SendGoal(const ExplorationStep& step, const Point2& position, double now) {
+void Explorer::SendGoal(const ExplorationStep& step, const Point2& position, double now, bool squeeze) {
+  planning_.SetInflationRadius(squeeze ? SqueezeClearance() : inflation_before_ + options_.extra_inflation);
   const std::optional<Point2> target = ReachableEnd(step.path);
   if (!target) {
     Exclude(step.goal, true);
@@ -221,6 +234,7 @@ void Explorer::SendGoal(const ExplorationStep& step, const Point2& position, dou
     std::lock_guard<std::mutex> lock(mutex_);
     progress_.goal = request.goal;
     progress_.goals += new_goal;
+    progress_.message = squeeze ? "exploring: squeezing out through a way narrower than the clearance" : "exploring";
   } catch (const Error&) {
     // No path on the costmap (a narrow way the exploration's clearance allows), or the goal is
     // unusable: the next choice leaves it out.
@@ -229,6 +243,8 @@ void Explorer::SendGoal(const ExplorationStep& step, const Point2& position, dou
     Exclude(step.goal, true);
   }
 }
+
+double Explorer::SqueezeClearance() const { return std::max(0.0, inflation_before_ - options_.squeeze); }
 
 std::optional<Point2> Explorer::ReachableEnd(const std::vector<Point2>& path) const {
   const std::shared_ptr<const planning::Costmap> costmap = planning_.CurrentCostmap();

@@ -39,7 +39,14 @@ struct ExplorerOptions {
   // centimetres off, and a gap only a hair wider than the robot's inflated disc (a shelf beside a
   // wall) was entered and grazed (measured).
   double extra_inflation = 0.05;  // m
-  int complete_after = 3;         // decisions in a row without a reachable frontier
+  // Walls seen better narrow the map's ways: one the robot came by can close below the clearance
+  // behind it, shutting it in a pocket with no frontier of its own. Before calling the map
+  // complete, the way out is looked for again along the robot's trail at the planners' own
+  // inflation less `squeeze` (ExplorationOptions::squeeze_trail), and that leg is driven with the
+  // planners' inflation lowered to the same: still a few centimetres wider than the robot (0.30 m
+  // inflation, 0.20 m robot).
+  double squeeze = 0.05;   // m
+  int complete_after = 3;  // decisions in a row without a reachable frontier
 };
 
 enum class ExplorationState { kIdle, kExploring, kComplete, kStopped, kFailed };
@@ -80,7 +87,8 @@ class Explorer {
   // once the exploration has ended.
   bool TrackMission(const Point2& position, double now);
   // Sends the robot towards `step`'s frontier, as far along its path as the costmap allows.
-  void SendGoal(const ExplorationStep& step, const Point2& position, double now);
+  void SendGoal(const ExplorationStep& step, const Point2& position, double now, bool squeeze);
+  double SqueezeClearance() const;
   // Ends the exploration: cancels its mission, stops the mapping run, serves its last map.
   void End(ExplorationState state, const std::string& message);
   // The point of `path` farthest along that the executive can drive to (not lethal in the

@@ -118,13 +118,14 @@ void ShortestPaths(const SearchGrid& g, int32_t s, ExplorationMethod method, con
   }
 }
 
-// Reachable frontier cells: traversable, next to unknown space, outside the excluded places.
-std::vector<int32_t> ReachableFrontier(const SearchGrid& g, const std::vector<double>& dist,
-                                       const ExplorationOptions& o) {
+// Reachable frontier cells: traversable at the full clearance, next to unknown space, outside the
+// excluded places.
+std::vector<int32_t> ReachableFrontier(const SearchGrid& g, const DistanceField& obstacles,
+                                       const std::vector<double>& dist, const ExplorationOptions& o) {
   const auto& cells = g.map.cells();
   std::vector<int32_t> frontier;
   for (size_t i = 0; i < g.n; ++i) {
-    if (!std::isfinite(dist[i])) continue;
+    if (!std::isfinite(dist[i]) || obstacles.values()[i] <= o.clearance) continue;
     const int x = static_cast<int>(i % g.w), y = static_cast<int>(i / g.w);
     bool excluded = false;
     for (const Point2& e : o.excluded)
@@ -264,6 +265,22 @@ std::optional<ExplorationStep> NextExplorationStep(const OccupancyGrid& map, con
   SearchGrid g{map, map.width(), map.height(), n, std::vector<uint8_t>(n)};
   for (size_t i = 0; i < n; ++i)
     g.traversable[i] = cells[i] >= 0 && cells[i] < o.free_below && obstacles.values()[i] > o.clearance;
+  if (!o.squeeze_trail.empty()) {
+    OccupancyGrid trail(g.w, g.h, map.resolution(), map.origin(), OccupancyGrid::kFree);
+    for (size_t k = 0; k < o.squeeze_trail.size(); ++k) {
+      const Point2& a = o.squeeze_trail[k];
+      const Point2& b = o.squeeze_trail[k + 1 < o.squeeze_trail.size() ? k + 1 : k];
+      TraverseSegment(map, a, b, [&](const CellIndex& c, double) {
+        if (trail.Contains(c)) trail.set(c, OccupancyGrid::kOccupied);
+        return true;
+      });
+    }
+    const DistanceField near_trail(trail, false);
+    for (size_t i = 0; i < n; ++i)
+      g.traversable[i] = g.traversable[i] ||
+                         (cells[i] >= 0 && cells[i] < o.free_below && obstacles.values()[i] > o.squeeze_clearance &&
+                          near_trail.values()[i] <= o.squeeze_radius);
+  }
   const CellIndex robot_cell = map.CellOf(robot.translation());
   if (!map.Contains(robot_cell)) return std::nullopt;
   const int32_t s = StartCell(g, static_cast<int32_t>(map.Flat(robot_cell)), o);
@@ -271,7 +288,7 @@ std::optional<ExplorationStep> NextExplorationStep(const OccupancyGrid& map, con
   std::vector<double> dist;
   std::vector<int32_t> parent;
   ShortestPaths(g, s, method, o, dist, parent);
-  const std::vector<int32_t> frontier = ReachableFrontier(g, dist, o);
+  const std::vector<int32_t> frontier = ReachableFrontier(g, obstacles, dist, o);
   if (frontier.empty()) return std::nullopt;
 
   int32_t goal = -1;

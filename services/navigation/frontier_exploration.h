@@ -11,7 +11,8 @@
 //    frontier cell of largest WV ("the most unexplored region that is in a free space") and the
 //    path follows Fast Marching over WV.
 // A cell is traversable when it is known free and farther than the robot's clearance from every
-// known obstacle; unknown space is never crossed. Map frame, metres.
+// known obstacle (or, on a way the robot came by, than the squeeze clearance); unknown space is
+// never crossed. Map frame, metres.
 #include <optional>
 #include <vector>
 
@@ -22,12 +23,18 @@ namespace navd::navigation {
 enum class ExplorationMethod { kGreedy, kFrontier, kVoronoiFastMarching };
 
 struct ExplorationOptions {
-  double clearance = 0.3;       // m from obstacles the robot's centre keeps
-  int free_below = 25;          // map values below this are known free (0..100)
-  int min_frontier_cells = 6;   // frontier method: smaller frontiers are ignored
-  double occupancy_cost = 4.0;  // greedy: extra cost per cell at occupancy 100
-  double w_saturation = 1.5;    // m: W reaches 1 this far from obstacles
-  double vt_saturation = 4.0;   // m: VT reaches 1 this far from visited places
+  double clearance = 0.3;  // m from obstacles the robot's centre keeps
+  // Ways the robot came by, its past positions in order: within squeeze_radius of the segments
+  // between them, cells farther than squeeze_clearance from obstacles are traversable too (a
+  // way walls seen better have narrowed). Goals keep the full clearance.
+  std::vector<Point2> squeeze_trail;
+  double squeeze_clearance = 0.25;  // m
+  double squeeze_radius = 0.3;      // m
+  int free_below = 25;              // map values below this are known free (0..100)
+  int min_frontier_cells = 6;       // frontier method: smaller frontiers are ignored
+  double occupancy_cost = 4.0;      // greedy: extra cost per cell at occupancy 100
+  double w_saturation = 1.5;        // m: W reaches 1 this far from obstacles
+  double vt_saturation = 4.0;       // m: VT reaches 1 this far from visited places
   // Goals given up on (reached without the frontier going away, or no progress): frontier cells
   // within exclusion_radius of them are not chosen again.
   std::vector<Point2> excluded;

@@ -60,6 +60,49 @@ TEST(Exploration, AFullySeenMapIsComplete) {
   EXPECT_THROW(navigation::ParseExplorationMethod("random"), Error);
 }
 
+TEST(Exploration, AWayTheRobotCameByIsSqueezedThroughWhenItNarrowsBelowTheClearance) {
+  // Two rooms, 6 x 3 m, the wall between them at x = 3.0-3.1 m with an 11-cell gap (y 1.2-1.75
+  // m): its middle is 0.30 m from both sides. The left room and the right one up to x = 4.5 m
+  // seen, the rest unknown. The robot came into the left room through the gap.
+  OccupancyGrid g(120, 60, 0.05, Point2::Zero(), OccupancyGrid::kUnknown);
+  g.FillBox({0.0, 0.0}, {4.5, 3.0}, OccupancyGrid::kFree);
+  g.FillBox({0.0, 0.0}, {6.0, 0.1});
+  g.FillBox({0.0, 2.9}, {6.0, 3.0});
+  g.FillBox({0.0, 0.0}, {0.1, 3.0});
+  for (int y = 0; y < 60; ++y)
+    if (y < 24 || y > 34)
+      for (int x = 60; x < 62; ++x) g.set({x, y}, OccupancyGrid::kOccupied);
+  const Pose2 robot{1.5, 1.5, 0.0};
+  navigation::ExplorationOptions o;
+  o.clearance = 0.32;
+  o.squeeze_clearance = 0.27;
+  EXPECT_FALSE(navigation::NextExplorationStep(g, robot, navigation::ExplorationMethod::kFrontier, {}, o));
+  // A trail that never came near the gap opens nothing.
+  o.squeeze_trail = {{1.0, 0.6}, {1.5, 1.5}};
+  EXPECT_FALSE(navigation::NextExplorationStep(g, robot, navigation::ExplorationMethod::kFrontier, {}, o));
+  // The robot's own way in is passed, and the goal beyond keeps the full clearance.
+  o.squeeze_trail = {{4.0, 1.0}, {3.6, 1.45}, {2.5, 1.5}, {1.5, 1.5}};
+  const auto step = navigation::NextExplorationStep(g, robot, navigation::ExplorationMethod::kFrontier, {}, o);
+  ASSERT_TRUE(step);
+  EXPECT_NEAR(step->goal.x(), 4.5, 0.1) << step->goal.transpose();
+  EXPECT_GE(step->goal.y(), 0.1 + 0.32);
+  EXPECT_LE(step->goal.y(), 2.9 - 0.32);
+  bool through_the_gap = false;
+  for (size_t i = 1; i < step->path.size(); ++i) {
+    const Point2& a = step->path[i - 1];
+    const Point2& b = step->path[i];
+    if (a.x() < 3.05 && b.x() >= 3.05) {
+      const double y = a.y() + (b.y() - a.y()) * (3.05 - a.x()) / (b.x() - a.x());
+      through_the_gap = y > 1.2 && y < 1.75;
+    }
+  }
+  EXPECT_TRUE(through_the_gap);
+  // With the right room unseen, the only frontier is in the gap itself, narrower than a goal may
+  // stand: none.
+  g.FillBox({3.1, 0.1}, {4.5, 2.9}, OccupancyGrid::kUnknown);
+  EXPECT_FALSE(navigation::NextExplorationStep(g, robot, navigation::ExplorationMethod::kFrontier, {}, o));
+}
+
 TEST(MappingSession, SynchronousRunsReportChangedRegionsAndRefuseAbsurdSizes) {
   mapping::MappingSessionOptions o;
   o.mode = mapping::MappingMode::kKnownPoses;
