@@ -155,8 +155,7 @@ int BuildMap(const navd::CarmenLog& log, const std::string& out, double resoluti
 // between the scans it weighs (AMCL's update_min_d, update_min_a; 0: the filter's defaults) and the
 // particles it keeps once gathered. The estimate is their mean, as steady as they are many: on the
 // real logs 2000 track 1-4 mm closer than navd's 500 (for navsim's robots, whose odometry arrives
-// every few centimetres), at about a millisecond more per scan (the intel log whole: 6.5 s against
-// 5.6 s, medians of three runs).
+// every few centimetres), at about a millisecond more per scan.
 struct FilterTuning {
   double motion_noise = 0.0;
   double heading_per_metre_noise = 0.0;  // AMCL's alpha2 (rad² per m² driven) at least this

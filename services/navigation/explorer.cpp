@@ -142,12 +142,8 @@ bool Explorer::Decide(double now) {
   std::optional<ExplorationStep> step =
       NextExplorationStep(*map, estimate.pose, options_.method, visited_, options_.exploration);
   bool squeeze = false;
-  if (!step && SqueezeClearance() < options_.exploration.clearance) {
-    ExplorationOptions squeezed = options_.exploration;
-    squeezed.squeeze_trail = visited_;
-    squeezed.squeeze_trail.push_back(position);
-    squeezed.squeeze_clearance = SqueezeClearance();
-    step = NextExplorationStep(*map, estimate.pose, options_.method, visited_, squeezed);
+  if (!step) {
+    step = SqueezedStep(*map, estimate.pose);
     squeeze = step.has_value();
   }
   {
@@ -242,6 +238,15 @@ void Explorer::SendGoal(const ExplorationStep& step, const Point2& position, dou
     mission_ = 0;
     Exclude(step.goal, true);
   }
+}
+
+std::optional<ExplorationStep> Explorer::SqueezedStep(const OccupancyGrid& map, const Pose2& robot) const {
+  if (SqueezeClearance() >= options_.exploration.clearance) return std::nullopt;
+  ExplorationOptions squeezed = options_.exploration;
+  squeezed.squeeze_trail = visited_;
+  squeezed.squeeze_trail.push_back(robot.translation());
+  squeezed.squeeze_clearance = SqueezeClearance();
+  return NextExplorationStep(map, robot, options_.method, visited_, squeezed);
 }
 
 double Explorer::SqueezeClearance() const { return std::max(0.0, inflation_before_ - options_.squeeze); }

@@ -7,6 +7,7 @@
 // its own, deciding every `period` seconds of the daemon clock. Map frame, metres, seconds.
 #include <atomic>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -88,6 +89,9 @@ class Explorer {
   bool TrackMission(const Point2& position, double now);
   // Sends the robot towards `step`'s frontier, as far along its path as the costmap allows.
   void SendGoal(const ExplorationStep& step, const Point2& position, double now, bool squeeze);
+  // The next step with the robot's trail passable at SqueezeClearance(), for a robot shut in a
+  // pocket; nullopt when none (or squeezing would not lower the clearance).
+  std::optional<ExplorationStep> SqueezedStep(const OccupancyGrid& map, const Pose2& robot) const;
   double SqueezeClearance() const;
   // Ends the exploration: cancels its mission, stops the mapping run, serves its last map.
   void End(ExplorationState state, const std::string& message);

@@ -267,14 +267,12 @@ std::optional<ExplorationStep> NextExplorationStep(const OccupancyGrid& map, con
     g.traversable[i] = cells[i] >= 0 && cells[i] < o.free_below && obstacles.values()[i] > o.clearance;
   if (!o.squeeze_trail.empty()) {
     OccupancyGrid trail(g.w, g.h, map.resolution(), map.origin(), OccupancyGrid::kFree);
-    for (size_t k = 0; k < o.squeeze_trail.size(); ++k) {
-      const Point2& a = o.squeeze_trail[k];
-      const Point2& b = o.squeeze_trail[k + 1 < o.squeeze_trail.size() ? k + 1 : k];
-      TraverseSegment(map, a, b, [&](const CellIndex& c, double) {
+    const std::vector<Point2>& t = o.squeeze_trail;
+    for (size_t k = 0; k < t.size(); ++k)  // each segment; the last point alone
+      TraverseSegment(map, t[k], t[std::min(k + 1, t.size() - 1)], [&](const CellIndex& c, double) {
         if (trail.Contains(c)) trail.set(c, OccupancyGrid::kOccupied);
         return true;
       });
-    }
     const DistanceField near_trail(trail, false);
     for (size_t i = 0; i < n; ++i)
       g.traversable[i] = g.traversable[i] ||
