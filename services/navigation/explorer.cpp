@@ -53,10 +53,10 @@ ExplorationProgress Explorer::Start(const ExplorerOptions& options) {
   }
   localizer_.Select("slam");
   executive_.SetMapBuilding(true);
-  inflation_before_ = planning_.inflation_radius();
-  planning_.SetInflationRadius(inflation_before_ + options.extra_inflation);
-
   options_ = options;
+  inflation_before_ = planning_.inflation_radius();
+  planning_.SetInflationRadius(ExploringInflation());
+
   started_ = clock_.Now();
   served_version_ = ~0ULL;
   visited_ = {estimate.pose.translation()};
@@ -203,7 +203,7 @@ bool Explorer::TrackMission(const Point2& position, double now) {
 }
 
 void Explorer::SendGoal(const ExplorationStep& step, const Point2& position, double now, bool squeeze) {
-  planning_.SetInflationRadius(squeeze ? SqueezeClearance() : inflation_before_ + options_.extra_inflation);
+  planning_.SetInflationRadius(squeeze ? SqueezeClearance() : ExploringInflation());
   const std::optional<Point2> target = ReachableEnd(step.path);
   if (!target) {
     Exclude(step.goal, true);
@@ -248,6 +248,8 @@ std::optional<ExplorationStep> Explorer::SqueezedStep(const OccupancyGrid& map, 
   squeezed.squeeze_clearance = SqueezeClearance();
   return NextExplorationStep(map, robot, options_.method, visited_, squeezed);
 }
+
+double Explorer::ExploringInflation() const { return inflation_before_ + options_.extra_inflation; }
 
 double Explorer::SqueezeClearance() const { return std::max(0.0, inflation_before_ - options_.squeeze); }
 

@@ -92,6 +92,9 @@ class Explorer {
   // The next step with the robot's trail passable at SqueezeClearance(), for a robot shut in a
   // pocket; nullopt when none (or squeezing would not lower the clearance).
   std::optional<ExplorationStep> SqueezedStep(const OccupancyGrid& map, const Pose2& robot) const;
+  // The planners' inflation while exploring (theirs before it plus extra_inflation), and on a
+  // squeeze leg (theirs less squeeze), in metres.
+  double ExploringInflation() const;
   double SqueezeClearance() const;
   // Ends the exploration: cancels its mission, stops the mapping run, serves its last map.
   void End(ExplorationState state, const std::string& message);
