@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "services/common/carmen_odometry.h"
 #include "services/common/error.h"
 
 namespace navd {
@@ -38,10 +39,9 @@ bool ParseOdometry(std::istringstream& in, CarmenOdometry& o) {
   return o.pose.finite() && std::isfinite(o.timestamp);
 }
 
-// ROBOTLASER1 laser_type start_angle fov resolution max_range accuracy remission_mode n r1..rn
-//   n_remissions rem1.. laser_x laser_y laser_theta robot_x robot_y robot_theta tv rv
-//   forward_safety side_safety turn_axis timestamp host logger_timestamp
-bool ParseRobotLaser(std::istringstream& in, CarmenScan& s) {
+// The part ROBOTLASER1 and RAWLASER1 lines share, after the message type:
+//   laser_type start_angle fov resolution max_range accuracy remission_mode n r1..rn n_remissions rem1..
+bool ParseLaserReadings(std::istringstream& in, CarmenScan& s) {
   int type = 0, remission_mode = 0, n = 0;
   double start, fov, res, max_range, accuracy;
   if (!(in >> type >> start >> fov >> res >> max_range >> accuracy >> remission_mode >> n)) return false;
@@ -58,14 +58,27 @@ bool ParseRobotLaser(std::istringstream& in, CarmenScan& s) {
     double v;
     if (!(in >> v)) return false;
   }
+  s.angle_min = start;
+  s.angle_increment = res;
+  s.range_max = max_range;
+  return true;
+}
+
+// ROBOTLASER1 <readings> laser_x laser_y laser_theta robot_x robot_y robot_theta tv rv
+//   forward_safety side_safety turn_axis timestamp host logger_timestamp
+bool ParseRobotLaser(std::istringstream& in, CarmenScan& s) {
+  if (!ParseLaserReadings(in, s)) return false;
   double x, y, t, ox, oy, ot, tv, rv, fs, ss, ta;
   if (!(in >> x >> y >> t >> ox >> oy >> ot >> tv >> rv >> fs >> ss >> ta >> s.timestamp)) return false;
   s.pose = {x, y, NormalizeAngle(t)};
   s.odometry = {ox, oy, NormalizeAngle(ot)};
-  s.angle_min = start;
-  s.angle_increment = res;
-  s.range_max = max_range;
   return s.pose.finite() && s.odometry.finite() && std::isfinite(s.timestamp);
+}
+
+// RAWLASER1 <readings> timestamp host logger_timestamp: the laser's own message, without a pose
+// (PoseRawScans gives it the odometry's).
+bool ParseRawLaser(std::istringstream& in, CarmenScan& s) {
+  return ParseLaserReadings(in, s) && (in >> s.timestamp) && std::isfinite(s.timestamp);
 }
 
 // TRUEPOS true_x true_y true_theta odom_x odom_y odom_theta timestamp host logger_timestamp
@@ -78,7 +91,9 @@ bool ParseTruth(std::istringstream& in, CarmenTruth& o) {
 }
 
 // Parses one line into `log`; false when a known message type is malformed.
-bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::string& type) {
+// RAWLASER1 scans go to `raw_scans`: they count only in a log without posed scans.
+bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::vector<CarmenScan>& raw_scans,
+               std::string& type) {
   std::istringstream in(line);
   type.clear();
   if (!(in >> type) || type[0] == '#') return true;
@@ -87,6 +102,11 @@ bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::string
     s.line = line_no;
     if (!(type == "FLASER" ? ParseScan(in, s) : ParseRobotLaser(in, s))) return false;
     log.scans.push_back(std::move(s));
+  } else if (type == "RAWLASER1") {
+    CarmenScan s;
+    s.line = line_no;
+    if (!ParseRawLaser(in, s)) return false;
+    raw_scans.push_back(std::move(s));
   } else if (type == "ODOM") {
     CarmenOdometry o;
     o.line = line_no;
@@ -108,8 +128,25 @@ bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::string
   return true;
 }
 
-void Finish(CarmenLog& log, const std::string& source) {
-  if (log.scans.empty()) throw Error(ErrorCode::kInvalidArgument, source + ": no FLASER or ROBOTLASER1 scans");
+// A log logged without the robot's own laser messages holds RAWLASER1 scans and ODOM lines: the
+// scans are placed where the odometry was at their stamps, as a raw log's FLASER lines are.
+void PoseRawScans(CarmenLog& log, std::vector<CarmenScan> raw_scans, const std::string& source) {
+  log.scans = std::move(raw_scans);
+  if (!HasStampedOdometry(log))
+    throw Error(ErrorCode::kInvalidArgument,
+                source + ": its RAWLASER1 scans carry no pose, and it has no stamped ODOM lines to place them by");
+  const std::vector<Pose2> at_scanner = OdometryAtScans(log, OdometryPairing{});
+  const Pose2 centre_from_scanner = Pose2(log.front_laser_offset, 0.0, 0.0).inverse();
+  for (size_t i = 0; i < log.scans.size(); ++i) {
+    log.scans[i].pose = at_scanner[i];
+    log.scans[i].odometry = at_scanner[i] * centre_from_scanner;
+  }
+}
+
+void Finish(CarmenLog& log, std::vector<CarmenScan> raw_scans, const std::string& source) {
+  if (log.scans.empty() && !raw_scans.empty()) PoseRawScans(log, std::move(raw_scans), source);
+  if (log.scans.empty())
+    throw Error(ErrorCode::kInvalidArgument, source + ": no FLASER, ROBOTLASER1 or RAWLASER1 scans");
   const double no_return = InferNoReturnRange(log);
   for (CarmenScan& s : log.scans)
     if (s.range_max <= 0.0) s.range_max = no_return;
@@ -190,6 +227,7 @@ CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
   gzFile f = gzopen(path.c_str(), "rb");  // reads plain files too
   if (!f) throw Error(ErrorCode::kInvalidArgument, "log file '" + path + "' cannot be read");
   CarmenLog log;
+  std::vector<CarmenScan> raw_scans;
   std::string line;
   std::vector<char> buf(1 << 16);
   int line_no = 0;
@@ -205,7 +243,7 @@ CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
       if (!got) break;
       ++line_no;
       std::string type;
-      if (!ParseLine(line, line_no, log, type)) {
+      if (!ParseLine(line, line_no, log, raw_scans, type)) {
         if (strict)
           throw Error(ErrorCode::kInvalidArgument,
                       path + ":" + std::to_string(line_no) + ": malformed " + type + " line");
@@ -217,25 +255,26 @@ CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
     throw;
   }
   gzclose(f);
-  Finish(log, path);
+  Finish(log, std::move(raw_scans), path);
   return log;
 }
 
 CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, bool strict) {
   CarmenLog log;
+  std::vector<CarmenScan> raw_scans;
   std::istringstream in(text);
   std::string line, type;
   int line_no = 0;
   while (std::getline(in, line)) {
     ++line_no;
-    if (!ParseLine(line, line_no, log, type)) {
+    if (!ParseLine(line, line_no, log, raw_scans, type)) {
       if (strict)
         throw Error(ErrorCode::kInvalidArgument,
                     source + ":" + std::to_string(line_no) + ": malformed " + type + " line");
       ++log.skipped_lines;
     }
   }
-  Finish(log, source);
+  Finish(log, std::move(raw_scans), source);
   return log;
 }
 

@@ -2,7 +2,10 @@
 // Reader of CARMEN logs (the format of the classic public 2-D laser datasets): `FLASER` laser scans
 // with the laser's pose (corrected, in "corrected" logs) and odometry pose, `ROBOTLASER1` scans
 // (which carry their own angles, as navsim's recorder writes them), `ODOM` odometry, `TRUEPOS`
-// ground truth (simulators) and the `PARAM robot_frontlaser_offset`. Plain or gzip-compressed.
+// ground truth (simulators) and the `PARAM robot_frontlaser_offset`. A log logged without the
+// robot's laser messages (no FLASER or ROBOTLASER1 line) has its `RAWLASER1` scans read instead,
+// each placed where its ODOM lines put the scanner at its stamp, as a raw log's FLASER lines hold
+// the odometry's pose. Plain or gzip-compressed.
 // FLASER front lasers are assumed to span 180 degrees, centred on the heading, as the CARMEN logs
 // of SICK LMS scanners do. Metres, radians, seconds.
 #include <cstddef>
@@ -67,9 +70,10 @@ constexpr size_t kNoReturnMinCount = 5;
 double InferNoReturnRange(const CarmenLog& log);
 
 // Reads `path` (".gz" or plain). FLASER scans get the inferred no-return range as range_max.
-// Malformed FLASER/ODOM lines (and a PARAM robot_frontlaser_offset that is no number) throw
-// navd::Error naming the file and line when `strict`, else are skipped and counted. Unknown
-// message types are ignored.
+// Malformed scan, ODOM and TRUEPOS lines (and a PARAM robot_frontlaser_offset that is no number)
+// throw navd::Error naming the file and line when `strict`, else are skipped and counted. Unknown
+// message types are ignored. A log without scans, or whose RAWLASER1 scans have no stamped ODOM
+// line to place them, throws navd::Error.
 CarmenLog ReadCarmenLog(const std::string& path, bool strict = false);
 // The same from text already in memory (`source` names it in errors).
 CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, bool strict = false);

@@ -236,6 +236,44 @@ TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
 // A log rendered again (navd-replay --mode render) holds the log's poses with scans cast in the map
 // those poses draw; with --step, more scans between them. The room log of the map test: eight
 // scans turning on the spot in a 4 m square.
+// A log of RAWLASER1 and ODOM lines only (logged without the robot's laser messages): the scans,
+// a full turn of 1-degree beams as their lines say, are placed by the odometry at their stamps,
+// and SLAM takes their own geometry. The ODOM lines overstate each 0.1 m step by 15 %: the scans
+// of the room's walls hold the chain to the true 1.9 m (read as 180-degree scans, they would not).
+TEST(NavdReplay, SlamRunsOnALogOfRawLaserScansPlacedByItsOdometry) {
+  const std::string dir = MakeTempDir();
+  const double width = 8.0, height = 5.0, step = 0.1, stated = 0.115;
+  {
+    std::ofstream log(dir + "/rawlaser.log");
+    for (int k = 0; k < 20; ++k) {
+      const double x = 2.0 + k * step, y = 2.3;
+      log << "ODOM " << 2.0 + k * stated << " " << y << " 0 0 0 0 " << 100.0 + k << " host " << 100.0 + k << "\n";
+      log << "RAWLASER1 0 " << -M_PI << " " << 2 * M_PI << " " << M_PI / 180 << " 30 0.01 0 360";
+      for (int i = 0; i < 360; ++i) {
+        const double a = -M_PI + i * M_PI / 180, c = std::cos(a), s = std::sin(a);
+        const double tx = c > 1e-9 ? (width - x) / c : c < -1e-9 ? -x / c : 1e9;
+        const double ty = s > 1e-9 ? (height - y) / s : s < -1e-9 ? -y / s : 1e9;
+        log << " " << std::min(tx, ty);
+      }
+      log << " 0 " << 100.0 + k << " host " << 100.0 + k << "\n";  // at its ODOM line's stamp
+    }
+  }
+  const auto r = RunCommand({NavdReplayBinary(), "--log", dir + "/rawlaser.log", "--mode", "slam", "--odometry", "log",
+                             "--out", dir + "/rawlaser.tum"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream tum(dir + "/rawlaser.tum");
+  std::vector<std::array<double, 2>> positions;
+  for (std::string line; std::getline(tum, line);) {
+    double t, x, y;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf", &t, &x, &y), 3) << line;
+    positions.push_back({x, y});
+  }
+  ASSERT_EQ(positions.size(), 20u);
+  EXPECT_NEAR(positions.front()[0], 2.0, 1e-6);  // the first scan where the odometry put it
+  EXPECT_NEAR(positions.back()[0] - positions.front()[0], 19 * step, 0.05) << "odometry alone: " << 19 * stated;
+  EXPECT_NEAR(positions.back()[1] - positions.front()[1], 0.0, 0.05);
+}
+
 TEST(NavdReplay, RenderWritesALogWhoseScansAreCastInTheMapOfItsPoses) {
   const std::string dir = MakeTempDir();
   {

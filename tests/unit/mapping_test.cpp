@@ -195,6 +195,46 @@ TEST(CarmenOdometry, IsCarriedToTheFrontLaserThatTheParamPlaces) {
   EXPECT_DOUBLE_EQ(ParseCarmenLog("PARAM robot_frontlaser_offset abc h 0\n" + text, "lenient").front_laser_offset, 0.2);
 }
 
+// A log logged without the robot's laser messages: its RAWLASER1 scans (their own angles and
+// maximum) are placed where the ODOM lines put the scanner at their stamps, the centre's pose as
+// their odometry. Beside FLASER or ROBOTLASER1 lines they are the same scans again and are left
+// out; without stamped ODOM lines nothing can place them, and reading says so.
+TEST(CarmenLog, PlacesRawLaserScansByTheOdometryAtTheirStamps) {
+  const std::string odom =
+      "PARAM robot_frontlaser_offset 0.2 nohost 0\n"
+      "ODOM 0 0 0 0 0 0 10.0 h 10.0\n"
+      "RAWLASER1 0 -1.5 3.0 0.75 30.0 0.01 0 5 1 2 3 4 30 0 10.5 h 10.5\n"
+      "ODOM 2 0 1.0 0 0 0 11.0 h 11.0\n"
+      "RAWLASER1 0 -1.5 3.0 0.75 30.0 0.01 0 5 1 2 3 4 5 2 0.5 0.5 11.0 h 11.0\n";
+  const CarmenLog log = ParseCarmenLog(odom, "raw", true);
+  ASSERT_EQ(log.scans.size(), 2u);
+  EXPECT_EQ(log.scans[0].ranges.size(), 5u);
+  EXPECT_DOUBLE_EQ(log.scans[0].angle_min, -1.5);
+  EXPECT_DOUBLE_EQ(log.scans[0].angle_increment, 0.75);
+  EXPECT_DOUBLE_EQ(log.scans[0].range_max, 30.0);
+  EXPECT_DOUBLE_EQ(log.scans[1].timestamp, 11.0);
+  // Halfway between the ODOM lines: the centre at (1, 0) turned 0.5 rad, the scanner 0.2 m ahead.
+  EXPECT_NEAR(log.scans[0].odometry.x, 1.0, 1e-9);
+  EXPECT_NEAR(log.scans[0].odometry.theta, 0.5, 1e-9);
+  EXPECT_NEAR(log.scans[0].pose.x, 1.0 + 0.2 * std::cos(0.5), 1e-9);
+  EXPECT_NEAR(log.scans[0].pose.y, 0.2 * std::sin(0.5), 1e-9);
+  EXPECT_NEAR(log.scans[1].pose.x, 2.0 + 0.2 * std::cos(1.0), 1e-9);
+  const std::vector<Pose2> odometry = OdometryAtScans(log);
+  EXPECT_NEAR(odometry[1].y, log.scans[1].pose.y, 1e-9);
+
+  const CarmenLog posed = ParseCarmenLog(odom + "FLASER 3 1.0 2.0 3.0 0.5 0.25 1.57 0.4 0.2 1.5 11.0 h 11.0\n", "both");
+  ASSERT_EQ(posed.scans.size(), 1u);
+  EXPECT_EQ(posed.scans[0].ranges.size(), 3u);
+
+  try {
+    ParseCarmenLog("RAWLASER1 0 -1.5 3.0 0.75 30.0 0.01 0 5 1 2 3 4 5 0 10.5 h 10.5\n", "no odometry");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no stamped ODOM"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ParseCarmenLog("RAWLASER1 0 -1.5 3.0 0.75 30.0 0.01 0 5 1 2 3\n" + odom, "short", true), Error);
+}
+
 // A log whose stamps cannot time its scans (most repeat) gets them paced from its odometry; a log
 // with usable stamps keeps them.
 TEST(CarmenLogStamps, CoarseStampsArePacedFromOdometry) {
