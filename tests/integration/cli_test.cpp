@@ -236,6 +236,14 @@ TEST(NavdReplay, SlamRunsOnARawLogsOwnOdometryWithOneTumLinePerScan) {
 // A log rendered again (navd-replay --mode render) holds the log's poses with scans cast in the map
 // those poses draw; with --step, more scans between them. The room log of the map test: eight
 // scans turning on the spot in a 4 m square.
+// The range (m) from (x, y) along `bearing` (rad) to the walls of the room [0, width] x [0, height].
+double RangeInRoom(double width, double height, double x, double y, double bearing) {
+  const double c = std::cos(bearing), s = std::sin(bearing);
+  const double tx = c > 1e-9 ? (width - x) / c : c < -1e-9 ? -x / c : 1e9;
+  const double ty = s > 1e-9 ? (height - y) / s : s < -1e-9 ? -y / s : 1e9;
+  return std::min(tx, ty);
+}
+
 // A log of RAWLASER1 and ODOM lines only (logged without the robot's laser messages): the scans,
 // a full turn of 1-degree beams as their lines say, are placed by the odometry at their stamps,
 // and SLAM takes their own geometry. The ODOM lines overstate each 0.1 m step by 15 %: the scans
@@ -249,12 +257,7 @@ TEST(NavdReplay, SlamRunsOnALogOfRawLaserScansPlacedByItsOdometry) {
       const double x = 2.0 + k * step, y = 2.3;
       log << "ODOM " << 2.0 + k * stated << " " << y << " 0 0 0 0 " << 100.0 + k << " host " << 100.0 + k << "\n";
       log << "RAWLASER1 0 " << -M_PI << " " << 2 * M_PI << " " << M_PI / 180 << " 30 0.01 0 360";
-      for (int i = 0; i < 360; ++i) {
-        const double a = -M_PI + i * M_PI / 180, c = std::cos(a), s = std::sin(a);
-        const double tx = c > 1e-9 ? (width - x) / c : c < -1e-9 ? -x / c : 1e9;
-        const double ty = s > 1e-9 ? (height - y) / s : s < -1e-9 ? -y / s : 1e9;
-        log << " " << std::min(tx, ty);
-      }
+      for (int i = 0; i < 360; ++i) log << " " << RangeInRoom(width, height, x, y, -M_PI + i * M_PI / 180);
       log << " 0 " << 100.0 + k << " host " << 100.0 + k << "\n";  // at its ODOM line's stamp
     }
   }
@@ -382,6 +385,49 @@ INSTANTIATE_TEST_SUITE_P(Localisers, NavdReplayLocalisation, ::testing::Values("
 // scripts/scan-consistency judges a trajectory by its own scans: in a 10 x 6 m room, the scans
 // placed at the poses they were taken from agree better than at poses that drift as SLAM's might
 // (2 mrad of heading and 1 cm sideways more per scan).
+// A folder of logs where one cannot be read: its row says why, the others are still run, and with
+// a threshold the whole run fails.
+TEST(Realdata, ALogThatCannotBeReadGetsAFailedRowAndTheOthersTheirs) {
+  const std::string dir = MakeTempDir(), logs = dir + "/logs";
+  std::filesystem::create_directories(logs);
+  std::ofstream(logs + "/broken.log") << "ODOM 0 0 0 0 0 0 1 h 1\n";
+  {
+    std::ofstream log(logs + "/room.log");
+    for (int k = 0; k < 30; ++k) {
+      const double x = 2.0 + 0.1 * k, y = 2.3, stamp = 100.0 + k;
+      log << "FLASER 181";
+      for (int i = 0; i <= 180; ++i) log << " " << RangeInRoom(8.0, 5.0, x, y, -M_PI / 2 + i * M_PI / 180);
+      log << " " << x << " " << y << " 0 " << x << " " << y << " 0 " << stamp << " host " << stamp << "\n";
+    }
+  }
+  const std::string replay = NavdReplayBinary();
+  const std::string build_dir = replay.substr(0, replay.rfind("/tools/"));
+  auto run = [&](std::vector<std::string> more) {
+    std::vector<std::string> command{"/usr/bin/env",
+                                     "NAVD_BUILD_DIR=" + build_dir,
+                                     SourceDir() + "/scripts/realdata",
+                                     logs,
+                                     "--seeds",
+                                     "1-1",
+                                     "--jobs",
+                                     "1",
+                                     "--out",
+                                     dir + "/out"};
+    command.insert(command.end(), more.begin(), more.end());
+    return RunCommand(command, 120.0);
+  };
+  const auto r = run({});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("broken                   failed: navd-replay: " + logs + "/broken.log: no FLASER"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("room                         30 |"), std::string::npos) << r.output;
+  const auto gated = run({"--max-slam-ate", "1.0", "--markdown"});
+  EXPECT_NE(gated.exit_code, 0) << gated.output;
+  EXPECT_NE(gated.output.find("| broken | failed: "), std::string::npos) << gated.output;
+  EXPECT_NE(gated.output.find("| room | 30 | "), std::string::npos) << gated.output;
+}
+
 TEST(ScanConsistency, ADriftingTrajectoryReadsWorseThanTheTrueOne) {
   const std::string dir = MakeTempDir();
   auto tum_line = [](double t, double x, double y, double theta) {
