@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 
 #include "services/common/carmen_odometry.h"
 #include "services/common/error.h"
@@ -143,14 +144,39 @@ void PoseRawScans(CarmenLog& log, std::vector<CarmenScan> raw_scans, const std::
   }
 }
 
-void Finish(CarmenLog& log, std::vector<CarmenScan> raw_scans, const std::string& source) {
-  if (log.scans.empty() && !raw_scans.empty()) PoseRawScans(log, std::move(raw_scans), source);
-  if (log.scans.empty())
-    throw Error(ErrorCode::kInvalidArgument, source + ": no FLASER, ROBOTLASER1 or RAWLASER1 scans");
-  const double no_return = InferNoReturnRange(log);
-  for (CarmenScan& s : log.scans)
-    if (s.range_max <= 0.0) s.range_max = no_return;
-}
+// The lines of one log, added in file order, then finished into the log: what ReadCarmenLog and
+// ParseCarmenLog share. `source` names the log in errors.
+class LogLines {
+ public:
+  LogLines(std::string source, bool strict) : source_(std::move(source)), strict_(strict) {}
+
+  void Add(const std::string& line) {
+    ++line_no_;
+    std::string type;
+    if (ParseLine(line, line_no_, log_, raw_scans_, type)) return;
+    if (strict_)
+      throw Error(ErrorCode::kInvalidArgument,
+                  source_ + ":" + std::to_string(line_no_) + ": malformed " + type + " line");
+    ++log_.skipped_lines;
+  }
+
+  CarmenLog Finish() && {
+    if (log_.scans.empty() && !raw_scans_.empty()) PoseRawScans(log_, std::move(raw_scans_), source_);
+    if (log_.scans.empty())
+      throw Error(ErrorCode::kInvalidArgument, source_ + ": no FLASER, ROBOTLASER1 or RAWLASER1 scans");
+    const double no_return = InferNoReturnRange(log_);
+    for (CarmenScan& s : log_.scans)
+      if (s.range_max <= 0.0) s.range_max = no_return;
+    return std::move(log_);
+  }
+
+ private:
+  std::string source_;
+  bool strict_;
+  int line_no_ = 0;
+  CarmenLog log_;
+  std::vector<CarmenScan> raw_scans_;  // RAWLASER1 scans, used only in a log without posed scans
+};
 
 }  // namespace
 
@@ -226,11 +252,9 @@ CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
   if (!std::filesystem::exists(path, ec)) throw Error(ErrorCode::kNotFound, "log file '" + path + "' does not exist");
   gzFile f = gzopen(path.c_str(), "rb");  // reads plain files too
   if (!f) throw Error(ErrorCode::kInvalidArgument, "log file '" + path + "' cannot be read");
-  CarmenLog log;
-  std::vector<CarmenScan> raw_scans;
+  LogLines lines(path, strict);
   std::string line;
   std::vector<char> buf(1 << 16);
-  int line_no = 0;
   try {
     while (true) {
       line.clear();
@@ -241,41 +265,21 @@ CarmenLog ReadCarmenLog(const std::string& path, bool strict) {
         if (!line.empty() && line.back() == '\n') break;
       }
       if (!got) break;
-      ++line_no;
-      std::string type;
-      if (!ParseLine(line, line_no, log, raw_scans, type)) {
-        if (strict)
-          throw Error(ErrorCode::kInvalidArgument,
-                      path + ":" + std::to_string(line_no) + ": malformed " + type + " line");
-        ++log.skipped_lines;
-      }
+      lines.Add(line);
     }
   } catch (...) {
     gzclose(f);
     throw;
   }
   gzclose(f);
-  Finish(log, std::move(raw_scans), path);
-  return log;
+  return std::move(lines).Finish();
 }
 
 CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, bool strict) {
-  CarmenLog log;
-  std::vector<CarmenScan> raw_scans;
+  LogLines lines(source, strict);
   std::istringstream in(text);
-  std::string line, type;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!ParseLine(line, line_no, log, raw_scans, type)) {
-      if (strict)
-        throw Error(ErrorCode::kInvalidArgument,
-                    source + ":" + std::to_string(line_no) + ": malformed " + type + " line");
-      ++log.skipped_lines;
-    }
-  }
-  Finish(log, std::move(raw_scans), source);
-  return log;
+  for (std::string line; std::getline(in, line);) lines.Add(line);
+  return std::move(lines).Finish();
 }
 
 }  // namespace navd
