@@ -228,9 +228,16 @@ std::string FormatFlaserLine(const CarmenScan& scan, const std::string& host) {
   const bool flaser_angles =
       n > 0 && std::abs(scan.angle_min - CarmenBeamAngle(0, n)) < 1e-6 &&
       (n < 2 || std::abs(scan.angle_increment - (CarmenBeamAngle(1, n) - CarmenBeamAngle(0, n))) < 1e-9);
-  if (!flaser_angles)
-    throw Error(ErrorCode::kInvalidArgument,
-                "a FLASER line's " + std::to_string(n) + " beams must start at -90 degrees, 1 or 0.5 degree apart");
+  if (!flaser_angles) {
+    const double degrees = 180.0 / M_PI;
+    char what[200];
+    std::snprintf(what, sizeof what,
+                  "a FLASER line's %zu beams are read back from %.2f degrees, %.4f apart; these start at %.2f, %.4f "
+                  "apart",
+                  n, CarmenBeamAngle(0, n) * degrees, (CarmenBeamAngle(1, n) - CarmenBeamAngle(0, n)) * degrees,
+                  scan.angle_min * degrees, scan.angle_increment * degrees);
+    throw Error(ErrorCode::kInvalidArgument, what);
+  }
   std::string line = "FLASER " + std::to_string(n);
   char field[64];
   for (const float r : scan.ranges) {

@@ -101,12 +101,24 @@ int TimeScansInFileOrder(CarmenLog& log, double max_speed = 3.0, double max_turn
 // CarmenBeamAngle puts them.
 std::string FormatFlaserLine(const CarmenScan& scan, const std::string& host);
 
-// Beam i of an n-beam CARMEN front scan points at -pi/2 + i * increment in the laser frame. The
-// SICK scanners of these logs step by 1, 0.5 or 0.25 degrees from -90: 180 or 181 beams are
-// 1 degree apart, 360 or 361 beams half a degree.
+// Beam i of an n-beam FLASER scan, in rad in the laser frame (x ahead, counter-clockwise). FLASER
+// carries no angles, so the count says them, as CARMEN's own reader guesses them for a SICK:
+// 180 or 181 beams step by 1 degree and 360 or 361 by 0.5 from -90; 400 or 401 beams are the
+// scanner's 100-degree mode, 0.25 degrees apart and centred ahead; any other count spreads 180
+// degrees from -90 over its n - 1 gaps.
 inline double CarmenBeamAngle(size_t i, size_t n) {
-  const size_t even = n - (n % 2);
-  return -M_PI / 2 + (even > 0 ? i * M_PI / even : 0.0);
+  double start = -M_PI / 2, increment = 0.0;
+  if (n == 180 || n == 181) {
+    increment = M_PI / 180;
+  } else if (n == 360 || n == 361) {
+    increment = M_PI / 360;
+  } else if (n == 400 || n == 401) {
+    increment = M_PI / 720;
+    start = -0.5 * increment * (n - 1);
+  } else if (n > 1) {
+    increment = M_PI / static_cast<double>(n - 1);
+  }
+  return start + static_cast<double>(i) * increment;
 }
 
 }  // namespace navd

@@ -104,6 +104,13 @@ TEST(CarmenLog, ReadsScansAndOdometryFromGzipAndReportsBadLines) {
   EXPECT_NEAR(CarmenBeamAngle(0, 181), -M_PI / 2, 1e-12);
   EXPECT_NEAR(CarmenBeamAngle(180, 181), M_PI / 2, 1e-12);
   EXPECT_NEAR(CarmenBeamAngle(179, 180), M_PI / 2 - M_PI / 180, 1e-12);  // 1 degree steps
+  EXPECT_NEAR(CarmenBeamAngle(359, 360), M_PI / 2 - M_PI / 360, 1e-12);  // half a degree
+  EXPECT_NEAR(CarmenBeamAngle(0, 401), -50 * M_PI / 180, 1e-12);         // 100 degrees centred ahead
+  EXPECT_NEAR(CarmenBeamAngle(400, 401), 50 * M_PI / 180, 1e-12);
+  EXPECT_NEAR(CarmenBeamAngle(1, 401) - CarmenBeamAngle(0, 401), M_PI / 720, 1e-12);
+  EXPECT_NEAR(CarmenBeamAngle(0, 541), -M_PI / 2, 1e-12);  // any other count: 180 degrees
+  EXPECT_NEAR(CarmenBeamAngle(540, 541), M_PI / 2, 1e-12);
+  EXPECT_NEAR(CarmenBeamAngle(269, 270), M_PI / 2, 1e-12);
 }
 
 // A scanner's no-return reading (81.83 on the Intel log's SICK) piles up at one far range; the
@@ -309,7 +316,25 @@ TEST(CarmenLog, FlaserLinesReadBackAsTheScanTheyWereMadeFrom) {
   EXPECT_NEAR(back.odometry.theta, -3.0, 1e-6);
   EXPECT_NEAR(back.timestamp, 1234.5678, 1e-6);
   scan.angle_min = -2.0;  // a 240-degree scanner's first beam
-  EXPECT_THROW(FormatFlaserLine(scan, "test"), Error);
+  try {
+    FormatFlaserLine(scan, "test");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("181 beams are read back from -90.00 degrees, 1.0000 apart; these start at "
+                                         "-114.59"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// A 401-beam FLASER line is the SICK's 100-degree mode: 0.25 degrees apart, centred ahead.
+TEST(CarmenLog, ReadsAHundredDegreeScanCentredAhead) {
+  std::string line = "FLASER 401";
+  for (int i = 0; i < 401; ++i) line += " 2.0";
+  const CarmenLog log = ParseCarmenLog(line + " 0 0 0 0 0 0 1.0 h 1.0\n", "narrow", true);
+  ASSERT_EQ(log.scans.size(), 1u);
+  EXPECT_NEAR(log.scans[0].angle_min, -50 * M_PI / 180, 1e-9);
+  EXPECT_NEAR(log.scans[0].angle_increment, 0.25 * M_PI / 180, 1e-9);
 }
 
 }  // namespace
