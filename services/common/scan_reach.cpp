@@ -7,8 +7,7 @@ namespace navd {
 
 double ScanReach(const std::vector<float>& ranges, double no_return, const ScanReachOptions& o) {
   const double near = std::min(o.near, no_return);
-  const auto echoes =
-      std::count_if(ranges.begin(), ranges.end(), [&](float r) { return std::isfinite(r) && r > 0.0f && r < near; });
+  const auto echoes = std::count_if(ranges.begin(), ranges.end(), [&](float r) { return IsEcho(r, near); });
   return echoes < o.min_near_echoes ? std::max(o.near, o.far) : o.near;
 }
 
@@ -19,7 +18,7 @@ std::vector<Point2> ScanReturns(const std::vector<float>& ranges, double angle_m
   out.reserve(ranges.size());
   for (size_t i = 0; i < ranges.size(); ++i) {
     const double r = ranges[i];
-    if (!std::isfinite(r) || r < 0.05 || r >= cut) continue;
+    if (!IsEcho(r, cut)) continue;
     const double a = angle_min + static_cast<double>(i) * angle_increment;
     out.emplace_back(r * std::cos(a), r * std::sin(a));
   }

@@ -3,11 +3,20 @@
 // with every milliradian of heading error and graze walls, so they are cut at `near`. A scan that
 // finds too little that near (an open hall, a convention centre, a yard) is used out to `far`
 // instead: far walls and pillars are all it has to go by. Metres.
+#include <cmath>
 #include <vector>
 
 #include "services/common/pose2.h"
 
 namespace navd {
+
+// A reading shorter than this (m) is no echo: the scanner's own housing, or an error code that a
+// scanner reports as a range (a Hokuyo's 0-19 mm). It neither marks nor clears, and counts as
+// no return anywhere scans are used.
+constexpr double kMinEchoRange = 0.05;
+
+// Whether reading `r` (m) is an echo: finite, no shorter than kMinEchoRange, short of `no_return`.
+inline bool IsEcho(double r, double no_return) { return std::isfinite(r) && r >= kMinEchoRange && r < no_return; }
 
 struct ScanReachOptions {
   double near = 20.0;
@@ -22,8 +31,7 @@ struct ScanReachOptions {
 double ScanReach(const std::vector<float>& ranges, double no_return, const ScanReachOptions& options);
 
 // The echoes of a scan (beam i at angle_min + i x angle_increment, rad) shorter than `reach` and
-// than `no_return`, and no shorter than 5 cm (the scanner's own housing), as points in the
-// scanner frame (m), in beam order.
+// than `no_return` (IsEcho), as points in the scanner frame (m), in beam order.
 std::vector<Point2> ScanReturns(const std::vector<float>& ranges, double angle_min, double angle_increment,
                                 double no_return, double reach);
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "services/common/scan_reach.h"
+
 namespace navd::localization {
 
 bool ScanHeaderIsUsable(const ScanReading& scan) {
@@ -30,7 +32,7 @@ std::vector<ScanBeam> SampleBeams(const ScanReading& scan, int count) {
   const size_t step = count <= 0 ? 1 : std::max<size_t>(1, n / static_cast<size_t>(count));
   for (size_t i = 0; i < n; i += step) {
     const double r = scan.ranges[i];
-    const bool hit = std::isfinite(r) && r >= scan.range_min && r < scan.range_max;
+    const bool hit = IsEcho(r, scan.range_max) && r >= scan.range_min;
     beams.push_back({scan.angle_min + i * scan.angle_increment, hit ? r : scan.range_max, hit});
   }
   return beams;

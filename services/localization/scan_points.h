@@ -18,7 +18,7 @@ std::string ScanGeometryError(size_t ranges, double angle_min, double angle_max,
 struct ScanBeam {
   double angle = 0.0;
   double range = 0.0;
-  bool hit = false;  // a return within [range_min, range_max)
+  bool hit = false;  // a return within [range_min, range_max) and an echo (IsEcho: no error code)
 };
 
 // An even subset of about `count` beams (all of them when count <= 0 or the scan has fewer).

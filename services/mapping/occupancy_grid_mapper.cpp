@@ -53,7 +53,7 @@ void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& r
   const double reach = ScanReachOf(o_, ranges, no_return);
   for (size_t i = 0; i < ranges.size(); ++i) {
     const double r = ranges[i];
-    if (!std::isfinite(r) || r <= 0.0) continue;
+    if (!std::isfinite(r) || r < kMinEchoRange) continue;
     const bool hit = r < no_return && r <= reach;
     const double length = TracedLength(o_, r, no_return, reach);
     if (length <= 0.0) continue;

@@ -54,7 +54,8 @@ class OccupancyGridMapper {
   OccupancyGridMapper(const OccupancyGrid& geometry, const MapperOptions& options);
   // Integrates a scan taken from `laser_pose`; beam i at angle_min + i * increment. Readings at or
   // beyond `range_max` (the scanner's own, when it reports one) or max_range are no-returns: they
-  // mark nothing and clear missing_data_ray_length.
+  // mark nothing and clear missing_data_ray_length. Readings shorter than kMinEchoRange (a
+  // scanner's error codes) and non-finite ones mark and clear nothing.
   void AddScan(const Pose2& laser_pose, const std::vector<float>& ranges, double angle_min, double increment,
                double range_max = std::numeric_limits<double>::infinity());
   // Integrates one sonar reading from `sensor_pose` (axis along its heading) with a cone of

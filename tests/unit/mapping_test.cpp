@@ -420,6 +420,23 @@ TEST(MapperRules, NoReturnReadingsMarkNothingAndClearOnlyTheMissingDataRayLength
   for (int x = 0; x < g.width(); ++x) EXPECT_FALSE(g.IsOccupied({x, g.CellOf({0, 2.0}).y}));
 }
 
+// Readings of a few millimetres are a scanner's error codes (a Hokuyo's 0-19 mm), not echoes: they
+// mark no obstacle at the scanner, clear nothing, count as no near echo and give SLAM no point.
+TEST(MapperRules, ErrorCodeReadingsAreNoEchoes) {
+  OccupancyGridMapper mapper({0.0, 0.0}, {4.0, 4.0});
+  const Pose2 pose{2.0, 2.0, 0.0};
+  std::vector<float> codes;
+  for (int i = 0; i < 180; ++i) codes.push_back(0.001f * static_cast<float>(i % 20));
+  mapper.AddScan(pose, codes, -M_PI / 2, M_PI / 180);
+  const OccupancyGrid g = mapper.ToGrid();
+  for (int y = 0; y < g.height(); ++y)
+    for (int x = 0; x < g.width(); ++x) EXPECT_EQ(g.at({x, y}), OccupancyGrid::kUnknown) << x << "," << y;
+  EXPECT_EQ(ScanReach(codes, 81.91, {}), 50.0);  // no near echo: the scan found nothing
+  EXPECT_TRUE(ScanReturns(codes, -M_PI / 2, M_PI / 180, 81.91, 20.0).empty());
+  EXPECT_FALSE(IsEcho(0.019, 81.91));
+  EXPECT_TRUE(IsEcho(kMinEchoRange, 81.91));
+}
+
 // A wall seen head-on twice stays a wall when three beams graze through its cell on their way
 // elsewhere (a shallow view along the wall from down a corridor).
 TEST(MapperRules, AFewGrazingBeamsDoNotEraseAWall) {

@@ -73,6 +73,23 @@ TEST(ScanOdometryPairing, AScanWaitsForTheOdometryOfItsInstantThenGetsItFirst) {
   EXPECT_EQ(pairing.Readings(restarted, 1.1, history).size(), 2u);
 }
 
+// A scanner's error codes (a few millimetres, reported as ranges) are no returns to the localisers
+// even when the scan's range_min lets them through.
+TEST(ScanPoints, ErrorCodeReadingsAreNoReturns) {
+  ScanReading scan;
+  scan.ranges = {0.004f, 2.0f, 0.019f, 3.0f};
+  scan.angle_min = -0.1;
+  scan.angle_increment = 0.05;
+  scan.range_min = 0.0;
+  scan.range_max = 30.0;
+  const std::vector<ScanBeam> beams = SampleBeams(scan, 0);
+  ASSERT_EQ(beams.size(), 4u);
+  EXPECT_FALSE(beams[0].hit);
+  EXPECT_TRUE(beams[1].hit);
+  EXPECT_FALSE(beams[2].hit);
+  EXPECT_EQ(ScanEndPoints(scan, 0).size(), 2u);
+}
+
 // One noisy scan of the default world from `truth`, fitted from poses displaced by up to 0.2 m
 // and 0.12 rad (seed 000's validation offset is 0.2 m and 0.14 rad): every fit lands within a
 // centimetre and 5 mrad of the truth.
