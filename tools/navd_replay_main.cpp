@@ -54,6 +54,16 @@ struct SlamTuning {
   navd::OdometryNoise odometry;  // the odometry's noise, which the front end's window allows for
 };
 
+// Says so when a map spread too wide for a grid at the resolution asked for was drawn coarser
+// (ResolutionToFit).
+void NoteCoarserMap(const navd::OccupancyGrid& grid, double resolution) {
+  if (grid.resolution() > resolution + 1e-9)
+    std::fprintf(stderr,
+                 "navd-replay: the map spans %.0f x %.0f m: drawn at %.3f m, not %.3f, to stay within %lld cells\n",
+                 grid.width() * grid.resolution(), grid.height() * grid.resolution(), grid.resolution(), resolution,
+                 navd::OccupancyGrid::kMaxCells);
+}
+
 // Graph SLAM over the log's scans with the given odometry (one pose per scan): the TUM trajectory of every scan (the
 // final, optimised poses), judged against the log's corrected poses after SE(2) alignment; each
 // accepted loop closure judged against the corrected relative pose.
@@ -126,6 +136,7 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
     mapping::MapperOptions o;
     o.resolution = resolution;
     const OccupancyGrid grid = slam.RenderMap(o);
+    NoteCoarserMap(grid, resolution);
     if (!map_out.empty()) SaveMapServerMap(grid, map_out);
     if (!png.empty()) SaveMapPng(grid, png);
     std::printf("map: %dx%d cells at %.3f m%s%s%s%s\n", grid.width(), grid.height(), grid.resolution(),
@@ -243,6 +254,7 @@ navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
   navd::OccupancyGrid grid = navd::mapping::MapFromLogPoses(
       log, o, [](size_t done, size_t total) { std::fprintf(stderr, "\r  mapped %zu/%zu scans", done, total); });
   std::fprintf(stderr, "\n");
+  NoteCoarserMap(grid, resolution);
   return grid;
 }
 

@@ -328,7 +328,11 @@ OccupancyGrid GraphSlam::RenderMap(const MapperOptions& options) const {
     hi = hi.cwiseMax(p.translation());
   }
   const double reach = std::min(options.usable_range, o_.usable_range) + 1.0;
-  OccupancyGridMapper mapper(lo - Point2(reach, reach), hi + Point2(reach, reach), options);
+  lo -= Point2(reach, reach);
+  hi += Point2(reach, reach);
+  MapperOptions fitted = options;
+  fitted.resolution = ResolutionToFit(lo, hi, options.resolution);
+  OccupancyGridMapper mapper(lo, hi, fitted);
   RenderInto(mapper);
   return mapper.ToGrid();
 }

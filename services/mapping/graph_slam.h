@@ -185,7 +185,8 @@ class GraphSlam {
   // The matches the last Refine() pass added, as closures.
   const std::vector<LoopClosure>& refinements() const { return refinements_; }
   int nodes() const { return static_cast<int>(graph_.nodes().size()); }
-  // The occupancy grid of every node's scan at its optimised pose.
+  // The occupancy grid of every node's scan at its optimised pose, at options.resolution unless the
+  // nodes spread wider than a grid holds at it (ResolutionToFit).
   OccupancyGrid RenderMap(const MapperOptions& options) const;
   // The same into a mapper of the caller's extent.
   void RenderInto(OccupancyGridMapper& mapper) const;

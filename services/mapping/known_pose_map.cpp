@@ -19,7 +19,9 @@ OccupancyGrid MapFromLogPoses(const CarmenLog& log, const MapperOptions& options
   }
   lo -= Point2(1, 1);
   hi += Point2(1, 1);
-  OccupancyGridMapper mapper(lo, hi, options);
+  MapperOptions fitted = options;
+  fitted.resolution = ResolutionToFit(lo, hi, options.resolution);
+  OccupancyGridMapper mapper(lo, hi, fitted);
   for (size_t k = 0; k < log.scans.size(); ++k) {
     const CarmenScan& s = log.scans[k];
     mapper.AddScan(s.pose, s.ranges, s.angle_min, s.angle_increment, s.no_return_range());

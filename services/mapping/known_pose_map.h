@@ -1,6 +1,7 @@
 #pragma once
 // The occupancy grid that a log's own laser poses draw: in a corrected log, the map its publishers
-// drew. It covers the traced end of every beam with a 1 m margin. Metres, the log's frame.
+// drew. It covers the traced end of every beam with a 1 m margin, at options.resolution unless
+// that would take more cells than a grid holds (ResolutionToFit). Metres, the log's frame.
 #include <cstddef>
 #include <functional>
 

@@ -10,6 +10,16 @@
 
 namespace navd::mapping {
 
+double ResolutionToFit(const Point2& min, const Point2& max, double resolution) {
+  const auto cells = [&](double r) { return std::ceil((max.x() - min.x()) / r) * std::ceil((max.y() - min.y()) / r); };
+  if (cells(resolution) <= static_cast<double>(OccupancyGrid::kMaxCells)) return resolution;
+  constexpr double kStep = 0.005;
+  const double area = (max.x() - min.x()) * (max.y() - min.y());
+  double r = kStep * std::ceil(std::sqrt(area / static_cast<double>(OccupancyGrid::kMaxCells)) / kStep);
+  while (cells(r) > static_cast<double>(OccupancyGrid::kMaxCells)) r += kStep;
+  return std::max(r, resolution);
+}
+
 double ScanReachOf(const MapperOptions& o, const std::vector<float>& ranges, double range_max) {
   return ScanReach(ranges, std::min(o.max_range, range_max), {o.usable_range, o.far_usable_range, o.min_near_echoes});
 }

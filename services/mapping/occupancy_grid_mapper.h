@@ -39,6 +39,11 @@ struct MapperOptions {
   double l_free_sonar = -0.4;            // log-odds along a sonar cone's axis, weighted down off it (Elfes)
 };
 
+// The cell size (m) for a map of the extent min..max: `resolution`, or where that would need more
+// than OccupancyGrid::kMaxCells cells (a campus, kilometres of corridor), the finest size, in
+// steps of 5 mm, that needs no more. For maps whose extent the data decide, not the user.
+double ResolutionToFit(const Point2& min, const Point2& max, double resolution);
+
 // How far a scan's beams are traced at most (m): usable_range, or far_usable_range for a scan that
 // finds too little within it (services/common/scan_reach.h).
 double ScanReachOf(const MapperOptions& options, const std::vector<float>& ranges, double range_max);

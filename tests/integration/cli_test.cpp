@@ -178,6 +178,33 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   EXPECT_EQ(Lines(missing.output), 1) << missing.output;
 }
 
+// A log spread wider than a grid holds at 5 cm (two rooms 250 m apart, as a campus's buildings):
+// the map is drawn at the finest resolution that fits, says so, and holds both rooms' walls.
+TEST(NavdReplay, MapsALogSpreadWiderThanAGridHoldsAtACoarserResolution) {
+  const std::string dir = MakeTempDir();
+  {
+    std::ofstream log(dir + "/campus.log");
+    for (const double c : {0.0, 250.0}) {
+      log << "FLASER 181";
+      for (int i = 0; i <= 180; ++i) {
+        const double a = -M_PI / 2 + i * M_PI / 180;
+        log << " " << 2.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a)));
+      }
+      log << " " << c << " " << c << " 0 " << c << " " << c << " 0 " << c << " host " << c << "\n";
+    }
+  }
+  const auto ok = RunCommand({NavdReplayBinary(), "--log", dir + "/campus.log", "--out", dir + "/campus.yaml"});
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("drawn at 0.055 m, not 0.050"), std::string::npos) << ok.output;
+  const OccupancyGrid map = LoadMapServerMap(dir + "/campus.yaml");
+  EXPECT_NEAR(map.resolution(), 0.055, 1e-9);
+  EXPECT_LE(static_cast<long long>(map.width()) * map.height(), OccupancyGrid::kMaxCells);
+  for (const double c : {0.0, 250.0}) {
+    EXPECT_TRUE(map.IsOccupied(map.CellOf({c + 2.02, c}))) << c;
+    EXPECT_EQ(map.at(map.CellOf({c + 0.5, c})), OccupancyGrid::kFree) << c;
+  }
+}
+
 // A raw robot log: no corrected poses, odometry in ODOM lines, stamps that repeat. SLAM runs on
 // the log's own odometry and writes one TUM line per FLASER line, in file order. Bad --odometry,
 // --pairing and --min-particles values are refused, naming the flag, and nothing is written.

@@ -437,6 +437,15 @@ TEST(MapperRules, ErrorCodeReadingsAreNoEchoes) {
   EXPECT_TRUE(IsEcho(kMinEchoRange, 81.91));
 }
 
+// A map's extent that the data decide gets the resolution asked for while it fits a grid, and the
+// finest 5 mm step that does beyond.
+TEST(MapperRules, ResolutionToFitCoarsensOnlyWhatAGridCannotHold) {
+  EXPECT_EQ(ResolutionToFit({0, 0}, {100, 100}, 0.05), 0.05);
+  EXPECT_NEAR(ResolutionToFit({0, 0}, {252, 252}, 0.05), 0.055, 1e-12);  // 25.4 M cells at 5 cm
+  EXPECT_NEAR(ResolutionToFit({-1000, 0}, {1000, 50}, 0.02), 0.065, 1e-12);
+  EXPECT_EQ(ResolutionToFit({0, 0}, {252, 252}, 0.1), 0.1);
+}
+
 // A wall seen head-on twice stays a wall when three beams graze through its cell on their way
 // elsewhere (a shallow view along the wall from down a corridor).
 TEST(MapperRules, AFewGrazingBeamsDoNotEraseAWall) {
