@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
+#include <string>
 #include <utility>
 
 #include "services/common/carmen_odometry.h"
@@ -15,15 +17,25 @@
 namespace navd {
 namespace {
 
+// One reading: a number, or as logs converted from ROS write them, inf (no return within the
+// scanner's range) or nan (no reading), which stream extraction refuses. Either is no echo
+// downstream; inf also clears as a no-return does.
+bool ReadRange(std::istringstream& in, float& r) {
+  std::string token;
+  if (!(in >> token)) return false;
+  char* end = nullptr;
+  const double v = std::strtod(token.c_str(), &end);
+  if (end == token.c_str() || *end != '\0') return false;
+  r = static_cast<float>(v);
+  return true;
+}
+
 bool ParseScan(std::istringstream& in, CarmenScan& s) {
   int n = 0;
   if (!(in >> n) || n <= 0 || n > 100000) return false;
   s.ranges.resize(n);
-  for (auto& r : s.ranges) {
-    double v;
-    if (!(in >> v) || !std::isfinite(v)) return false;
-    r = static_cast<float>(v);
-  }
+  for (auto& r : s.ranges)
+    if (!ReadRange(in, r)) return false;
   double x, y, t, ox, oy, ot;
   if (!(in >> x >> y >> t >> ox >> oy >> ot >> s.timestamp)) return false;
   s.pose = {x, y, NormalizeAngle(t)};
@@ -48,11 +60,8 @@ bool ParseLaserReadings(std::istringstream& in, CarmenScan& s) {
   if (!(in >> type >> start >> fov >> res >> max_range >> accuracy >> remission_mode >> n)) return false;
   if (n <= 0 || n > 100000 || !std::isfinite(start) || !std::isfinite(res) || !std::isfinite(max_range)) return false;
   s.ranges.resize(n);
-  for (auto& r : s.ranges) {
-    double v;
-    if (!(in >> v) || !std::isfinite(v)) return false;
-    r = static_cast<float>(v);
-  }
+  for (auto& r : s.ranges)
+    if (!ReadRange(in, r)) return false;
   int remissions = 0;
   if (!(in >> remissions) || remissions < 0 || remissions > 100000) return false;
   for (int i = 0; i < remissions; ++i) {
@@ -186,14 +195,15 @@ double InferNoReturnRange(const CarmenLog& log) {
   for (const CarmenScan& s : log.scans) {
     if (s.range_max > 0.0) continue;
     readings += s.ranges.size();
-    for (float r : s.ranges) longest = std::max(longest, r);
+    for (float r : s.ranges)
+      if (std::isfinite(r)) longest = std::max(longest, r);
   }
   if (readings == 0 || longest < kNoReturnShortest) return 0.0;
   const double threshold = kNoReturnBand * longest;
   size_t at_the_top = 0;
   for (const CarmenScan& s : log.scans)
     if (s.range_max <= 0.0)
-      for (float r : s.ranges) at_the_top += r >= threshold;
+      for (float r : s.ranges) at_the_top += std::isfinite(r) && r >= threshold;
   const size_t needed = std::max<size_t>(kNoReturnMinCount, static_cast<size_t>(kNoReturnMinShare * readings));
   return at_the_top >= needed ? threshold : 0.0;
 }

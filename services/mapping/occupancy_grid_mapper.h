@@ -47,6 +47,9 @@ double ResolutionToFit(const Point2& min, const Point2& max, double resolution);
 // How far a scan's beams are traced at most (m): usable_range, or far_usable_range for a scan that
 // finds too little within it (services/common/scan_reach.h).
 double ScanReachOf(const MapperOptions& options, const std::vector<float>& ranges, double range_max);
+// Whether a reading is traced at all: an echo, or a no-return (+inf included); not NaN, -inf or
+// shorter than kMinEchoRange (a scanner's error codes).
+bool IsTraced(double range);
 // How far along its beam a reading is traced (m): a no-return (at or beyond range_max)
 // missing_data_ray_length, an echo its range; either cut at the scan's `reach` (ScanReachOf).
 double TracedLength(const MapperOptions& options, double range, double range_max, double reach);
@@ -59,8 +62,8 @@ class OccupancyGridMapper {
   OccupancyGridMapper(const OccupancyGrid& geometry, const MapperOptions& options);
   // Integrates a scan taken from `laser_pose`; beam i at angle_min + i * increment. Readings at or
   // beyond `range_max` (the scanner's own, when it reports one) or max_range are no-returns: they
-  // mark nothing and clear missing_data_ray_length. Readings shorter than kMinEchoRange (a
-  // scanner's error codes) and non-finite ones mark and clear nothing.
+  // mark nothing and clear missing_data_ray_length; so does +inf (ROS's no-return). Readings
+  // shorter than kMinEchoRange (a scanner's error codes), -inf and NaN mark and clear nothing.
   void AddScan(const Pose2& laser_pose, const std::vector<float>& ranges, double angle_min, double increment,
                double range_max = std::numeric_limits<double>::infinity());
   // Integrates one sonar reading from `sensor_pose` (axis along its heading) with a cone of

@@ -327,6 +327,20 @@ TEST(CarmenLog, FlaserLinesReadBackAsTheScanTheyWereMadeFrom) {
   }
 }
 
+// Logs converted from ROS write inf for a no-return and nan for no reading: the lines are read
+// (not skipped as malformed), and the no-return reading is still inferred from the finite ones.
+TEST(CarmenLog, ReadsInfAndNanReadings) {
+  std::string text;
+  for (int k = 0; k < 6; ++k) text += "FLASER 4 1.0 inf 81.83 nan 0 0 0 0 0 0 " + std::to_string(k) + " host 0\n";
+  const CarmenLog log = ParseCarmenLog(text, "ros", true);
+  ASSERT_EQ(log.scans.size(), 6u);
+  EXPECT_EQ(log.skipped_lines, 0);
+  EXPECT_TRUE(std::isinf(log.scans[0].ranges[1]));
+  EXPECT_TRUE(std::isnan(log.scans[0].ranges[3]));
+  EXPECT_NEAR(log.scans[0].range_max, 0.99 * 81.83, 1e-4);
+  EXPECT_EQ(ParseCarmenLog(text + "FLASER 2 1.0 infinite 0 0 0 0 0 0 1 h 1\n", "bad").skipped_lines, 1);
+}
+
 // A 401-beam FLASER line is the SICK's 100-degree mode: 0.25 degrees apart, centred ahead.
 TEST(CarmenLog, ReadsAHundredDegreeScanCentredAhead) {
   std::string line = "FLASER 401";
@@ -418,6 +432,14 @@ TEST(MapperRules, NoReturnReadingsMarkNothingAndClearOnlyTheMissingDataRayLength
   EXPECT_LT(g.at(g.CellOf({2.0, 2.0})), 50);                       // cleared within 3 m
   EXPECT_EQ(g.at(g.CellOf({4.0, 2.0})), OccupancyGrid::kUnknown);  // nothing said beyond
   for (int x = 0; x < g.width(); ++x) EXPECT_FALSE(g.IsOccupied({x, g.CellOf({0, 2.0}).y}));
+
+  // ROS's no-return, +inf, clears the same; NaN (no reading) says nothing.
+  OccupancyGridMapper ros({0.0, 0.0}, {20.0, 4.0}, o);
+  ros.AddScan(pose, {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}, 0.0, M_PI / 2);
+  const OccupancyGrid r = ros.ToGrid();
+  EXPECT_LT(r.at(r.CellOf({2.0, 2.0})), 50);
+  EXPECT_EQ(r.at(r.CellOf({4.0, 2.0})), OccupancyGrid::kUnknown);
+  EXPECT_EQ(r.at(r.CellOf({0.5, 3.0})), OccupancyGrid::kUnknown);  // the NaN beam's way
 }
 
 // Readings of a few millimetres are a scanner's error codes (a Hokuyo's 0-19 mm), not echoes: they
