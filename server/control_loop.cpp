@@ -147,9 +147,10 @@ void ControlLoop::Tick(uint64_t tick, double now) {
       const Pose2 localised = estimate.pose * (bridge_.OdometryAt(estimate.stamp)->inverse() * *odom_at_scan);
       mapping::RangeScan r{scan->ranges, scan->angle_min, scan->angle_increment, scan->stamp};
       if (scan->range_max > 0.0) r.range_max = scan->range_max;
-      // Readings under the scanner's minimum (self-hits, glare) mark nothing.
+      // Readings under the scanner's minimum (self-hits, glare) say nothing: NaN, where +inf would
+      // be a no-return and clear along the beam.
       for (float& range : r.ranges)
-        if (range < scan->range_min) range = std::numeric_limits<float>::infinity();
+        if (range < scan->range_min) range = std::numeric_limits<float>::quiet_NaN();
       map_builder_.Submit(*odom_at_scan, localised, r);
     }
   }

@@ -3,10 +3,12 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -24,8 +26,12 @@ bool ReadRange(std::istringstream& in, float& r) {
   std::string token;
   if (!(in >> token)) return false;
   char* end = nullptr;
+  errno = 0;
   const double v = std::strtod(token.c_str(), &end);
-  if (end == token.c_str() || *end != '\0') return false;
+  // A number beyond a float (1e400 overflows to inf here) is a corrupt line, not a no-return.
+  if (end == token.c_str() || *end != '\0' || errno == ERANGE ||
+      (std::isfinite(v) && std::abs(v) > std::numeric_limits<float>::max()))
+    return false;
   r = static_cast<float>(v);
   return true;
 }
@@ -194,9 +200,11 @@ double InferNoReturnRange(const CarmenLog& log) {
   size_t readings = 0;
   for (const CarmenScan& s : log.scans) {
     if (s.range_max > 0.0) continue;
-    readings += s.ranges.size();
-    for (float r : s.ranges)
-      if (std::isfinite(r)) longest = std::max(longest, r);
+    for (float r : s.ranges) {
+      if (!std::isfinite(r)) continue;
+      ++readings;
+      longest = std::max(longest, r);
+    }
   }
   if (readings == 0 || longest < kNoReturnShortest) return 0.0;
   const double threshold = kNoReturnBand * longest;

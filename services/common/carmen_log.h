@@ -6,8 +6,8 @@
 // robot's laser messages (no FLASER or ROBOTLASER1 line) has its `RAWLASER1` scans read instead,
 // each placed where its ODOM lines put the scanner at its stamp, as a raw log's FLASER lines hold
 // the odometry's pose. Plain or gzip-compressed.
-// FLASER front lasers are assumed to span 180 degrees, centred on the heading, as the CARMEN logs
-// of SICK LMS scanners do. Metres, radians, seconds.
+// FLASER lines carry no angles: their beam count says them (CarmenBeamAngle). Metres, radians,
+// seconds.
 #include <cstddef>
 #include <functional>
 #include <limits>

@@ -11,8 +11,8 @@
 namespace navd {
 
 // A reading shorter than this (m) is no echo: the scanner's own housing, or an error code that a
-// scanner reports as a range (a Hokuyo's 0-19 mm). It neither marks nor clears, and counts as
-// no return anywhere scans are used.
+// scanner reports as a range (a Hokuyo's 0-19 mm). It says nothing: the mapper neither marks nor
+// clears along it, SLAM matches no point and the localisers weigh no beam for it.
 constexpr double kMinEchoRange = 0.05;
 
 // Whether reading `r` (m) is an echo: finite, no shorter than kMinEchoRange, short of `no_return`.

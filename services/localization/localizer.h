@@ -23,8 +23,9 @@ struct OdometryReading {
 };
 
 // A planar laser scan in the robot frame (the scanner sits at the robot's centre, facing forward):
-// beam i points at angle_min + i * angle_increment; ranges outside [range_min, range_max] are no
-// returns.
+// beam i points at angle_min + i * angle_increment; a reading at or beyond range_max (or +inf) is
+// a no-return, and one under range_min or services/common/scan_reach.h's kMinEchoRange, NaN or
+// -inf says nothing.
 struct ScanReading {
   std::vector<float> ranges;
   double angle_min = 0.0;

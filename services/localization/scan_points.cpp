@@ -32,7 +32,10 @@ std::vector<ScanBeam> SampleBeams(const ScanReading& scan, int count) {
   const size_t step = count <= 0 ? 1 : std::max<size_t>(1, n / static_cast<size_t>(count));
   for (size_t i = 0; i < n; i += step) {
     const double r = scan.ranges[i];
-    const bool hit = IsEcho(r, scan.range_max) && r >= scan.range_min;
+    // NaN, -inf and readings under the scanner's minimum or kMinEchoRange (self-hits, glare,
+    // error codes) say nothing: no beam. At or beyond range_max (+inf too): a no-return.
+    if (std::isnan(r) || r < std::max(scan.range_min, kMinEchoRange)) continue;
+    const bool hit = r < scan.range_max;
     beams.push_back({scan.angle_min + i * scan.angle_increment, hit ? r : scan.range_max, hit});
   }
   return beams;

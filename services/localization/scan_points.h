@@ -18,10 +18,11 @@ std::string ScanGeometryError(size_t ranges, double angle_min, double angle_max,
 struct ScanBeam {
   double angle = 0.0;
   double range = 0.0;
-  bool hit = false;  // a return within [range_min, range_max) and an echo (IsEcho: no error code)
+  bool hit = false;  // an echo short of range_max; else a no-return (range = range_max)
 };
 
-// An even subset of about `count` beams (all of them when count <= 0 or the scan has fewer).
+// An even subset of about `count` beams (all of them when count <= 0 or the scan has fewer),
+// leaving out readings that say nothing (NaN, -inf, under range_min or kMinEchoRange).
 std::vector<ScanBeam> SampleBeams(const ScanReading& scan, int count);
 
 // The end points of the returns among an even subset of about `count` beams; no-returns (NaN, inf,

@@ -11,13 +11,20 @@
 namespace navd::mapping {
 
 double ResolutionToFit(const Point2& min, const Point2& max, double resolution) {
-  const auto cells = [&](double r) { return std::ceil((max.x() - min.x()) / r) * std::ceil((max.y() - min.y()) / r); };
-  if (cells(resolution) <= static_cast<double>(OccupancyGrid::kMaxCells)) return resolution;
-  constexpr double kStep = 0.005;
-  const double area = (max.x() - min.x()) * (max.y() - min.y());
-  double r = kStep * std::ceil(std::sqrt(area / static_cast<double>(OccupancyGrid::kMaxCells)) / kStep);
-  while (cells(r) > static_cast<double>(OccupancyGrid::kMaxCells)) r += kStep;
-  return std::max(r, resolution);
+  const double w = max.x() - min.x(), h = max.y() - min.y();
+  const double most = static_cast<double>(OccupancyGrid::kMaxCells);
+  const auto cells = [&](double r) { return std::ceil(w / r) * std::ceil(h / r); };
+  // An extent that is not a positive, finite area is left to the mapper to refuse.
+  if (!(w > 0.0) || !(h > 0.0) || !std::isfinite(w) || !std::isfinite(h) || cells(resolution) <= most)
+    return resolution;
+  // At least the square's size and, for a thin extent (one row of cells), its length over the
+  // limit; then up in 5 mm steps, which the ceilings need only a few of. Past kMaxFitted the
+  // extent is no map (a corrupt pose), and the mapper refuses it at the resolution asked for.
+  constexpr double kStep = 0.005, kMaxFitted = 1.0;
+  const double least = std::max({std::sqrt(w * h / most), w / most, h / most});
+  for (long k = static_cast<long>(std::ceil(least / kStep)); k * kStep <= kMaxFitted; ++k)
+    if (cells(k * kStep) <= most) return std::max(k * kStep, resolution);
+  return resolution;
 }
 
 double ScanReachOf(const MapperOptions& o, const std::vector<float>& ranges, double range_max) {

@@ -41,7 +41,8 @@ struct MapperOptions {
 
 // The cell size (m) for a map of the extent min..max: `resolution`, or where that would need more
 // than OccupancyGrid::kMaxCells cells (a campus, kilometres of corridor), the finest size, in
-// steps of 5 mm, that needs no more. For maps whose extent the data decide, not the user.
+// steps of 5 mm, that needs no more (up to 1 m: an extent wider still, or not finite, keeps
+// `resolution`, and the mapper refuses it). For maps whose extent the data decide, not the user.
 double ResolutionToFit(const Point2& min, const Point2& max, double resolution);
 
 // How far a scan's beams are traced at most (m): usable_range, or far_usable_range for a scan that

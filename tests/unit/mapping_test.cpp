@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
@@ -339,6 +340,7 @@ TEST(CarmenLog, ReadsInfAndNanReadings) {
   EXPECT_TRUE(std::isnan(log.scans[0].ranges[3]));
   EXPECT_NEAR(log.scans[0].range_max, 0.99 * 81.83, 1e-4);
   EXPECT_EQ(ParseCarmenLog(text + "FLASER 2 1.0 infinite 0 0 0 0 0 0 1 h 1\n", "bad").skipped_lines, 1);
+  EXPECT_EQ(ParseCarmenLog(text + "FLASER 2 1.0 1e400 0 0 0 0 0 0 1 h 1\n", "overflow").skipped_lines, 1);
 }
 
 // A 401-beam FLASER line is the SICK's 100-degree mode: 0.25 degrees apart, centred ahead.
@@ -447,8 +449,8 @@ TEST(MapperRules, NoReturnReadingsMarkNothingAndClearOnlyTheMissingDataRayLength
 TEST(MapperRules, ErrorCodeReadingsAreNoEchoes) {
   OccupancyGridMapper mapper({0.0, 0.0}, {4.0, 4.0});
   const Pose2 pose{2.0, 2.0, 0.0};
-  std::vector<float> codes;
-  for (int i = 0; i < 180; ++i) codes.push_back(0.001f * static_cast<float>(i % 20));
+  std::vector<float> codes(180);
+  for (size_t i = 0; i < codes.size(); ++i) codes[i] = 0.001f * static_cast<float>(i % 20);
   mapper.AddScan(pose, codes, -M_PI / 2, M_PI / 180);
   const OccupancyGrid g = mapper.ToGrid();
   for (int y = 0; y < g.height(); ++y)
@@ -466,6 +468,10 @@ TEST(MapperRules, ResolutionToFitCoarsensOnlyWhatAGridCannotHold) {
   EXPECT_NEAR(ResolutionToFit({0, 0}, {252, 252}, 0.05), 0.055, 1e-12);  // 25.4 M cells at 5 cm
   EXPECT_NEAR(ResolutionToFit({-1000, 0}, {1000, 50}, 0.02), 0.065, 1e-12);
   EXPECT_EQ(ResolutionToFit({0, 0}, {252, 252}, 0.1), 0.1);
+  EXPECT_NEAR(ResolutionToFit({0, 0}, {4e6, 0.01}, 0.05), 0.16, 1e-12);  // one row of cells
+  // A corrupt pose's extent is no map: left to the mapper to refuse, not searched for.
+  EXPECT_EQ(ResolutionToFit({0, 0}, {1e18, 100}, 0.05), 0.05);
+  EXPECT_EQ(ResolutionToFit({0, 0}, {std::numeric_limits<double>::quiet_NaN(), 100}, 0.05), 0.05);
 }
 
 // A wall seen head-on twice stays a wall when three beams graze through its cell on their way

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "services/common/error.h"
 #include "services/common/ray_caster.h"
@@ -73,20 +74,23 @@ TEST(ScanOdometryPairing, AScanWaitsForTheOdometryOfItsInstantThenGetsItFirst) {
   EXPECT_EQ(pairing.Readings(restarted, 1.1, history).size(), 2u);
 }
 
-// A scanner's error codes (a few millimetres, reported as ranges) are no returns to the localisers
-// even when the scan's range_min lets them through.
-TEST(ScanPoints, ErrorCodeReadingsAreNoReturns) {
+// A scanner's error codes (a few millimetres, reported as ranges), NaN and -inf give the localisers
+// no beam, even when the scan's range_min lets them through; +inf is a no-return.
+TEST(ScanPoints, ReadingsThatSayNothingGiveNoBeam) {
   ScanReading scan;
-  scan.ranges = {0.004f, 2.0f, 0.019f, 3.0f};
+  const float inf = std::numeric_limits<float>::infinity();
+  scan.ranges = {0.004f, 2.0f, 0.019f, 3.0f, std::numeric_limits<float>::quiet_NaN(), -inf, inf};
   scan.angle_min = -0.1;
   scan.angle_increment = 0.05;
   scan.range_min = 0.0;
   scan.range_max = 30.0;
   const std::vector<ScanBeam> beams = SampleBeams(scan, 0);
-  ASSERT_EQ(beams.size(), 4u);
-  EXPECT_FALSE(beams[0].hit);
+  ASSERT_EQ(beams.size(), 3u);
+  EXPECT_TRUE(beams[0].hit);
+  EXPECT_NEAR(beams[0].angle, -0.05, 1e-12);
   EXPECT_TRUE(beams[1].hit);
-  EXPECT_FALSE(beams[2].hit);
+  EXPECT_FALSE(beams[2].hit);  // +inf
+  EXPECT_EQ(beams[2].range, 30.0);
   EXPECT_EQ(ScanEndPoints(scan, 0).size(), 2u);
 }
 
