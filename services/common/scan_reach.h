@@ -15,8 +15,12 @@ namespace navd {
 // clears along it, SLAM matches no point and the localisers weigh no beam for it.
 constexpr double kMinEchoRange = 0.05;
 
-// Whether reading `r` (m) is an echo: finite, no shorter than kMinEchoRange, short of `no_return`.
-inline bool IsEcho(double r, double no_return) { return std::isfinite(r) && r >= kMinEchoRange && r < no_return; }
+// Whether reading `r` (m) says anything: an echo or a no-return (+inf, ROS's, included); not NaN,
+// -inf or shorter than kMinEchoRange.
+inline bool IsReading(double r) { return !std::isnan(r) && r >= kMinEchoRange; }
+
+// Whether reading `r` (m) is an echo: a reading short of `no_return` (and finite).
+inline bool IsEcho(double r, double no_return) { return IsReading(r) && r < no_return && std::isfinite(r); }
 
 struct ScanReachOptions {
   double near = 20.0;

@@ -34,7 +34,7 @@ std::vector<ScanBeam> SampleBeams(const ScanReading& scan, int count) {
     const double r = scan.ranges[i];
     // NaN, -inf and readings under the scanner's minimum or kMinEchoRange (self-hits, glare,
     // error codes) say nothing: no beam. At or beyond range_max (+inf too): a no-return.
-    if (std::isnan(r) || r < std::max(scan.range_min, kMinEchoRange)) continue;
+    if (!IsReading(r) || r < scan.range_min) continue;
     const bool hit = r < scan.range_max;
     beams.push_back({scan.angle_min + i * scan.angle_increment, hit ? r : scan.range_max, hit});
   }

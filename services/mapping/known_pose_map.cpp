@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "services/common/scan_reach.h"
+
 namespace navd::mapping {
 
 OccupancyGrid MapFromLogPoses(const CarmenLog& log, const MapperOptions& options,
@@ -10,7 +12,7 @@ OccupancyGrid MapFromLogPoses(const CarmenLog& log, const MapperOptions& options
   for (const CarmenScan& s : log.scans) {
     const double reach = ScanReachOf(options, s.ranges, s.no_return_range());
     for (size_t i = 0; i < s.ranges.size(); ++i) {
-      if (!IsTraced(s.ranges[i])) continue;
+      if (!IsReading(s.ranges[i])) continue;
       const double r = TracedLength(options, s.ranges[i], s.no_return_range(), reach);
       const double a = s.pose.theta + s.angle_min + i * s.angle_increment;
       const Point2 p = s.pose.translation() + r * Point2(std::cos(a), std::sin(a));

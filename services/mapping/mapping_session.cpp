@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "services/common/error.h"
+#include "services/common/scan_reach.h"
 
 namespace navd::mapping {
 namespace {
@@ -125,7 +126,7 @@ void MappingSession::Integrate(const Item& item) {
     const double cut = ScanReachOf(o_.mapper, scan.ranges, scan.range_max);
     double reach = 0.0;
     for (float r : scan.ranges)
-      if (IsTraced(r)) reach = std::max(reach, TracedLength(o_.mapper, r, scan.range_max, cut));
+      if (IsReading(r)) reach = std::max(reach, TracedLength(o_.mapper, r, scan.range_max, cut));
     const CellIndex a = g.CellOf(pose.translation() - Point2(reach, reach));
     const CellIndex b = g.CellOf(pose.translation() + Point2(reach, reach));
     const MapRegion r{{std::max(0, a.x), std::max(0, a.y)},

@@ -31,8 +31,6 @@ double ScanReachOf(const MapperOptions& o, const std::vector<float>& ranges, dou
   return ScanReach(ranges, std::min(o.max_range, range_max), {o.usable_range, o.far_usable_range, o.min_near_echoes});
 }
 
-bool IsTraced(double range) { return !std::isnan(range) && range >= kMinEchoRange; }
-
 double TracedLength(const MapperOptions& o, double range, double range_max, double reach) {
   const bool no_return = range >= std::min(o.max_range, range_max);
   return std::min(no_return ? o.missing_data_ray_length : range, reach);
@@ -72,7 +70,7 @@ void OccupancyGridMapper::AddScan(const Pose2& pose, const std::vector<float>& r
   const double reach = ScanReachOf(o_, ranges, no_return);
   for (size_t i = 0; i < ranges.size(); ++i) {
     const double r = ranges[i];
-    if (!IsTraced(r)) continue;
+    if (!IsReading(r)) continue;
     const bool hit = r < no_return && r <= reach;
     const double length = TracedLength(o_, r, no_return, reach);
     if (length <= 0.0) continue;

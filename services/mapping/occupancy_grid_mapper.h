@@ -48,10 +48,7 @@ double ResolutionToFit(const Point2& min, const Point2& max, double resolution);
 // How far a scan's beams are traced at most (m): usable_range, or far_usable_range for a scan that
 // finds too little within it (services/common/scan_reach.h).
 double ScanReachOf(const MapperOptions& options, const std::vector<float>& ranges, double range_max);
-// Whether a reading is traced at all: an echo, or a no-return (+inf included); not NaN, -inf or
-// shorter than kMinEchoRange (a scanner's error codes).
-bool IsTraced(double range);
-// How far along its beam a reading is traced (m): a no-return (at or beyond range_max)
+// How far along its beam a reading (IsReading) is traced (m): a no-return (at or beyond range_max)
 // missing_data_ray_length, an echo its range; either cut at the scan's `reach` (ScanReachOf).
 double TracedLength(const MapperOptions& options, double range, double range_max, double reach);
 
