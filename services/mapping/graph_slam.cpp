@@ -181,7 +181,12 @@ void GraphSlam::TryLoopClosure(int node) {
   graph_.AddEdge({candidate, node, relative, Information(o_.loop_sigma_xy, o_.loop_sigma_theta), true});
   closures_.push_back({node_scan_[candidate], node_scan_[node], relative, match.score});
   travel_since_closure_ = 0.0;
-  graph_.Optimize(o_.optimizer);
+  unsettled_error_ += graph_.SquaredError(graph_.edges().back());
+  if (unsettled_error_ > o_.loop_settled_error) {
+    graph_.Optimize(o_.optimizer);
+    ++closure_optimisations_;
+    unsettled_error_ = 0.0;
+  }
 }
 
 ScanMatch GraphSlam::CoarseLoopMatch(LoopReference& reference, const std::vector<Point2>& scan, const Pose2& here,

@@ -134,6 +134,11 @@ struct GraphSlamOptions {
   double loop_wide_max_correction = 1.0;
   double loop_wide_max_ambiguity = 0.85;
   double loop_sigma_xy = 0.05, loop_sigma_theta = 0.02;
+  // The graph is optimised once the closures added since it last was disagree with it by more
+  // than this, in all (the sum of their squared errors whitened by the loop sigmas). A robot back
+  // in a place it has mapped closes a loop at nearly every node, each within a fraction of a sigma
+  // of the graph; optimising the whole graph for each made the time per scan grow with the log.
+  double loop_settled_error = 1.0;
   // Refused when more than this share of the new scan's returns near the candidate's, at the
   // matched pose, see their wall from the other side (SurfaceFacingCheck).
   double loop_max_behind = 0.5;
@@ -182,6 +187,8 @@ class GraphSlam {
   int loop_closures() const { return static_cast<int>(closures_.size()); }
   const std::vector<LoopClosure>& closures() const { return closures_; }
   int loop_attempts() const { return loop_attempts_; }
+  // How often closures had the graph optimised (loop_settled_error).
+  int closure_optimisations() const { return closure_optimisations_; }
   // The matches the last Refine() pass added, as closures.
   const std::vector<LoopClosure>& refinements() const { return refinements_; }
   int nodes() const { return static_cast<int>(graph_.nodes().size()); }
@@ -254,6 +261,8 @@ class GraphSlam {
   GraphSlamOptions o_;
   FrontEndRecovery recovery_;
   PoseGraph graph_;
+  double unsettled_error_ = 0.0;  // of the closures added since the graph was last optimised
+  int closure_optimisations_ = 0;
   std::vector<RangeScan> node_scans_;
   std::vector<std::vector<Point2>> node_points_;            // robot frame, as matched
   std::vector<std::vector<Point2>> node_reference_points_;  // robot frame, as a reference (further)

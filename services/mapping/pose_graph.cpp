@@ -52,10 +52,17 @@ void PoseGraph::AddEdge(const PoseGraphEdge& edge) {
   edges_.push_back(edge);
 }
 
+double PoseGraph::SquaredError(const PoseGraphEdge& edge) const {
+  const Eigen::Vector3d e = Linearise(nodes_.at(edge.from), nodes_.at(edge.to), edge.measurement).e;
+  return e.dot(edge.information * e);
+}
+
 double PoseGraph::Optimize(const PoseGraphOptions& o) {
   const int n = static_cast<int>(nodes_.size());
   double chi2 = 0.0;
   if (n < 2) return chi2;
+  // The sparsity pattern is the edges', the same in every iteration: ordered and analysed once.
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
   for (int iteration = 0; iteration < o.max_iterations; ++iteration) {
     std::vector<Eigen::Triplet<double>> triplets;
     triplets.reserve(edges_.size() * 36 + 3);
@@ -92,7 +99,8 @@ double PoseGraph::Optimize(const PoseGraphOptions& o) {
     for (int k = 0; k < 3; ++k) triplets.emplace_back(k, k, 1e9);
     Eigen::SparseMatrix<double> H(3 * n, 3 * n);
     H.setFromTriplets(triplets.begin(), triplets.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(H);
+    if (iteration == 0) solver.analyzePattern(H);
+    solver.factorize(H);
     if (solver.info() != Eigen::Success)
       throw Error(ErrorCode::kInternal, "pose graph: the normal equations are singular");
     const Eigen::VectorXd dx = solver.solve(-b);

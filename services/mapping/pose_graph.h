@@ -32,6 +32,8 @@ class PoseGraph {
  public:
   int AddNode(const Pose2& pose);
   void AddEdge(const PoseGraphEdge& edge);
+  // The edge's squared error whitened by its information (no kernel), at the nodes as they stand.
+  double SquaredError(const PoseGraphEdge& edge) const;
   // Node 0 stays fixed (the map's anchor). Returns the final weighted squared error.
   double Optimize(const PoseGraphOptions& options = {});
 

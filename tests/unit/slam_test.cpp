@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <functional>
+#include <memory>
 #include <random>
 #include <sstream>
 
@@ -187,6 +189,16 @@ TEST(PoseGraph, ALoopClosureRemovesTheOdometryDrift) {
   EXPECT_NEAR(graph.nodes()[0].x, 0.0, 1e-9);  // the anchor stays
 }
 
+TEST(PoseGraph, SquaredErrorIsTheEdgesErrorWhitenedByItsInformation) {
+  PoseGraph graph;
+  graph.AddNode({0.0, 0.0, 0.0});
+  graph.AddNode({1.1, 0.0, 0.02});
+  const Eigen::Matrix3d information = Eigen::Vector3d(400.0, 400.0, 2500.0).asDiagonal();  // 5 cm, 0.02 rad
+  // 0.1 m (2 sigma) and 0.02 rad (1 sigma) off a measured step of 1 m straight ahead.
+  EXPECT_NEAR(graph.SquaredError({0, 1, Pose2{1.0, 0.0, 0.0}, information, true}), 4.0 + 1.0, 1e-9);
+  EXPECT_NEAR(graph.SquaredError({0, 1, Pose2{1.1, 0.0, 0.02}, information, true}), 0.0, 1e-12);
+}
+
 // Feeds `slam` a scan at each true pose with odometry 5 % and 2 degrees per metre off each step.
 void AddWithNoisyOdometry(GraphSlam& slam, const std::vector<Pose2>& truth, std::mt19937& rng,
                           const std::function<RangeScan(const Pose2&)>& scan_at) {
@@ -260,6 +272,37 @@ TEST(GraphSlam, MapsARoomFromNoisyOdometryAndClosesTheLoop) {
 
 // Scans metres apart (a decimated log) carry odometry errors beyond the base window: the front end's
 // window widens with the step, so the match still finds the scan's true pose.
+TEST(GraphSlam, ClosuresThatAgreeWithTheGraphAreOptimisedTogether) {
+  // Three laps of the room: from the second on, nearly every node closes a loop on a place already
+  // mapped, within a fraction of a sigma of the graph.
+  const OccupancyGrid map = Room();
+  const std::vector<Pose2> lap = OneLap();
+  std::vector<Pose2> truth;
+  for (int k = 0; k < 3; ++k) truth.insert(truth.end(), lap.begin(), lap.end());
+  auto drive = [&](const GraphSlamOptions& options, std::vector<Pose2>* estimate) {
+    auto slam = std::make_unique<GraphSlam>(options);
+    std::mt19937 rng(5);
+    AddWithNoisyOdometry(*slam, truth, rng, [&](const Pose2& pose) { return ScanFrom(map, pose, &rng); });
+    *estimate = slam->Trajectory();
+    return slam;
+  };
+  GraphSlamOptions each = RoomSlamOptions();
+  each.loop_settled_error = 0.0;
+  std::vector<Pose2> batched_estimate, each_estimate;
+  const auto batched = drive(RoomSlamOptions(), &batched_estimate);
+  const auto every = drive(each, &each_estimate);
+  EXPECT_GE(every->loop_closures(), 2 * static_cast<int>(lap.size()));
+  EXPECT_EQ(every->closure_optimisations(), every->loop_closures());
+  EXPECT_GE(batched->loop_closures(), 2 * static_cast<int>(lap.size()));
+  EXPECT_LT(batched->closure_optimisations(), batched->loop_closures() / 4);
+  EXPECT_GE(batched->closure_optimisations(), 1);  // the first closure back at the start pulls the lap round
+  EXPECT_LT(PositionRmse(batched_estimate, truth), 0.05);
+  EXPECT_LT(PositionRmse(batched_estimate, truth), PositionRmse(each_estimate, truth) + 0.01);
+  std::printf("batched: %d of %d closures optimised, RMSE %.4f m; each: RMSE %.4f m\n",
+              batched->closure_optimisations(), batched->loop_closures(), PositionRmse(batched_estimate, truth),
+              PositionRmse(each_estimate, truth));
+}
+
 TEST(GraphSlam, FrontEndFindsAScanMetresAwayWhoseOdometryIsOffByMoreThanTheBaseWindow) {
   const OccupancyGrid map = Room();
   std::mt19937 rng(3);
