@@ -182,11 +182,13 @@ void GraphSlam::TryLoopClosure(int node) {
   closures_.push_back({node_scan_[candidate], node_scan_[node], relative, match.score});
   travel_since_closure_ = 0.0;
   unsettled_error_ += graph_.SquaredError(graph_.edges().back());
-  if (unsettled_error_ > o_.loop_settled_error) {
-    graph_.Optimize(o_.optimizer);
-    ++closure_optimisations_;
-    unsettled_error_ = 0.0;
-  }
+  if (unsettled_error_ > o_.loop_settled_error) Optimize();
+}
+
+void GraphSlam::Optimize() {
+  graph_.Optimize(o_.optimizer);
+  unsettled_error_ = 0.0;
+  ++optimisations_;
 }
 
 ScanMatch GraphSlam::CoarseLoopMatch(LoopReference& reference, const std::vector<Point2>& scan, const Pose2& here,
@@ -268,6 +270,8 @@ bool GraphSlam::TurnedOnTheSpot(int node) const {
 }
 
 void GraphSlam::Refine() {
+  // Each node is matched where the graph puts it, with every closure so far.
+  if (unsettled_error_ > 0.0) Optimize();
   const size_t kept = graph_.edges().size();
   ScanMatchOptions window = o_.sequential;
   window.window_xy = o_.refine_window_xy;
@@ -314,7 +318,7 @@ void GraphSlam::Refine() {
         refinements_.push_back({node_scan_[nearest], node_scan_[i], relative, match.score});
       }
     }
-    graph_.Optimize(o_.optimizer);
+    Optimize();
   }
 }
 

@@ -187,8 +187,8 @@ class GraphSlam {
   int loop_closures() const { return static_cast<int>(closures_.size()); }
   const std::vector<LoopClosure>& closures() const { return closures_; }
   int loop_attempts() const { return loop_attempts_; }
-  // How often closures had the graph optimised (loop_settled_error).
-  int closure_optimisations() const { return closure_optimisations_; }
+  // How often the graph was optimised: for closures (loop_settled_error) and by Refine().
+  int optimisations() const { return optimisations_; }
   // The matches the last Refine() pass added, as closures.
   const std::vector<LoopClosure>& refinements() const { return refinements_; }
   int nodes() const { return static_cast<int>(graph_.nodes().size()); }
@@ -218,6 +218,8 @@ class GraphSlam {
   // node's), from the polish's mean pair information `matched` (zero: the polish was refused).
   Eigen::Matrix3d SequentialInformation(const Pose2& pose, const Eigen::Matrix3d& matched) const;
   void TryLoopClosure(int node);
+  // The graph optimised with every edge so far; the closures' unsettled error starts again.
+  void Optimize();
   // The candidate's neighbourhood as a loop closure searches it: its points (map frame) and their
   // correlation grids, each built at its first use, so the wide retry reuses the fine grid and the
   // 10 cm one.
@@ -262,7 +264,7 @@ class GraphSlam {
   FrontEndRecovery recovery_;
   PoseGraph graph_;
   double unsettled_error_ = 0.0;  // of the closures added since the graph was last optimised
-  int closure_optimisations_ = 0;
+  int optimisations_ = 0;
   std::vector<RangeScan> node_scans_;
   std::vector<std::vector<Point2>> node_points_;            // robot frame, as matched
   std::vector<std::vector<Point2>> node_reference_points_;  // robot frame, as a reference (further)

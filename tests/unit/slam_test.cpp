@@ -292,15 +292,14 @@ TEST(GraphSlam, ClosuresThatAgreeWithTheGraphAreOptimisedTogether) {
   const auto batched = drive(RoomSlamOptions(), &batched_estimate);
   const auto every = drive(each, &each_estimate);
   EXPECT_GE(every->loop_closures(), 2 * static_cast<int>(lap.size()));
-  EXPECT_EQ(every->closure_optimisations(), every->loop_closures());
+  EXPECT_EQ(every->optimisations(), every->loop_closures());
   EXPECT_GE(batched->loop_closures(), 2 * static_cast<int>(lap.size()));
-  EXPECT_LT(batched->closure_optimisations(), batched->loop_closures() / 4);
-  EXPECT_GE(batched->closure_optimisations(), 1);  // the first closure back at the start pulls the lap round
+  EXPECT_LT(batched->optimisations(), batched->loop_closures() / 4);
+  EXPECT_GE(batched->optimisations(), 1);  // the first closure back at the start pulls the lap round
   EXPECT_LT(PositionRmse(batched_estimate, truth), 0.05);
   EXPECT_LT(PositionRmse(batched_estimate, truth), PositionRmse(each_estimate, truth) + 0.01);
-  std::printf("batched: %d of %d closures optimised, RMSE %.4f m; each: RMSE %.4f m\n",
-              batched->closure_optimisations(), batched->loop_closures(), PositionRmse(batched_estimate, truth),
-              PositionRmse(each_estimate, truth));
+  std::printf("batched: %d of %d closures optimised, RMSE %.4f m; each: RMSE %.4f m\n", batched->optimisations(),
+              batched->loop_closures(), PositionRmse(batched_estimate, truth), PositionRmse(each_estimate, truth));
 }
 
 TEST(GraphSlam, FrontEndFindsAScanMetresAwayWhoseOdometryIsOffByMoreThanTheBaseWindow) {
