@@ -115,7 +115,7 @@ void MappingSession::Render() {
   slam_->RenderInto(*fresh);
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   mapper_ = std::move(fresh);
-  rendered_closures_ = slam_->loop_closures();
+  rendered_optimisations_ = slam_->optimisations();
   last_render_ = WallSeconds();
 }
 
@@ -148,7 +148,8 @@ void MappingSession::Integrate(const Item& item) {
     pose = slam_->AddScan(item.odometry, item.scan);
     nodes = slam_->nodes();
     closures = slam_->loop_closures();
-    const bool rerender = closures != rendered_closures_ && WallSeconds() - last_render_ >= o_.rerender_period;
+    const bool rerender =
+        slam_->optimisations() != rendered_optimisations_ && WallSeconds() - last_render_ >= o_.rerender_period;
     if (rerender) {
       // Loop closures moved the nodes: the map is drawn again from the optimised poses.
       Render();

@@ -25,7 +25,7 @@ struct MappingSessionOptions {
   MappingMode mode = MappingMode::kSlam;
   double resolution = 0.05;      // m
   double size = 60.0;            // m, the side of the square mapped
-  double rerender_period = 2.0;  // s of wall time between re-renders after loop closures
+  double rerender_period = 2.0;  // s of wall time between re-renders after the graph moved
   // Submit integrates in the caller's thread and nothing is dropped (offline tools, simulations
   // in one process); otherwise a worker thread does, in order.
   bool synchronous = false;
@@ -97,7 +97,7 @@ class MappingSession {
   OccupancyGrid geometry_;                       // the grid's size, origin and resolution (fixed)
   std::unique_ptr<OccupancyGridMapper> mapper_;  // replaced by the worker (under mapper_mutex_)
   std::unique_ptr<GraphSlam> slam_;              // worker only
-  int rendered_closures_ = 0;
+  int rendered_optimisations_ = 0;               // the graph's, when the map was last drawn from it
   double last_render_ = -1e9;
 
   mutable std::mutex mutex_;
