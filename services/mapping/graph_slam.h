@@ -137,7 +137,7 @@ struct GraphSlamOptions {
   // The graph is optimised once the closures added since it last was disagree with it by more
   // than this, in all (the sum of their squared errors whitened by the loop sigmas). A robot back
   // in a place it has mapped closes a loop at nearly every node, each within a fraction of a sigma
-  // of the graph; optimising the whole graph for each made the time per scan grow with the log.
+  // of the graph; optimising the whole graph for each would make the time per scan grow with the log.
   double loop_settled_error = 1.0;
   // Refused when more than this share of the new scan's returns near the candidate's, at the
   // matched pose, see their wall from the other side (SurfaceFacingCheck).
