@@ -18,7 +18,7 @@
 #include "services/common/camera_frame.h"
 #include "services/common/ray_caster.h"
 #include "services/common/world.h"
-#include "simulator/disc.h"
+#include "services/common/disc.h"
 #include "simulator/scenario.h"
 
 namespace navd::sim {

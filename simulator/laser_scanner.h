@@ -8,7 +8,7 @@
 
 #include "services/common/world.h"
 #include "services/common/ray_caster.h"
-#include "simulator/disc.h"
+#include "services/common/disc.h"
 
 namespace navd::sim {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "services/common/ray_caster.h"
-#include "simulator/disc.h"
+#include "services/common/disc.h"
 
 namespace navd::sim {
 

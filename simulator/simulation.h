@@ -17,7 +17,7 @@
 #include "simulator/moving_obstacle.h"
 #include "simulator/range_sensor_array.h"
 #include "services/common/ray_caster.h"
-#include "simulator/disc.h"
+#include "services/common/disc.h"
 #include "simulator/scenario.h"
 
 namespace navd::sim {

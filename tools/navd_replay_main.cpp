@@ -1,6 +1,7 @@
 // navd-replay: runs navd's library code over a recorded CARMEN log, as fast as it can.
 //   navd-replay --log FILE[.gz] --mode map --out MAP.yaml [--resolution 0.05]
-//   navd-replay --log FILE[.gz] --mode render --out RENDERED.log [--step M] [--turn RAD] [--range-noise M] [--seed N]
+//   navd-replay --log FILE[.gz] --mode render --out RENDERED.log [--step M] [--turn RAD] [--range-noise M]
+//               [--people N] [--seed N]
 //   navd-replay --log FILE[.gz] --mode localize|slam --out EST.tum [--odometry noisy|log]
 //               [--map MAP.yaml] [--odom-noise T,R] [--seed N] [--localizer amcl|ekf|calibration]
 //               [--front-recovery SCORE] [--frame-turn RAD]
@@ -17,7 +18,8 @@
 // end widens its window with the motion by --odom-noise's model, never less than the default one
 // (with --odometry log: the robot's odometry's noise, as far as it is known). `render`
 // writes a FLASER log whose scans are cast again in the map the log's poses draw (at --resolution),
-// at those poses or every --step metres between them (services/mapping/log_renderer.h).
+// at those poses or every --step metres between them, with --people walking the log's path
+// (services/mapping/log_renderer.h).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -262,13 +264,17 @@ navd::OccupancyGrid MapFromLog(const navd::CarmenLog& log, double resolution) {
 int Render(const navd::CarmenLog& log, const std::string& out, double resolution,
            const navd::mapping::LogRenderOptions& options) {
   const navd::OccupancyGrid map = MapFromLog(log, resolution);
-  const navd::CarmenLog rendered = navd::mapping::RenderLog(log, navd::RayCaster(map), options);
+  // People walk by the clock: a log whose stamps say too little is paced from its motion first.
+  navd::CarmenLog timed = log;
+  navd::PaceScansWhenStampsAreCoarse(timed);
+  const navd::CarmenLog rendered = navd::mapping::RenderLog(timed, navd::RayCaster(map), options);
   std::string text;
   for (const navd::CarmenScan& s : rendered.scans) text += navd::FormatFlaserLine(s, "navd-replay");
   navd::WriteFileAtomically(out, text);
-  std::printf("render: %zu scans from the log's %zu, in its %dx%d-cell map at %.3f m, range noise %.3f m -> %s\n",
-              rendered.scans.size(), log.scans.size(), map.width(), map.height(), map.resolution(), options.range_noise,
-              out.c_str());
+  std::printf(
+      "render: %zu scans from the log's %zu, in its %dx%d-cell map at %.3f m, range noise %.3f m, %d people -> %s\n",
+      rendered.scans.size(), log.scans.size(), map.width(), map.height(), map.resolution(), options.range_noise,
+      options.people.count, out.c_str());
   return 0;
 }
 
@@ -293,6 +299,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.001, 10.0));
   app.add_option("--range-noise", render.range_noise, "render: metres of Gaussian noise on each echo")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--people", render.people.count,
+                 "render: people walking the log's path, back and forth at about 1 m/s (path_walkers.h)")
+      ->check(CLI::Range(0, 10000));
   std::string map_out;
   app.add_option("--map-out", map_out, "slam: also write the map built as map_server YAML + PGM");
   std::string map_path, odom_noise = "0.05,0.035";
@@ -383,7 +392,7 @@ int main(int argc, char** argv) {
     if (mode == "map") {
       rc = BuildMap(log, out, resolution, png);
     } else if (mode == "render") {
-      render.seed = seed;
+      render.seed = render.people.seed = seed;
       rc = Render(log, out, resolution, render);
     } else if (mode == "slam") {
       if (slam_tuning.front_recovery < 0.0)

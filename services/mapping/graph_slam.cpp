@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 #include "services/common/error.h"
 #include "services/common/scan_reach.h"
@@ -63,13 +64,75 @@ Eigen::Matrix3d GraphSlam::SequentialInformation(const Pose2& pose, const Eigen:
   return (left_open + base.inverse()).inverse();
 }
 
+std::vector<Point2> GraphSlam::SeenThroughPoints() const {
+  std::vector<Point2> out;
+  for (int n = 0; n < nodes(); ++n)
+    for (size_t i = 0; i < node_reference_points_[n].size(); ++i)
+      if (node_seen_through_[n][i]) out.push_back(graph_.nodes()[n] * node_reference_points_[n][i]);
+  return out;
+}
+
 std::vector<Point2> GraphSlam::NodePointsInMap(int first, int last) const {
   std::vector<Point2> out;
   for (int n = std::max(0, first); n <= last && n < nodes(); ++n) {
     const Pose2& pose = graph_.nodes()[n];
-    for (const Point2& p : node_reference_points_[n]) out.push_back(pose * p);
+    const std::vector<Point2>& points = node_reference_points_[n];
+    const std::vector<char>& seen_through = node_seen_through_[n];
+    for (size_t i = 0; i < points.size(); ++i)
+      if (!seen_through[i]) out.push_back(pose * points[i]);
   }
   return out;
+}
+
+void GraphSlam::MarkSeenThrough(int node) {
+  node_seen_through_.emplace_back(node_reference_points_[node].size(), 0);
+  if (!o_.drop_seen_through || node == 0) return;
+  const int first = LocalMapFirst(node - 1);
+  // Where each node's points lie (map frame): a place another node's points share is a thing
+  // that stood still (a pole the beams sometimes miss), not one that walked past.
+  const double cell = o_.seen_through_support;
+  std::unordered_map<int64_t, std::vector<std::pair<Point2, int>>> cells;
+  auto key = [&](const Point2& p, int dx, int dy) {
+    return (static_cast<int64_t>(std::floor(p.x() / cell) + dx) << 32) ^
+           static_cast<uint32_t>(static_cast<int32_t>(std::floor(p.y() / cell) + dy));
+  };
+  for (int n = first; n <= node; ++n) {
+    const Pose2& pose = graph_.nodes()[n];
+    for (const Point2& q : node_reference_points_[n]) {
+      const Point2 p = pose * q;
+      cells[key(p, 0, 0)].push_back({p, n});
+    }
+  }
+  auto supported = [&](const Point2& p, int n) {
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy) {
+        const auto it = cells.find(key(p, dx, dy));
+        if (it == cells.end()) continue;
+        for (const auto& [other, m] : it->second)
+          if (m != n && (other - p).squaredNorm() < cell * cell) return true;
+      }
+    return false;
+  };
+  auto view = [&](int n) {
+    const RangeScan& scan = node_scans_[n];
+    return SeenThroughCheck(graph_.nodes()[n], scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max,
+                            o_.seen_through);
+  };
+  auto mark = [&](int seen, const SeenThroughCheck& viewer) {
+    const Pose2& pose = graph_.nodes()[seen];
+    const std::vector<Point2>& points = node_reference_points_[seen];
+    std::vector<char>& flags = node_seen_through_[seen];
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (flags[i]) continue;
+      const Point2 p = pose * points[i];
+      if (viewer.SawThrough(p) && !supported(p, seen)) flags[i] = 1;
+    }
+  };
+  const SeenThroughCheck newest = view(node);
+  for (int m = first; m < node; ++m) {
+    mark(node, view(m));
+    mark(m, newest);
+  }
 }
 
 int GraphSlam::LocalMapFirst(int last) const {
@@ -88,6 +151,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
     NodeReturns returns = Returns(scan);
     node_points_.push_back(std::move(returns.matched));
     node_reference_points_.push_back(std::move(returns.reference));
+    MarkSeenThrough(0);
     node_odometry_.push_back(odometry);
     node_distance_.push_back(0.0);
     node_scan_.push_back(0);
@@ -136,6 +200,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   node_scans_.push_back(scan);
   node_points_.push_back(std::move(points));
   node_reference_points_.push_back(std::move(returns.reference));
+  MarkSeenThrough(node);
   node_odometry_.push_back(odometry);
   node_scan_.push_back(static_cast<int>(scan_node_.size()));
   scan_node_.push_back(node);

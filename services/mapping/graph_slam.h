@@ -27,6 +27,7 @@
 #include "services/mapping/occupancy_grid_mapper.h"
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
+#include "services/mapping/seen_through_check.h"
 
 namespace navd::mapping {
 
@@ -58,6 +59,14 @@ struct GraphSlamOptions {
   int local_map_nodes = 8;
   double local_map_travel = 4.0;  // m
   int local_map_max_nodes = 30;
+  // A node's reference points that another node of the local map it joins saw through (people
+  // walking past, SeenThroughCheck) are left out of every reference (local map, loop closure,
+  // refinement), unless a point of another node of that local map lies within
+  // seen_through_support: what two nodes saw in one place stood still (a pole or a table's leg,
+  // which the beams of a third sometimes pass). Off: every return stays.
+  bool drop_seen_through = true;
+  SeenThroughOptions seen_through;
+  double seen_through_support = 0.15;  // m
   double node_travel = 0.2;  // m, or
   double node_turn = 0.2;    // rad, of odometry since the last node make a new node
   // The front end's window (defaults: ±0.25 m, ±0.15 rad), with a mild prior on the odometry's
@@ -192,6 +201,9 @@ class GraphSlam {
   // The matches the last Refine() pass added, as closures.
   const std::vector<LoopClosure>& refinements() const { return refinements_; }
   int nodes() const { return static_cast<int>(graph_.nodes().size()); }
+  // The reference points left out as seen through (drop_seen_through), map frame, at the nodes'
+  // poses now.
+  std::vector<Point2> SeenThroughPoints() const;
   // The occupancy grid of every node's scan at its optimised pose, at options.resolution unless the
   // nodes spread wider than a grid holds at it (ResolutionToFit).
   OccupancyGrid RenderMap(const MapperOptions& options) const;
@@ -210,6 +222,9 @@ class GraphSlam {
   };
   NodeReturns Returns(const RangeScan& scan) const;
   std::vector<Point2> NodePointsInMap(int first, int last) const;
+  // Marks the reference points of `node` and of the local map before it that the other saw
+  // through (drop_seen_through).
+  void MarkSeenThrough(int node);
   // The first node of the local map that ends at node `last`.
   int LocalMapFirst(int last) const;
   // The front end's search window for a scan `moved` (odometry) from the last node.
@@ -268,6 +283,8 @@ class GraphSlam {
   std::vector<RangeScan> node_scans_;
   std::vector<std::vector<Point2>> node_points_;            // robot frame, as matched
   std::vector<std::vector<Point2>> node_reference_points_;  // robot frame, as a reference (further)
+  // Per node, per reference point: another node saw through it (drop_seen_through).
+  std::vector<std::vector<char>> node_seen_through_;
   std::vector<Pose2> node_odometry_;
   std::vector<double> node_distance_;  // m along the chain from the first node, as the front end placed them
   std::vector<int> node_scan_;         // the scan each node was made from

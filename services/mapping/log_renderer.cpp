@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "services/common/error.h"
@@ -14,6 +15,16 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
   if (!(options.step >= 0.0) || !(options.turn > 0.0) || !(options.range_noise >= 0.0) || !(options.no_return > 0.0))
     throw Error(ErrorCode::kInvalidArgument, "render: step and range noise must be >= 0, turn and no-return > 0");
   std::mt19937_64 rng(options.seed);
+  std::optional<PathWalkers> people;
+  if (options.people.count > 0) {
+    std::vector<Pose2> path;
+    std::vector<double> stamps;
+    for (const CarmenScan& s : log.scans) {
+      path.push_back(s.pose);
+      stamps.push_back(s.timestamp);
+    }
+    people.emplace(path, stamps, options.people);
+  }
   const ZigguratNormal noise(0.0, options.range_noise);
   CarmenLog out;
   auto render = [&](const CarmenScan& beams, const Pose2& pose, double stamp) {
@@ -24,9 +35,12 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
     s.pose = s.odometry = pose;
     s.timestamp = stamp;
     s.ranges.resize(beams.ranges.size());
+    const std::vector<Disc> bodies = people ? people->At(stamp, pose.translation()) : std::vector<Disc>{};
     for (size_t i = 0; i < s.ranges.size(); ++i) {
-      const double r =
-          world.CastOpenEdge(pose.translation(), pose.theta + s.angle_min + i * s.angle_increment, s.range_max);
+      const double angle = pose.theta + s.angle_min + i * s.angle_increment;
+      double r = world.CastOpenEdge(pose.translation(), angle, s.range_max);
+      for (const Disc& body : bodies)
+        r = std::min(r, RayDiscDistance(pose.translation(), {std::cos(angle), std::sin(angle)}, body));
       s.ranges[i] = static_cast<float>(
           r >= s.range_max ? s.range_max : std::clamp(r + noise(rng), 0.0, std::nextafter(s.range_max, 0.0)));
     }

@@ -5,11 +5,13 @@
 // error with the log's: people, glass and the correction's own error make the scans and the poses
 // disagree by centimetres. On the log rendered from the map those poses draw, what remains is the
 // estimator's. With a step it also turns a log sampled every metre into a dense one, as lidars log
-// today. Metres, radians, seconds, the log's frame.
+// today, and with people walking its corridors it has passers-by where the map has none.
+// Metres, radians, seconds, the log's frame.
 #include <cstdint>
 
 #include "services/common/carmen_log.h"
 #include "services/common/ray_caster.h"
+#include "services/mapping/path_walkers.h"
 
 namespace navd::mapping {
 
@@ -23,6 +25,9 @@ struct LogRenderOptions {
   // (a SICK LMS's 81.91).
   double no_return = 81.91;
   uint64_t seed = 1;
+  // People walking the log's path (none by default), placed at each rendered scan's stamp: the
+  // beams that meet one read their distance to it.
+  PathWalkerOptions people;
 };
 
 // One scan per pose (see LogRenderOptions) with the beams of the log's scan it starts from; pose,

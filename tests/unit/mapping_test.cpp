@@ -15,6 +15,7 @@
 #include "services/common/world.h"
 #include "services/mapping/log_renderer.h"
 #include "services/mapping/occupancy_grid_mapper.h"
+#include "services/mapping/path_walkers.h"
 #include "simulator/laser_scanner.h"
 #include "tests/support/process.h"
 
@@ -569,6 +570,85 @@ TEST(LogRenderer, CastsTheLogsBeamsInTheMapAtItsPosesOrBetweenThem) {
   EXPECT_NEAR(std::sqrt(sum_sq / 181), 0.01, 0.003);
   o.step = -1.0;
   EXPECT_THROW(RenderLog(log, world, o), Error);
+}
+
+TEST(PathWalkers, WalkBackAndForthBesideThePathAtTheirPaceAndNeverOnTheScanner) {
+  // An L: 10 m east, then 5 m north, over 30 s.
+  std::vector<Pose2> path;
+  std::vector<double> stamps;
+  for (int k = 0; k <= 30; ++k) {
+    const double along = 0.5 * k;
+    path.push_back(along <= 10.0 ? Pose2{along, 0.0, 0.0} : Pose2{10.0, along - 10.0, M_PI / 2});
+    stamps.push_back(k);
+  }
+  PathWalkerOptions o;
+  o.count = 5;
+  const PathWalkers walkers(path, stamps, o);
+  EXPECT_NEAR(walkers.path_length(), 15.0, 1e-9);
+  const Point2 far_away{100.0, 100.0};
+  std::vector<Disc> before = walkers.At(0.0, far_away);
+  ASSERT_EQ(before.size(), 5u);
+  double moved = 0.0;
+  for (double t = 0.25; t < 60.0; t += 0.25) {
+    const std::vector<Disc> now = walkers.At(t, far_away);
+    ASSERT_EQ(now.size(), 5u);
+    for (size_t i = 0; i < now.size(); ++i) {
+      const Point2 c = now[i].centre;
+      EXPECT_DOUBLE_EQ(now[i].radius, o.radius);
+      // Beside the path: within `side` of one of its legs, between its ends.
+      const bool east = c.x() >= -1e-9 && c.x() <= 10.0 + 1e-9 && std::abs(c.y()) <= o.side + 1e-9;
+      const bool north = c.y() >= -o.side && c.y() <= 5.0 + o.side && std::abs(c.x() - 10.0) <= o.side + 1e-9;
+      EXPECT_TRUE(east || north) << c.transpose() << " at " << t;
+      // At most 1.3 times the pace (a corner's cut is shorter still).
+      EXPECT_LE((c - before[i].centre).norm(), 1.3 * o.speed * 0.25 + 2.0 * o.side + 1e-9);
+      moved += (c - before[i].centre).norm();
+    }
+    before = now;
+  }
+  EXPECT_GT(moved / 5.0, 0.7 * o.speed * 60.0 * 0.8);  // they walk, at 0.7-1.3 m/s
+  // Nobody stands on the scanner.
+  for (double t = 0.0; t < 30.0; t += 0.5)
+    for (const Disc& d : walkers.At(t, walkers.At(t, far_away)[2].centre)) EXPECT_NE(d.id, 2);
+  o.radius = -1.0;
+  EXPECT_THROW(PathWalkers(path, stamps, o), Error);
+  EXPECT_THROW(PathWalkers(path, {0.0}, PathWalkerOptions{}), Error);
+}
+
+TEST(LogRenderer, PeopleWalkingThePathShortenBeamsTheMapWouldNot) {
+  OccupancyGrid hall(400, 160, 0.05, {0.0, 0.0});
+  hall.FillBox({0.0, 0.0}, {20.0, 0.1});
+  hall.FillBox({0.0, 7.9}, {20.0, 8.0});
+  hall.FillBox({0.0, 0.0}, {0.1, 8.0});
+  hall.FillBox({19.9, 0.0}, {20.0, 8.0});
+  const RayCaster world(hall);
+  CarmenLog log;
+  for (int k = 0; k <= 30; ++k) {
+    CarmenScan s;
+    s.ranges.assign(181, 1.0f);
+    s.angle_min = -M_PI / 2;
+    s.angle_increment = M_PI / 180;
+    s.pose = {2.0 + 0.5 * k, 4.0, 0.0};
+    s.timestamp = k;
+    log.scans.push_back(s);
+  }
+  LogRenderOptions o;
+  o.range_noise = 0.0;
+  const CarmenLog empty = RenderLog(log, world, o);
+  o.people.count = 6;
+  const CarmenLog peopled = RenderLog(log, world, o);
+  ASSERT_EQ(peopled.scans.size(), empty.scans.size());
+  int shorter = 0, scans_with_people = 0;
+  for (size_t k = 0; k < empty.scans.size(); ++k) {
+    int here = 0;
+    for (size_t i = 0; i < 181; ++i) {
+      EXPECT_LE(peopled.scans[k].ranges[i], empty.scans[k].ranges[i] + 1e-6);
+      if (peopled.scans[k].ranges[i] < empty.scans[k].ranges[i] - 0.05) ++here;
+    }
+    shorter += here;
+    scans_with_people += here > 0;
+  }
+  EXPECT_GT(scans_with_people, 10);
+  EXPECT_LT(shorter, 181 * 31 / 4);  // people, not walls
 }
 
 }  // namespace

@@ -15,7 +15,7 @@
 #include "services/perception/obstacle_cloud_filter.h"
 #include "services/perception/voxel_obstacle_layer.h"
 #include "simulator/depth_camera.h"
-#include "simulator/disc.h"
+#include "services/common/disc.h"
 #include "simulator/scenario.h"
 #include "simulator/simulation.h"
 
@@ -94,7 +94,7 @@ TEST(DepthCamera, SeesTheFloorWhereItsTiltPutsIt) {
 // along its own bearing, the solids by a slab test and the bodies as upright cylinders; NaN when
 // nothing is within the camera's range.
 double ReferenceDepth(const DepthCameraDescription& d, const Pose2& robot, const RayCaster& walls,
-                      const std::vector<Solid>& solids, const std::vector<sim::Disc>& bodies, int u, int v) {
+                      const std::vector<Solid>& solids, const std::vector<Disc>& bodies, int u, int v) {
   const auto [fx, fy, cx, cy] = IntrinsicsOf(d);
   const Eigen::Vector3d optical((u + 0.5 - cx) / fx, (v + 0.5 - cy) / fy, 1.0);
   const Eigen::Vector3d in_robot = RobotFromOptical(d).linear().cast<double>() * optical;
@@ -121,8 +121,8 @@ double ReferenceDepth(const DepthCameraDescription& d, const Pose2& robot, const
     }
     if (enter <= leave && enter > 0.0) depth = std::min(depth, enter);
   }
-  for (const sim::Disc& body : bodies) {
-    const double along = sim::RayDiscDistance(origin, Point2(ray.x(), ray.y()) / across, body) / across;
+  for (const Disc& body : bodies) {
+    const double along = RayDiscDistance(origin, Point2(ray.x(), ray.y()) / across, body) / across;
     const double z = d.mount_z + along * ray.z();
     if (std::isfinite(along) && z >= 0.0 && z <= DepthCamera::kBodyHeight) depth = std::min(depth, along);
   }
@@ -140,7 +140,7 @@ TEST(DepthCamera, ReadsWhatAPerPixelRayCastOfTheSceneReads) {
   const RayCaster walls(g);
   std::vector<Solid> solids = Table(5.1, 4.3, 5.9, 4.9);
   solids.push_back({{{6.0, 5.6}, {6.3, 5.9}}, 0.0, 0.15});  // under a laser's plane
-  const std::vector<sim::Disc> bodies = {{{6.2, 4.2}, 0.25, 7}};
+  const std::vector<Disc> bodies = {{{6.2, 4.2}, 0.25, 7}};
   DepthCameraDescription d = Camera();
   d.noise = 0.0;
   d.holes = 0.0;

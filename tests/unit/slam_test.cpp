@@ -10,6 +10,7 @@
 
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
+#include "services/common/disc.h"
 #include "services/common/error.h"
 #include "services/common/ray_caster.h"
 #include "services/mapping/correlative_scan_matcher.h"
@@ -17,6 +18,7 @@
 #include "services/mapping/odometry_pairing.h"
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
+#include "services/mapping/seen_through_check.h"
 #include "services/mapping/surface_facing_check.h"
 
 namespace navd::mapping {
@@ -268,6 +270,73 @@ TEST(GraphSlam, MapsARoomFromNoisyOdometryAndClosesTheLoop) {
   EXPECT_TRUE(built.IsOccupied(built.CellOf({3.0, 3.2})) || built.IsOccupied(built.CellOf({3.05, 3.2})));
   EXPECT_GE(built.at(built.CellOf({5.0, 2.0})), 0);
   EXPECT_LT(built.at(built.CellOf({5.0, 2.0})), 20);
+}
+
+TEST(SeenThroughCheck, ABeamReadingBeyondAPlaceSawThroughItButNotAWallItsEdgeOrAWallGrazed) {
+  const OccupancyGrid map = Room();
+  const Pose2 pose{1.5, 1.5, 0.0};
+  const RangeScan scan = ScanFrom(map, pose);
+  const SeenThroughCheck check(pose, scan.ranges, scan.angle_min, scan.angle_increment, 20.0);
+  EXPECT_TRUE(check.SawThrough({5.0, 1.5}));    // free, the wall 4.9 m behind it
+  EXPECT_TRUE(check.SawThrough({2.0, 5.0}));
+  EXPECT_FALSE(check.SawThrough({9.92, 1.5}));  // on the far wall
+  EXPECT_FALSE(check.SawThrough({12.0, 1.5}));  // behind it
+  EXPECT_FALSE(check.SawThrough({3.0, 3.0}));   // the pillar's corner: beams on one side hit it
+  EXPECT_FALSE(check.SawThrough({3.0, 3.2}));   // its face
+  EXPECT_FALSE(check.SawThrough({3.3, 3.7}));   // behind it, in its shadow
+  EXPECT_FALSE(check.SawThrough({1.6, 1.6}));   // nearer than min_distance
+  // The bottom wall seen at 2-4 degrees from 0.3 m above it.
+  const Pose2 low{1.5, 0.4, 0.0};
+  const RangeScan grazing = ScanFrom(map, low);
+  const SeenThroughCheck along(low, grazing.ranges, grazing.angle_min, grazing.angle_increment, 20.0);
+  for (double x = 5.0; x < 9.0; x += 0.25) EXPECT_FALSE(along.SawThrough({x, 0.1})) << x;
+  // No-returns say nothing of what lies along them.
+  RangeScan open = scan;
+  std::fill(open.ranges.begin(), open.ranges.end(), 20.0f);
+  EXPECT_FALSE(SeenThroughCheck(pose, open.ranges, open.angle_min, open.angle_increment, 20.0).SawThrough({5.0, 1.5}));
+}
+
+// Two laps of the room while a person walks back and forth across its lower half: the returns
+// the person left in the nodes' scans are dropped from the references, the walls and the pillar
+// are not.
+TEST(GraphSlam, LeavesOutTheReturnsOfAPersonWalkingPastButNoWall) {
+  const OccupancyGrid map = Room();
+  const std::vector<Pose2> lap = OneLap();
+  std::vector<Pose2> truth = lap;
+  truth.insert(truth.end(), lap.begin(), lap.end());
+  // 0.8 s per scan; the person walks y = 2.7 between x = 5 and 8.5 at 0.8 m/s.
+  auto person_at = [](size_t scan) {
+    const double along = std::fmod(0.64 * static_cast<double>(scan), 7.0);
+    return Disc{{5.0 + (along < 3.5 ? along : 7.0 - along), 2.7}, 0.2, 1};
+  };
+  for (const bool walking : {false, true}) {
+    std::mt19937 rng(5);
+    GraphSlam slam(RoomSlamOptions());
+    size_t scan = 0;
+    AddWithNoisyOdometry(slam, truth, rng, [&](const Pose2& pose) {
+      RangeScan s = ScanFrom(map, pose, &rng);
+      const Disc person = person_at(scan++);
+      for (size_t i = 0; walking && i < s.ranges.size(); ++i) {
+        const double a = pose.theta + s.angle_min + i * s.angle_increment;
+        const double r = RayDiscDistance(pose.translation(), {std::cos(a), std::sin(a)}, person);
+        s.ranges[i] = static_cast<float>(std::min<double>(s.ranges[i], r));
+      }
+      return s;
+    });
+    EXPECT_LT(PositionRmse(slam.Trajectory(), truth), 0.05) << walking;
+    const std::vector<Point2> left_out = slam.SeenThroughPoints();
+    if (!walking) {
+      EXPECT_TRUE(left_out.empty()) << left_out.size() << " wall points left out, the first at "
+                                    << left_out.front().transpose();
+      continue;
+    }
+    EXPECT_GE(left_out.size(), 20u);
+    for (const Point2& p : left_out) {
+      EXPECT_NEAR(p.y(), 2.7, 0.3) << p.transpose();
+      EXPECT_GT(p.x(), 4.7) << p.transpose();
+      EXPECT_LT(p.x(), 8.8) << p.transpose();
+    }
+  }
 }
 
 // Scans metres apart (a decimated log) carry odometry errors beyond the base window: the front end's

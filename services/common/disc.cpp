@@ -1,9 +1,9 @@
-#include "simulator/disc.h"
+#include "services/common/disc.h"
 
 #include <cmath>
 #include <limits>
 
-namespace navd::sim {
+namespace navd {
 
 double RayDiscDistance(const Point2& origin, const Point2& dir, const Disc& disc) {
   const Point2 m = origin - disc.centre;
@@ -16,4 +16,4 @@ double RayDiscDistance(const Point2& origin, const Point2& dir, const Disc& disc
   return -b - std::sqrt(disc_term);
 }
 
-}  // namespace navd::sim
+}  // namespace navd

@@ -1,9 +1,9 @@
 #pragma once
-// Round bodies for the simulator's sensors: robots, people and moving obstacles are discs.
-// Metres, map frame.
+// Round bodies that lasers see: robots, people and moving obstacles (the simulator's, and the people
+// a rendered log's scanner passes) are discs. Metres, map frame.
 #include "services/common/pose2.h"
 
-namespace navd::sim {
+namespace navd {
 
 // A disc in the world that sensors see and robots bump into (a robot, a person, a moving obstacle).
 struct Disc {
@@ -16,4 +16,4 @@ struct Disc {
 // infinity when it misses (or starts inside it).
 double RayDiscDistance(const Point2& origin, const Point2& dir, const Disc& disc);
 
-}  // namespace navd::sim
+}  // namespace navd

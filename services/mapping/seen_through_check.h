@@ -1,0 +1,48 @@
+#pragma once
+// Whether a scan saw through a place: its beams towards that place, and on either side of it,
+// read farther than the place. A person who walked past while the robot scanned left returns in
+// one node's scan where the nodes before and after it saw the wall behind; kept in the front end's
+// local map, such returns give a bare corridor a landmark that moves, and the scan after slides
+// along the corridor to fit it. Walls are not seen through: at a wall's edge the beam beside the
+// place hits the wall, and along a wall at a grazing angle the beams on one side hit it nearer.
+// Map frame, metres, radians.
+#include <vector>
+
+#include "services/common/pose2.h"
+
+namespace navd::mapping {
+
+struct SeenThroughOptions {
+  // Beams either side of the one towards the place that must read beyond it too: at a wall's edge
+  // or a door's jamb some of them hit the wall, and along a wall at a grazing angle those on one
+  // side hit it nearer.
+  int span = 2;
+  // m beyond the place that every one of those beams must read: pose errors and range noise of a
+  // few centimetres move a wall's hits by far less.
+  double margin = 0.5;
+  // m: places nearer (the scanner's own body) or farther are not judged. Far off, a heading error
+  // of a few milliradians moves a place by more than a beam's spacing, and a 1-degree scanner's
+  // beams 15 cm apart pass by a pole.
+  double min_distance = 0.3;
+  double max_distance = 8.0;
+};
+
+// One scan as a viewpoint: its laser pose in the map frame and its readings.
+class SeenThroughCheck {
+ public:
+  // `ranges` at angle_min + i * angle_increment (rad, laser frame); readings at or beyond
+  // `no_return` (and non-readings, IsReading) say nothing of what lies along the beam.
+  SeenThroughCheck(const Pose2& pose, const std::vector<float>& ranges, double angle_min, double angle_increment,
+                   double no_return, const SeenThroughOptions& options = {});
+  // True when the beam towards `place` (map frame) and `span` beams on each side of it all read
+  // echoes beyond it by the margin.
+  bool SawThrough(const Point2& place) const;
+
+ private:
+  SeenThroughOptions o_;
+  Pose2 inverse_;
+  const std::vector<float>& ranges_;
+  double angle_min_, angle_increment_, no_return_;
+};
+
+}  // namespace navd::mapping
