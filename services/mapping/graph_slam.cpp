@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include "services/common/error.h"
 #include "services/common/scan_reach.h"
@@ -88,31 +87,9 @@ void GraphSlam::MarkSeenThrough(int node) {
   node_seen_through_.emplace_back(node_reference_points_[node].size(), 0);
   if (!o_.drop_seen_through || node == 0) return;
   const int first = LocalMapFirst(node - 1);
-  // Where each node's points lie (map frame): a place another node's points share is a thing
-  // that stood still (a pole the beams sometimes miss), not one that walked past.
-  const double cell = o_.seen_through_support;
-  std::unordered_map<int64_t, std::vector<std::pair<Point2, int>>> cells;
-  auto key = [&](const Point2& p, int dx, int dy) {
-    return (static_cast<int64_t>(std::floor(p.x() / cell) + dx) << 32) ^
-           static_cast<uint32_t>(static_cast<int32_t>(std::floor(p.y() / cell) + dy));
-  };
-  for (int n = first; n <= node; ++n) {
-    const Pose2& pose = graph_.nodes()[n];
-    for (const Point2& q : node_reference_points_[n]) {
-      const Point2 p = pose * q;
-      cells[key(p, 0, 0)].push_back({p, n});
-    }
-  }
-  auto supported = [&](const Point2& p, int n) {
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy) {
-        const auto it = cells.find(key(p, dx, dy));
-        if (it == cells.end()) continue;
-        for (const auto& [other, m] : it->second)
-          if (m != n && (other - p).squaredNorm() < cell * cell) return true;
-      }
-    return false;
-  };
+  SharedPlaces shared(o_.seen_through_support);
+  for (int n = first; n <= node; ++n)
+    for (const Point2& q : node_reference_points_[n]) shared.Add(graph_.nodes()[n] * q, n);
   auto view = [&](int n) {
     const RangeScan& scan = node_scans_[n];
     return SeenThroughCheck(graph_.nodes()[n], scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max,
@@ -125,7 +102,7 @@ void GraphSlam::MarkSeenThrough(int node) {
     for (size_t i = 0; i < points.size(); ++i) {
       if (flags[i]) continue;
       const Point2 p = pose * points[i];
-      if (viewer.SawThrough(p) && !supported(p, seen)) flags[i] = 1;
+      if (viewer.SawThrough(p) && !shared.SeenByAnother(p, seen)) flags[i] = 1;
     }
   };
   const SeenThroughCheck newest = view(node);

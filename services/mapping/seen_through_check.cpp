@@ -1,5 +1,6 @@
 #include "services/mapping/seen_through_check.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "services/common/scan_reach.h"
@@ -21,14 +22,32 @@ bool SeenThroughCheck::SawThrough(const Point2& place) const {
   const double distance = local.norm();
   if (distance < o_.min_distance || distance > o_.max_distance) return false;
   const double beam = std::round((std::atan2(local.y(), local.x()) - angle_min_) / angle_increment_);
-  const double span = o_.span;
+  const double span = std::max(1.0, std::round(o_.span / angle_increment_));
   if (!(beam >= span) || beam > static_cast<double>(ranges_.size()) - 1.0 - span) return false;
-  const size_t i = static_cast<size_t>(beam);
-  for (size_t j = i - o_.span; j <= i + o_.span; ++j) {
+  const size_t i = static_cast<size_t>(beam), side = static_cast<size_t>(span);
+  for (size_t j = i - side; j <= i + side; ++j) {
     const double r = ranges_[j];
     if (!IsEcho(r, no_return_) || r < distance + o_.margin) return false;
   }
   return true;
+}
+
+int64_t SharedPlaces::Key(const Point2& p, int dx, int dy) const {
+  return (static_cast<int64_t>(std::floor(p.x() / radius_) + dx) << 32) ^
+         static_cast<uint32_t>(static_cast<int32_t>(std::floor(p.y() / radius_) + dy));
+}
+
+void SharedPlaces::Add(const Point2& point, int scan) { cells_[Key(point, 0, 0)].push_back({point, scan}); }
+
+bool SharedPlaces::SeenByAnother(const Point2& point, int scan) const {
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy) {
+      const auto it = cells_.find(Key(point, dx, dy));
+      if (it == cells_.end()) continue;
+      for (const auto& [other, other_scan] : it->second)
+        if (other_scan != scan && (other - point).squaredNorm() < radius_ * radius_) return true;
+    }
+  return false;
 }
 
 }  // namespace navd::mapping

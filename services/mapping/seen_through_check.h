@@ -6,6 +6,9 @@
 // along the corridor to fit it. Walls are not seen through: at a wall's edge the beam beside the
 // place hits the wall, and along a wall at a grazing angle the beams on one side hit it nearer.
 // Map frame, metres, radians.
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "services/common/pose2.h"
@@ -13,10 +16,11 @@
 namespace navd::mapping {
 
 struct SeenThroughOptions {
-  // Beams either side of the one towards the place that must read beyond it too: at a wall's edge
-  // or a door's jamb some of them hit the wall, and along a wall at a grazing angle those on one
-  // side hit it nearer.
-  int span = 2;
+  // rad either side of the place within which every beam must read beyond it too (at least the
+  // next beam each side): at a wall's edge or a door's jamb some of them hit the wall, and along a
+  // wall at a grazing angle those on one side hit it nearer. An angle, not a count of beams, so a
+  // scanner with beams a quarter of a degree apart is judged over the same sweep as a 1-degree one.
+  double span = 0.035;
   // m beyond the place that every one of those beams must read: pose errors and range noise of a
   // few centimetres move a wall's hits by far less.
   double margin = 0.5;
@@ -30,12 +34,13 @@ struct SeenThroughOptions {
 // One scan as a viewpoint: its laser pose in the map frame and its readings.
 class SeenThroughCheck {
  public:
-  // `ranges` at angle_min + i * angle_increment (rad, laser frame); readings at or beyond
-  // `no_return` (and non-readings, IsReading) say nothing of what lies along the beam.
+  // `ranges` at angle_min + i * angle_increment (rad, laser frame), kept by reference: they must
+  // outlive the check. Readings at or beyond `no_return` (and non-readings, IsReading) say nothing
+  // of what lies along the beam.
   SeenThroughCheck(const Pose2& pose, const std::vector<float>& ranges, double angle_min, double angle_increment,
                    double no_return, const SeenThroughOptions& options = {});
-  // True when the beam towards `place` (map frame) and `span` beams on each side of it all read
-  // echoes beyond it by the margin.
+  // True when the beams towards `place` (map frame) and within `span` of it all read echoes
+  // beyond it by the margin.
   bool SawThrough(const Point2& place) const;
 
  private:
@@ -43,6 +48,22 @@ class SeenThroughCheck {
   Pose2 inverse_;
   const std::vector<float>& ranges_;
   double angle_min_, angle_increment_, no_return_;
+};
+
+// The points of several scans (map frame), each tagged with its scan: whether a scan other than a
+// point's own has a point near it. What two scans saw in one place stood still there; a person
+// walking past is seen by each scan somewhere else.
+class SharedPlaces {
+ public:
+  explicit SharedPlaces(double radius) : radius_(radius) {}
+  void Add(const Point2& point, int scan);
+  // A point of a scan other than `scan` lies within the radius of `point`.
+  bool SeenByAnother(const Point2& point, int scan) const;
+
+ private:
+  int64_t Key(const Point2& p, int dx, int dy) const;
+  double radius_;
+  std::unordered_map<int64_t, std::vector<std::pair<Point2, int>>> cells_;  // cells of the radius
 };
 
 }  // namespace navd::mapping

@@ -296,6 +296,18 @@ TEST(SeenThroughCheck, ABeamReadingBeyondAPlaceSawThroughItButNotAWallItsEdgeOrA
   EXPECT_FALSE(SeenThroughCheck(pose, open.ranges, open.angle_min, open.angle_increment, 20.0).SawThrough({5.0, 1.5}));
 }
 
+TEST(SharedPlaces, APlaceIsSharedWhenAnotherScansPointLiesNearIt) {
+  SharedPlaces places(0.15);
+  places.Add({0.0, 0.0}, 1);
+  places.Add({1.0, 0.0}, 2);
+  places.Add({-0.14, 0.0}, 3);
+  EXPECT_FALSE(places.SeenByAnother({1.05, 0.0}, 2));  // its own point only
+  EXPECT_TRUE(places.SeenByAnother({1.05, 0.05}, 1));
+  EXPECT_TRUE(places.SeenByAnother({0.0, 0.1}, 3));    // across a cell's edge
+  EXPECT_FALSE(places.SeenByAnother({0.5, 0.0}, 1));
+  EXPECT_FALSE(places.SeenByAnother({0.0, 0.2}, 2));
+}
+
 // Two laps of the room while a person walks back and forth across its lower half: the returns
 // the person left in the nodes' scans are dropped from the references, the walls and the pillar
 // are not.
