@@ -87,9 +87,16 @@ void GraphSlam::MarkSeenThrough(int node) {
   node_seen_through_.emplace_back(node_reference_points_[node].size(), 0);
   if (!o_.drop_seen_through || node == 0) return;
   const int first = LocalMapFirst(node - 1);
-  SharedPlaces shared(o_.seen_through_support);
-  for (int n = first; n <= node; ++n)
-    for (const Point2& q : node_reference_points_[n]) shared.Add(graph_.nodes()[n] * q, n);
+  // Built only once a place was seen through: a scene that stands still needs none.
+  std::optional<SharedPlaces> shared;
+  auto seen_by_another = [&](const Point2& p, int seen) {
+    if (!shared) {
+      shared.emplace(o_.seen_through_support);
+      for (int n = first; n <= node; ++n)
+        for (const Point2& q : node_reference_points_[n]) shared->Add(graph_.nodes()[n] * q, n);
+    }
+    return shared->SeenByAnother(p, seen);
+  };
   auto view = [&](int n) {
     const RangeScan& scan = node_scans_[n];
     return SeenThroughCheck(graph_.nodes()[n], scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max,
@@ -102,7 +109,7 @@ void GraphSlam::MarkSeenThrough(int node) {
     for (size_t i = 0; i < points.size(); ++i) {
       if (flags[i]) continue;
       const Point2 p = pose * points[i];
-      if (viewer.SawThrough(p) && !shared.SeenByAnother(p, seen)) flags[i] = 1;
+      if (viewer.SawThrough(p) && !seen_by_another(p, seen)) flags[i] = 1;
     }
   };
   const SeenThroughCheck newest = view(node);

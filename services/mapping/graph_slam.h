@@ -67,8 +67,8 @@ struct GraphSlamOptions {
   bool drop_seen_through = true;
   SeenThroughOptions seen_through;
   double seen_through_support = 0.15;  // m
-  double node_travel = 0.2;  // m, or
-  double node_turn = 0.2;    // rad, of odometry since the last node make a new node
+  double node_travel = 0.2;            // m, or
+  double node_turn = 0.2;              // rad, of odometry since the last node make a new node
   // The front end's window (defaults: ±0.25 m, ±0.15 rad), with a mild prior on the odometry's
   // prediction so a scan in a corridor does not slide along it.
   ScanMatchOptions sequential = [] {

@@ -37,15 +37,23 @@ int64_t SharedPlaces::Key(const Point2& p, int dx, int dy) const {
          static_cast<uint32_t>(static_cast<int32_t>(std::floor(p.y() / radius_) + dy));
 }
 
-void SharedPlaces::Add(const Point2& point, int scan) { cells_[Key(point, 0, 0)].push_back({point, scan}); }
+void SharedPlaces::Add(const Point2& point, int scan) {
+  entries_.push_back({Key(point, 0, 0), point, scan});
+  sorted_ = false;
+}
 
-bool SharedPlaces::SeenByAnother(const Point2& point, int scan) const {
+bool SharedPlaces::SeenByAnother(const Point2& point, int scan) {
+  if (!sorted_) {
+    std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.cell < b.cell; });
+    sorted_ = true;
+  }
+  auto by_cell = [](const Entry& e, int64_t cell) { return e.cell < cell; };
   for (int dx = -1; dx <= 1; ++dx)
     for (int dy = -1; dy <= 1; ++dy) {
-      const auto it = cells_.find(Key(point, dx, dy));
-      if (it == cells_.end()) continue;
-      for (const auto& [other, other_scan] : it->second)
-        if (other_scan != scan && (other - point).squaredNorm() < radius_ * radius_) return true;
+      const int64_t cell = Key(point, dx, dy);
+      for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell, by_cell);
+           it != entries_.end() && it->cell == cell; ++it)
+        if (it->scan != scan && (it->point - point).squaredNorm() < radius_ * radius_) return true;
     }
   return false;
 }

@@ -7,8 +7,6 @@
 // place hits the wall, and along a wall at a grazing angle the beams on one side hit it nearer.
 // Map frame, metres, radians.
 #include <cstdint>
-#include <unordered_map>
-#include <utility>
 #include <vector>
 
 #include "services/common/pose2.h"
@@ -57,13 +55,20 @@ class SharedPlaces {
  public:
   explicit SharedPlaces(double radius) : radius_(radius) {}
   void Add(const Point2& point, int scan);
-  // A point of a scan other than `scan` lies within the radius of `point`.
-  bool SeenByAnother(const Point2& point, int scan) const;
+  // A point of a scan other than `scan` lies within the radius of `point`. The first query after
+  // an Add sorts the points by cell.
+  bool SeenByAnother(const Point2& point, int scan);
 
  private:
+  struct Entry {
+    int64_t cell;
+    Point2 point;
+    int scan;
+  };
   int64_t Key(const Point2& p, int dx, int dy) const;
   double radius_;
-  std::unordered_map<int64_t, std::vector<std::pair<Point2, int>>> cells_;  // cells of the radius
+  std::vector<Entry> entries_;  // by cell (of the radius) once sorted
+  bool sorted_ = true;
 };
 
 }  // namespace navd::mapping

@@ -277,7 +277,7 @@ TEST(SeenThroughCheck, ABeamReadingBeyondAPlaceSawThroughItButNotAWallItsEdgeOrA
   const Pose2 pose{1.5, 1.5, 0.0};
   const RangeScan scan = ScanFrom(map, pose);
   const SeenThroughCheck check(pose, scan.ranges, scan.angle_min, scan.angle_increment, 20.0);
-  EXPECT_TRUE(check.SawThrough({5.0, 1.5}));    // free, the wall 4.9 m behind it
+  EXPECT_TRUE(check.SawThrough({5.0, 1.5}));  // free, the wall 4.9 m behind it
   EXPECT_TRUE(check.SawThrough({2.0, 5.0}));
   EXPECT_FALSE(check.SawThrough({9.92, 1.5}));  // on the far wall
   EXPECT_FALSE(check.SawThrough({12.0, 1.5}));  // behind it
@@ -303,7 +303,7 @@ TEST(SharedPlaces, APlaceIsSharedWhenAnotherScansPointLiesNearIt) {
   places.Add({-0.14, 0.0}, 3);
   EXPECT_FALSE(places.SeenByAnother({1.05, 0.0}, 2));  // its own point only
   EXPECT_TRUE(places.SeenByAnother({1.05, 0.05}, 1));
-  EXPECT_TRUE(places.SeenByAnother({0.0, 0.1}, 3));    // across a cell's edge
+  EXPECT_TRUE(places.SeenByAnother({0.0, 0.1}, 3));  // across a cell's edge
   EXPECT_FALSE(places.SeenByAnother({0.5, 0.0}, 1));
   EXPECT_FALSE(places.SeenByAnother({0.0, 0.2}, 2));
 }
