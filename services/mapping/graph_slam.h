@@ -59,12 +59,15 @@ struct GraphSlamOptions {
   int local_map_nodes = 8;
   double local_map_travel = 4.0;  // m
   int local_map_max_nodes = 30;
-  // A node's reference points that another node of the local map it joins saw through (people
-  // walking past, SeenThroughCheck) are left out of every reference (local map, loop closure,
-  // refinement), unless a point of another node of that local map lies within
+  // When on, a node's reference points that another node of the local map it joins saw through
+  // (people walking past, SeenThroughCheck) are left out of every reference (local map, loop
+  // closure, refinement), unless a point of another node of that local map lies within
   // seen_through_support: what two nodes saw in one place stood still (a pole or a table's leg,
-  // which the beams of a third sometimes pass). Off: every return stays.
-  bool drop_seen_through = true;
+  // which the beams of a third sometimes pass). Off by default: on logs rendered with people
+  // walking them it holds csail's corridor, but on the real logs it moves each seed within their
+  // spread, and on aces's own odometry without FrontEndRecovery the chain breaks (3 m ATE against
+  // 0.09).
+  bool drop_seen_through = false;
   SeenThroughOptions seen_through;
   double seen_through_support = 0.15;  // m
   double node_travel = 0.2;            // m, or

@@ -323,7 +323,9 @@ TEST(GraphSlam, LeavesOutTheReturnsOfAPersonWalkingPastButNoWall) {
   };
   for (const bool walking : {false, true}) {
     std::mt19937 rng(5);
-    GraphSlam slam(RoomSlamOptions());
+    GraphSlamOptions o = RoomSlamOptions();
+    o.drop_seen_through = true;
+    GraphSlam slam(o);
     size_t scan = 0;
     AddWithNoisyOdometry(slam, truth, rng, [&](const Pose2& pose) {
       RangeScan s = ScanFrom(map, pose, &rng);
