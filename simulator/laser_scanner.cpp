@@ -7,21 +7,6 @@
 
 namespace navd::sim {
 
-std::vector<const Disc*> DiscsWithin(const std::vector<Disc>& discs, const Point2& origin, double max_range, int self) {
-  std::vector<const Disc*> out;
-  for (const Disc& d : discs) {
-    if (d.id != self && Distance(d.centre, origin) < max_range + d.radius) out.push_back(&d);
-  }
-  return out;
-}
-
-double CastAgainstWorld(const RayCaster& world, const std::vector<const Disc*>& nearby, const Point2& origin,
-                        const Point2& dir, double max_range) {
-  double r = world.CastOpenEdge(origin, dir, max_range);
-  for (const Disc* d : nearby) r = std::min(r, RayDiscDistance(origin, dir, *d));
-  return r;
-}
-
 LaserScanner::LaserScanner(const LaserDescription& description) : d_(description) {
   beam_directions_.reserve(std::max(d_.beams, 0));
   for (int i = 0; i < d_.beams; ++i) {

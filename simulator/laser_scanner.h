@@ -29,12 +29,4 @@ class LaserScanner {
   std::vector<Point2> beam_directions_;  // unit vectors in the scanner frame, so a scan needs no trigonometry per beam
 };
 
-// Distance along the unit vector `dir` from `origin` to the nearest of the static world and the discs (except
-// `self`), at most max_range (also where the ray leaves the map: beyond its edge nothing reflects). Shared
-// by the laser and the range sensors.
-double CastAgainstWorld(const RayCaster& world, const std::vector<const Disc*>& nearby, const Point2& origin,
-                        const Point2& dir, double max_range);
-// The discs (except `self`) that a sensor at `origin` with reach `max_range` could see.
-std::vector<const Disc*> DiscsWithin(const std::vector<Disc>& discs, const Point2& origin, double max_range, int self);
-
 }  // namespace navd::sim

@@ -1,5 +1,6 @@
 #include "services/common/disc.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -14,6 +15,21 @@ double RayDiscDistance(const Point2& origin, const Point2& dir, const Disc& disc
   const double disc_term = b * b - c;
   if (disc_term < 0.0) return std::numeric_limits<double>::infinity();
   return -b - std::sqrt(disc_term);
+}
+
+std::vector<const Disc*> DiscsWithin(const std::vector<Disc>& discs, const Point2& origin, double max_range, int self) {
+  std::vector<const Disc*> out;
+  for (const Disc& d : discs) {
+    if (d.id != self && Distance(d.centre, origin) < max_range + d.radius) out.push_back(&d);
+  }
+  return out;
+}
+
+double CastAgainstWorld(const RayCaster& world, const std::vector<const Disc*>& nearby, const Point2& origin,
+                        const Point2& dir, double max_range) {
+  double r = world.CastOpenEdge(origin, dir, max_range);
+  for (const Disc* d : nearby) r = std::min(r, RayDiscDistance(origin, dir, *d));
+  return r;
 }
 
 }  // namespace navd

@@ -5,6 +5,7 @@
 #include <optional>
 #include <random>
 
+#include "services/common/disc.h"
 #include "services/common/error.h"
 #include "services/common/ziggurat_normal.h"
 
@@ -36,11 +37,11 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
     s.timestamp = stamp;
     s.ranges.resize(beams.ranges.size());
     const std::vector<Disc> bodies = people ? people->At(stamp, pose.translation()) : std::vector<Disc>{};
+    const std::vector<const Disc*> nearby = DiscsWithin(bodies, pose.translation(), s.range_max, -1);
     for (size_t i = 0; i < s.ranges.size(); ++i) {
       const double angle = pose.theta + s.angle_min + i * s.angle_increment;
-      double r = world.CastOpenEdge(pose.translation(), angle, s.range_max);
-      for (const Disc& body : bodies)
-        r = std::min(r, RayDiscDistance(pose.translation(), {std::cos(angle), std::sin(angle)}, body));
+      const double r =
+          CastAgainstWorld(world, nearby, pose.translation(), {std::cos(angle), std::sin(angle)}, s.range_max);
       s.ranges[i] = static_cast<float>(
           r >= s.range_max ? s.range_max : std::clamp(r + noise(rng), 0.0, std::nextafter(s.range_max, 0.0)));
     }

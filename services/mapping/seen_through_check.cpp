@@ -14,7 +14,8 @@ SeenThroughCheck::SeenThroughCheck(const Pose2& pose, const std::vector<float>& 
       ranges_(ranges),
       angle_min_(angle_min),
       angle_increment_(angle_increment),
-      no_return_(no_return) {}
+      no_return_(no_return),
+      side_(angle_increment > 0.0 ? static_cast<size_t>(std::max(1.0, std::round(o_.span / angle_increment))) : 1) {}
 
 bool SeenThroughCheck::SawThrough(const Point2& place) const {
   if (ranges_.size() < 3 || !(angle_increment_ > 0.0)) return false;
@@ -22,10 +23,10 @@ bool SeenThroughCheck::SawThrough(const Point2& place) const {
   const double distance = local.norm();
   if (distance < o_.min_distance || distance > o_.max_distance) return false;
   const double beam = std::round((std::atan2(local.y(), local.x()) - angle_min_) / angle_increment_);
-  const double span = std::max(1.0, std::round(o_.span / angle_increment_));
-  if (!(beam >= span) || beam > static_cast<double>(ranges_.size()) - 1.0 - span) return false;
-  const size_t i = static_cast<size_t>(beam), side = static_cast<size_t>(span);
-  for (size_t j = i - side; j <= i + side; ++j) {
+  const double side = static_cast<double>(side_);
+  if (!(beam >= side) || beam > static_cast<double>(ranges_.size()) - 1.0 - side) return false;
+  const size_t i = static_cast<size_t>(beam);
+  for (size_t j = i - side_; j <= i + side_; ++j) {
     const double r = ranges_[j];
     if (!IsEcho(r, no_return_) || r < distance + o_.margin) return false;
   }

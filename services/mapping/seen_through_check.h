@@ -46,6 +46,7 @@ class SeenThroughCheck {
   Pose2 inverse_;
   const std::vector<float>& ranges_;
   double angle_min_, angle_increment_, no_return_;
+  size_t side_;  // beams either side of the one towards a place, from span
 };
 
 // The points of several scans (map frame), each tagged with its scan: whether a scan other than a
