@@ -1,4 +1,5 @@
-// The parts of graph SLAM: the correlative and point-to-line scan matchers and the SE(2) pose graph.
+// The parts of graph SLAM: the correlative and point-to-line scan matchers, the SE(2) pose graph,
+// and the errors SLAM is judged by.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +14,8 @@
 #include "services/common/disc.h"
 #include "services/common/error.h"
 #include "services/common/ray_caster.h"
+#include "services/common/relative_pose_error.h"
+#include "services/common/trajectory_alignment.h"
 #include "services/mapping/correlative_scan_matcher.h"
 #include "services/mapping/graph_slam.h"
 #include "services/mapping/odometry_pairing.h"
@@ -712,6 +715,67 @@ TEST(OdometryPairing, FollowsTheOdomLineTheScansMoveWith) {
   const CarmenLog fields = ParseCarmenLog("FLASER 1 1.0 9 9 1 5 6 0.5 11.5 h 11.5\n", "fields");
   EXPECT_EQ(EstimateOdometryPairing(fields).pairs, 0);
   EXPECT_NEAR(PairedOdometryAtScans(fields).at(0).x, 5.0, 1e-9);
+}
+
+// A square loop driven in 0.5 m steps, turning on the spot at its corners.
+std::vector<Pose2> SquareLoop() {
+  std::vector<Pose2> out;
+  Pose2 pose;
+  for (int side = 0; side < 4; ++side) {
+    for (int k = 0; k < 8; ++k) {
+      out.push_back(pose);
+      pose = pose * Pose2(0.5, 0.0, 0.0);
+    }
+    pose = pose * Pose2(0.0, 0.0, M_PI / 2);
+  }
+  return out;
+}
+
+TEST(RelativePoseError, NeedsNoCommonFrame) {
+  const std::vector<Pose2> truth = SquareLoop();
+  std::vector<Pose2> estimate;
+  const Pose2 elsewhere(12.0, -3.0, 2.0);
+  for (const Pose2& p : truth) estimate.push_back(elsewhere * p);
+  const RelativeError e = RelativePoseError(estimate, truth);
+  EXPECT_EQ(e.relations, static_cast<int>(truth.size()) - 1);
+  EXPECT_NEAR(e.translation_mean, 0.0, 1e-12);
+  EXPECT_NEAR(e.rotation_rmse, 0.0, 1e-12);
+  EXPECT_NEAR(AlignedTrajectoryError(estimate, truth).position_rmse, 0.0, 1e-9);
+}
+
+TEST(RelativePoseError, ABendCostsOneRelationWhereTheAbsoluteErrorCostsMostPoses) {
+  const std::vector<Pose2> truth = SquareLoop();
+  const int bend = 10;
+  std::vector<Pose2> estimate = truth;
+  // Everything after pose `bend` turned 0.05 rad about it and pushed 0.1 m on.
+  const Pose2 kink(0.1, 0.0, 0.05);
+  for (size_t i = bend + 1; i < estimate.size(); ++i)
+    estimate[i] = truth[bend] * kink * (truth[bend].inverse() * truth[i]);
+  const RelativeError e = RelativePoseError(estimate, truth);
+  const double n = static_cast<double>(e.relations);
+  // Only the step from `bend` to the next differs: by the kink itself, seen from the true step.
+  const Pose2 step = truth[bend].inverse() * truth[bend + 1];
+  const Pose2 wrong = step.inverse() * kink * step;
+  EXPECT_NEAR(e.translation_mean, std::hypot(wrong.x, wrong.y) / n, 1e-12);
+  EXPECT_NEAR(e.translation_rmse, std::hypot(wrong.x, wrong.y) / std::sqrt(n), 1e-12);
+  EXPECT_NEAR(e.rotation_mean, 0.05 / n, 1e-12);
+  // Two steps apart, the two relations spanning the bend differ, by the same kink.
+  EXPECT_NEAR(RelativePoseError(estimate, truth, 2).rotation_mean, 2 * 0.05 / (n - 1), 1e-12);
+  // After alignment, the bend leaves most poses of the loop more than 2 cm off.
+  const Pose2 alignment = AlignedTrajectoryError(estimate, truth).alignment;
+  int off = 0;
+  for (size_t i = 0; i < truth.size(); ++i)
+    off += Distance((alignment * estimate[i]).translation(), truth[i].translation()) > 0.02;
+  EXPECT_GT(off, static_cast<int>(truth.size()) / 2);
+}
+
+TEST(RelativePoseError, RefusesTrajectoriesItCannotCompare) {
+  const std::vector<Pose2> truth = SquareLoop();
+  const std::vector<Pose2> shorter(truth.begin(), truth.end() - 1);
+  EXPECT_THROW(RelativePoseError(shorter, truth), Error);
+  EXPECT_THROW(RelativePoseError(truth, truth, 0), Error);
+  EXPECT_THROW(RelativePoseError(truth, truth, static_cast<int>(truth.size())), Error);
+  EXPECT_THROW(RelativePoseError({Pose2()}, {Pose2()}), Error);
 }
 
 }  // namespace
