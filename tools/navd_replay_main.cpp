@@ -274,8 +274,9 @@ int Render(const navd::CarmenLog& log, const std::string& out, double resolution
            const navd::mapping::LogRenderOptions& options) {
   const navd::OccupancyGrid map = MapFromLog(log, resolution);
   // People walk by the clock: a log whose stamps say too little is paced from its motion first.
+  // Without people the stamps are the log's own.
   navd::CarmenLog timed = log;
-  navd::PaceScansWhenStampsAreCoarse(timed);
+  if (options.people.count > 0) navd::PaceScansWhenStampsAreCoarse(timed);
   const navd::CarmenLog rendered = navd::mapping::RenderLog(timed, navd::RayCaster(map), options);
   std::string text;
   for (const navd::CarmenScan& s : rendered.scans) text += navd::FormatFlaserLine(s, "navd-replay");

@@ -9,6 +9,7 @@
 
 #include "services/common/error.h"
 #include "services/common/scan_reach.h"
+#include "services/mapping/shared_places.h"
 #include "services/mapping/surface_facing_check.h"
 
 namespace navd::mapping {
@@ -21,7 +22,10 @@ Eigen::Matrix3d Information(double sigma_xy, double sigma_theta) {
 
 }  // namespace
 
-GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options), recovery_(options.front_recovery) {}
+GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options), recovery_(options.front_recovery) {
+  // Refused here rather than at the first place seen through, scans into the run.
+  if (o_.drop_seen_through) SharedPlaces check(o_.seen_through_support);
+}
 
 GraphSlam::NodeReturns GraphSlam::Returns(const RangeScan& scan) const {
   const double cut = ScanReach(scan.ranges, scan.range_max, {o_.usable_range, o_.far_usable_range, o_.min_near_echoes});

@@ -63,10 +63,10 @@ struct GraphSlamOptions {
   // (people walking past, SeenThroughCheck) are left out of every reference (local map, loop
   // closure, refinement), unless a point of another node of that local map lies within
   // seen_through_support: what two nodes saw in one place stood still (a pole or a table's leg,
-  // which the beams of a third sometimes pass). Off by default: on logs rendered with people
-  // walking them it holds csail's corridor, but on the real logs it moves each seed within their
-  // spread, and on aces's own odometry without FrontEndRecovery the chain breaks (3 m ATE against
-  // 0.09).
+  // which the beams of a third sometimes pass). Off by default: it holds a bare corridor that
+  // people walk, but where the real logs' scans see through a place for other reasons (glass,
+  // grazing beams) it leaves out what the front end needed, and on a robot's own odometry without
+  // FrontEndRecovery the chain can break (docs/results.md).
   bool drop_seen_through = false;
   SeenThroughOptions seen_through;
   double seen_through_support = 0.15;  // m
@@ -182,6 +182,8 @@ struct LoopClosure {
 
 class GraphSlam {
  public:
+  // Throws Error(kInvalidArgument) for options it cannot run with (front_recovery's, or with
+  // drop_seen_through a seen_through_support that is no distance above 0).
   explicit GraphSlam(const GraphSlamOptions& options = {});
 
   // Adds a scan taken at odometry pose `odometry` (any fixed frame); returns the scan's pose in

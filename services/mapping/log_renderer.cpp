@@ -17,7 +17,7 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
     throw Error(ErrorCode::kInvalidArgument, "render: step and range noise must be >= 0, turn and no-return > 0");
   std::mt19937_64 rng(options.seed);
   std::optional<PathWalkers> people;
-  if (options.people.count > 0) {
+  if (options.people.count != 0) {  // PathWalkers refuses a negative count
     std::vector<Pose2> path;
     std::vector<double> stamps;
     for (const CarmenScan& s : log.scans) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "services/common/pose2.h"
+#include "services/mapping/cell_key.h"
 
 namespace navd::mapping {
 
@@ -49,7 +50,7 @@ class PointToLineMatcher {
   PointToLineResult Match(const std::vector<Point2>& points, const Pose2& initial) const;
 
  private:
-  long long Key(int cx, int cy) const { return (static_cast<long long>(cx) << 32) ^ static_cast<unsigned>(cy); }
+  long long Key(int cx, int cy) const { return CellKey(cx, cy); }
   int Cell(double v) const { return static_cast<int>(std::floor(v / cell_)); }
   // Indices of reference points in the 3 x 3 cells around p.
   template <typename Visit>

@@ -6,6 +6,18 @@
 #include "services/common/scan_reach.h"
 
 namespace navd::mapping {
+namespace {
+
+// Beams either side of the one towards a place: `span` rad at `increment` rad apart, at least the
+// next beam each side and at most the whole scan. A span or spacing that is no number, or so fine
+// that the count would not fit, judges the whole scan, which then never reads as seen through.
+size_t SideBeams(double span, double increment, size_t beams) {
+  const double count = span / increment;
+  const double whole = std::max(1.0, static_cast<double>(beams));
+  return static_cast<size_t>(std::isfinite(count) ? std::clamp(std::round(count), 1.0, whole) : whole);
+}
+
+}  // namespace
 
 SeenThroughCheck::SeenThroughCheck(const Pose2& pose, const std::vector<float>& ranges, double angle_min,
                                    double angle_increment, double no_return, const SeenThroughOptions& options)
@@ -15,48 +27,29 @@ SeenThroughCheck::SeenThroughCheck(const Pose2& pose, const std::vector<float>& 
       angle_min_(angle_min),
       angle_increment_(angle_increment),
       no_return_(no_return),
-      side_(angle_increment > 0.0 ? static_cast<size_t>(std::max(1.0, std::round(o_.span / angle_increment))) : 1) {}
+      side_(SideBeams(o_.span, angle_increment, ranges.size())) {}
 
 bool SeenThroughCheck::SawThrough(const Point2& place) const {
   if (ranges_.size() < 3 || !(angle_increment_ > 0.0)) return false;
   const Point2 local = inverse_ * place;
   const double distance = local.norm();
   if (distance < o_.min_distance || distance > o_.max_distance) return false;
-  const double beam = std::round((std::atan2(local.y(), local.x()) - angle_min_) / angle_increment_);
-  const double side = static_cast<double>(side_);
-  if (!(beam >= side) || beam > static_cast<double>(ranges_.size()) - 1.0 - side) return false;
-  const size_t i = static_cast<size_t>(beam);
-  for (size_t j = i - side_; j <= i + side_; ++j) {
-    const double r = ranges_[j];
+  // The bearing from the first beam, counter-clockwise within a turn: a scanner sweeping from 0 to
+  // 2π sees a place at a negative bearing as well.
+  double bearing = NormalizeAngle(std::atan2(local.y(), local.x()) - angle_min_);
+  if (bearing < 0.0) bearing += 2.0 * M_PI;
+  const double beam = std::round(bearing / angle_increment_);
+  const double n = static_cast<double>(ranges_.size()), side = static_cast<double>(side_);
+  // A scanner sweeping a whole turn has beams on either side of its seam; any other, only inside
+  // its sweep.
+  const bool whole_turn = n * angle_increment_ >= 2.0 * M_PI - 0.5 * angle_increment_;
+  if (whole_turn ? (beam >= n + 0.5 || 2.0 * side + 1.0 > n) : (!(beam >= side) || beam > n - 1.0 - side)) return false;
+  const size_t count = ranges_.size(), i = static_cast<size_t>(beam) % count;
+  for (size_t k = 0; k <= 2 * side_; ++k) {
+    const double r = ranges_[(i + count - side_ + k) % count];
     if (!IsEcho(r, no_return_) || r < distance + o_.margin) return false;
   }
   return true;
-}
-
-int64_t SharedPlaces::Key(const Point2& p, int dx, int dy) const {
-  return (static_cast<int64_t>(std::floor(p.x() / radius_) + dx) << 32) ^
-         static_cast<uint32_t>(static_cast<int32_t>(std::floor(p.y() / radius_) + dy));
-}
-
-void SharedPlaces::Add(const Point2& point, int scan) {
-  entries_.push_back({Key(point, 0, 0), point, scan});
-  sorted_ = false;
-}
-
-bool SharedPlaces::SeenByAnother(const Point2& point, int scan) {
-  if (!sorted_) {
-    std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.cell < b.cell; });
-    sorted_ = true;
-  }
-  auto by_cell = [](const Entry& e, int64_t cell) { return e.cell < cell; };
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy) {
-      const int64_t cell = Key(point, dx, dy);
-      for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell, by_cell);
-           it != entries_.end() && it->cell == cell; ++it)
-        if (it->scan != scan && (it->point - point).squaredNorm() < radius_ * radius_) return true;
-    }
-  return false;
 }
 
 }  // namespace navd::mapping

@@ -6,7 +6,6 @@
 // along the corridor to fit it. Walls are not seen through: at a wall's edge the beam beside the
 // place hits the wall, and along a wall at a grazing angle the beams on one side hit it nearer.
 // Map frame, metres, radians.
-#include <cstdint>
 #include <vector>
 
 #include "services/common/pose2.h"
@@ -47,29 +46,6 @@ class SeenThroughCheck {
   const std::vector<float>& ranges_;
   double angle_min_, angle_increment_, no_return_;
   size_t side_;  // beams either side of the one towards a place, from span
-};
-
-// The points of several scans (map frame), each tagged with its scan: whether a scan other than a
-// point's own has a point near it. What two scans saw in one place stood still there; a person
-// walking past is seen by each scan somewhere else.
-class SharedPlaces {
- public:
-  explicit SharedPlaces(double radius) : radius_(radius) {}
-  void Add(const Point2& point, int scan);
-  // A point of a scan other than `scan` lies within the radius of `point`. The first query after
-  // an Add sorts the points by cell.
-  bool SeenByAnother(const Point2& point, int scan);
-
- private:
-  struct Entry {
-    int64_t cell;
-    Point2 point;
-    int scan;
-  };
-  int64_t Key(const Point2& p, int dx, int dy) const;
-  double radius_;
-  std::vector<Entry> entries_;  // by cell (of the radius) once sorted
-  bool sorted_ = true;
 };
 
 }  // namespace navd::mapping

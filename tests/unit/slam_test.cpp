@@ -22,6 +22,7 @@
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
 #include "services/mapping/seen_through_check.h"
+#include "services/mapping/shared_places.h"
 #include "services/mapping/surface_facing_check.h"
 
 namespace navd::mapping {
@@ -299,6 +300,49 @@ TEST(SeenThroughCheck, ABeamReadingBeyondAPlaceSawThroughItButNotAWallItsEdgeOrA
   EXPECT_FALSE(SeenThroughCheck(pose, open.ranges, open.angle_min, open.angle_increment, 20.0).SawThrough({5.0, 1.5}));
 }
 
+// The beams within the span (2 degrees) either side judge a place, whatever the scanner's spacing:
+// 4 either side at half a degree, 2 at one degree.
+TEST(SeenThroughCheck, JudgesTheSameSweepWhateverTheBeamSpacing) {
+  for (const int beams : {361, 181}) {
+    const double increment = M_PI / (beams - 1);
+    const size_t ahead = static_cast<size_t>(beams / 2), side = beams == 361 ? 4 : 2;
+    std::vector<float> ranges(static_cast<size_t>(beams), 10.0f);
+    const Pose2 pose;
+    EXPECT_TRUE(SeenThroughCheck(pose, ranges, -M_PI / 2, increment, 20.0).SawThrough({3.0, 0.0})) << beams;
+    ranges[ahead + side] = 2.0f;  // the last beam within the span hits something nearer than the place
+    EXPECT_FALSE(SeenThroughCheck(pose, ranges, -M_PI / 2, increment, 20.0).SawThrough({3.0, 0.0})) << beams;
+    ranges[ahead + side] = 10.0f;
+    ranges[ahead + side + 1] = 2.0f;  // the first beyond it does not count
+    EXPECT_TRUE(SeenThroughCheck(pose, ranges, -M_PI / 2, increment, 20.0).SawThrough({3.0, 0.0})) << beams;
+  }
+}
+
+// A scanner sweeping a whole turn from 0 has beams on both sides of its seam: a place just
+// clockwise of its first beam is judged by the last beams and the first.
+TEST(SeenThroughCheck, JudgesAPlaceAcrossAWholeTurnScannersSeam) {
+  std::vector<float> ranges(360, 10.0f);
+  const double increment = 2.0 * M_PI / 360.0;
+  const Pose2 pose;
+  const Point2 place(3.0 * std::cos(-increment), 3.0 * std::sin(-increment));  // beam 359
+  EXPECT_TRUE(SeenThroughCheck(pose, ranges, 0.0, increment, 20.0).SawThrough(place));
+  ranges[1] = 2.0f;  // two beams on, across the seam
+  EXPECT_FALSE(SeenThroughCheck(pose, ranges, 0.0, increment, 20.0).SawThrough(place));
+  // Beams spread too finely to count, or no spacing at all, see through nothing.
+  ranges[1] = 10.0f;
+  EXPECT_FALSE(SeenThroughCheck(pose, ranges, 0.0, 1e-300, 20.0).SawThrough(place));
+  EXPECT_FALSE(SeenThroughCheck(pose, ranges, 0.0, std::nan(""), 20.0).SawThrough(place));
+}
+
+TEST(SharedPlaces, RefusesARadiusThatIsNoDistanceAndSoDoesGraphSlamWhenItWouldUseIt) {
+  EXPECT_THROW(SharedPlaces(0.0), Error);
+  EXPECT_THROW(SharedPlaces(std::nan("")), Error);
+  GraphSlamOptions o;
+  o.seen_through_support = 0.0;
+  EXPECT_NO_THROW(GraphSlam{o});  // off: never used
+  o.drop_seen_through = true;
+  EXPECT_THROW(GraphSlam{o}, Error);
+}
+
 TEST(SharedPlaces, APlaceIsSharedWhenAnotherScansPointLiesNearIt) {
   SharedPlaces places(0.15);
   places.Add({0.0, 0.0}, 1);
@@ -306,9 +350,11 @@ TEST(SharedPlaces, APlaceIsSharedWhenAnotherScansPointLiesNearIt) {
   places.Add({-0.14, 0.0}, 3);
   EXPECT_FALSE(places.SeenByAnother({1.05, 0.0}, 2));  // its own point only
   EXPECT_TRUE(places.SeenByAnother({1.05, 0.05}, 1));
-  EXPECT_TRUE(places.SeenByAnother({0.0, 0.1}, 3));  // across a cell's edge
+  EXPECT_TRUE(places.SeenByAnother({0.0, 0.1}, 3));
   EXPECT_FALSE(places.SeenByAnother({0.5, 0.0}, 1));
   EXPECT_FALSE(places.SeenByAnother({0.0, 0.2}, 2));
+  places.Add({-0.01, -0.01}, 4);
+  EXPECT_TRUE(places.SeenByAnother({0.01, 0.01}, 5));  // across both axes' cell edges at 0
 }
 
 // Two laps of the room while a person walks back and forth across its lower half: the returns
@@ -733,9 +779,9 @@ std::vector<Pose2> SquareLoop() {
 
 TEST(RelativePoseError, NeedsNoCommonFrame) {
   const std::vector<Pose2> truth = SquareLoop();
-  std::vector<Pose2> estimate;
   const Pose2 elsewhere(12.0, -3.0, 2.0);
-  for (const Pose2& p : truth) estimate.push_back(elsewhere * p);
+  std::vector<Pose2> estimate(truth.size());
+  std::transform(truth.begin(), truth.end(), estimate.begin(), [&](const Pose2& p) { return elsewhere * p; });
   const RelativeError e = RelativePoseError(estimate, truth);
   EXPECT_EQ(e.relations, static_cast<int>(truth.size()) - 1);
   EXPECT_NEAR(e.translation_mean, 0.0, 1e-12);
