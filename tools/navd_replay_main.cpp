@@ -138,11 +138,12 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   std::printf(
       "slam: %zu scans, %d nodes, %d loop closures (%d wrong) of %d attempts, %zu refinement matches (%d wrong), "
       "ATE RMSE %.4f m after SE(2) alignment, heading RMSE %.4f rad, worst %.3f m, %.2f ms per scan, "
-      "relative error per scan step %.4f m, %.4f rad (mean) -> %s\n",
+      "relative error per scan step %.4f m, %.4f rad (mean; RMS along the travel %.4f m, across it %.4f m) -> %s\n",
       estimate.size(), slam.nodes(), slam.loop_closures(), wrong, slam.loop_attempts(), slam.refinements().size(),
       wrong_refinements, error.position_rmse, error.heading_rmse, error.worst,
       1e3 * busy / static_cast<double>(estimate.size()), relative ? relative->translation_mean : no_step,
-      relative ? relative->rotation_mean : no_step, out.c_str());
+      relative ? relative->rotation_mean : no_step, relative ? relative->along_rmse : no_step,
+      relative ? relative->across_rmse : no_step, out.c_str());
   if (!map_out.empty() || !png.empty()) {
     mapping::MapperOptions o;
     o.resolution = resolution;

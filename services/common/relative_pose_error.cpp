@@ -11,7 +11,7 @@ RelativeError RelativePoseError(const std::vector<Pose2>& estimate, const std::v
     throw Error(ErrorCode::kInvalidArgument,
                 "relative pose error needs two equally long trajectories of more poses than the step (>= 1)");
   RelativeError out;
-  double sq_translation = 0.0, sq_rotation = 0.0;
+  double sq_translation = 0.0, sq_rotation = 0.0, sq_along = 0.0, sq_across = 0.0;
   for (size_t i = 0; i + step < estimate.size(); ++i) {
     const Pose2 estimated = estimate[i].inverse() * estimate[i + step];
     const Pose2 true_step = truth[i].inverse() * truth[i + step];
@@ -22,6 +22,13 @@ RelativeError RelativePoseError(const std::vector<Pose2>& estimate, const std::v
     out.rotation_mean += rotation;
     sq_translation += translation * translation;
     sq_rotation += rotation * rotation;
+    // The same translation error in the step's first frame, split by the true step's direction.
+    const Point2 offset = estimated.translation() - true_step.translation();
+    const double length = true_step.translation().norm();
+    const Point2 travel = length > 1e-9 ? Point2(true_step.translation() / length) : Point2(1.0, 0.0);
+    const double along = offset.dot(travel), across = travel.x() * offset.y() - travel.y() * offset.x();
+    sq_along += along * along;
+    sq_across += across * across;
     ++out.relations;
   }
   const double n = static_cast<double>(out.relations);
@@ -29,6 +36,8 @@ RelativeError RelativePoseError(const std::vector<Pose2>& estimate, const std::v
   out.rotation_mean /= n;
   out.translation_rmse = std::sqrt(sq_translation / n);
   out.rotation_rmse = std::sqrt(sq_rotation / n);
+  out.along_rmse = std::sqrt(sq_along / n);
+  out.across_rmse = std::sqrt(sq_across / n);
   return out;
 }
 

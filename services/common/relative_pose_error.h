@@ -17,6 +17,10 @@ struct RelativeError {
   // where pose_ij = pose_i⁻¹ ∘ pose_j (pose j in pose i's frame), and their RMS.
   double translation_mean = 0.0, translation_rmse = 0.0;  // m
   double rotation_mean = 0.0, rotation_rmse = 0.0;        // rad
+  // The translation's RMS split along the true step's direction of travel (for a turn on the spot,
+  // the heading it started from) and across it: a robot driving a bare corridor measures its step
+  // along it by odometry alone, and errs along.
+  double along_rmse = 0.0, across_rmse = 0.0;  // m
 };
 
 // Throws Error(kInvalidArgument) unless both trajectories hold the same number of poses, more than

@@ -815,6 +815,21 @@ TEST(RelativePoseError, ABendCostsOneRelationWhereTheAbsoluteErrorCostsMostPoses
   EXPECT_GT(off, static_cast<int>(truth.size()) / 2);
 }
 
+// Odometry that reads every step 10 % long errs along the travel only, turns or not.
+TEST(RelativePoseError, SplitsTheErrorAlongTheTravelAndAcrossIt) {
+  const std::vector<Pose2> truth = SquareLoop();
+  std::vector<Pose2> estimate{truth.front()};
+  for (size_t i = 1; i < truth.size(); ++i) {
+    const Pose2 step = truth[i - 1].inverse() * truth[i];
+    estimate.push_back(estimate.back() * Pose2(1.1 * step.x, 1.1 * step.y, step.theta));
+  }
+  const RelativeError e = RelativePoseError(estimate, truth);
+  EXPECT_NEAR(e.along_rmse, 0.05, 1e-12);  // every step is 0.5 m
+  EXPECT_NEAR(e.across_rmse, 0.0, 1e-12);
+  EXPECT_NEAR(e.translation_rmse, 0.05, 1e-12);
+  EXPECT_NEAR(e.rotation_rmse, 0.0, 1e-12);
+}
+
 TEST(RelativePoseError, RefusesTrajectoriesItCannotCompare) {
   const std::vector<Pose2> truth = SquareLoop();
   const std::vector<Pose2> shorter(truth.begin(), truth.end() - 1);
