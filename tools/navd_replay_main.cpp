@@ -12,13 +12,15 @@
 // services/common/odometry_noise.h (per step between scans: translation scaled by 1 + N(0, T);
 // heading error N(0, R * distance) plus N(0, T * |turn|)),
 // writes one TUM line (t x y z qx qy qz qw) per scan and prints the error against the corrected
-// poses (SLAM also its relative error per scan step, services/common/relative_pose_error.h). Without --map it first
-// builds the map from those poses. `--odometry log` takes the odometry the log itself holds instead
-// (carmen_odometry.h): how raw robot logs run; SLAM then searches again wider where a scan fits its predicted pose
-// poorly (--front-recovery). SLAM's front end widens its window with the motion by --odom-noise's model, never less
-// than the default one (with --odometry log: the robot's odometry's noise, as far as it is known). `render` writes a
-// FLASER log whose scans are cast again in the map the log's poses draw (at --resolution), at those poses or every
-// --step metres between them, with --people walking the log's path (services/mapping/log_renderer.h).
+// poses (SLAM also its relative error per scan step, services/common/relative_pose_error.h).
+// Without --map it first builds the map from those poses. `--odometry log` takes the odometry the
+// log itself holds instead (carmen_odometry.h): how raw robot logs run; SLAM then searches again
+// wider where a scan fits its predicted pose poorly (--front-recovery). SLAM's front end widens its
+// window with the motion by --odom-noise's model, never less than the default one (with
+// --odometry log: the robot's odometry's noise, as far as it is known). `render` writes a FLASER
+// log whose scans are cast again in the map the log's poses draw (at --resolution), at those poses
+// or every --step metres between them, with --people walking the log's path
+// (services/mapping/log_renderer.h).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -107,9 +109,9 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   const TrajectoryError error = AlignedTrajectoryError(estimate, truth);
   // Step by step, as Kümmerle et al.'s relations metric (Cartographer's paper reports it); a log of
   // one scan has no step (nan).
-  const std::optional<RelativeError> relative =
-      estimate.size() > 1 ? std::optional(RelativePoseError(estimate, truth)) : std::nullopt;
-  const double no_step = std::nan("");
+  RelativeError relative;
+  relative.translation_mean = relative.rotation_mean = relative.along_rmse = relative.across_rmse = std::nan("");
+  if (estimate.size() > 1) relative = RelativePoseError(estimate, truth);
   std::string tum;
   for (size_t k = 0; k < estimate.size(); ++k) {
     const Pose2& e = estimate[k];
@@ -141,9 +143,8 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
       "relative error per scan step %.4f m, %.4f rad (mean; RMS along the travel %.4f m, across it %.4f m) -> %s\n",
       estimate.size(), slam.nodes(), slam.loop_closures(), wrong, slam.loop_attempts(), slam.refinements().size(),
       wrong_refinements, error.position_rmse, error.heading_rmse, error.worst,
-      1e3 * busy / static_cast<double>(estimate.size()), relative ? relative->translation_mean : no_step,
-      relative ? relative->rotation_mean : no_step, relative ? relative->along_rmse : no_step,
-      relative ? relative->across_rmse : no_step, out.c_str());
+      1e3 * busy / static_cast<double>(estimate.size()), relative.translation_mean, relative.rotation_mean,
+      relative.along_rmse, relative.across_rmse, out.c_str());
   if (!map_out.empty() || !png.empty()) {
     mapping::MapperOptions o;
     o.resolution = resolution;

@@ -15,15 +15,14 @@ RelativeError RelativePoseError(const std::vector<Pose2>& estimate, const std::v
   for (size_t i = 0; i + step < estimate.size(); ++i) {
     const Pose2 estimated = estimate[i].inverse() * estimate[i + step];
     const Pose2 true_step = truth[i].inverse() * truth[i + step];
-    const Pose2 error = true_step.inverse() * estimated;
-    const double translation = std::hypot(error.x, error.y);
-    const double rotation = std::abs(NormalizeAngle(error.theta));
+    // The step's translation error in its first frame, split by the true step's direction.
+    const Point2 offset = estimated.translation() - true_step.translation();
+    const double translation = offset.norm();
+    const double rotation = std::abs(NormalizeAngle(estimated.theta - true_step.theta));
     out.translation_mean += translation;
     out.rotation_mean += rotation;
     sq_translation += translation * translation;
     sq_rotation += rotation * rotation;
-    // The same translation error in the step's first frame, split by the true step's direction.
-    const Point2 offset = estimated.translation() - true_step.translation();
     const double length = true_step.translation().norm();
     const Point2 travel = length > 1e-9 ? Point2(true_step.translation() / length) : Point2(1.0, 0.0);
     const double along = offset.dot(travel), across = travel.x() * offset.y() - travel.y() * offset.x();

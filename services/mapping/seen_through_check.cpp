@@ -27,7 +27,8 @@ SeenThroughCheck::SeenThroughCheck(const Pose2& pose, const std::vector<float>& 
       angle_min_(angle_min),
       angle_increment_(angle_increment),
       no_return_(no_return),
-      side_(SideBeams(o_.span, angle_increment, ranges.size())) {}
+      side_(SideBeams(o_.span, angle_increment, ranges.size())),
+      whole_turn_(static_cast<double>(ranges.size()) * angle_increment >= 2.0 * M_PI - 0.5 * angle_increment) {}
 
 bool SeenThroughCheck::SawThrough(const Point2& place) const {
   if (ranges_.size() < 3 || !(angle_increment_ > 0.0)) return false;
@@ -42,8 +43,8 @@ bool SeenThroughCheck::SawThrough(const Point2& place) const {
   const double n = static_cast<double>(ranges_.size()), side = static_cast<double>(side_);
   // A scanner sweeping a whole turn has beams on either side of its seam; any other, only inside
   // its sweep.
-  const bool whole_turn = n * angle_increment_ >= 2.0 * M_PI - 0.5 * angle_increment_;
-  if (whole_turn ? (beam >= n + 0.5 || 2.0 * side + 1.0 > n) : (!(beam >= side) || beam > n - 1.0 - side)) return false;
+  if (whole_turn_ ? (beam >= n + 0.5 || 2.0 * side + 1.0 > n) : (!(beam >= side) || beam > n - 1.0 - side))
+    return false;
   const size_t count = ranges_.size(), i = static_cast<size_t>(beam) % count;
   for (size_t k = 0; k <= 2 * side_; ++k) {
     const double r = ranges_[(i + count - side_ + k) % count];

@@ -45,7 +45,8 @@ class SeenThroughCheck {
   Pose2 inverse_;
   const std::vector<float>& ranges_;
   double angle_min_, angle_increment_, no_return_;
-  size_t side_;  // beams either side of the one towards a place, from span
+  size_t side_;      // beams either side of the one towards a place, from span
+  bool whole_turn_;  // the beams sweep a whole turn: the first and last are neighbours
 };
 
 }  // namespace navd::mapping
