@@ -1,7 +1,7 @@
 // navd-replay: runs navd's library code over a recorded CARMEN log, as fast as it can.
 //   navd-replay --log FILE[.gz] --mode map --out MAP.yaml [--resolution 0.05]
 //   navd-replay --log FILE[.gz] --mode render --out RENDERED.log [--step M] [--turn RAD] [--range-noise M]
-//               [--people N] [--seed N]
+//               [--people N] [--fov DEG --beams N] [--seed N]
 //   navd-replay --log FILE[.gz] --mode localize|slam --out EST.tum [--odometry noisy|log]
 //               [--map MAP.yaml] [--odom-noise T,R] [--seed N] [--localizer amcl|ekf|calibration]
 //               [--front-recovery SCORE] [--frame-turn RAD] [--drop-seen-through]
@@ -19,8 +19,8 @@
 // window with the motion by --odom-noise's model, never less than the default one (with
 // --odometry log: the robot's odometry's noise, as far as it is known). `render` writes a FLASER
 // log whose scans are cast again in the map the log's poses draw (at --resolution), at those poses
-// or every --step metres between them, with --people walking the log's path
-// (services/mapping/log_renderer.h).
+// or every --step metres between them, with --people walking the log's path, by the log's scanner
+// or another one (--fov, --beams) (services/mapping/log_renderer.h).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -280,9 +280,7 @@ int Render(const navd::CarmenLog& log, const std::string& out, double resolution
   navd::CarmenLog timed = log;
   if (options.people.count > 0) navd::PaceScansWhenStampsAreCoarse(timed);
   const navd::CarmenLog rendered = navd::mapping::RenderLog(timed, navd::RayCaster(map), options);
-  std::string text;
-  for (const navd::CarmenScan& s : rendered.scans) text += navd::FormatFlaserLine(s, "navd-replay");
-  navd::WriteFileAtomically(out, text);
+  navd::WriteFileAtomically(out, navd::FormatFlaserLog(rendered, "navd-replay"));
   std::printf(
       "render: %zu scans from the log's %zu, in its %dx%d-cell map at %.3f m, range noise %.3f m, %d people -> %s\n",
       rendered.scans.size(), log.scans.size(), map.width(), map.height(), map.resolution(), options.range_noise,
@@ -311,6 +309,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.001, 10.0));
   app.add_option("--range-noise", render.range_noise, "render: metres of Gaussian noise on each echo")
       ->check(CLI::Range(0.0, 1.0));
+  double render_fov_degrees = 0.0;
+  CLI::Option* fov_option =
+      app.add_option("--fov", render_fov_degrees,
+                     "render: with --beams, the scanner's field of view in degrees, centred ahead (default: the log's)")
+          ->check(CLI::Range(0.01, 360.0));
+  app.add_option("--beams", render.beams, "render: with --fov, the scanner's beam count, evenly apart")
+      ->check(CLI::Range(2, 100000))
+      ->needs(fov_option);
+  fov_option->needs("--beams");
   app.add_option("--people", render.people.count,
                  "render: people walking the log's path, back and forth at about 1 m/s (path_walkers.h)")
       ->check(CLI::Range(0, 10000));
@@ -407,6 +414,7 @@ int main(int argc, char** argv) {
     if (mode == "map") {
       rc = BuildMap(log, out, resolution, png);
     } else if (mode == "render") {
+      render.fov = render_fov_degrees * M_PI / 180.0;
       render.seed = render.people.seed = seed;
       rc = Render(log, out, resolution, render);
     } else if (mode == "slam") {

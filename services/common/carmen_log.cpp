@@ -46,8 +46,6 @@ bool ParseScan(std::istringstream& in, CarmenScan& s) {
   if (!(in >> x >> y >> t >> ox >> oy >> ot >> s.timestamp)) return false;
   s.pose = {x, y, NormalizeAngle(t)};
   s.odometry = {ox, oy, NormalizeAngle(ot)};
-  s.angle_min = CarmenBeamAngle(0, s.ranges.size());
-  s.angle_increment = n > 1 ? CarmenBeamAngle(1, s.ranges.size()) - s.angle_min : 0.0;
   return s.pose.finite() && s.odometry.finite() && std::isfinite(s.timestamp);
 }
 
@@ -131,9 +129,22 @@ bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::vector
   } else if (type == "PARAM") {
     std::string name;
     double value = 0.0;
-    if (in >> name && name == "robot_frontlaser_offset") {
+    if (!(in >> name)) return true;
+    if (name == "robot_frontlaser_offset") {
       if (!(in >> value) || !std::isfinite(value) || std::abs(value) > 10.0) return false;
       log.front_laser_offset = value;
+    } else if (name == "laser_front_laser_fov") {
+      // Radians in some CARMEN versions (3.14159), degrees in others (180): no scanner's field of
+      // view is under 7 degrees, nor any over a whole turn. Radians written to five decimals are
+      // taken to the hundredth of a degree they round (3.14159 is 180 degrees).
+      if (!(in >> value) || !std::isfinite(value) || value <= 0.0) return false;
+      const double degrees = std::round((value > 7.0 ? value : value * 180.0 / M_PI) * 100.0) / 100.0;
+      if (degrees <= 0.0 || degrees > 360.0) return false;
+      log.front_laser_fov = degrees * M_PI / 180.0;
+    } else if (name == "laser_front_laser_resolution") {
+      // Degrees between beams, as CARMEN's laser module takes it.
+      if (!(in >> value) || !std::isfinite(value) || value <= 0.0 || value > 45.0) return false;
+      log.front_laser_resolution = value * M_PI / 180.0;
     }
   } else if (type == "TRUEPOS") {
     CarmenTruth o;
@@ -168,7 +179,10 @@ class LogLines {
   void Add(const std::string& line) {
     ++line_no_;
     std::string type;
-    if (ParseLine(line, line_no_, log_, raw_scans_, type)) return;
+    if (ParseLine(line, line_no_, log_, raw_scans_, type)) {
+      if (type == "FLASER") flaser_scans_.push_back(log_.scans.size() - 1);
+      return;
+    }
     if (strict_)
       throw Error(ErrorCode::kInvalidArgument,
                   source_ + ":" + std::to_string(line_no_) + ": malformed " + type + " line");
@@ -176,6 +190,13 @@ class LogLines {
   }
 
   CarmenLog Finish() && {
+    // PARAM lines may follow the first scans; the beams are placed once the whole log is read.
+    for (size_t i : flaser_scans_) {
+      CarmenScan& s = log_.scans[i];
+      const FlaserBeamLayout beams = FlaserBeams(s.ranges.size(), log_.front_laser_fov, log_.front_laser_resolution);
+      s.angle_min = beams.angle_min;
+      s.angle_increment = beams.angle_increment;
+    }
     if (log_.scans.empty() && !raw_scans_.empty()) PoseRawScans(log_, std::move(raw_scans_), source_);
     if (log_.scans.empty())
       throw Error(ErrorCode::kInvalidArgument, source_ + ": no FLASER, ROBOTLASER1 or RAWLASER1 scans");
@@ -191,6 +212,7 @@ class LogLines {
   int line_no_ = 0;
   CarmenLog log_;
   std::vector<CarmenScan> raw_scans_;  // RAWLASER1 scans, used only in a log without posed scans
+  std::vector<size_t> flaser_scans_;   // indices in log_.scans of the FLASER lines' scans
 };
 
 }  // namespace
@@ -241,19 +263,33 @@ int TimeScansInFileOrder(CarmenLog& log, double max_speed, double max_turn_rate,
   return moved;
 }
 
-std::string FormatFlaserLine(const CarmenScan& scan, const std::string& host) {
+FlaserBeamLayout FlaserBeams(size_t n, double fov, double resolution) {
+  const FlaserBeamLayout by_count{CarmenBeamAngle(0, n), n > 1 ? CarmenBeamAngle(1, n) - CarmenBeamAngle(0, n) : 0.0};
+  const bool fov_said = fov > 0.0 && std::abs(fov - M_PI) > 1e-9;
+  if (n < 2 || (!fov_said && resolution <= 0.0)) return by_count;
+  if (fov <= 0.0) fov = M_PI;
+  const double gaps = static_cast<double>(n - 1);
+  const double step = resolution > 0.0 && gaps * resolution <= fov + 0.5 * resolution ? resolution : fov / gaps;
+  const FlaserBeamLayout by_params{-0.5 * fov, step};
+  // Where both say the same, the count's guess, to the last bit, as a log without the lines reads.
+  const bool same = std::abs(by_params.angle_min - by_count.angle_min) < 1e-9 &&
+                    std::abs(by_params.angle_increment - by_count.angle_increment) < 1e-12;
+  return same ? by_count : by_params;
+}
+
+std::string FormatFlaserLine(const CarmenScan& scan, const std::string& host, double fov, double resolution) {
   const size_t n = scan.ranges.size();
-  const bool flaser_angles =
-      n > 0 && std::abs(scan.angle_min - CarmenBeamAngle(0, n)) < 1e-6 &&
-      (n < 2 || std::abs(scan.angle_increment - (CarmenBeamAngle(1, n) - CarmenBeamAngle(0, n))) < 1e-9);
+  const FlaserBeamLayout beams = FlaserBeams(n, fov, resolution);
+  const bool flaser_angles = n > 0 && std::abs(scan.angle_min - beams.angle_min) < 1e-6 &&
+                             (n < 2 || std::abs(scan.angle_increment - beams.angle_increment) < 1e-9);
   if (!flaser_angles) {
     const double degrees = 180.0 / M_PI;
     char what[200];
     std::snprintf(what, sizeof what,
                   "a FLASER line's %zu beams are read back from %.2f degrees, %.4f apart; these start at %.2f, %.4f "
                   "apart",
-                  n, CarmenBeamAngle(0, n) * degrees, (CarmenBeamAngle(1, n) - CarmenBeamAngle(0, n)) * degrees,
-                  scan.angle_min * degrees, scan.angle_increment * degrees);
+                  n, beams.angle_min * degrees, beams.angle_increment * degrees, scan.angle_min * degrees,
+                  scan.angle_increment * degrees);
     throw Error(ErrorCode::kInvalidArgument, what);
   }
   std::string line = "FLASER " + std::to_string(n);
@@ -305,6 +341,23 @@ CarmenLog ParseCarmenLog(const std::string& text, const std::string& source, boo
   std::istringstream in(text);
   for (std::string line; std::getline(in, line);) lines.Add(line);
   return std::move(lines).Finish();
+}
+
+std::string FormatFlaserLog(const CarmenLog& log, const std::string& host) {
+  std::string text;
+  char line[160];
+  if (log.front_laser_fov > 0.0) {
+    std::snprintf(line, sizeof line, "PARAM laser_front_laser_fov %.9f %s 0\n", log.front_laser_fov, host.c_str());
+    text += line;
+  }
+  if (log.front_laser_resolution > 0.0) {
+    std::snprintf(line, sizeof line, "PARAM laser_front_laser_resolution %.9f %s 0\n",
+                  log.front_laser_resolution * 180.0 / M_PI, host.c_str());
+    text += line;
+  }
+  for (const CarmenScan& s : log.scans)
+    text += FormatFlaserLine(s, host, log.front_laser_fov, log.front_laser_resolution);
+  return text;
 }
 
 }  // namespace navd

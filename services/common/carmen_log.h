@@ -2,12 +2,13 @@
 // Reader of CARMEN logs (the format of the classic public 2-D laser datasets): `FLASER` laser scans
 // with the laser's pose (corrected, in "corrected" logs) and odometry pose, `ROBOTLASER1` scans
 // (which carry their own angles, as navsim's recorder writes them), `ODOM` odometry, `TRUEPOS`
-// ground truth (simulators) and the `PARAM robot_frontlaser_offset`. A log logged without the
+// ground truth (simulators), the `PARAM robot_frontlaser_offset` and the front laser's
+// `PARAM laser_front_laser_fov` and `laser_front_laser_resolution` (FlaserBeams). A log logged without the
 // robot's laser messages (no FLASER or ROBOTLASER1 line) has its `RAWLASER1` scans read instead,
 // each placed where its ODOM lines put the scanner at its stamp, as a raw log's FLASER lines hold
 // the odometry's pose. Plain or gzip-compressed.
-// FLASER lines carry no angles: their beam count says them (CarmenBeamAngle). Metres, radians,
-// seconds.
+// FLASER lines carry no angles: the log's PARAM lines or else their beam count say them
+// (FlaserBeams, CarmenBeamAngle). Metres, radians, seconds.
 #include <cstddef>
 #include <functional>
 #include <limits>
@@ -52,6 +53,10 @@ struct CarmenLog {
   // when the log does not say): its scans' origin, while ODOM lines and FLASER's odom fields are
   // the centre's.
   double front_laser_offset = 0.0;
+  // rad: the front laser's field of view and beam spacing as its PARAM lines state them (0 when
+  // the log does not say); FLASER scans' beams are placed by them (FlaserBeams).
+  double front_laser_fov = 0.0;
+  double front_laser_resolution = 0.0;
   int skipped_lines = 0;  // malformed lines skipped (when not strict)
 };
 
@@ -98,8 +103,12 @@ int TimeScansInFileOrder(CarmenLog& log, double max_speed = 3.0, double max_turn
 // One FLASER line (newline-terminated) that ReadCarmenLog reads back as `scan`: ranges to the
 // millimetre, laser pose, odometry pose and stamp (also as the logger's stamp), written by `host`.
 // FLASER carries no angles: throws navd::Error (kInvalidArgument) unless the scan's beams lie where
-// CarmenBeamAngle puts them.
-std::string FormatFlaserLine(const CarmenScan& scan, const std::string& host);
+// FlaserBeams puts them for the log's front laser `fov` and `resolution` (rad, 0: not said).
+std::string FormatFlaserLine(const CarmenScan& scan, const std::string& host, double fov = 0.0,
+                             double resolution = 0.0);
+// `log` as text ReadCarmenLog reads back: its front laser's PARAM lines when it states them, then
+// a FLASER line for each scan (FormatFlaserLine, which throws for beams they do not place).
+std::string FormatFlaserLog(const CarmenLog& log, const std::string& host);
 
 // Beam i of an n-beam FLASER scan, in rad in the laser frame (x ahead, counter-clockwise). FLASER
 // carries no angles, so the count says them, as CARMEN's own reader guesses them for a SICK:
@@ -120,5 +129,20 @@ inline double CarmenBeamAngle(size_t i, size_t n) {
   }
   return start + static_cast<double>(i) * increment;
 }
+
+// Where an n-beam FLASER scan's beams lie, rad in the laser frame: beam 0's angle and the step.
+struct FlaserBeamLayout {
+  double angle_min = 0.0;
+  double angle_increment = 0.0;
+};
+// CARMEN's laser driver starts a scan at -fov / 2 and steps by the resolution, and a log may say
+// both (`PARAM laser_front_laser_fov`, `laser_front_laser_resolution`): a scanner other than a
+// 180-degree SICK (a Hokuyo's 240 degrees, a 270-degree scanner) writes FLASER lines that only
+// these place. `fov` and `resolution` in rad, 0 when not said. With neither, or only a fov of 180
+// degrees, the beam count says (CarmenBeamAngle). With a resolution, beams step by it from
+// -fov / 2 (fov 180 degrees when not said), unless n beams that far apart would reach past the fov
+// by more than half a step: then the line is not the scan the PARAM lines describe, and the fov
+// is spread over its n - 1 gaps, as it is when only the fov is said.
+FlaserBeamLayout FlaserBeams(size_t n, double fov = 0.0, double resolution = 0.0);
 
 }  // namespace navd

@@ -15,6 +15,8 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
   if (log.scans.empty()) throw Error(ErrorCode::kInvalidArgument, "render: the log has no scans");
   if (!(options.step >= 0.0) || !(options.turn > 0.0) || !(options.range_noise >= 0.0) || !(options.no_return > 0.0))
     throw Error(ErrorCode::kInvalidArgument, "render: step and range noise must be >= 0, turn and no-return > 0");
+  if (options.beams != 0 && (options.beams < 2 || !(options.fov > 0.0 && options.fov <= 2.0 * M_PI + 1e-9)))
+    throw Error(ErrorCode::kInvalidArgument, "render: a scanner needs at least 2 beams and a fov within (0, 2 pi]");
   std::mt19937_64 rng(options.seed);
   std::optional<PathWalkers> people;
   if (options.people.count != 0) {  // PathWalkers refuses a negative count
@@ -27,15 +29,24 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
     people.emplace(path, stamps, options.people);
   }
   const ZigguratNormal noise(0.0, options.range_noise);
+  // The scanner's beams as the log states them: its front laser's PARAM lines place them.
   CarmenLog out;
+  out.front_laser_fov = log.front_laser_fov;
+  out.front_laser_resolution = log.front_laser_resolution;
+  if (options.beams != 0) {
+    // To the hundredth of a degree, as the log's PARAM line is read back.
+    out.front_laser_fov = std::round(options.fov * 18000.0 / M_PI) * M_PI / 18000.0;
+    const bool whole_turn = out.front_laser_fov > 2.0 * M_PI - 1e-9;
+    out.front_laser_resolution = out.front_laser_fov / (whole_turn ? options.beams : options.beams - 1);
+  }
   auto render = [&](const CarmenScan& beams, const Pose2& pose, double stamp) {
     CarmenScan s;
-    s.angle_min = beams.angle_min;
-    s.angle_increment = beams.angle_increment;
+    s.angle_min = options.beams != 0 ? -0.5 * out.front_laser_fov : beams.angle_min;
+    s.angle_increment = options.beams != 0 ? out.front_laser_resolution : beams.angle_increment;
     s.range_max = beams.range_max > 0.0 ? beams.range_max : options.no_return;
     s.pose = s.odometry = pose;
     s.timestamp = stamp;
-    s.ranges.resize(beams.ranges.size());
+    s.ranges.resize(options.beams != 0 ? static_cast<size_t>(options.beams) : beams.ranges.size());
     const std::vector<Disc> bodies = people ? people->At(stamp, pose.translation()) : std::vector<Disc>{};
     const std::vector<const Disc*> nearby = DiscsWithin(bodies, pose.translation(), s.range_max, -1);
     for (size_t i = 0; i < s.ranges.size(); ++i) {

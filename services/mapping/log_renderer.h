@@ -25,14 +25,22 @@ struct LogRenderOptions {
   // (a SICK LMS's 81.91).
   double no_return = 81.91;
   uint64_t seed = 1;
+  // The scanner the scans are cast with: `beams` beams over `fov` rad centred ahead, evenly apart
+  // (a whole turn's beams a turn / beams apart, none twice); 0 beams: each scan the beams of the
+  // log's scan it starts from. The rendered log states the fov and spacing as its front laser's
+  // (FlaserBeams).
+  double fov = 0.0;
+  int beams = 0;
   // People walking the log's path (none by default), placed at each rendered scan's stamp: the
   // beams that meet one read their distance to it.
   PathWalkerOptions people;
 };
 
-// One scan per pose (see LogRenderOptions) with the beams of the log's scan it starts from; pose,
-// odometry and stamp are the rendered pose's (stamps interpolated). Beams that hit nothing within
-// the no-return range read it. Throws navd::Error when the log has no scans or a step is negative.
+// One scan per pose (see LogRenderOptions) with the beams of the log's scan it starts from, or the
+// scanner's the options give; pose, odometry and stamp are the rendered pose's (stamps
+// interpolated). Beams that hit nothing within the no-return range read it. Throws navd::Error
+// when the log has no scans, a step is negative, or a scanner given has fewer than 2 beams or a
+// fov not within (0, 2 pi].
 CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRenderOptions& options);
 
 }  // namespace navd::mapping

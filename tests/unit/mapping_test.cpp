@@ -295,6 +295,61 @@ TEST(CarmenLog, KeepsScansInFileOrderWhenStampsRepeatOrGoBack) {
   for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(log.scans[k].ranges[0], 1.0f + k);
 }
 
+// A log that states its front laser's field of view and beam spacing places its FLASER beams by
+// them (CARMEN's driver: from -fov / 2, a resolution apart), in radians or degrees as CARMEN
+// versions write the fov; a log that does not, or states a 180-degree SICK's, keeps the guess from
+// the beam count; a resolution the beam count contradicts gives way to the fov.
+TEST(CarmenLog, PlacesFlaserBeamsWhereTheFrontLasersParamsSay) {
+  const double deg = M_PI / 180.0;
+  auto expect = [&](FlaserBeamLayout got, double min_deg, double step_deg, const char* what) {
+    EXPECT_NEAR(got.angle_min, min_deg * deg, 1e-9) << what;
+    EXPECT_NEAR(got.angle_increment, step_deg * deg, 1e-9) << what;
+  };
+  expect(FlaserBeams(181), -90, 1, "no PARAM");
+  expect(FlaserBeams(360, 0.0, 0.5 * deg), -90, 0.5, "a resolution alone");
+  expect(FlaserBeams(361, M_PI, 0.5 * deg), -90, 0.5, "a SICK's 180 degrees");
+  expect(FlaserBeams(180, M_PI), -90, 1, "180 degrees, no resolution: the count says");
+  expect(FlaserBeams(241, 240 * deg), -120, 1, "a fov alone");
+  expect(FlaserBeams(682, 240 * deg, 0.352 * deg), -120, 0.352, "a Hokuyo");
+  expect(FlaserBeams(361, M_PI, 1.0 * deg), -90, 0.5, "a resolution the count contradicts");
+
+  // An n-beam FLASER line, every beam 2 m.
+  auto flaser = [](int n) {
+    std::string line = "FLASER " + std::to_string(n);
+    for (int i = 0; i < n; ++i) line += " 2.0";
+    return line + " 0 0 0 0 0 0 10.0 h 10.0\n";
+  };
+  const std::string scans = flaser(241);
+  // The PARAM line may come after the scans it describes.
+  for (const std::string param :
+       {"PARAM laser_front_laser_fov 240 h 0\n", "PARAM laser_front_laser_fov 4.18879 h 0\n"}) {
+    const CarmenLog log = ParseCarmenLog(scans + param + scans, "fov", true);
+    ASSERT_EQ(log.scans.size(), 2u);
+    EXPECT_NEAR(log.front_laser_fov, 240 * deg, 1e-12) << param;
+    for (const CarmenScan& s : log.scans) {
+      EXPECT_NEAR(s.angle_min, -120 * deg, 1e-12) << param;
+      EXPECT_NEAR(s.angle_increment, deg, 1e-12) << param;
+    }
+    // Written back with its PARAM lines, it reads back the same.
+    const CarmenLog back = ParseCarmenLog(FormatFlaserLog(log, "test"), "back", true);
+    ASSERT_EQ(back.scans.size(), 2u);
+    EXPECT_NEAR(back.scans[1].angle_min, log.scans[1].angle_min, 1e-9);
+    EXPECT_NEAR(back.scans[1].angle_increment, log.scans[1].angle_increment, 1e-12);
+  }
+  // csail's PARAM lines (3.14159 rad, 0.5 degrees) place its 361 beams exactly where the count does.
+  const CarmenLog sick = ParseCarmenLog(
+      "PARAM laser_front_laser_resolution 0.5 h 0\nPARAM laser_front_laser_fov 3.14159 h 0\n" + flaser(361), "sick",
+      true);
+  EXPECT_EQ(sick.scans[0].angle_min, CarmenBeamAngle(0, 361));
+  EXPECT_EQ(sick.scans[0].angle_increment, CarmenBeamAngle(1, 361) - CarmenBeamAngle(0, 361));
+  for (const std::string bad :
+       {"PARAM laser_front_laser_fov abc h 0\n", "PARAM laser_front_laser_fov -3 h 0\n",
+        "PARAM laser_front_laser_fov 400 h 0\n", "PARAM laser_front_laser_resolution 0 h 0\n"}) {
+    EXPECT_THROW(ParseCarmenLog(bad + scans, "bad", true), Error) << bad;
+    EXPECT_NEAR(ParseCarmenLog(bad + scans, "lenient").scans[0].angle_min, -90 * deg, 1e-12) << bad;
+  }
+}
+
 // A FLASER line reads back as the scan it was made from; a scan whose beams FLASER cannot say is
 // refused, not written at the wrong angles.
 TEST(CarmenLog, FlaserLinesReadBackAsTheScanTheyWereMadeFrom) {
