@@ -124,6 +124,26 @@ std::vector<Point2> ThinPoints(const std::vector<Point2>& points, double spacing
   return out;
 }
 
+std::vector<Point2> ThinPointsTo(const std::vector<Point2>& points, size_t min_points, double max_spacing) {
+  if (points.size() <= min_points) return points;
+  std::vector<Point2> widest = ThinPoints(points, max_spacing);
+  if (widest.size() >= min_points) return widest;
+  // The count falls as the spacing grows: bisect to a millimetre.
+  double lo = 0.0, hi = max_spacing;
+  std::vector<Point2> kept = points;
+  while (hi - lo > 1e-3) {
+    const double mid = 0.5 * (lo + hi);
+    std::vector<Point2> thinned = ThinPoints(points, mid);
+    if (thinned.size() >= min_points) {
+      lo = mid;
+      kept = std::move(thinned);
+    } else {
+      hi = mid;
+    }
+  }
+  return kept;
+}
+
 ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& points, const Pose2& prior,
                     const ScanMatchOptions& o) {
   ScanMatch best{prior, 0.0};

@@ -91,4 +91,10 @@ ScanMatch MatchScan(const CorrelationGrid& grid, const std::vector<Point2>& poin
 // scan for matching, however its beams bunch up near walls.
 std::vector<Point2> ThinPoints(const std::vector<Point2>& points, double spacing);
 
+// Cartographer's adaptive voxel filter, along the scan: `points` thinned (ThinPoints) at the
+// widest spacing, up to `max_spacing` m, that keeps at least `min_points` of them; as they are
+// when there are no more than that. A scanner with many beams costs what one with min_points does,
+// and one with fewer loses none.
+std::vector<Point2> ThinPointsTo(const std::vector<Point2>& points, size_t min_points, double max_spacing);
+
 }  // namespace navd::mapping

@@ -31,7 +31,8 @@ GraphSlam::NodeReturns GraphSlam::Returns(const RangeScan& scan) const {
   const double cut = ScanReach(scan.ranges, scan.range_max, {o_.usable_range, o_.far_usable_range, o_.min_near_echoes});
   const double reach = cut < o_.far_usable_range ? cut + o_.reference_extra_range : cut;
   NodeReturns out;
-  out.reference = ScanReturns(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max, reach);
+  out.reference = ThinPointsTo(ScanReturns(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_max, reach),
+                               o_.return_budget, o_.match_point_spacing);
   // Those matched are the reference's nearer than the cut (reach is never shorter): one pass of
   // trigonometry per scan, in beam order still. A reading exactly at the cut (logs written to the
   // centimetre hold 20.00 m) stays out, as it would by its range: the bound is a hair inside the

@@ -66,6 +66,21 @@ std::vector<Point2> Points(const RangeScan& scan) {
   return out;
 }
 
+// A scan of more returns than the budget is thinned to no fewer than the budget and to about it
+// (the widest spacing that keeps it), evenly along the wall; one within it keeps every return; one
+// that the widest spacing still leaves above budget is thinned at that spacing.
+TEST(CorrelativeScanMatcher, ThinsAScanToItsBudgetOfReturns) {
+  std::vector<Point2> wall;  // 1000 returns 2 mm apart along a 2 m wall
+  for (int i = 0; i < 1000; ++i) wall.emplace_back(1.0, -1.0 + 0.002 * i);
+  const std::vector<Point2> thinned = ThinPointsTo(wall, 200, 0.1);
+  EXPECT_GE(thinned.size(), 200u);
+  EXPECT_LE(thinned.size(), 210u);
+  for (size_t i = 1; i < thinned.size(); ++i) EXPECT_NEAR(thinned[i].y() - thinned[i - 1].y(), 0.01, 0.0011) << i;
+  EXPECT_EQ(ThinPointsTo(wall, 1000, 0.1).size(), 1000u);
+  EXPECT_EQ(ThinPointsTo(wall, 5, 0.1).size(), ThinPoints(wall, 0.1).size());
+  EXPECT_TRUE(ThinPointsTo({}, 5, 0.1).empty());
+}
+
 TEST(CorrelativeScanMatcher, RecoversThePoseFromAnOffsetPrior) {
   const OccupancyGrid map = Room();
   const Pose2 reference_pose{2.0, 2.0, 0.3}, truth{2.6, 2.4, 0.5};
