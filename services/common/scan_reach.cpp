@@ -8,7 +8,9 @@ namespace navd {
 double ScanReach(const std::vector<float>& ranges, double no_return, const ScanReachOptions& o) {
   const double near = std::min(o.near, no_return);
   const auto echoes = std::count_if(ranges.begin(), ranges.end(), [&](float r) { return IsEcho(r, near); });
-  return echoes < o.min_near_echoes ? std::max(o.near, o.far) : o.near;
+  const double needed =
+      o.min_near_echoes * std::max(1.0, static_cast<double>(ranges.size()) / ScanReachOptions::kCountedBeams);
+  return static_cast<double>(echoes) < needed ? std::max(o.near, o.far) : o.near;
 }
 
 std::vector<Point2> ScanReturns(const std::vector<float>& ranges, double angle_min, double angle_increment,

@@ -26,8 +26,11 @@ struct ScanReachOptions {
   double near = 20.0;
   double far = 50.0;
   // Fewer echoes than this within `near` (of 180 to 361 beams: a room's or a corridor's scan has
-  // well over a hundred) and the scan reaches `far`.
+  // well over a hundred) and the scan reaches `far`. A scan of more than kCountedBeams beams needs
+  // as large a share of them as a scan of kCountedBeams does: an open hall seen by a thousand beams
+  // is as open as seen by 361.
   int min_near_echoes = 60;
+  static constexpr double kCountedBeams = 361.0;
 };
 
 // The reach (m) for a scan's `ranges`, readings at or beyond `no_return` being no-returns: near,

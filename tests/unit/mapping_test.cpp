@@ -550,6 +550,12 @@ TEST(MapperRules, FarEchoesMarkOnlyInAScanThatFindsTooLittleNear) {
   EXPECT_EQ(ScanReach(std::vector<float>(180, 5.0f), 81.91, {}), 20.0);
   EXPECT_EQ(ScanReach(std::vector<float>(180, 30.0f), 81.91, {}), 50.0);
   EXPECT_EQ(ScanReach(std::vector<float>(180, 81.91f), 81.91, {}), 50.0);  // no-returns are not echoes near
+  // 100 near echoes: plenty for 361 beams, an open hall's few for 1081 (a third of that share).
+  for (const size_t beams : {361u, 1081u}) {
+    std::vector<float> ranges(beams, 30.0f);
+    std::fill_n(ranges.begin(), 100, 5.0f);
+    EXPECT_EQ(ScanReach(ranges, 81.91, {}), beams == 361u ? 20.0 : 50.0) << beams;
+  }
   MapperOptions o;
   const Pose2 pose{1.0, 20.0, 0.0};
   const double increment = M_PI / 180.0, angle_min = -M_PI / 2;
