@@ -70,8 +70,8 @@ std::vector<Point2> Points(const RangeScan& scan) {
 // (the widest spacing that keeps it), evenly along the wall; one within it keeps every return; one
 // that the widest spacing still leaves above budget is thinned at that spacing.
 TEST(CorrelativeScanMatcher, ThinsAScanToItsBudgetOfReturns) {
-  std::vector<Point2> wall;  // 1000 returns 2 mm apart along a 2 m wall
-  for (int i = 0; i < 1000; ++i) wall.emplace_back(1.0, -1.0 + 0.002 * i);
+  std::vector<Point2> wall(1000);  // 1000 returns 2 mm apart along a 2 m wall
+  for (int i = 0; i < 1000; ++i) wall[i] = Point2(1.0, -1.0 + 0.002 * i);
   const std::vector<Point2> thinned = ThinPointsTo(wall, 200, 0.1);
   EXPECT_GE(thinned.size(), 200u);
   EXPECT_LE(thinned.size(), 210u);
