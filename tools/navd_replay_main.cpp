@@ -4,7 +4,7 @@
 //               [--people N] [--fov DEG --beams N] [--seed N]
 //   navd-replay --log FILE[.gz] --mode localize|slam --out EST.tum [--odometry noisy|log]
 //               [--map MAP.yaml] [--odom-noise T,R] [--seed N] [--localizer amcl|ekf|calibration]
-//               [--front-recovery SCORE] [--frame-turn RAD] [--drop-seen-through]
+//               [--front-recovery SCORE] [--frame-turn RAD] [--drop-seen-through] [--return-budget N]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with, by default,
@@ -56,7 +56,8 @@ struct SlamTuning {
   double front_recovery = 0.0;     // the front end's FrontEndRecoveryOptions::below_score (0: off)
   double frame_turn = 0.0;         // rad the map frame is turned by at the first pose
   bool drop_seen_through = false;  // GraphSlamOptions::drop_seen_through
-  navd::OdometryNoise odometry;    // the odometry's noise, which the front end's window allows for
+  size_t return_budget = navd::mapping::GraphSlamOptions{}.return_budget;
+  navd::OdometryNoise odometry;  // the odometry's noise, which the front end's window allows for
 };
 
 // Says so when a map spread too wide for a grid at the resolution asked for was drawn coarser
@@ -83,6 +84,7 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   options.first_pose.theta = NormalizeAngle(options.first_pose.theta + tuning.frame_turn);
   options.front_recovery.below_score = tuning.front_recovery;
   options.drop_seen_through = tuning.drop_seen_through;
+  options.return_budget = tuning.return_budget;
   options.odometry = tuning.odometry;
   mapping::GraphSlam slam(options);
   double busy = 0.0;
@@ -360,6 +362,10 @@ int main(int argc, char** argv) {
   app.add_flag("--drop-seen-through", slam_tuning.drop_seen_through,
                "slam: leave out of the references the returns another node saw through (people walking past; "
                "GraphSlamOptions::drop_seen_through)");
+  app.add_option("--return-budget", slam_tuning.return_budget,
+                 "slam: each scan's returns thinned to no fewer than this many before SLAM uses them (default 361; "
+                 "a budget above the beam count keeps every return: GraphSlamOptions::return_budget)")
+      ->check(CLI::Range(1, 1000000));
   std::string method = "amcl";
   app.add_option("--localizer", method,
                  "localize: amcl (particle filter, default), ekf (seed 002's EKF with scan-to-map matching) or "

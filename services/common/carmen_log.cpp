@@ -130,6 +130,7 @@ bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::vector
     std::string name;
     double value = 0.0;
     if (!(in >> name)) return true;
+    type += " " + name;  // a malformed one is named in the error
     if (name == "robot_frontlaser_offset") {
       if (!(in >> value) || !std::isfinite(value) || std::abs(value) > 10.0) return false;
       log.front_laser_offset = value;
@@ -265,12 +266,16 @@ int TimeScansInFileOrder(CarmenLog& log, double max_speed, double max_turn_rate,
 
 FlaserBeamLayout FlaserBeams(size_t n, double fov, double resolution) {
   const FlaserBeamLayout by_count{CarmenBeamAngle(0, n), n > 1 ? CarmenBeamAngle(1, n) - CarmenBeamAngle(0, n) : 0.0};
-  const bool fov_said = fov > 0.0 && std::abs(fov - M_PI) > 1e-9;
-  if (n < 2 || (!fov_said && resolution <= 0.0)) return by_count;
-  if (fov <= 0.0) fov = M_PI;
-  const double gaps = static_cast<double>(n - 1);
-  const double step = resolution > 0.0 && gaps * resolution <= fov + 0.5 * resolution ? resolution : fov / gaps;
-  const FlaserBeamLayout by_params{-0.5 * fov, step};
+  if (n < 2 || fov <= 0.0) return by_count;
+  // A scanner sweeping a whole turn has as many gaps as beams: none reads one bearing twice.
+  const double gaps = fov > 2.0 * M_PI - 1e-9 ? static_cast<double>(n) : static_cast<double>(n - 1);
+  // The resolution holds when n beams that far apart span the fov, or the fov less its last beam
+  // (loggers that drop a SICK's 361st).
+  const double span = gaps * resolution;
+  const bool resolution_fits =
+      resolution > 0.0 && span >= fov - resolution * (1.0 + 1e-6) && span <= fov + 0.5 * resolution;
+  if (!resolution_fits && std::abs(fov - M_PI) < 1e-9) return by_count;  // a SICK's: its modes by the count
+  const FlaserBeamLayout by_params{-0.5 * fov, resolution_fits ? resolution : fov / gaps};
   // Where both say the same, the count's guess, to the last bit, as a log without the lines reads.
   const bool same = std::abs(by_params.angle_min - by_count.angle_min) < 1e-9 &&
                     std::abs(by_params.angle_increment - by_count.angle_increment) < 1e-12;

@@ -75,8 +75,11 @@ constexpr size_t kNoReturnMinCount = 5;
 double InferNoReturnRange(const CarmenLog& log);
 
 // Reads `path` (".gz" or plain). FLASER scans get the inferred no-return range as range_max.
-// Malformed scan, ODOM and TRUEPOS lines (and a PARAM robot_frontlaser_offset that is no number)
-// throw navd::Error naming the file and line when `strict`, else are skipped and counted. Unknown
+// Malformed scan, ODOM and TRUEPOS lines (and a PARAM robot_frontlaser_offset that is no number
+// or farther than 10 m, a laser_front_laser_fov that is no field of view, radians up to 2 pi or
+// degrees from 7 to 360, or a laser_front_laser_resolution that is not within (0, 45] degrees)
+// throw navd::Error naming the file, line and message (and PARAM's parameter) when `strict`, else
+// are skipped and counted. Unknown
 // message types are ignored. A log without scans, or whose RAWLASER1 scans have no stamped ODOM
 // line to place them, throws navd::Error.
 CarmenLog ReadCarmenLog(const std::string& path, bool strict = false);
@@ -137,12 +140,12 @@ struct FlaserBeamLayout {
 };
 // CARMEN's laser driver starts a scan at -fov / 2 and steps by the resolution, and a log may say
 // both (`PARAM laser_front_laser_fov`, `laser_front_laser_resolution`): a scanner other than a
-// 180-degree SICK (a Hokuyo's 240 degrees, a 270-degree scanner) writes FLASER lines that only
-// these place. `fov` and `resolution` in rad, 0 when not said. With neither, or only a fov of 180
-// degrees, the beam count says (CarmenBeamAngle). With a resolution, beams step by it from
-// -fov / 2 (fov 180 degrees when not said), unless n beams that far apart would reach past the fov
-// by more than half a step: then the line is not the scan the PARAM lines describe, and the fov
-// is spread over its n - 1 gaps, as it is when only the fov is said.
+// 180-degree SICK (a Hokuyo's 240 degrees, a 270-degree or a whole-turn scanner) writes FLASER
+// lines that only these place. `fov` and `resolution` in rad, 0 when not said. Without a fov the
+// beam count says (CarmenBeamAngle): a resolution alone cannot tell where the beams start. With
+// one, beams step by the resolution from -fov / 2 when n beams that far apart span the fov (or the
+// fov less one beam); otherwise a 180-degree fov leaves it to the count (which knows the SICK's
+// modes), and any other spreads the fov evenly over the n - 1 gaps, or n for a whole turn.
 FlaserBeamLayout FlaserBeams(size_t n, double fov = 0.0, double resolution = 0.0);
 
 }  // namespace navd

@@ -43,7 +43,7 @@ struct GraphSlamOptions {
   Pose2 first_pose;                // the first scan's pose in the map frame
   double usable_range = 20.0;      // m: longer readings are no-returns for matching, except
   double far_usable_range = 50.0;  // in a scan with fewer than min_near_echoes within usable_range
-  int min_near_echoes = 60;        // (an open hall's): then this far (ScanReach)
+  int min_near_echoes = 60;        // (an open hall's; of 361 beams, a share beyond): then this far (ScanReach)
   // As a reference (the local map, a loop closure's candidate), a node's scan reaches this much
   // further than usable_range, where it is matched: a wall a scan sees near the cut was seen by
   // the nodes before it from elsewhere, often just beyond their own cut, and would be missing

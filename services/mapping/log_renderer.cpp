@@ -15,8 +15,11 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
   if (log.scans.empty()) throw Error(ErrorCode::kInvalidArgument, "render: the log has no scans");
   if (!(options.step >= 0.0) || !(options.turn > 0.0) || !(options.range_noise >= 0.0) || !(options.no_return > 0.0))
     throw Error(ErrorCode::kInvalidArgument, "render: step and range noise must be >= 0, turn and no-return > 0");
-  if (options.beams != 0 && (options.beams < 2 || !(options.fov > 0.0 && options.fov <= 2.0 * M_PI + 1e-9)))
-    throw Error(ErrorCode::kInvalidArgument, "render: a scanner needs at least 2 beams and a fov within (0, 2 pi]");
+  // The fov to the hundredth of a degree, as the rendered log's PARAM line is read back.
+  const double fov = std::round(options.fov * 18000.0 / M_PI) * M_PI / 18000.0;
+  if (options.beams != 0 && (options.beams < 2 || !(fov > 0.0 && fov <= 2.0 * M_PI + 1e-9)))
+    throw Error(ErrorCode::kInvalidArgument,
+                "render: a scanner needs at least 2 beams and a fov within (0, 360] degrees, to the hundredth");
   std::mt19937_64 rng(options.seed);
   std::optional<PathWalkers> people;
   if (options.people.count != 0) {  // PathWalkers refuses a negative count
@@ -34,8 +37,7 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
   out.front_laser_fov = log.front_laser_fov;
   out.front_laser_resolution = log.front_laser_resolution;
   if (options.beams != 0) {
-    // To the hundredth of a degree, as the log's PARAM line is read back.
-    out.front_laser_fov = std::round(options.fov * 18000.0 / M_PI) * M_PI / 18000.0;
+    out.front_laser_fov = fov;
     const bool whole_turn = out.front_laser_fov > 2.0 * M_PI - 1e-9;
     out.front_laser_resolution = out.front_laser_fov / (whole_turn ? options.beams : options.beams - 1);
   }

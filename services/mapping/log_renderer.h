@@ -25,10 +25,10 @@ struct LogRenderOptions {
   // (a SICK LMS's 81.91).
   double no_return = 81.91;
   uint64_t seed = 1;
-  // The scanner the scans are cast with: `beams` beams over `fov` rad centred ahead, evenly apart
-  // (a whole turn's beams a turn / beams apart, none twice); 0 beams: each scan the beams of the
-  // log's scan it starts from. The rendered log states the fov and spacing as its front laser's
-  // (FlaserBeams).
+  // The scanner the scans are cast with: `beams` beams over `fov` rad (taken to the hundredth of a
+  // degree) centred ahead, evenly apart (a whole turn's beams a turn / beams apart, none twice);
+  // 0 beams: each scan the beams of the log's scan it starts from. The rendered log states the
+  // fov and spacing as its front laser's (FlaserBeams).
   double fov = 0.0;
   int beams = 0;
   // People walking the log's path (none by default), placed at each rendered scan's stamp: the

@@ -27,14 +27,14 @@ enum class MapUpdateRule { kLogOdds, kHimm };
 
 struct MapperOptions {
   MapUpdateRule rule = MapUpdateRule::kLogOdds;
-  double resolution = 0.05;              // m
-  double l_occupied = 0.85;              // log-odds added at a hit (p 0.70: one hit marks a cell occupied)
-  double l_free = -0.28;                 // log-odds added along a beam (p 0.43: about three misses undo a hit)
-  double l_min = -4.0, l_max = 4.0;      // clamps keep the map responsive to change
-  double max_range = 50.0;               // m: longer readings are no-returns
-  double usable_range = 15.0;            // m: beams are cut here (long beams are mostly noise); marks nothing,
-  double far_usable_range = 50.0;        // except in a scan with fewer than min_near_echoes within
-  int min_near_echoes = 60;              // usable_range (an open hall's): cut this far (ScanReach)
+  double resolution = 0.05;          // m
+  double l_occupied = 0.85;          // log-odds added at a hit (p 0.70: one hit marks a cell occupied)
+  double l_free = -0.28;             // log-odds added along a beam (p 0.43: about three misses undo a hit)
+  double l_min = -4.0, l_max = 4.0;  // clamps keep the map responsive to change
+  double max_range = 50.0;           // m: longer readings are no-returns
+  double usable_range = 15.0;        // m: beams are cut here (long beams are mostly noise); marks nothing,
+  double far_usable_range = 50.0;    // except in a scan with fewer than min_near_echoes within
+  int min_near_echoes = 60;  // usable_range (an open hall's; a share beyond 361 beams): cut this far (ScanReach)
   double missing_data_ray_length = 5.0;  // m cleared along a no-return reading
   double l_free_sonar = -0.4;            // log-odds along a sonar cone's axis, weighted down off it (Elfes)
 };

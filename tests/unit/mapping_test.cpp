@@ -306,12 +306,18 @@ TEST(CarmenLog, PlacesFlaserBeamsWhereTheFrontLasersParamsSay) {
     EXPECT_NEAR(got.angle_increment, step_deg * deg, 1e-9) << what;
   };
   expect(FlaserBeams(181), -90, 1, "no PARAM");
-  expect(FlaserBeams(360, 0.0, 0.5 * deg), -90, 0.5, "a resolution alone");
+  expect(FlaserBeams(360, 0.0, 0.5 * deg), -90, 0.5, "a resolution alone: the count says");
+  expect(FlaserBeams(401, 0.0, 0.25 * deg), -50, 0.25, "a resolution alone: the count says (100-degree mode)");
   expect(FlaserBeams(361, M_PI, 0.5 * deg), -90, 0.5, "a SICK's 180 degrees");
+  expect(FlaserBeams(360, M_PI, 0.5 * deg), -90, 0.5, "a SICK's 180 degrees less its last beam");
   expect(FlaserBeams(180, M_PI), -90, 1, "180 degrees, no resolution: the count says");
   expect(FlaserBeams(241, 240 * deg), -120, 1, "a fov alone");
   expect(FlaserBeams(682, 240 * deg, 0.352 * deg), -120, 0.352, "a Hokuyo");
-  expect(FlaserBeams(361, M_PI, 1.0 * deg), -90, 0.5, "a resolution the count contradicts");
+  expect(FlaserBeams(720, 360 * deg), -180, 0.5, "a whole turn: as many gaps as beams");
+  expect(FlaserBeams(361, M_PI, 1.0 * deg), -90, 0.5, "a resolution too wide for the count");
+  expect(FlaserBeams(181, M_PI, 0.5 * deg), -90, 1, "a resolution too fine for the count");
+  expect(FlaserBeams(361, M_PI, 0.0087), -90, 0.5, "a resolution in radians");
+  expect(FlaserBeams(241, 240 * deg, 0.5 * deg), -120, 1, "a resolution too fine for another fov");
 
   // An n-beam FLASER line, every beam 2 m.
   auto flaser = [](int n) {
@@ -345,7 +351,12 @@ TEST(CarmenLog, PlacesFlaserBeamsWhereTheFrontLasersParamsSay) {
   for (const std::string bad :
        {"PARAM laser_front_laser_fov abc h 0\n", "PARAM laser_front_laser_fov -3 h 0\n",
         "PARAM laser_front_laser_fov 400 h 0\n", "PARAM laser_front_laser_resolution 0 h 0\n"}) {
-    EXPECT_THROW(ParseCarmenLog(bad + scans, "bad", true), Error) << bad;
+    try {
+      ParseCarmenLog(bad + scans, "bad", true);
+      ADD_FAILURE() << bad;
+    } catch (const Error& e) {  // the parameter named
+      EXPECT_NE(std::string(e.what()).find(bad.substr(6, bad.find(' ', 6) - 6)), std::string::npos) << e.what();
+    }
     EXPECT_NEAR(ParseCarmenLog(bad + scans, "lenient").scans[0].angle_min, -90 * deg, 1e-12) << bad;
   }
 }
