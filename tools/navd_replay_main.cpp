@@ -365,7 +365,7 @@ int main(int argc, char** argv) {
   app.add_option("--return-budget", slam_tuning.return_budget,
                  "slam: each scan's returns thinned to no fewer than this many before SLAM uses them (default 361; "
                  "a budget above the beam count keeps every return: GraphSlamOptions::return_budget)")
-      ->check(CLI::Range(1, 1000000));
+      ->check(CLI::Range(size_t{1}, static_cast<size_t>(navd::kMaxScanBeams)));
   std::string method = "amcl";
   app.add_option("--localizer", method,
                  "localize: amcl (particle filter, default), ekf (seed 002's EKF with scan-to-map matching) or "

@@ -38,7 +38,7 @@ bool ReadRange(std::istringstream& in, float& r) {
 
 bool ParseScan(std::istringstream& in, CarmenScan& s) {
   int n = 0;
-  if (!(in >> n) || n <= 0 || n > 100000) return false;
+  if (!(in >> n) || n <= 0 || n > kMaxScanBeams) return false;
   s.ranges.resize(n);
   for (auto& r : s.ranges)
     if (!ReadRange(in, r)) return false;
@@ -62,12 +62,13 @@ bool ParseLaserReadings(std::istringstream& in, CarmenScan& s) {
   int type = 0, remission_mode = 0, n = 0;
   double start, fov, res, max_range, accuracy;
   if (!(in >> type >> start >> fov >> res >> max_range >> accuracy >> remission_mode >> n)) return false;
-  if (n <= 0 || n > 100000 || !std::isfinite(start) || !std::isfinite(res) || !std::isfinite(max_range)) return false;
+  if (n <= 0 || n > kMaxScanBeams || !std::isfinite(start) || !std::isfinite(res) || !std::isfinite(max_range))
+    return false;
   s.ranges.resize(n);
   for (auto& r : s.ranges)
     if (!ReadRange(in, r)) return false;
   int remissions = 0;
-  if (!(in >> remissions) || remissions < 0 || remissions > 100000) return false;
+  if (!(in >> remissions) || remissions < 0 || remissions > kMaxScanBeams) return false;
   for (int i = 0; i < remissions; ++i) {
     double v;
     if (!(in >> v)) return false;
@@ -136,12 +137,11 @@ bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::vector
       log.front_laser_offset = value;
     } else if (name == "laser_front_laser_fov") {
       // Radians in some CARMEN versions (3.14159), degrees in others (180): no scanner's field of
-      // view is under 7 degrees, nor any over a whole turn. Radians written to five decimals are
-      // taken to the hundredth of a degree they round (3.14159 is 180 degrees).
+      // view is under 7 degrees, nor any over a whole turn.
       if (!(in >> value) || !std::isfinite(value) || value <= 0.0) return false;
-      const double degrees = std::round((value > 7.0 ? value : value * 180.0 / M_PI) * 100.0) / 100.0;
-      if (degrees <= 0.0 || degrees > 360.0) return false;
-      log.front_laser_fov = degrees * M_PI / 180.0;
+      const double fov = FovToHundredthOfDegree(value > 7.0 ? value * M_PI / 180.0 : value);
+      if (fov <= 0.0 || fov > 2.0 * M_PI + 1e-9) return false;
+      log.front_laser_fov = fov;
     } else if (name == "laser_front_laser_resolution") {
       // Degrees between beams, as CARMEN's laser module takes it.
       if (!(in >> value) || !std::isfinite(value) || value <= 0.0 || value > 45.0) return false;
@@ -191,6 +191,20 @@ class LogLines {
   }
 
   CarmenLog Finish() && {
+    // FLASER and ROBOTLASER1 are the front laser's old and new messages: a logger that writes both
+    // writes each scan twice. The new ones, which state their angles, are kept.
+    if (!flaser_scans_.empty() && flaser_scans_.size() < log_.scans.size()) {
+      std::vector<CarmenScan> robot_laser_scans;
+      for (size_t i = 0, next_flaser = 0; i < log_.scans.size(); ++i) {
+        if (next_flaser < flaser_scans_.size() && flaser_scans_[next_flaser] == i) {
+          ++next_flaser;
+          continue;
+        }
+        robot_laser_scans.push_back(std::move(log_.scans[i]));
+      }
+      log_.scans = std::move(robot_laser_scans);
+      flaser_scans_.clear();
+    }
     // PARAM lines may follow the first scans; the beams are placed once the whole log is read.
     for (size_t i : flaser_scans_) {
       CarmenScan& s = log_.scans[i];

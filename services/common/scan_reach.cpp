@@ -9,7 +9,7 @@ double ScanReach(const std::vector<float>& ranges, double no_return, const ScanR
   const double near = std::min(o.near, no_return);
   const auto echoes = std::count_if(ranges.begin(), ranges.end(), [&](float r) { return IsEcho(r, near); });
   const double needed =
-      o.min_near_echoes * std::max(1.0, static_cast<double>(ranges.size()) / ScanReachOptions::kCountedBeams);
+      o.min_near_echoes * std::max(1.0, static_cast<double>(ranges.size()) / static_cast<double>(kSickHalfDegreeBeams));
   return static_cast<double>(echoes) < needed ? std::max(o.near, o.far) : o.near;
 }
 

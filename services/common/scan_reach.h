@@ -4,6 +4,7 @@
 // finds too little that near (an open hall, a convention centre, a yard) is used out to `far`
 // instead: far walls and pillars are all it has to go by. Metres.
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include "services/common/pose2.h"
@@ -22,15 +23,19 @@ inline bool IsReading(double r) { return !std::isnan(r) && r >= kMinEchoRange; }
 // Whether reading `r` (m) is an echo: a reading short of `no_return` (and finite).
 inline bool IsEcho(double r, double no_return) { return IsReading(r) && r < no_return && std::isfinite(r); }
 
+// A 180-degree SICK's beams at half a degree: the scans whose counts navd's mapping and matching
+// options are set for. A scanner with more beams is weighed as that many (ScanReachOptions, the
+// SLAM's return budget).
+constexpr size_t kSickHalfDegreeBeams = 361;
+
 struct ScanReachOptions {
   double near = 20.0;
   double far = 50.0;
   // Fewer echoes than this within `near` (of 180 to 361 beams: a room's or a corridor's scan has
-  // well over a hundred) and the scan reaches `far`. A scan of more than kCountedBeams beams needs
-  // as large a share of them as a scan of kCountedBeams does: an open hall seen by a thousand beams
-  // is as open as seen by 361.
+  // well over a hundred) and the scan reaches `far`. A scan of more than kSickHalfDegreeBeams beams
+  // needs as large a share of them as a scan of kSickHalfDegreeBeams does: an open hall seen by a
+  // thousand beams is as open as seen by 361.
   int min_near_echoes = 60;
-  static constexpr double kCountedBeams = 361.0;
 };
 
 // The reach (m) for a scan's `ranges`, readings at or beyond `no_return` being no-returns: near,

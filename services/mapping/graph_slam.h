@@ -22,6 +22,7 @@
 #include "services/common/occupancy_grid.h"
 #include "services/common/odometry_noise.h"
 #include "services/common/pose2.h"
+#include "services/common/scan_reach.h"
 #include "services/mapping/correlative_scan_matcher.h"
 #include "services/mapping/front_end_recovery.h"
 #include "services/mapping/occupancy_grid_mapper.h"
@@ -53,9 +54,9 @@ struct GraphSlamOptions {
   double match_point_spacing = 0.1;     // m between the scan points matched
   // A scan's returns are thinned to no fewer than this many (ThinPointsTo, up to
   // match_point_spacing apart) before anything uses them: a scanner of a thousand beams or a whole
-  // turn costs about what a half-degree 180-degree scanner's 361 beams do, and one with fewer
-  // beams keeps them all.
-  size_t return_budget = 361;
+  // turn costs about what a half-degree 180-degree scanner's beams do, and one with fewer beams
+  // keeps them all.
+  size_t return_budget = kSickHalfDegreeBeams;
   // The local map: the last local_map_nodes nodes, and as many more (up to local_map_max_nodes,
   // no more than loop closing's loop_min_node_gap) as lie within local_map_travel m of chain. A
   // log with a scan every 0.5-1 m has its 4 m in 8 nodes; one with a scan every 10 cm (a node

@@ -15,8 +15,8 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
   if (log.scans.empty()) throw Error(ErrorCode::kInvalidArgument, "render: the log has no scans");
   if (!(options.step >= 0.0) || !(options.turn > 0.0) || !(options.range_noise >= 0.0) || !(options.no_return > 0.0))
     throw Error(ErrorCode::kInvalidArgument, "render: step and range noise must be >= 0, turn and no-return > 0");
-  // The fov to the hundredth of a degree, as the rendered log's PARAM line is read back.
-  const double fov = std::round(options.fov * 18000.0 / M_PI) * M_PI / 18000.0;
+  // The fov as the rendered log's PARAM line is read back.
+  const double fov = FovToHundredthOfDegree(options.fov);
   if (options.beams != 0 && (options.beams < 2 || !(fov > 0.0 && fov <= 2.0 * M_PI + 1e-9)))
     throw Error(ErrorCode::kInvalidArgument,
                 "render: a scanner needs at least 2 beams and a fov within (0, 360] degrees, to the hundredth");
@@ -36,15 +36,16 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
   CarmenLog out;
   out.front_laser_fov = log.front_laser_fov;
   out.front_laser_resolution = log.front_laser_resolution;
+  FlaserBeamLayout layout;
   if (options.beams != 0) {
+    layout = FlaserBeams(static_cast<size_t>(options.beams), fov);
     out.front_laser_fov = fov;
-    const bool whole_turn = out.front_laser_fov > 2.0 * M_PI - 1e-9;
-    out.front_laser_resolution = out.front_laser_fov / (whole_turn ? options.beams : options.beams - 1);
+    out.front_laser_resolution = layout.angle_increment;
   }
   auto render = [&](const CarmenScan& beams, const Pose2& pose, double stamp) {
     CarmenScan s;
-    s.angle_min = options.beams != 0 ? -0.5 * out.front_laser_fov : beams.angle_min;
-    s.angle_increment = options.beams != 0 ? out.front_laser_resolution : beams.angle_increment;
+    s.angle_min = options.beams != 0 ? layout.angle_min : beams.angle_min;
+    s.angle_increment = options.beams != 0 ? layout.angle_increment : beams.angle_increment;
     s.range_max = beams.range_max > 0.0 ? beams.range_max : options.no_return;
     s.pose = s.odometry = pose;
     s.timestamp = stamp;

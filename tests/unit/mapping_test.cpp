@@ -244,6 +244,28 @@ TEST(CarmenLog, PlacesRawLaserScansByTheOdometryAtTheirStamps) {
   EXPECT_THROW(ParseCarmenLog("RAWLASER1 0 -1.5 3.0 0.75 30.0 0.01 0 5 1 2 3\n" + odom, "short", true), Error);
 }
 
+// A logger that writes the front laser's old and new messages writes each scan as a FLASER and a
+// ROBOTLASER1 line: it is read once, from the ROBOTLASER1 line and its angles. A rear laser's
+// RLASER lines are passed over.
+TEST(CarmenLog, ReadsAScanWrittenAsFlaserAndRobotLaserOnce) {
+  std::string text;
+  for (int k = 0; k < 3; ++k) {
+    const std::string x = std::to_string(k), stamp = std::to_string(10 + k);
+    text += "FLASER 3 1.0 2.0 3.0 " + x + " 0 0 " + x + " 0 0 " + stamp + " h " + stamp + "\n";
+    text += "RLASER 3 4.0 5.0 6.0 " + x + " 0 3.14 " + x + " 0 0 " + stamp + " h " + stamp + "\n";
+    text += "ROBOTLASER1 0 -0.5 1.0 0.5 30.0 0.01 0 3 1.0 2.0 3.0 0 " + x + " 0 0 " + x + " 0 0 0 0 0 0 0 " + stamp +
+            " h " + stamp + "\n";
+  }
+  const CarmenLog log = ParseCarmenLog(text, "both", true);
+  ASSERT_EQ(log.scans.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_DOUBLE_EQ(log.scans[k].pose.x, k);
+    EXPECT_DOUBLE_EQ(log.scans[k].angle_min, -0.5);
+    EXPECT_DOUBLE_EQ(log.scans[k].angle_increment, 0.5);
+    EXPECT_FLOAT_EQ(log.scans[k].ranges[0], 1.0f);
+  }
+}
+
 // A log whose stamps cannot time its scans (most repeat) gets them paced from its odometry; a log
 // with usable stamps keeps them.
 TEST(CarmenLogStamps, CoarseStampsArePacedFromOdometry) {
@@ -642,6 +664,40 @@ TEST(LogRenderer, CastsTheLogsBeamsInTheMapAtItsPosesOrBetweenThem) {
   EXPECT_NEAR(std::sqrt(sum_sq / 181), 0.01, 0.003);
   o.step = -1.0;
   EXPECT_THROW(RenderLog(log, world, o), Error);
+}
+
+TEST(LogRenderer, RendersAnotherScannersBeamsWhereTheRenderedLogIsReadBack) {
+  OccupancyGrid room(100, 100, 0.05, {0.0, 0.0});
+  for (int k = 0; k < 100; ++k)
+    for (const CellIndex c : {CellIndex{k, 0}, CellIndex{k, 99}, CellIndex{0, k}, CellIndex{99, k}})
+      room.set(c, OccupancyGrid::kOccupied);
+  const RayCaster world(room);
+  CarmenLog log;
+  CarmenScan s;
+  s.ranges.assign(181, 1.0f);
+  s.angle_min = -M_PI / 2;
+  s.angle_increment = M_PI / 180;
+  s.pose = {2.5, 2.5, 0.3};
+  log.scans = {s, s};
+  log.scans[1].timestamp = 1.0;
+  LogRenderOptions o;
+  const double deg = M_PI / 180.0;
+  // 180 beams over 180 degrees are a SICK's 1-degree mode, 270.004 degrees are 270 as PARAM reads
+  // them, and a whole turn has as many gaps as beams.
+  for (const auto& [fov, beams, start, step] :
+       {std::tuple{180.0, 180, -90.0, 1.0}, std::tuple{270.004, 541, -135.0, 0.5},
+        std::tuple{360.0, 720, -180.0, 0.5}}) {
+    o.fov = fov * deg;
+    o.beams = beams;
+    const CarmenLog rendered = RenderLog(log, world, o);
+    const CarmenLog read = ParseCarmenLog(FormatFlaserLog(rendered, "render"), "rendered");
+    ASSERT_EQ(read.scans.size(), 2u);
+    for (const CarmenLog* l : {&rendered, &read}) {
+      EXPECT_NEAR(l->scans[1].angle_min, start * deg, 1e-9) << fov;
+      EXPECT_NEAR(l->scans[1].angle_increment, step * deg, 1e-12) << fov;
+      EXPECT_EQ(l->scans[1].ranges.size(), static_cast<size_t>(beams));
+    }
+  }
 }
 
 TEST(PathWalkers, WalkBackAndForthBesideThePathAtTheirPaceAndNeverOnTheScanner) {
