@@ -317,7 +317,7 @@ int main(int argc, char** argv) {
                      "render: with --beams, the scanner's field of view in degrees, centred ahead (default: the log's)")
           ->check(CLI::Range(0.01, 360.0));
   app.add_option("--beams", render.beams, "render: with --fov, the scanner's beam count, evenly apart")
-      ->check(CLI::Range(2, 100000))
+      ->check(CLI::Range(2, navd::kMaxScanBeams))
       ->needs(fov_option);
   fov_option->needs("--beams");
   app.add_option("--people", render.people.count,
@@ -363,8 +363,9 @@ int main(int argc, char** argv) {
                "slam: leave out of the references the returns another node saw through (people walking past; "
                "GraphSlamOptions::drop_seen_through)");
   app.add_option("--return-budget", slam_tuning.return_budget,
-                 "slam: each scan's returns thinned to no fewer than this many before SLAM uses them (default 361; "
-                 "a budget above the beam count keeps every return: GraphSlamOptions::return_budget)")
+                 "slam: each scan's returns thinned to no fewer than this many before SLAM uses them (default " +
+                     std::to_string(navd::kSickHalfDegreeBeams) +
+                     "; a budget above the beam count keeps every return: GraphSlamOptions::return_budget)")
       ->check(CLI::Range(size_t{1}, static_cast<size_t>(navd::kMaxScanBeams)));
   std::string method = "amcl";
   app.add_option("--localizer", method,

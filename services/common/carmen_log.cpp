@@ -139,7 +139,7 @@ bool ParseLine(const std::string& line, int line_no, CarmenLog& log, std::vector
       // Radians in some CARMEN versions (3.14159), degrees in others (180): no scanner's field of
       // view is under 7 degrees, nor any over a whole turn.
       if (!(in >> value) || !std::isfinite(value) || value <= 0.0) return false;
-      const double fov = FovToHundredthOfDegree(value > 7.0 ? value * M_PI / 180.0 : value);
+      const double fov = FovRoundedToHundredthOfDegree(value > 7.0 ? value * M_PI / 180.0 : value);
       if (fov <= 0.0 || fov > 2.0 * M_PI + 1e-9) return false;
       log.front_laser_fov = fov;
     } else if (name == "laser_front_laser_resolution") {
@@ -171,6 +171,35 @@ void PoseRawScans(CarmenLog& log, std::vector<CarmenScan> raw_scans, const std::
   }
 }
 
+// FLASER and ROBOTLASER1 are the front laser's old and new messages: a logger that writes both
+// writes each scan twice, with one stamp. The FLASER scan (`flaser` indexes log.scans in file
+// order) whose stamp a ROBOTLASER1 scan carries is dropped: the new message states its angles. A
+// FLASER scan no ROBOTLASER1 scan shares a stamp with (logs joined from two loggers) stays.
+void DropFlaserScansWrittenAgain(CarmenLog& log, std::vector<size_t>& flaser) {
+  if (flaser.empty() || flaser.size() == log.scans.size()) return;
+  std::vector<double> robot_laser_stamps;
+  for (size_t i = 0, next = 0; i < log.scans.size(); ++i) {
+    if (next < flaser.size() && flaser[next] == i)
+      ++next;
+    else
+      robot_laser_stamps.push_back(log.scans[i].timestamp);
+  }
+  std::sort(robot_laser_stamps.begin(), robot_laser_stamps.end());
+  std::vector<CarmenScan> kept;
+  std::vector<size_t> kept_flaser;
+  for (size_t i = 0, next = 0; i < log.scans.size(); ++i) {
+    const bool is_flaser = next < flaser.size() && flaser[next] == i;
+    if (is_flaser) {
+      ++next;
+      if (std::binary_search(robot_laser_stamps.begin(), robot_laser_stamps.end(), log.scans[i].timestamp)) continue;
+      kept_flaser.push_back(kept.size());
+    }
+    kept.push_back(std::move(log.scans[i]));
+  }
+  log.scans = std::move(kept);
+  flaser = std::move(kept_flaser);
+}
+
 // The lines of one log, added in file order, then finished into the log: what ReadCarmenLog and
 // ParseCarmenLog share. `source` names the log in errors.
 class LogLines {
@@ -191,20 +220,7 @@ class LogLines {
   }
 
   CarmenLog Finish() && {
-    // FLASER and ROBOTLASER1 are the front laser's old and new messages: a logger that writes both
-    // writes each scan twice. The new ones, which state their angles, are kept.
-    if (!flaser_scans_.empty() && flaser_scans_.size() < log_.scans.size()) {
-      std::vector<CarmenScan> robot_laser_scans;
-      for (size_t i = 0, next_flaser = 0; i < log_.scans.size(); ++i) {
-        if (next_flaser < flaser_scans_.size() && flaser_scans_[next_flaser] == i) {
-          ++next_flaser;
-          continue;
-        }
-        robot_laser_scans.push_back(std::move(log_.scans[i]));
-      }
-      log_.scans = std::move(robot_laser_scans);
-      flaser_scans_.clear();
-    }
+    DropFlaserScansWrittenAgain(log_, flaser_scans_);
     // PARAM lines may follow the first scans; the beams are placed once the whole log is read.
     for (size_t i : flaser_scans_) {
       CarmenScan& s = log_.scans[i];
@@ -370,7 +386,8 @@ std::string FormatFlaserLog(const CarmenLog& log, const std::string& host) {
     text += line;
   }
   if (log.front_laser_resolution > 0.0) {
-    std::snprintf(line, sizeof line, "PARAM laser_front_laser_resolution %.9f %s 0\n",
+    // Every digit of a double: the beams of a long scan are read back where they were, to the last bit.
+    std::snprintf(line, sizeof line, "PARAM laser_front_laser_resolution %.17g %s 0\n",
                   log.front_laser_resolution * 180.0 / M_PI, host.c_str());
     text += line;
   }

@@ -6,9 +6,9 @@
 // `PARAM laser_front_laser_fov` and `laser_front_laser_resolution` (FlaserBeams). A log logged without the
 // robot's laser messages (no FLASER or ROBOTLASER1 line) has its `RAWLASER1` scans read instead,
 // each placed where its ODOM lines put the scanner at its stamp, as a raw log's FLASER lines hold
-// the odometry's pose. A log holding both FLASER and ROBOTLASER1 lines (the front laser's old and
-// new messages, each scan written twice) has its ROBOTLASER1 scans read. Other messages (a rear
-// laser's RLASER among them) are passed over. Plain or gzip-compressed.
+// the odometry's pose. A scan written twice, as a FLASER and a ROBOTLASER1 line of one stamp (the
+// front laser's old and new messages), is read once, from the ROBOTLASER1 line. Other messages (a
+// rear laser's RLASER among them) are passed over. Plain or gzip-compressed.
 // FLASER lines carry no angles: the log's PARAM lines or else their beam count say them
 // (FlaserBeams, CarmenBeamAngle). Metres, radians, seconds.
 #include <cmath>
@@ -53,7 +53,7 @@ constexpr int kMaxScanBeams = 100000;
 
 // A front laser's field of view (rad) to the hundredth of a degree, as a log's PARAM line says it
 // and the reader takes it: radians written to five decimals (3.14159) are the 180 degrees they round to.
-inline double FovToHundredthOfDegree(double fov) {
+inline double FovRoundedToHundredthOfDegree(double fov) {
   const double degrees = std::round(fov * 180.0 / M_PI * 100.0) / 100.0;
   return degrees * M_PI / 180.0;
 }

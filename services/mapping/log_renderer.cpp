@@ -16,7 +16,7 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
   if (!(options.step >= 0.0) || !(options.turn > 0.0) || !(options.range_noise >= 0.0) || !(options.no_return > 0.0))
     throw Error(ErrorCode::kInvalidArgument, "render: step and range noise must be >= 0, turn and no-return > 0");
   // The fov as the rendered log's PARAM line is read back.
-  const double fov = FovToHundredthOfDegree(options.fov);
+  const double fov = FovRoundedToHundredthOfDegree(options.fov);
   if (options.beams != 0 && (options.beams < 2 || !(fov > 0.0 && fov <= 2.0 * M_PI + 1e-9)))
     throw Error(ErrorCode::kInvalidArgument,
                 "render: a scanner needs at least 2 beams and a fov within (0, 360] degrees, to the hundredth");
@@ -38,7 +38,9 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
   out.front_laser_resolution = log.front_laser_resolution;
   FlaserBeamLayout layout;
   if (options.beams != 0) {
-    layout = FlaserBeams(static_cast<size_t>(options.beams), fov);
+    // Evenly over the fov, as a stated resolution that fits it places them when read back.
+    const int gaps = fov > 2.0 * M_PI - 1e-9 ? options.beams : options.beams - 1;
+    layout = FlaserBeams(static_cast<size_t>(options.beams), fov, fov / gaps);
     out.front_laser_fov = fov;
     out.front_laser_resolution = layout.angle_increment;
   }

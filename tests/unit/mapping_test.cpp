@@ -245,13 +245,14 @@ TEST(CarmenLog, PlacesRawLaserScansByTheOdometryAtTheirStamps) {
 }
 
 // A logger that writes the front laser's old and new messages writes each scan as a FLASER and a
-// ROBOTLASER1 line: it is read once, from the ROBOTLASER1 line and its angles. A rear laser's
+// ROBOTLASER1 line of one stamp: it is read once, from the ROBOTLASER1 line. FLASER lines no
+// ROBOTLASER1 line shares a stamp with (logs joined from two loggers) are read too. A rear laser's
 // RLASER lines are passed over.
 TEST(CarmenLog, ReadsAScanWrittenAsFlaserAndRobotLaserOnce) {
   std::string text;
   for (int k = 0; k < 3; ++k) {
     const std::string x = std::to_string(k), stamp = std::to_string(10 + k);
-    text += "FLASER 3 1.0 2.0 3.0 " + x + " 0 0 " + x + " 0 0 " + stamp + " h " + stamp + "\n";
+    text += "FLASER 3 7.0 8.0 9.0 " + x + " 5 0 " + x + " 5 0 " + stamp + " h " + stamp + "\n";
     text += "RLASER 3 4.0 5.0 6.0 " + x + " 0 3.14 " + x + " 0 0 " + stamp + " h " + stamp + "\n";
     text += "ROBOTLASER1 0 -0.5 1.0 0.5 30.0 0.01 0 3 1.0 2.0 3.0 0 " + x + " 0 0 " + x + " 0 0 0 0 0 0 0 " + stamp +
             " h " + stamp + "\n";
@@ -260,10 +261,21 @@ TEST(CarmenLog, ReadsAScanWrittenAsFlaserAndRobotLaserOnce) {
   ASSERT_EQ(log.scans.size(), 3u);
   for (int k = 0; k < 3; ++k) {
     EXPECT_DOUBLE_EQ(log.scans[k].pose.x, k);
+    EXPECT_DOUBLE_EQ(log.scans[k].pose.y, 0.0);
     EXPECT_DOUBLE_EQ(log.scans[k].angle_min, -0.5);
     EXPECT_DOUBLE_EQ(log.scans[k].angle_increment, 0.5);
     EXPECT_FLOAT_EQ(log.scans[k].ranges[0], 1.0f);
   }
+  // Two FLASER scans of other stamps: both read, in file order, their beams placed by the count.
+  const CarmenLog joined = ParseCarmenLog(
+      "FLASER 3 7.0 8.0 9.0 9 5 0 9 5 0 3.0 h 3.0\n" + text + "FLASER 3 7.0 8.0 9.0 9 5 0 9 5 0 20.0 h 20.0\n",
+      "joined", true);
+  ASSERT_EQ(joined.scans.size(), 5u);
+  EXPECT_FLOAT_EQ(joined.scans.front().ranges[0], 7.0f);
+  EXPECT_DOUBLE_EQ(joined.scans.front().angle_min, CarmenBeamAngle(0, 3));
+  EXPECT_FLOAT_EQ(joined.scans.back().ranges[0], 7.0f);
+  EXPECT_DOUBLE_EQ(joined.scans.back().timestamp, 20.0);
+  EXPECT_DOUBLE_EQ(joined.scans[1].angle_min, -0.5);
 }
 
 // A log whose stamps cannot time its scans (most repeat) gets them paced from its odometry; a log
@@ -682,10 +694,11 @@ TEST(LogRenderer, RendersAnotherScannersBeamsWhereTheRenderedLogIsReadBack) {
   log.scans[1].timestamp = 1.0;
   LogRenderOptions o;
   const double deg = M_PI / 180.0;
-  // 180 beams over 180 degrees are a SICK's 1-degree mode, 270.004 degrees are 270 as PARAM reads
-  // them, and a whole turn has as many gaps as beams.
+  // Beams spread evenly over the fov, even where a SICK's modes of 180 or 400 beams would not span
+  // it; 270.004 degrees are 270 as PARAM reads them, and a whole turn has as many gaps as beams.
   for (const auto& [fov, beams, start, step] :
-       {std::tuple{180.0, 180, -90.0, 1.0}, std::tuple{270.004, 541, -135.0, 0.5},
+       {std::tuple{180.0, 181, -90.0, 1.0}, std::tuple{180.0, 180, -90.0, 180.0 / 179},
+        std::tuple{180.0, 400, -90.0, 180.0 / 399}, std::tuple{270.004, 541, -135.0, 0.5},
         std::tuple{360.0, 720, -180.0, 0.5}}) {
     o.fov = fov * deg;
     o.beams = beams;
