@@ -85,6 +85,7 @@ CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double re
   cells_.assign(static_cast<size_t>(width_) * height_, 0.0f);
   const int r = static_cast<int>(std::ceil(reach / resolution));
   const double inv = 1.0 / (2.0 * sigma * sigma);
+  const double reach2 = reach * reach;
   // exp(-q) tabulated over the smear's reach (q <= 4.5 inside 3 sigma): the grid is rebuilt for
   // every scan, and exp was most of its cost.
   constexpr int kTable = 512;
@@ -94,24 +95,31 @@ CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double re
     for (int i = 0; i < kTable + 2; ++i) t[i] = static_cast<float>(std::exp(-kMaxQ * i / kTable));
     return t;
   }();
-  // Squared distances from the point to the centres of the columns around it (m²).
+  auto smear = [&](double d2) {  // exp(-d2 inv) for d2 (m²) within the reach
+    const double q = std::min(d2 * inv, kMaxQ) * (kTable / kMaxQ);
+    const int i = static_cast<int>(q);
+    return table[i] + static_cast<float>(q - i) * (table[i + 1] - table[i]);
+  };
+  // A point's smear is a column factor times a row factor, exp(-dx² inv) exp(-dy² inv), cut at
+  // `reach`: each cell within it costs a product and a max.
   std::vector<double> dx2(static_cast<size_t>(2 * r + 1));
+  std::vector<float> column(dx2.size());
   for (const Point2& p : reference) {
     const int cx = CellX(p.x()), cy = CellY(p.y());
-    for (int x = cx - r; x <= cx + r; ++x) {
-      const double dx = origin_.x() + (x + 0.5) * resolution - p.x();
-      dx2[x - (cx - r)] = dx * dx;
+    for (int i = 0; i <= 2 * r; ++i) {
+      const double dx = origin_.x() + (cx - r + i + 0.5) * resolution - p.x();
+      dx2[i] = dx * dx;
+      column[i] = smear(dx2[i]);
     }
     for (int y = cy - r; y <= cy + r; ++y) {
       const double dy = origin_.y() + (y + 0.5) * resolution - p.y();
-      const double dy2 = dy * dy;
-      float* row = &cells_[static_cast<size_t>(y) * width_];
-      for (int x = cx - r; x <= cx + r; ++x) {
-        const double q = (dx2[x - (cx - r)] + dy2) * inv * (kTable / kMaxQ);
-        if (q >= kTable) continue;
-        const int i = static_cast<int>(q);
-        const float v = table[i] + static_cast<float>(q - i) * (table[i + 1] - table[i]);
-        if (v > row[x]) row[x] = v;
+      const double within = reach2 - dy * dy;
+      if (within <= 0.0) continue;
+      const float row_factor = smear(dy * dy);
+      float* row = &cells_[static_cast<size_t>(y) * width_ + (cx - r)];
+      for (int i = 0; i <= 2 * r; ++i) {
+        const float v = dx2[i] < within ? column[i] * row_factor : 0.0f;
+        row[i] = std::max(row[i], v);
       }
     }
   }

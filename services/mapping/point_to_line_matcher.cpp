@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -56,15 +57,26 @@ const Point2& PointToLineMatcher::Normal(int i) const {
 template <typename Visit>
 void PointToLineMatcher::ForEachNear(const Point2& p, Visit&& visit) const {
   const int cx = Cell(p.x()), cy = Cell(p.y());
-  for (int y = cy - 1; y <= cy + 1; ++y) {
-    for (int x = cx - 1; x <= cx + 1; ++x) {
-      const long long key = Key(x, y);
-      const auto it = std::lower_bound(cells_.begin(), cells_.end(), key,
-                                       [](const auto& cell, long long k) { return cell.first < k; });
-      if (it == cells_.end() || it->first != key) continue;
-      for (int k = it->second.first; k < it->second.second; ++k) visit(order_[k]);
+  // A column's cells sit next to one another among the sorted keys (x in the high bits), so one
+  // search per column finds its three runs; a column whose y crosses 0, where the keys' low bits
+  // wrap, is searched again. The runs are visited row by row.
+  std::array<std::pair<int, int>, 9> runs{};
+  auto search = [&](long long key) {
+    return std::lower_bound(cells_.begin(), cells_.end(), key,
+                            [](const auto& cell, long long k) { return cell.first < k; });
+  };
+  for (int col = 0; col < 3; ++col) {
+    const int x = cx - 1 + col;
+    auto it = search(Key(x, cy - 1));
+    for (int row = 0; row < 3; ++row) {
+      const long long key = Key(x, cy - 1 + row);
+      if (row > 0 && key < Key(x, cy - 2 + row)) it = search(key);
+      while (it != cells_.end() && it->first < key) ++it;
+      if (it != cells_.end() && it->first == key) runs[row * 3 + col] = (it++)->second;
     }
   }
+  for (const auto& [begin, end] : runs)
+    for (int k = begin; k < end; ++k) visit(order_[k]);
 }
 
 int PointToLineMatcher::Nearest(const Point2& p) const {
