@@ -87,7 +87,7 @@ CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double re
   const double inv = 1.0 / (2.0 * sigma * sigma);
   const double reach2 = reach * reach;
   // exp(-q) tabulated over the smear's reach (q <= 4.5 inside 3 sigma): the grid is rebuilt for
-  // every scan, and exp was most of its cost.
+  // every scan, and exp would be most of its cost.
   constexpr int kTable = 512;
   constexpr double kMaxQ = 4.5;
   static const std::vector<float> table = [] {
@@ -103,22 +103,22 @@ CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double re
   // A point's smear is a column factor times a row factor, exp(-dx² inv) exp(-dy² inv), cut at
   // `reach`: each cell within it costs a product and a max.
   std::vector<double> dx2(static_cast<size_t>(2 * r + 1));
-  std::vector<float> column(dx2.size());
+  std::vector<float> column_factor(dx2.size());
   for (const Point2& p : reference) {
     const int cx = CellX(p.x()), cy = CellY(p.y());
     for (int i = 0; i <= 2 * r; ++i) {
       const double dx = origin_.x() + (cx - r + i + 0.5) * resolution - p.x();
       dx2[i] = dx * dx;
-      column[i] = smear(dx2[i]);
+      column_factor[i] = smear(dx2[i]);
     }
     for (int y = cy - r; y <= cy + r; ++y) {
       const double dy = origin_.y() + (y + 0.5) * resolution - p.y();
-      const double within = reach2 - dy * dy;
-      if (within <= 0.0) continue;
+      const double dx2_limit = reach2 - dy * dy;
+      if (dx2_limit <= 0.0) continue;
       const float row_factor = smear(dy * dy);
       float* row = &cells_[static_cast<size_t>(y) * width_ + (cx - r)];
       for (int i = 0; i <= 2 * r; ++i) {
-        const float v = dx2[i] < within ? column[i] * row_factor : 0.0f;
+        const float v = dx2[i] < dx2_limit ? column_factor[i] * row_factor : 0.0f;
         row[i] = std::max(row[i], v);
       }
     }
