@@ -59,8 +59,8 @@ void PointToLineMatcher::ForEachNear(const Point2& p, Visit&& visit) const {
   const int cx = Cell(p.x()), cy = Cell(p.y());
   // A column's cells sit next to one another among the sorted keys (x in the high bits), so one
   // search per column finds its three runs; a column whose y crosses 0, where the keys' low bits
-  // wrap, is searched again. The runs are visited row by row (y outer), the order Nearest's ties
-  // and Normal's sums depend on.
+  // wrap, is searched again: the iterator always rests on the first key at or above the row's.
+  // The runs are visited row by row (y outer), the order Nearest's ties and Normal's sums depend on.
   std::array<std::pair<int, int>, 9> runs{};
   auto search = [&](long long key) {
     return std::lower_bound(cells_.begin(), cells_.end(), key,
@@ -72,7 +72,6 @@ void PointToLineMatcher::ForEachNear(const Point2& p, Visit&& visit) const {
     for (int row = 0; row < 3; ++row) {
       const long long key = Key(x, cy - 1 + row);
       if (row > 0 && key < Key(x, cy - 2 + row)) it = search(key);
-      while (it != cells_.end() && it->first < key) ++it;
       if (it != cells_.end() && it->first == key) runs[row * 3 + col] = (it++)->second;
     }
   }
