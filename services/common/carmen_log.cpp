@@ -297,8 +297,7 @@ int TimeScansInFileOrder(CarmenLog& log, double max_speed, double max_turn_rate,
 FlaserBeamLayout FlaserBeams(size_t n, double fov, double resolution) {
   const FlaserBeamLayout by_count{CarmenBeamAngle(0, n), n > 1 ? CarmenBeamAngle(1, n) - CarmenBeamAngle(0, n) : 0.0};
   if (n < 2 || fov <= 0.0) return by_count;
-  // A scanner sweeping a whole turn has as many gaps as beams: none reads one bearing twice.
-  const double gaps = fov > 2.0 * M_PI - 1e-9 ? static_cast<double>(n) : static_cast<double>(n - 1);
+  const double gaps = static_cast<double>(FlaserBeamGaps(n, fov));
   // The resolution holds when n beams that far apart span the fov, or the fov less its last beam
   // (loggers that drop a SICK's 361st).
   const double span = gaps * resolution;

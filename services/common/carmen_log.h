@@ -160,5 +160,8 @@ struct FlaserBeamLayout {
 // fov less one beam); otherwise a 180-degree fov leaves it to the count (which knows the SICK's
 // modes), and any other spreads the fov evenly over the n - 1 gaps, or n for a whole turn.
 FlaserBeamLayout FlaserBeams(size_t n, double fov = 0.0, double resolution = 0.0);
+// The gaps between n beams spread over `fov` (rad): n - 1, or n for a scanner sweeping a whole
+// turn, since none of its beams reads one bearing twice.
+inline size_t FlaserBeamGaps(size_t n, double fov) { return fov > 2.0 * M_PI - 1e-9 ? n : (n > 0 ? n - 1 : 0); }
 
 }  // namespace navd

@@ -39,8 +39,8 @@ CarmenLog RenderLog(const CarmenLog& log, const RayCaster& world, const LogRende
   FlaserBeamLayout layout;
   if (options.beams != 0) {
     // Evenly over the fov, as a stated resolution that fits it places them when read back.
-    const int gaps = fov > 2.0 * M_PI - 1e-9 ? options.beams : options.beams - 1;
-    layout = FlaserBeams(static_cast<size_t>(options.beams), fov, fov / gaps);
+    const size_t count = static_cast<size_t>(options.beams);
+    layout = FlaserBeams(count, fov, fov / static_cast<double>(FlaserBeamGaps(count, fov)));
     out.front_laser_fov = fov;
     out.front_laser_resolution = layout.angle_increment;
   }
