@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "services/common/error.h"
+#include "services/mapping/recycled_cells.h"
 
 namespace navd::mapping {
 namespace {
@@ -82,7 +84,7 @@ CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double re
   height_ = static_cast<int>(std::ceil((hi.y() + margin - origin_.y()) / resolution)) + 1;
   if (static_cast<long long>(width_) * height_ > 64'000'000LL)
     throw Error(ErrorCode::kInvalidArgument, "scan matching: reference points span too large an area");
-  cells_.assign(static_cast<size_t>(width_) * height_, 0.0f);
+  cells_ = RecycledCells::Take(static_cast<size_t>(width_) * height_);
   const int r = static_cast<int>(std::ceil(reach / resolution));
   const double inv = 1.0 / (2.0 * sigma * sigma);
   const double reach2 = reach * reach;
@@ -124,6 +126,8 @@ CorrelationGrid::CorrelationGrid(const std::vector<Point2>& reference, double re
     }
   }
 }
+
+CorrelationGrid::~CorrelationGrid() { RecycledCells::Give(std::move(cells_)); }
 
 std::vector<Point2> ThinPoints(const std::vector<Point2>& points, double spacing) {
   std::vector<Point2> out;

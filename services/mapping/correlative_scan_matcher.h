@@ -58,7 +58,13 @@ struct ScanMatch {
 // A lookup grid over reference points (world frame).
 class CorrelationGrid {
  public:
+  // Its cells are taken from, and handed back to, RecycledCells.
   CorrelationGrid(const std::vector<Point2>& reference, double resolution, double sigma);
+  CorrelationGrid(const CorrelationGrid&) = default;
+  CorrelationGrid(CorrelationGrid&&) = default;
+  CorrelationGrid& operator=(const CorrelationGrid&) = default;
+  CorrelationGrid& operator=(CorrelationGrid&&) = default;
+  ~CorrelationGrid();
   // A world coordinate in cell units from cell (0, 0)'s centre: cell centres are the sample
   // points of the fine search's bilinear lookups.
   double CellUnitsX(double x) const { return (x - origin_.x()) / resolution_ - 0.5; }

@@ -47,10 +47,16 @@ const Point2& PointToLineMatcher::Normal(int i) const {
   if (n < 3) return normals_[i];
   const Point2 mean = sum / n;
   const Eigen::Matrix2d cov = outer / n - mean * mean.transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
-  const double small = eig.eigenvalues()(0), large = eig.eigenvalues()(1);
+  // The 2 x 2 covariance's eigenvalues in closed form: mid -+ half, with half the distance
+  // between them from the spread's difference and the cross term.
+  const double a = cov(0, 0), b = cov(0, 1), c = cov(1, 1);
+  const double mid = 0.5 * (a + c), diff = 0.5 * (a - c), half = std::hypot(diff, b);
+  const double small = mid - half, large = mid + half;
   if (large <= 0.0 || small > o_.max_flatness * large) return normals_[i];
-  normals_[i] = eig.eigenvectors().col(0).normalized();
+  // The small eigenvalue's eigenvector, (b, small - a) or (small - c, b): the one of the two
+  // that does not vanish as b does (a line along x has its normal along y, and the other way).
+  const Point2 normal = diff >= 0.0 ? Point2(b, -(diff + half)) : Point2(diff - half, b);
+  normals_[i] = normal.normalized();
   return normals_[i];
 }
 

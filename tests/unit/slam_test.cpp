@@ -21,6 +21,7 @@
 #include "services/mapping/odometry_pairing.h"
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
+#include "services/mapping/recycled_cells.h"
 #include "services/mapping/seen_through_check.h"
 #include "services/mapping/shared_places.h"
 #include "services/mapping/surface_facing_check.h"
@@ -79,6 +80,48 @@ TEST(CorrelativeScanMatcher, ThinsAScanToItsBudgetOfReturns) {
   EXPECT_EQ(ThinPointsTo(wall, 1000, 0.1).size(), 1000u);
   EXPECT_EQ(ThinPointsTo(wall, 5, 0.1).size(), ThinPoints(wall, 0.1).size());
   EXPECT_TRUE(ThinPointsTo({}, 5, 0.1).empty());
+}
+
+TEST(RecycledCells, AGridGoneHandsItsMemoryToTheNextWhichStartsFromZeros) {
+  // A dense cloud makes every cell of its grid nonzero; two points 3 m apart leave most of theirs 0.
+  std::vector<Point2> cloud;
+  for (double x = 0.0; x <= 3.0; x += 0.05)
+    for (double y = 0.0; y <= 0.5; y += 0.05) cloud.emplace_back(x, y);
+  for (size_t i = 0; i < RecycledCells::kKept; ++i) RecycledCells::Take(0);  // what earlier tests left
+  const float* memory = nullptr;
+  {
+    const CorrelationGrid dense(cloud, 0.05, 0.05);
+    memory = dense.Row(0);
+    EXPECT_GT(dense.AtCell(dense.width() / 2, dense.height() / 2), 0.0f);
+  }
+  const CorrelationGrid sparse({{0.0, 0.0}, {3.0, 0.5}}, 0.05, 0.05);
+  EXPECT_EQ(sparse.Row(0), memory);  // no larger than the dense grid: its memory holds it
+  int nonzero = 0;
+  for (int y = 0; y < sparse.height(); ++y)
+    for (int x = 0; x < sparse.width(); ++x) nonzero += sparse.AtCell(x, y) > 0.0f;
+  // Only the cells within 3 sigma of the two points: a disc of radius 3 cells each.
+  EXPECT_GT(nonzero, 2 * 20);
+  EXPECT_LT(nonzero, 2 * 40);
+  EXPECT_EQ(sparse.AtCell(sparse.width() / 2, sparse.height() / 2), 0.0f);
+
+  // Handed back dirty, a buffer comes out of Take as zeros; no more than kKept are kept.
+  std::vector<float> dirty(1000, 7.0f);
+  const float* dirty_memory = dirty.data();
+  RecycledCells::Give(std::move(dirty));
+  const std::vector<float> taken = RecycledCells::Take(800);
+  EXPECT_EQ(taken.data(), dirty_memory);
+  EXPECT_EQ(taken.size(), 800u);
+  EXPECT_TRUE(std::all_of(taken.begin(), taken.end(), [](float v) { return v == 0.0f; }));
+  std::vector<const float*> given;
+  for (size_t i = 0; i < RecycledCells::kKept + 2; ++i) {
+    std::vector<float> cells(100 + i);
+    given.push_back(cells.data());
+    RecycledCells::Give(std::move(cells));
+  }
+  std::vector<const float*> back;
+  for (size_t i = 0; i < RecycledCells::kKept + 2; ++i) back.push_back(RecycledCells::Take(10).data());
+  // The kKept roomiest come back, smallest first; then new memory.
+  for (size_t i = 0; i < RecycledCells::kKept; ++i) EXPECT_EQ(back[i], given[i + 2]) << i;
 }
 
 TEST(CorrelativeScanMatcher, RecoversThePoseFromAnOffsetPrior) {
@@ -160,6 +203,30 @@ TEST(PointToLineMatcher, LeavesADirectionNoWallConstrainsWhereItStarted) {
   EXPECT_NEAR(fit.pose.y, 0.0, 0.002);
   EXPECT_NEAR(fit.pose.theta, 0.0, 0.002);
   EXPECT_NEAR(fit.pose.x, 0.07, 0.01);
+}
+
+TEST(PointToLineMatcher, HoldsAScanToWallsOfAnyHeading) {
+  // Two parallel walls 2 m apart, turned to each heading: a scan started 4 cm and 0.02 rad off
+  // comes back across them, and stays where it started along them.
+  for (const double heading : {0.0, 0.4, 1.2, M_PI / 2, 2.5, -0.8}) {
+    const Pose2 turn{0.0, 0.0, heading};
+    std::vector<Point2> reference, scan;
+    for (double x = -5.0; x <= 5.0; x += 0.05) {
+      reference.push_back(turn * Point2(x, 1.0));
+      reference.push_back(turn * Point2(x, -1.0));
+    }
+    for (double x = -3.0; x <= 3.0; x += 0.1) {
+      scan.emplace_back(x, 1.0);
+      scan.emplace_back(x, -1.0);
+    }
+    const Pose2 start = turn * Pose2{0.03, 0.04, 0.02};
+    const PointToLineResult fit = PointToLineMatcher(reference).Match(scan, start);
+    ASSERT_TRUE(fit.ok) << heading;
+    const Pose2 in_corridor = turn.inverse() * fit.pose;
+    EXPECT_NEAR(in_corridor.y, 0.0, 0.002) << heading;
+    EXPECT_NEAR(NormalizeAngle(in_corridor.theta), 0.0, 0.002) << heading;
+    EXPECT_NEAR(in_corridor.x, 0.03, 0.01) << heading;
+  }
 }
 
 TEST(PointToLineMatcher, RefusesWhenTooFewPointsPairWithALine) {
