@@ -22,7 +22,8 @@ std::vector<float> RecycledCells::Take(size_t n) {
   if (!kept.empty()) {
     // Roomiest first: the last that holds n is the smallest that does.
     std::sort(kept.begin(), kept.end(), Roomier);
-    auto chosen = std::find_if(kept.rbegin(), kept.rend(), [n](const std::vector<float>& b) { return b.capacity() >= n; });
+    auto chosen =
+        std::find_if(kept.rbegin(), kept.rend(), [n](const std::vector<float>& b) { return b.capacity() >= n; });
     const auto at = chosen == kept.rend() ? kept.begin() : std::prev(chosen.base());
     cells = std::move(*at);
     kept.erase(at);

@@ -18,7 +18,7 @@ class RecycledCells {
   // kMaxCells each, the roomiest.
   static void Give(std::vector<float>&& cells);
 
-  static constexpr size_t kKept = 4;  // a loop closure's grids at three resolutions and the front end's
+  static constexpr size_t kKept = 4;               // a loop closure's grids at three resolutions and the front end's
   static constexpr size_t kMaxCells = 16'000'000;  // 64 MB: a larger grid's memory goes back
 };
 
