@@ -1,7 +1,6 @@
 #include "services/mapping/recycled_cells.h"
 
 #include <algorithm>
-#include <iterator>
 #include <utility>
 
 namespace navd::mapping {
@@ -12,7 +11,7 @@ std::vector<std::vector<float>>& Kept() {
   return kept;
 }
 
-bool Roomier(const std::vector<float>& a, const std::vector<float>& b) { return a.capacity() > b.capacity(); }
+bool Smaller(const std::vector<float>& a, const std::vector<float>& b) { return a.capacity() < b.capacity(); }
 
 }  // namespace
 
@@ -20,13 +19,12 @@ std::vector<float> RecycledCells::Take(size_t n) {
   std::vector<std::vector<float>>& kept = Kept();
   std::vector<float> cells;
   if (!kept.empty()) {
-    // Roomiest first: the last that holds n is the smallest that does.
-    std::sort(kept.begin(), kept.end(), Roomier);
-    auto chosen =
-        std::find_if(kept.rbegin(), kept.rend(), [n](const std::vector<float>& b) { return b.capacity() >= n; });
-    const auto at = chosen == kept.rend() ? kept.begin() : std::prev(chosen.base());
-    cells = std::move(*at);
-    kept.erase(at);
+    // The smallest that holds n, else the roomiest.
+    auto chosen = std::max_element(kept.begin(), kept.end(), Smaller);
+    for (auto it = kept.begin(); it != kept.end(); ++it)
+      if (it->capacity() >= n && it->capacity() < chosen->capacity()) chosen = it;
+    cells = std::move(*chosen);
+    kept.erase(chosen);
   }
   cells.assign(n, 0.0f);
   return cells;
@@ -36,8 +34,7 @@ void RecycledCells::Give(std::vector<float>&& cells) {
   if (cells.capacity() == 0 || cells.capacity() > kMaxCells) return;
   std::vector<std::vector<float>>& kept = Kept();
   kept.push_back(std::move(cells));
-  if (kept.size() <= kKept) return;
-  kept.erase(std::max_element(kept.begin(), kept.end(), Roomier));  // the smallest
+  if (kept.size() > kKept) kept.erase(std::min_element(kept.begin(), kept.end(), Smaller));
 }
 
 }  // namespace navd::mapping
