@@ -519,6 +519,28 @@ TEST(Realdata, ALogThatCannotBeReadGetsAFailedRowAndTheOthersTheirs) {
   EXPECT_NE(gated.output.find("| room | 30 | "), std::string::npos) << gated.output;
 }
 
+// Scan k of a drive through a 10 x 6 m room (walls at x = +-5, y = +-3): where it was taken.
+std::array<double, 3> RoomDrivePose(int k) {
+  return {-4.0 + 0.2 * k, 0.3 * std::sin(0.3 * k), 0.2 * std::sin(0.2 * k)};
+}
+
+// A FLASER line of that room seen from (x, y, theta), stamped t, whose pose fields say `logged`.
+std::string RoomFlaserLine(const std::array<double, 3>& seen_from, const std::array<double, 3>& logged, double t) {
+  const auto& [x, y, theta] = seen_from;
+  std::ostringstream line;
+  line << "FLASER 181";
+  for (int i = 0; i <= 180; ++i) {
+    const double a = theta - M_PI / 2 + i * M_PI / 180, c = std::cos(a), s = std::sin(a);
+    // The nearest of the room's four walls along the beam.
+    const double along_x = std::abs(c) > 1e-9 ? ((c > 0 ? 5.0 : -5.0) - x) / c : 1e9;
+    const double along_y = std::abs(s) > 1e-9 ? ((s > 0 ? 3.0 : -3.0) - y) / s : 1e9;
+    line << " " << std::min(along_x, along_y);
+  }
+  for (int twice = 0; twice < 2; ++twice) line << " " << logged[0] << " " << logged[1] << " " << logged[2];
+  line << " " << t << " host " << t << "\n";
+  return line.str();
+}
+
 TEST(ScanConsistency, ADriftingTrajectoryReadsWorseThanTheTrueOne) {
   const std::string dir = MakeTempDir();
   auto tum_line = [](double t, double x, double y, double theta) {
@@ -530,17 +552,10 @@ TEST(ScanConsistency, ADriftingTrajectoryReadsWorseThanTheTrueOne) {
   {
     std::ofstream log(dir + "/room.log"), exact(dir + "/exact.tum"), drift(dir + "/drift.tum");
     for (int k = 0; k < 40; ++k) {
-      const double x = -4.0 + 0.2 * k, y = 0.3 * std::sin(0.3 * k), theta = 0.2 * std::sin(0.2 * k), t = 100.0 + k;
-      log << "FLASER 181";
-      for (int i = 0; i <= 180; ++i) {
-        const double a = theta - M_PI / 2 + i * M_PI / 180, c = std::cos(a), s = std::sin(a);
-        // The nearest of the room's four walls (x = +-5, y = +-3) along the beam.
-        const double along_x = std::abs(c) > 1e-9 ? ((c > 0 ? 5.0 : -5.0) - x) / c : 1e9;
-        const double along_y = std::abs(s) > 1e-9 ? ((s > 0 ? 3.0 : -3.0) - y) / s : 1e9;
-        log << " " << std::min(along_x, along_y);
-      }
-      log << " " << x << " " << y << " " << theta << " " << x << " " << y << " " << theta << " " << t << " host " << t
-          << "\n";
+      const auto pose = RoomDrivePose(k);
+      const auto& [x, y, theta] = pose;
+      const double t = 100.0 + k;
+      log << RoomFlaserLine(pose, pose, t);
       exact << tum_line(t, x, y, theta);
       drift << tum_line(t, x, y + 0.01 * k, theta + 0.002 * k);
     }
@@ -569,6 +584,43 @@ TEST(ScanConsistency, ADriftingTrajectoryReadsWorseThanTheTrueOne) {
   const auto short_tum = RunCommand({SourceDir() + "/scripts/scan-consistency", dir + "/room.log", dir + "/room.log"});
   EXPECT_NE(short_tum.exit_code, 0);
   EXPECT_NE(short_tum.output.find("scan-consistency: "), std::string::npos) << short_tum.output;
+}
+
+// A log whose scan 20 says a pose 0.1 m and 0.1 rad off where it was taken: --scan 20 finds the
+// pose the other scans place it at, and --scan 10 that its own is where they place it.
+TEST(ScanConsistency, FindsWhereTheOtherScansPlaceAScanWhoseLoggedPoseIsOff) {
+  const std::string dir = MakeTempDir();
+  {
+    std::ofstream log(dir + "/room.log");
+    for (int k = 0; k < 40; ++k) {
+      auto logged = RoomDrivePose(k);
+      if (k == 20) logged = {logged[0] + 0.1, logged[1], logged[2] + 0.1};
+      log << RoomFlaserLine(RoomDrivePose(k), logged, 100.0 + k);
+    }
+  }
+  auto fit = [&](const std::string& scan) {
+    const auto r = RunCommand({SourceDir() + "/scripts/scan-consistency", dir + "/room.log", "--scan", scan});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::array<double, 5> read{};  // at the log's pose, at the best; the best's offset x, y, theta
+    EXPECT_EQ(std::sscanf(r.output.c_str(),
+                          "scan %*d: mean distance to the other scans' returns %lf m at the log's pose, %lf m at its "
+                          "best, %lf m, %lf m, %lf rad",
+                          &read[0], &read[1], &read[2], &read[3], &read[4]),
+              5)
+        << r.output;
+    return read;
+  };
+  const auto off = fit("20");
+  EXPECT_GT(off[0], 3.0 * off[1]);
+  EXPECT_NEAR(off[2], -0.1, 0.051);
+  EXPECT_NEAR(off[3], 0.0, 0.051);
+  EXPECT_NEAR(off[4], -0.1, 0.021);
+  const auto right = fit("10");
+  EXPECT_EQ(right[0], right[1]);
+  EXPECT_EQ(right[4], 0.0);
+  const auto refused = RunCommand({SourceDir() + "/scripts/scan-consistency", dir + "/room.log", "--scan", "40"});
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_NE(refused.output.find("--scan needs one scan number from 0 to 39"), std::string::npos) << refused.output;
 }
 
 // navd-replay --mode slam on a real log of ../shared/data: its ATE, loop closures and wrong ones.
