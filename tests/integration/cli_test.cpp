@@ -470,12 +470,6 @@ TEST_P(NavdReplayLocalisation, LocalisesOnTheIntelLog) {
 INSTANTIATE_TEST_SUITE_P(Localisers, NavdReplayLocalisation, ::testing::Values("amcl", "ekf", "calibration"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
-// Graph SLAM on the Intel log with corrupted odometry (5%, 2 deg/m, seed 3): the trajectory of
-// every scan within 0.10 m RMSE of the corrected poses after SE(2) alignment, loops closed, none of
-// them wrong (each judged against the corrected poses), the map written as map_server YAML + PGM.
-// scripts/scan-consistency judges a trajectory by its own scans: in a 10 x 6 m room, the scans
-// placed at the poses they were taken from agree better than at poses that drift as SLAM's might
-// (2 mrad of heading and 1 cm sideways more per scan).
 // A folder of logs where one cannot be read: its row says why, the others are still run, and with
 // a threshold the whole run fails.
 TEST(Realdata, ALogThatCannotBeReadGetsAFailedRowAndTheOthersTheirs) {
@@ -541,6 +535,9 @@ std::string RoomFlaserLine(const std::array<double, 3>& seen_from, const std::ar
   return line.str();
 }
 
+// scripts/scan-consistency judges a trajectory by its own scans: in a 10 x 6 m room, the scans
+// placed at the poses they were taken from agree better than at poses that drift as SLAM's might
+// (2 mrad of heading and 1 cm sideways more per scan).
 TEST(ScanConsistency, ADriftingTrajectoryReadsWorseThanTheTrueOne) {
   const std::string dir = MakeTempDir();
   auto tum_line = [](double t, double x, double y, double theta) {
@@ -661,6 +658,9 @@ SlamRun RunSlam(const std::string& log, int seed, const std::string& dir, const 
   return out;
 }
 
+// Graph SLAM on the Intel log with corrupted odometry (5%, 2 deg/m, seed 3): the trajectory of
+// every scan within 0.10 m RMSE of the corrected poses after SE(2) alignment, loops closed, none of
+// them wrong (each judged against the corrected poses), the map written as map_server YAML + PGM.
 TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
   const std::string log = SourceDir() + "/../shared/data/carmen/intel-corrected.log.gz";
   if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
