@@ -523,13 +523,8 @@ std::string RoomFlaserLine(const std::array<double, 3>& seen_from, const std::ar
   const auto& [x, y, theta] = seen_from;
   std::ostringstream line;
   line << "FLASER 181";
-  for (int i = 0; i <= 180; ++i) {
-    const double a = theta - M_PI / 2 + i * M_PI / 180, c = std::cos(a), s = std::sin(a);
-    // The nearest of the room's four walls along the beam.
-    const double along_x = std::abs(c) > 1e-9 ? ((c > 0 ? 5.0 : -5.0) - x) / c : 1e9;
-    const double along_y = std::abs(s) > 1e-9 ? ((s > 0 ? 3.0 : -3.0) - y) / s : 1e9;
-    line << " " << std::min(along_x, along_y);
-  }
+  for (int i = 0; i <= 180; ++i)
+    line << " " << RangeInRoom(10.0, 6.0, x + 5.0, y + 3.0, theta - M_PI / 2 + i * M_PI / 180);
   for (int twice = 0; twice < 2; ++twice) line << " " << logged[0] << " " << logged[1] << " " << logged[2];
   line << " " << t << " host " << t << "\n";
   return line.str();
