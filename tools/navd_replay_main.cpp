@@ -3,19 +3,22 @@
 //   navd-replay --log FILE[.gz] --mode render --out RENDERED.log [--step M] [--turn RAD] [--range-noise M]
 //               [--people N] [--fov DEG --beams N] [--seed N]
 //   navd-replay --log FILE[.gz] --mode localize|slam --out EST.tum [--odometry noisy|log]
-//               [--map MAP.yaml] [--odom-noise T,R] [--seed N] [--localizer amcl|ekf|calibration]
-//               [--front-recovery SCORE] [--frame-turn RAD] [--drop-seen-through] [--return-budget N]
+//               [--map MAP.yaml] [--odom-noise T,R[,S,D]] [--seed N] [--localizer amcl|ekf|calibration]
+//               [--front-recovery SCORE] [--odometry-bias auto|on|off] [--frame-turn RAD]
+//               [--drop-seen-through] [--return-budget N]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with, by default,
 // odometry made from the corrected poses and corrupted by the seeded noise model of
 // services/common/odometry_noise.h (per step between scans: translation scaled by 1 + N(0, T);
-// heading error N(0, R * distance) plus N(0, T * |turn|)),
+// heading error N(0, R * distance) plus N(0, T * |turn|); with S and D also a systematic scale
+// 1 + S and heading drift D * distance),
 // writes one TUM line (t x y z qx qy qz qw) per scan and prints the error against the corrected
 // poses (SLAM also its relative error per scan step, services/common/relative_pose_error.h).
 // Without --map it first builds the map from those poses. `--odometry log` takes the odometry the
 // log itself holds instead (carmen_odometry.h): how raw robot logs run; SLAM then searches again
-// wider where a scan fits its predicted pose poorly (--front-recovery). SLAM's front end widens its
+// wider where a scan fits its predicted pose poorly (--front-recovery) and learns the odometry's
+// systematic error (--odometry-bias, OdometryBias). SLAM's front end widens its
 // window with the motion by --odom-noise's model, never less than the default one (with
 // --odometry log: the robot's odometry's noise, as far as it is known). `render` writes a FLASER
 // log whose scans are cast again in the map the log's poses draw (at --resolution), at those poses
@@ -54,6 +57,7 @@ namespace {
 
 struct SlamTuning {
   double front_recovery = 0.0;     // the front end's FrontEndRecoveryOptions::below_score (0: off)
+  bool odometry_bias = false;      // GraphSlamOptions::odometry_bias learns
   double frame_turn = 0.0;         // rad the map frame is turned by at the first pose
   bool drop_seen_through = false;  // GraphSlamOptions::drop_seen_through
   size_t return_budget = navd::mapping::GraphSlamOptions{}.return_budget;
@@ -83,6 +87,7 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   options.first_pose = log.scans.front().pose;
   options.first_pose.theta = NormalizeAngle(options.first_pose.theta + tuning.frame_turn);
   options.front_recovery.below_score = tuning.front_recovery;
+  if (tuning.odometry_bias) options.odometry_bias = mapping::RobotOdometryBias();
   options.drop_seen_through = tuning.drop_seen_through;
   options.return_budget = tuning.return_budget;
   options.odometry = tuning.odometry;
@@ -147,6 +152,9 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
       wrong_refinements, error.position_rmse, error.heading_rmse, error.worst,
       1e3 * busy / static_cast<double>(estimate.size()), relative.translation_mean, relative.rotation_mean,
       relative.along_rmse, relative.across_rmse, out.c_str());
+  if (tuning.odometry_bias)
+    std::printf("odometry bias learnt: scale %.4f, drift %.4f rad/m, turn error %.4f\n", slam.odometry_bias().scale(),
+                slam.odometry_bias().drift(), slam.odometry_bias().turn_error());
   if (!map_out.empty() || !png.empty()) {
     mapping::MapperOptions o;
     o.resolution = resolution;
@@ -331,7 +339,8 @@ int main(int argc, char** argv) {
   app.add_option("--odom-noise", odom_noise,
                  "localize, slam: T,R = relative translation noise, rad of heading noise per metre (slam: also the "
                  "noise its front end's window allows for, never less than the default, with --odometry log the "
-                 "robot's)");
+                 "robot's); T,R,S,D also errs the same way every step (--odometry noisy): translation scaled by 1 + S, "
+                 "heading drifting D rad per metre");
   std::string odometry_source = "noisy";
   app.add_option("--odometry", odometry_source,
                  "localize, slam: noisy (the log's laser poses corrupted by --odom-noise, seeded: the evaluation "
@@ -355,6 +364,12 @@ int main(int argc, char** argv) {
                  "slam: a front-end match scoring below this (0..1) is searched again over a wider window "
                  "(default: 0.6 with --odometry log, 0 (off) with --odometry noisy)")
       ->check(CLI::Range(0.0, 1.0));
+  std::string odometry_bias = "auto";
+  app.add_option("--odometry-bias", odometry_bias,
+                 "slam: learn the odometry's systematic error (scale, heading drift, turn error) from the "
+                 "well-matched steps and take it out of each step: on, off, or auto (default: on with "
+                 "--odometry log, off with --odometry noisy, whose model has none unless --odom-noise gives it)")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   app.add_option("--frame-turn", slam_tuning.frame_turn,
                  "slam: turn the map frame by this many radians at the first pose (the ATE is aligned; how much a "
                  "run owes to the grid's axes)")
@@ -428,6 +443,7 @@ int main(int argc, char** argv) {
       if (slam_tuning.front_recovery < 0.0)
         slam_tuning.front_recovery =
             odometry_source == "log" ? navd::mapping::RobotOdometryRecovery().below_score : 0.0;
+      slam_tuning.odometry_bias = odometry_bias == "on" || (odometry_bias == "auto" && odometry_source == "log");
       // Never less than the default model: a replay that adds no noise (--odom-noise 0,0) is run on
       // logs whose own poses are odometry already.
       const navd::OdometryNoise least;

@@ -8,11 +8,19 @@ namespace navd {
 
 OdometryNoise ParseOdometryNoise(const std::string& text, const std::string& option) {
   OdometryNoise n;
-  char rest = 0;
-  if (std::sscanf(text.c_str(), "%lf,%lf%c", &n.translation, &n.rotation_per_metre, &rest) != 2 ||
-      !(n.translation >= 0) || !(n.rotation_per_metre >= 0) || !std::isfinite(n.translation) ||
-      !std::isfinite(n.rotation_per_metre)) {
-    throw std::invalid_argument(option + " '" + text + "' is not T,R with T, R >= 0");
+  // The whole text read as two fields or as four, nothing left over.
+  int used = -1;
+  const bool two = std::sscanf(text.c_str(), "%lf,%lf%n", &n.translation, &n.rotation_per_metre, &used) == 2 &&
+                   used == static_cast<int>(text.size());
+  used = -1;
+  const bool four = !two &&
+                    std::sscanf(text.c_str(), "%lf,%lf,%lf,%lf%n", &n.translation, &n.rotation_per_metre,
+                                &n.scale_error, &n.drift, &used) == 4 &&
+                    used == static_cast<int>(text.size());
+  if ((!two && !four) || !(n.translation >= 0) || !(n.rotation_per_metre >= 0) || !std::isfinite(n.translation) ||
+      !std::isfinite(n.rotation_per_metre) || !(n.scale_error > -1.0) || !std::isfinite(n.scale_error) ||
+      !std::isfinite(n.drift)) {
+    throw std::invalid_argument(option + " '" + text + "' is not T,R or T,R,S,D with T, R >= 0, S > -1");
   }
   return n;
 }
@@ -26,8 +34,8 @@ Pose2 OdometryCorruptor::Next(const Pose2& truth) {
   const Pose2 step = last_truth_.inverse() * truth;
   last_truth_ = truth;
   const double dist = std::hypot(step.x, step.y);
-  const double scale = 1.0 + noise_.translation * normal_(rng_);
-  const double per_metre = noise_.rotation_per_metre * dist * normal_(rng_);
+  const double scale = (1.0 + noise_.scale_error) * (1.0 + noise_.translation * normal_(rng_));
+  const double per_metre = noise_.drift * dist + noise_.rotation_per_metre * dist * normal_(rng_);
   const double per_turn = noise_.translation * std::abs(step.theta) * normal_(rng_);
   odometry_ = odometry_ * Pose2{step.x * scale, step.y * scale, step.theta + per_metre + per_turn};
   return odometry_;

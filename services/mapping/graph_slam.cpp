@@ -22,7 +22,8 @@ Eigen::Matrix3d Information(double sigma_xy, double sigma_theta) {
 
 }  // namespace
 
-GraphSlam::GraphSlam(const GraphSlamOptions& options) : o_(options), recovery_(options.front_recovery) {
+GraphSlam::GraphSlam(const GraphSlamOptions& options)
+    : o_(options), recovery_(options.front_recovery), odometry_bias_(options.odometry_bias) {
   // Refused here rather than at the first place seen through, scans into the run.
   if (o_.drop_seen_through) SharedPlaces check(o_.seen_through_support);
 }
@@ -66,6 +67,21 @@ Eigen::Matrix3d GraphSlam::SequentialInformation(const Pose2& pose, const Eigen:
                                      Information(o_.sequential_free_sigma_xy, o_.sequential_free_sigma_theta))
                                         .inverse();
   return (left_open + base.inverse()).inverse();
+}
+
+void GraphSlam::LearnOdometryBias(int last, const Pose2& step, const Pose2& pose, const Eigen::Matrix3d& matched) {
+  const Pose2& from = graph_.nodes()[last];
+  // The share of each part's information the walls gave: 1 - its variance with the walls over its
+  // variance under the polish's prior alone.
+  const Eigen::Matrix3d prior = Information(o_.polish.prior_sigma_xy, o_.polish.prior_sigma_theta);
+  const Eigen::Matrix3d covariance = (matched + prior).inverse();
+  const Point2 travel = Rotate(Point2(step.x, step.y), from.theta);
+  const double norm = travel.norm();
+  const bool along =
+      norm > 0.0 &&
+      1.0 - travel.dot(covariance.topLeftCorner<2, 2>() * travel) / (norm * norm) * prior(0, 0) >= o_.bias_min_fixed;
+  const bool heading = 1.0 - covariance(2, 2) * prior(2, 2) >= o_.bias_min_fixed;
+  odometry_bias_.Observe(step, from.inverse() * pose, along, heading);
 }
 
 std::vector<Point2> GraphSlam::SeenThroughPoints() const {
@@ -149,7 +165,8 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
     return o_.first_pose;
   }
   const int last = nodes() - 1;
-  const Pose2 moved = node_odometry_[last].inverse() * odometry;
+  const Pose2 odometry_step = node_odometry_[last].inverse() * odometry;
+  const Pose2 moved = odometry_bias_.Correct(odometry_step);
   const Pose2 predicted = graph_.nodes()[last] * moved;
   // A scan too close to the last node to add anything, or one the front end holds back, is
   // carried by odometry.
@@ -181,6 +198,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   Eigen::Matrix3d matched = Eigen::Matrix3d::Zero();
   const Pose2 pose =
       match.score > 0.1 ? Polish(std::move(local_points), points, match.pose, o_.polish, &matched) : predicted;
+  if (!matched.isZero()) LearnOdometryBias(last, odometry_step, pose, matched);
   const double step = Distance(pose.translation(), graph_.nodes()[last].translation());
   travel_since_closure_ += step;
   node_distance_.push_back(node_distance_.back() + step);

@@ -25,6 +25,7 @@
 #include "services/common/scan_reach.h"
 #include "services/mapping/correlative_scan_matcher.h"
 #include "services/mapping/front_end_recovery.h"
+#include "services/mapping/odometry_bias.h"
 #include "services/mapping/occupancy_grid_mapper.h"
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
@@ -100,6 +101,11 @@ struct GraphSlamOptions {
   double front_window_sigmas_xy = 4.0;
   double front_window_sigmas_heading = 3.0;
   double front_window_sigmas_turn = 2.0;
+  // The odometry's systematic error (OdometryBias), learnt from the steps whose walls fixed the
+  // match: along the step's travel, or its heading, the walls gave at least bias_min_fixed of the
+  // polish's information (the rest is its prior, which holds the correlative pose).
+  OdometryBiasOptions odometry_bias;
+  double bias_min_fixed = 0.5;
   // Odometry that errs beyond that window (FrontEndRecovery): off unless below_score is set.
   FrontEndRecoveryOptions front_recovery;
   // The front end's edge: at least this uncertain in every direction, and more where the walls the
@@ -207,6 +213,8 @@ class GraphSlam {
   int loop_closures() const { return static_cast<int>(closures_.size()); }
   const std::vector<LoopClosure>& closures() const { return closures_; }
   int loop_attempts() const { return loop_attempts_; }
+  // The odometry's systematic error as learnt so far.
+  const OdometryBias& odometry_bias() const { return odometry_bias_; }
   // How often the graph was optimised: for closures (loop_settled_error) and by Refine().
   int optimisations() const { return optimisations_; }
   // The matches the last Refine() pass added, as closures.
@@ -243,6 +251,9 @@ class GraphSlam {
   // The information of the front-end edge to a node matched at `pose` (the edge's error frame: the
   // node's), from the polish's mean pair information `matched` (zero: the polish was refused).
   Eigen::Matrix3d SequentialInformation(const Pose2& pose, const Eigen::Matrix3d& matched) const;
+  // Teaches odometry_bias_ the odometry's `step` from node `last` against the matched pose of the
+  // new node, as far as the polish's information `matched` (map frame) says the walls fixed it.
+  void LearnOdometryBias(int last, const Pose2& step, const Pose2& pose, const Eigen::Matrix3d& matched);
   void TryLoopClosure(int node);
   // The graph optimised with every edge so far; the closures' unsettled error starts again.
   void Optimize();
@@ -288,6 +299,7 @@ class GraphSlam {
 
   GraphSlamOptions o_;
   FrontEndRecovery recovery_;
+  OdometryBias odometry_bias_;
   PoseGraph graph_;
   double unsettled_error_ = 0.0;  // of the closures added since the graph was last optimised
   int optimisations_ = 0;

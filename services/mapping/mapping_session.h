@@ -35,10 +35,12 @@ struct MappingSessionOptions {
   // scan is dropped.
   int max_waiting = 10;
   // A robot's odometry errs beyond the SLAM front end's window at times (wheels slipping, a
-  // sharp turn between two scans), so the front end searches poorly matched scans again wider.
+  // sharp turn between two scans), so the front end searches poorly matched scans again wider;
+  // and it errs the same way step after step (a wheel radius off), which SLAM learns and takes out.
   GraphSlamOptions slam = [] {
     GraphSlamOptions s;
     s.front_recovery = RobotOdometryRecovery();
+    s.odometry_bias = RobotOdometryBias();
     return s;
   }();
   MapperOptions mapper;
