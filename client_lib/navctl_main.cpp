@@ -360,7 +360,8 @@ int main(int argc, char** argv) {
                      "the scan (0) to the line after it (1), by stamp across a gap of over 1 s or where scans share "
                      "their two lines");
   replay->add_option("--odom-noise", replay_options.odom_noise,
-                     "T,R: relative translation noise, rad of heading noise per metre");
+                     "T,R: relative translation noise, rad of heading noise per metre; T,R,S,D also errs the same "
+                     "way every step: translation scaled by 1 + S, heading drifting D rad per metre");
   replay->add_option("--seed", replay_options.seed, "Seed of the odometry noise");
   replay->add_option("--max-scans", replay_options.max_scans, "Replay only the first N scans")
       ->check(CLI::NonNegativeNumber);

@@ -56,10 +56,10 @@
 namespace {
 
 struct SlamTuning {
-  double front_recovery = 0.0;     // the front end's FrontEndRecoveryOptions::below_score (0: off)
-  bool odometry_bias = false;      // GraphSlamOptions::odometry_bias learns
-  double frame_turn = 0.0;         // rad the map frame is turned by at the first pose
-  bool drop_seen_through = false;  // GraphSlamOptions::drop_seen_through
+  double front_recovery = 0.0;       // the front end's FrontEndRecoveryOptions::below_score (0: off)
+  bool learn_odometry_bias = false;  // GraphSlamOptions::odometry_bias on
+  double frame_turn = 0.0;           // rad the map frame is turned by at the first pose
+  bool drop_seen_through = false;    // GraphSlamOptions::drop_seen_through
   size_t return_budget = navd::mapping::GraphSlamOptions{}.return_budget;
   navd::OdometryNoise odometry;  // the odometry's noise, which the front end's window allows for
 };
@@ -87,7 +87,7 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   options.first_pose = log.scans.front().pose;
   options.first_pose.theta = NormalizeAngle(options.first_pose.theta + tuning.frame_turn);
   options.front_recovery.below_score = tuning.front_recovery;
-  if (tuning.odometry_bias) options.odometry_bias = mapping::RobotOdometryBias();
+  if (tuning.learn_odometry_bias) options.odometry_bias = mapping::RobotOdometryBias();
   options.drop_seen_through = tuning.drop_seen_through;
   options.return_budget = tuning.return_budget;
   options.odometry = tuning.odometry;
@@ -152,7 +152,7 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
       wrong_refinements, error.position_rmse, error.heading_rmse, error.worst,
       1e3 * busy / static_cast<double>(estimate.size()), relative.translation_mean, relative.rotation_mean,
       relative.along_rmse, relative.across_rmse, out.c_str());
-  if (tuning.odometry_bias)
+  if (tuning.learn_odometry_bias)
     std::printf("odometry bias learnt: scale %.4f, drift %.4f rad/m, turn error %.4f\n", slam.odometry_bias().scale(),
                 slam.odometry_bias().drift(), slam.odometry_bias().turn_error());
   if (!map_out.empty() || !png.empty()) {
@@ -368,7 +368,7 @@ int main(int argc, char** argv) {
   app.add_option("--odometry-bias", odometry_bias,
                  "slam: learn the odometry's systematic error (scale, heading drift, turn error) from the "
                  "well-matched steps and take it out of each step: on, off, or auto (default: on with "
-                 "--odometry log, off with --odometry noisy, whose model has none unless --odom-noise gives it)")
+                 "--odometry log, a robot's own; off with --odometry noisy, whose default model has none)")
       ->check(CLI::IsMember({"auto", "on", "off"}));
   app.add_option("--frame-turn", slam_tuning.frame_turn,
                  "slam: turn the map frame by this many radians at the first pose (the ATE is aligned; how much a "
@@ -443,7 +443,7 @@ int main(int argc, char** argv) {
       if (slam_tuning.front_recovery < 0.0)
         slam_tuning.front_recovery =
             odometry_source == "log" ? navd::mapping::RobotOdometryRecovery().below_score : 0.0;
-      slam_tuning.odometry_bias = odometry_bias == "on" || (odometry_bias == "auto" && odometry_source == "log");
+      slam_tuning.learn_odometry_bias = odometry_bias == "on" || (odometry_bias == "auto" && odometry_source == "log");
       // Never less than the default model: a replay that adds no noise (--odom-noise 0,0) is run on
       // logs whose own poses are odometry already.
       const navd::OdometryNoise least;

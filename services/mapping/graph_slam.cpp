@@ -71,17 +71,9 @@ Eigen::Matrix3d GraphSlam::SequentialInformation(const Pose2& pose, const Eigen:
 
 void GraphSlam::LearnOdometryBias(int last, const Pose2& step, const Pose2& pose, const Eigen::Matrix3d& matched) {
   const Pose2& from = graph_.nodes()[last];
-  // The share of each part's information the walls gave: 1 - its variance with the walls over its
-  // variance under the polish's prior alone.
-  const Eigen::Matrix3d prior = Information(o_.polish.prior_sigma_xy, o_.polish.prior_sigma_theta);
-  const Eigen::Matrix3d covariance = (matched + prior).inverse();
-  const Point2 travel = Rotate(Point2(step.x, step.y), from.theta);
-  const double norm = travel.norm();
-  const bool along =
-      norm > 0.0 &&
-      1.0 - travel.dot(covariance.topLeftCorner<2, 2>() * travel) / (norm * norm) * prior(0, 0) >= o_.bias_min_fixed;
-  const bool heading = 1.0 - covariance(2, 2) * prior(2, 2) >= o_.bias_min_fixed;
-  odometry_bias_.Observe(step, from.inverse() * pose, along, heading);
+  const WallShare share = WallShareOf(matched, o_.polish, Rotate(Point2(step.x, step.y), from.theta));
+  odometry_bias_.Observe(step, from.inverse() * pose, share.along >= o_.bias_min_wall_share,
+                         share.heading >= o_.bias_min_wall_share);
 }
 
 std::vector<Point2> GraphSlam::SeenThroughPoints() const {
@@ -198,7 +190,7 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   Eigen::Matrix3d matched = Eigen::Matrix3d::Zero();
   const Pose2 pose =
       match.score > 0.1 ? Polish(std::move(local_points), points, match.pose, o_.polish, &matched) : predicted;
-  if (!matched.isZero()) LearnOdometryBias(last, odometry_step, pose, matched);
+  LearnOdometryBias(last, odometry_step, pose, matched);
   const double step = Distance(pose.translation(), graph_.nodes()[last].translation());
   travel_since_closure_ += step;
   node_distance_.push_back(node_distance_.back() + step);

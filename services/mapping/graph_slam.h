@@ -102,10 +102,11 @@ struct GraphSlamOptions {
   double front_window_sigmas_heading = 3.0;
   double front_window_sigmas_turn = 2.0;
   // The odometry's systematic error (OdometryBias), learnt from the steps whose walls fixed the
-  // match: along the step's travel, or its heading, the walls gave at least bias_min_fixed of the
-  // polish's information (the rest is its prior, which holds the correlative pose).
+  // match: along the step's travel, or about its heading, the walls' share of the polish's
+  // information (WallShareOf; the rest is its prior, which holds the correlative pose) is at least
+  // bias_min_wall_share.
   OdometryBiasOptions odometry_bias;
-  double bias_min_fixed = 0.5;
+  double bias_min_wall_share = 0.5;
   // Odometry that errs beyond that window (FrontEndRecovery): off unless below_score is set.
   FrontEndRecoveryOptions front_recovery;
   // The front end's edge: at least this uncertain in every direction, and more where the walls the
@@ -252,7 +253,8 @@ class GraphSlam {
   // node's), from the polish's mean pair information `matched` (zero: the polish was refused).
   Eigen::Matrix3d SequentialInformation(const Pose2& pose, const Eigen::Matrix3d& matched) const;
   // Teaches odometry_bias_ the odometry's `step` from node `last` against the matched pose of the
-  // new node, as far as the polish's information `matched` (map frame) says the walls fixed it.
+  // new node, as far as the polish's information `matched` (map frame; zero: no polish) says the
+  // walls fixed it.
   void LearnOdometryBias(int last, const Pose2& step, const Pose2& pose, const Eigen::Matrix3d& matched);
   void TryLoopClosure(int node);
   // The graph optimised with every edge so far; the closures' unsettled error starts again.

@@ -98,6 +98,18 @@ int PointToLineMatcher::Nearest(const Point2& p) const {
   return best;
 }
 
+WallShare WallShareOf(const Eigen::Matrix3d& mean_information, const PointToLineOptions& options, const Point2& along) {
+  const Eigen::Vector3d prior(1.0 / (options.prior_sigma_xy * options.prior_sigma_xy),
+                              1.0 / (options.prior_sigma_xy * options.prior_sigma_xy),
+                              1.0 / (options.prior_sigma_theta * options.prior_sigma_theta));
+  const Eigen::Matrix3d covariance = (mean_information + Eigen::Matrix3d(prior.asDiagonal())).inverse();
+  WallShare share;
+  const double norm2 = along.squaredNorm();
+  if (norm2 > 0.0) share.along = 1.0 - along.dot(covariance.topLeftCorner<2, 2>() * along) / norm2 * prior.x();
+  share.heading = 1.0 - covariance(2, 2) * prior.z();
+  return share;
+}
+
 PointToLineResult PointToLineMatcher::Match(const std::vector<Point2>& points, const Pose2& initial) const {
   PointToLineResult result;
   result.pose = initial;

@@ -42,6 +42,16 @@ struct PointToLineResult {
   Eigen::Matrix3d mean_information = Eigen::Matrix3d::Zero();
 };
 
+// How much of a polished pose its walls fixed rather than the prior on its start: for the
+// direction `along` (map frame) and for the heading, 1 - the pose's variance with the pairs'
+// information (`mean_information`, PointToLineResult's) over its variance under the prior alone.
+// 0 where the prior alone holds it (along a bare corridor, or no pairs at all), towards 1 where
+// walls do.
+struct WallShare {
+  double along = 0.0, heading = 0.0;
+};
+WallShare WallShareOf(const Eigen::Matrix3d& mean_information, const PointToLineOptions& options, const Point2& along);
+
 // Reference points (map frame) with their lines, indexed for nearest-point queries.
 class PointToLineMatcher {
  public:

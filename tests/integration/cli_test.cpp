@@ -716,7 +716,7 @@ TEST(NavdReplay, SlamOnTheCsailLogsOwnOdometrySearchesAgainWhereItsHeadingJumps)
 
 // Odometry that errs the same way at every step, 3 % long and drifting 0.02 rad per metre (a wheel
 // radius off, wheels of unequal radius): SLAM learns that error from the steps whose walls fixed
-// the match and takes it out, and aces ends about where it does without it (seed 1: 0.118 m);
+// the match and takes it out, and aces ends about where it does without it (seed 1: 0.103 m);
 // left in, the corridors, where only the odometry measures a step, stretch by the 3 % (0.249 m).
 TEST(NavdReplay, SlamOnTheAcesLogLearnsWhereItsOdometryErrsTheSameWayEveryStep) {
   const std::string log = SourceDir() + "/../shared/data/carmen/aces-corrected.log.gz";
