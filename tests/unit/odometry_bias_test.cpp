@@ -71,15 +71,19 @@ struct BiasedRobot {
     const Pose2 matched{truth.x + 0.005 * noise(rng), 0.005 * noise(rng), truth.theta + 0.002 * noise(rng)};
     return {odometry, matched};
   }
+  // `steps` steps taught to `bias`, the walls having fixed the parts said.
+  void Drive(OdometryBias& bias, int steps, bool translation_fixed = true, bool heading_fixed = true) {
+    for (int k = 0; k < steps; ++k) {
+      const auto [odometry, matched] = Step();
+      bias.Observe(odometry, matched, translation_fixed, heading_fixed);
+    }
+  }
 };
 
 TEST(OdometryBiasLearning, OffByDefaultItLearnsNothing) {
   OdometryBias bias;
   BiasedRobot robot;
-  for (int k = 0; k < 100; ++k) {
-    const auto [odometry, matched] = robot.Step();
-    bias.Observe(odometry, matched, true, true);
-  }
+  robot.Drive(bias, 100);
   const Pose2 step{1.0, 0.1, 0.2};
   const Pose2 corrected = bias.Correct(step);
   EXPECT_DOUBLE_EQ(corrected.x, step.x);
@@ -90,10 +94,7 @@ TEST(OdometryBiasLearning, OffByDefaultItLearnsNothing) {
 TEST(OdometryBiasLearning, LearnsTheScaleTheDriftAndTheTurnErrorAndTakesThemOut) {
   OdometryBias bias(RobotOdometryBias());
   BiasedRobot robot;
-  for (int k = 0; k < 300; ++k) {
-    const auto [odometry, matched] = robot.Step();
-    bias.Observe(odometry, matched, true, true);
-  }
+  robot.Drive(bias, 300);
   // The odometry's turn, (1 + 0.04) of the true one, is corrected by -0.04 / 1.04 of itself, and
   // its drift per metre read by 1 - 0.04 / 1.04 of the 0.02; the prior ("no error") holds both a
   // little back while the steps driven are few.
@@ -144,18 +145,12 @@ TEST(OdometryBiasLearning, RefusesOptionsItCannotLearnWith) {
 TEST(OdometryBiasLearning, StepsTheWallsDidNotFixTeachNothingOfThatPart) {
   OdometryBias bias(RobotOdometryBias());
   BiasedRobot robot;
-  for (int k = 0; k < 200; ++k) {
-    const auto [odometry, matched] = robot.Step();
-    // Along a bare corridor the matched translation is the prediction's own; the heading is fixed.
-    bias.Observe(odometry, matched, false, true);
-  }
+  // Along a bare corridor the matched translation is the prediction's own; the heading is fixed.
+  robot.Drive(bias, 200, false, true);
   EXPECT_DOUBLE_EQ(bias.scale(), 1.0);
   EXPECT_NEAR(bias.drift(), -0.02 / 1.04, 0.005);
   OdometryBias heading_free(RobotOdometryBias());
-  for (int k = 0; k < 200; ++k) {
-    const auto [odometry, matched] = robot.Step();
-    heading_free.Observe(odometry, matched, true, false);
-  }
+  robot.Drive(heading_free, 200, true, false);
   EXPECT_NEAR(heading_free.scale(), 1.0 / 1.03, 0.005);
   EXPECT_DOUBLE_EQ(heading_free.drift(), 0.0);
   EXPECT_DOUBLE_EQ(heading_free.turn_error(), 0.0);
@@ -183,15 +178,9 @@ TEST(OdometryBiasLearning, WrongMatchesAndShortStepsAreLeftOut) {
 TEST(OdometryBiasLearning, FollowsAnErrorThatChangesAndStaysWithinItsBounds) {
   OdometryBias bias(RobotOdometryBias());
   BiasedRobot robot;
-  for (int k = 0; k < 300; ++k) {
-    const auto [odometry, matched] = robot.Step();
-    bias.Observe(odometry, matched, true, true);
-  }
+  robot.Drive(bias, 300);
   robot.scale = 0.98;  // a heavier load: the wheels' radius shrinks
-  for (int k = 0; k < 1500; ++k) {
-    const auto [odometry, matched] = robot.Step();
-    bias.Observe(odometry, matched, true, true);
-  }
+  robot.Drive(bias, 1500);
   EXPECT_NEAR(bias.scale(), 1.0 / 0.98, 0.005);
 
   OdometryBiasOptions loose = RobotOdometryBias();
