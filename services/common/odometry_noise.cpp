@@ -9,15 +9,12 @@ namespace navd {
 OdometryNoise ParseOdometryNoise(const std::string& text, const std::string& option) {
   OdometryNoise n;
   // The whole text read as two fields or as four, nothing left over.
-  int used = -1;
-  const bool two = std::sscanf(text.c_str(), "%lf,%lf%n", &n.translation, &n.rotation_per_metre, &used) == 2 &&
-                   used == static_cast<int>(text.size());
-  used = -1;
-  const bool four = !two &&
-                    std::sscanf(text.c_str(), "%lf,%lf,%lf,%lf%n", &n.translation, &n.rotation_per_metre,
-                                &n.scale_error, &n.drift, &used) == 4 &&
-                    used == static_cast<int>(text.size());
-  if ((!two && !four) || !(n.translation >= 0) || !(n.rotation_per_metre >= 0) || !std::isfinite(n.translation) ||
+  int two_end = -1, four_end = -1;
+  const int read = std::sscanf(text.c_str(), "%lf,%lf%n,%lf,%lf%n", &n.translation, &n.rotation_per_metre, &two_end,
+                               &n.scale_error, &n.drift, &four_end);
+  const int size = static_cast<int>(text.size());
+  const bool whole = (read == 2 && two_end == size) || (read == 4 && four_end == size);
+  if (!whole || !(n.translation >= 0) || !(n.rotation_per_metre >= 0) || !std::isfinite(n.translation) ||
       !std::isfinite(n.rotation_per_metre) || !(n.scale_error > -1.0) || !std::isfinite(n.scale_error) ||
       !std::isfinite(n.drift)) {
     throw std::invalid_argument(option + " '" + text + "' is not T,R or T,R,S,D with T, R >= 0, S > -1");

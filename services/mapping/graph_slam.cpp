@@ -70,6 +70,7 @@ Eigen::Matrix3d GraphSlam::SequentialInformation(const Pose2& pose, const Eigen:
 }
 
 void GraphSlam::LearnOdometryBias(int last, const Pose2& step, const Pose2& pose, const Eigen::Matrix3d& matched) {
+  if (!o_.odometry_bias.enabled) return;
   const Pose2& from = graph_.nodes()[last];
   const WallShare share = WallShareOf(matched, o_.polish, Rotate(Point2(step.x, step.y), from.theta));
   odometry_bias_.Observe(step, from.inverse() * pose, share.along >= o_.bias_min_wall_share,

@@ -7,6 +7,15 @@
 #include <limits>
 
 namespace navd::mapping {
+namespace {
+
+// The information of the prior on the starting pose: x, y (1/m²), theta (1/rad²).
+Eigen::Vector3d PriorInformation(const PointToLineOptions& o) {
+  return {1.0 / (o.prior_sigma_xy * o.prior_sigma_xy), 1.0 / (o.prior_sigma_xy * o.prior_sigma_xy),
+          1.0 / (o.prior_sigma_theta * o.prior_sigma_theta)};
+}
+
+}  // namespace
 
 PointToLineMatcher::PointToLineMatcher(std::vector<Point2> reference, const PointToLineOptions& options)
     : o_(options), cell_(std::max(options.max_pair_distance, options.normal_radius)), reference_(std::move(reference)) {
@@ -99,9 +108,7 @@ int PointToLineMatcher::Nearest(const Point2& p) const {
 }
 
 WallShare WallShareOf(const Eigen::Matrix3d& mean_information, const PointToLineOptions& options, const Point2& along) {
-  const Eigen::Vector3d prior(1.0 / (options.prior_sigma_xy * options.prior_sigma_xy),
-                              1.0 / (options.prior_sigma_xy * options.prior_sigma_xy),
-                              1.0 / (options.prior_sigma_theta * options.prior_sigma_theta));
+  const Eigen::Vector3d prior = PriorInformation(options);
   const Eigen::Matrix3d covariance = (mean_information + Eigen::Matrix3d(prior.asDiagonal())).inverse();
   WallShare share;
   const double norm2 = along.squaredNorm();
@@ -114,9 +121,7 @@ PointToLineResult PointToLineMatcher::Match(const std::vector<Point2>& points, c
   PointToLineResult result;
   result.pose = initial;
   if (points.empty() || reference_.empty() || !initial.finite()) return result;
-  const Eigen::Vector3d prior_information(1.0 / (o_.prior_sigma_xy * o_.prior_sigma_xy),
-                                          1.0 / (o_.prior_sigma_xy * o_.prior_sigma_xy),
-                                          1.0 / (o_.prior_sigma_theta * o_.prior_sigma_theta));
+  const Eigen::Vector3d prior_information = PriorInformation(o_);
   const double point_information = 1.0 / (o_.point_sigma * o_.point_sigma);
   const double c2 = o_.cauchy_scale * o_.cauchy_scale;
   Pose2 pose = initial;
