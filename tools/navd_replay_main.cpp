@@ -147,11 +147,12 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   std::printf(
       "slam: %zu scans, %d nodes, %d loop closures (%d wrong) of %d attempts, %zu refinement matches (%d wrong), "
       "ATE RMSE %.4f m after SE(2) alignment, heading RMSE %.4f rad, worst %.3f m, %.2f ms per scan, "
-      "relative error per scan step %.4f m, %.4f rad (mean; RMS along the travel %.4f m, across it %.4f m) -> %s\n",
+      "relative error per scan step %.4f m, %.4f rad (mean; RMS along the travel %.4f m, across it %.4f m), "
+      "ATE %.4f m after Sim(2) alignment at scale %.5f -> %s\n",
       estimate.size(), slam.nodes(), slam.loop_closures(), wrong, slam.loop_attempts(), slam.refinements().size(),
       wrong_refinements, error.position_rmse, error.heading_rmse, error.worst,
       1e3 * busy / static_cast<double>(estimate.size()), relative.translation_mean, relative.rotation_mean,
-      relative.along_rmse, relative.across_rmse, out.c_str());
+      relative.along_rmse, relative.across_rmse, error.similarity_rmse, error.scale, out.c_str());
   if (tuning.learn_odometry_bias)
     std::printf("odometry bias learnt: scale %.4f, drift %.4f rad/m, turn error %.4f\n", slam.odometry_bias().scale(),
                 slam.odometry_bias().drift(), slam.odometry_bias().turn_error());

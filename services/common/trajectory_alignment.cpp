@@ -42,8 +42,29 @@ TrajectoryError AlignedTrajectoryError(const std::vector<Pose2>& estimate, const
     sq_heading += h * h;
     out.worst = std::max(out.worst, d);
   }
-  out.position_rmse = std::sqrt(sq / static_cast<double>(estimate.size()));
-  out.heading_rmse = std::sqrt(sq_heading / static_cast<double>(estimate.size()));
+  const double n = static_cast<double>(estimate.size());
+  out.position_rmse = std::sqrt(sq / n);
+  // The least-squares scale about the centroids (Umeyama): the rigid fit's correlation over the
+  // estimate's spread; the rigid rotation stays the best one at any scale.
+  Point2 ce = Point2::Zero(), ct = Point2::Zero();
+  for (size_t i = 0; i < e.size(); ++i) {
+    ce += e[i];
+    ct += t[i];
+  }
+  ce /= n;
+  ct /= n;
+  double correlation = 0.0, spread = 0.0;
+  for (size_t i = 0; i < e.size(); ++i) {
+    correlation += Rotate(e[i] - ce, out.alignment.theta).dot(t[i] - ct);
+    spread += (e[i] - ce).squaredNorm();
+  }
+  const double fit = spread > 0.0 && correlation > 0.0 ? correlation / spread : 1.0;
+  out.scale = 1.0 / fit;
+  double sq_similar = 0.0;
+  for (size_t i = 0; i < e.size(); ++i)
+    sq_similar += (fit * Rotate(e[i] - ce, out.alignment.theta) + ct - t[i]).squaredNorm();
+  out.similarity_rmse = std::sqrt(sq_similar / n);
+  out.heading_rmse = std::sqrt(sq_heading / n);
   return out;
 }
 

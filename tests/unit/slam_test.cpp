@@ -871,6 +871,25 @@ TEST(RelativePoseError, NeedsNoCommonFrame) {
   EXPECT_NEAR(AlignedTrajectoryError(estimate, truth).position_rmse, 0.0, 1e-9);
 }
 
+TEST(AlignedTrajectoryError, TellsAMapDrawnLargerFromOneBent) {
+  const std::vector<Pose2> truth = SquareLoop();
+  const Pose2 elsewhere(12.0, -3.0, 2.0);
+  // The loop drawn 1 % larger, in another frame: the rigid fit counts it as error, the similarity
+  // fit takes it out and reads the scale.
+  std::vector<Pose2> larger(truth.size());
+  std::transform(truth.begin(), truth.end(), larger.begin(),
+                 [&](const Pose2& p) { return elsewhere * Pose2(1.01 * p.x, 1.01 * p.y, p.theta); });
+  const TrajectoryError scaled = AlignedTrajectoryError(larger, truth);
+  EXPECT_GT(scaled.position_rmse, 0.01);
+  EXPECT_NEAR(scaled.scale, 1.01, 1e-9);
+  EXPECT_NEAR(scaled.similarity_rmse, 0.0, 1e-9);
+  // A bend is no scale: the similarity fit leaves most of it.
+  std::vector<Pose2> bent = truth;
+  for (size_t i = truth.size() / 2; i < truth.size(); ++i) bent[i] = Pose2(0.0, 0.0, 0.05) * truth[i];
+  const TrajectoryError kinked = AlignedTrajectoryError(bent, truth);
+  EXPECT_GT(kinked.similarity_rmse, 0.5 * kinked.position_rmse);
+}
+
 TEST(RelativePoseError, ABendCostsOneRelationWhereTheAbsoluteErrorCostsMostPoses) {
   const std::vector<Pose2> truth = SquareLoop();
   const int bend = 10;
