@@ -139,14 +139,9 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   // The control loop never waits for the nearby reset's search (tens of ms): a scan that comes
   // while it runs is weighed without it.
   filter_options.nearby_reset.wait_for_search = false;
-  // A map file is a map a robot drew from its scans (navd's, or any SLAM's); a world's map is
-  // drawn from its geometry, and the simulator's rays end at its cells' edges.
-  localization::EkfOptions ekf_options;
-  if (!o.map_path.empty())
-    filter_options.surface_in_cell = ekf_options.field.surface_in_cell = localization::kScanDrawnMapSurface;
   localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid, filter_options));
   localizer.Add(std::make_unique<localization::OdometryLocalizer>());
-  localizer.Add(std::make_unique<localization::EkfLocalizer>(map->grid, ekf_options));
+  localizer.Add(std::make_unique<localization::EkfLocalizer>(map->grid));
   localization::OdometricCalibrationOptions calibration;
   calibration.wheel_base = robot.wheel_base;
   localizer.Add(std::make_unique<localization::OdometricCalibrationLocalizer>(map->grid, calibration));

@@ -214,13 +214,11 @@ int Localize(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometr
     o.k_turn = noise.translation;
     o.k_turn_per_metre = noise.rotation_per_metre;
     o.field.range_max = 20.0;
-    o.field.surface_in_cell = localization::kScanDrawnMapSurface;
     localizer = std::make_unique<localization::EkfLocalizer>(map, o);
   } else {
     localization::ParticleFilterOptions o;
     o.seed = seed;
     o.range_max = 20.0;  // the z_rand density of a long-range (SICK) scanner's useful range
-    o.surface_in_cell = localization::kScanDrawnMapSurface;
     o.alpha1 = o.alpha2 = o.alpha3 = o.alpha4 = tuning.motion_noise;
     o.alpha2 = std::max(o.alpha2, tuning.heading_per_metre_noise);
     if (tuning.update_min_d > 0.0) o.update_min_distance = tuning.update_min_d;

@@ -36,26 +36,16 @@ void Transform1d(const std::vector<double>& f, int n, std::vector<double>& d, st
   }
 }
 
-bool IsTarget(int8_t cell, DistanceTo to) {
-  switch (to) {
-    case DistanceTo::kOccupied: return cell >= OccupancyGrid::kOccupiedThreshold;
-    case DistanceTo::kOccupiedOrUnknown: return cell >= OccupancyGrid::kOccupiedThreshold || cell < 0;
-    case DistanceTo::kFree: return OccupancyGrid::IsFreeValue(cell);
-    case DistanceTo::kNotOccupied: return cell < OccupancyGrid::kOccupiedThreshold;
-  }
-  return false;
-}
-
 }  // namespace
 
-DistanceField::DistanceField(const OccupancyGrid& grid, DistanceTo to)
+DistanceField::DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle)
     : width_(grid.width()), distance_(grid.cells().size()) {
   const int w = grid.width(), h = grid.height();
   const int n = std::max(w, h);
   std::vector<double> f(n), d(n), z(n + 1);
   std::vector<int> v(n);
-  // Along columns the input is binary (a target cell or not), so the 1-D transform is the squared
-  // distance to the nearest target cell in the column: two sweeps over whole rows (Meijster's
+  // Along columns the input is binary (obstacle or not), so the 1-D transform is the squared
+  // distance to the nearest obstacle cell in the column: two sweeps over whole rows (Meijster's
   // first phase), in memory order, instead of a parabola envelope per column.
   constexpr int kNone = std::numeric_limits<int>::max() / 2;
   std::vector<int> gap(distance_.size());
@@ -63,7 +53,9 @@ DistanceField::DistanceField(const OccupancyGrid& grid, DistanceTo to)
     const int* below = y > 0 ? &gap[static_cast<size_t>(y - 1) * w] : nullptr;
     int* row = &gap[static_cast<size_t>(y) * w];
     for (int x = 0; x < w; ++x) {
-      row[x] = IsTarget(grid.at({x, y}), to) ? 0 : below ? std::min(kNone, below[x] + 1) : kNone;
+      const int8_t c = grid.at({x, y});
+      const bool obstacle = c >= OccupancyGrid::kOccupiedThreshold || (unknown_is_obstacle && c < 0);
+      row[x] = obstacle ? 0 : below ? std::min(kNone, below[x] + 1) : kNone;
     }
   }
   for (int y = h - 2; y >= 0; --y) {

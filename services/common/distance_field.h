@@ -1,27 +1,20 @@
 #pragma once
 // The obstacle distance transform: for every cell, the Euclidean distance (metres, centre to
-// centre) to the nearest occupied cell, or to the nearest cell of another kind (DistanceTo).
-// Exact, in linear time (Felzenszwalb and Huttenlocher, "Distance Transforms of Sampled
-// Functions", 2012). Grid planners use it for obstacle discomfort and cost decay, localisers for
-// likelihood fields.
+// centre) to the nearest occupied cell. Exact, in linear time (Felzenszwalb and Huttenlocher,
+// "Distance Transforms of Sampled Functions", 2012). Grid planners use it for obstacle discomfort
+// and cost decay, localisers for likelihood fields.
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
 
 namespace navd {
 
-// The cells a field measures the distance to: occupied ones (OccupancyGrid::IsOccupied), those
-// or unknown ones, free ones (OccupancyGrid::IsFreeValue), or every cell that is not occupied.
-enum class DistanceTo { kOccupied, kOccupiedOrUnknown, kFree, kNotOccupied };
-
 class DistanceField {
  public:
-  DistanceField(const OccupancyGrid& grid, DistanceTo to);
   // `unknown_is_obstacle`: whether unknown cells (-1) count as obstacles.
-  explicit DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle = false)
-      : DistanceField(grid, unknown_is_obstacle ? DistanceTo::kOccupiedOrUnknown : DistanceTo::kOccupied) {}
+  explicit DistanceField(const OccupancyGrid& grid, bool unknown_is_obstacle = false);
 
-  // Metres to the nearest target cell; infinity when the grid has none.
+  // Metres to the nearest obstacle cell; infinity when the grid has none.
   double at(const CellIndex& c) const { return distance_[static_cast<size_t>(c.y) * width_ + c.x]; }
   const std::vector<double>& values() const { return distance_; }
 

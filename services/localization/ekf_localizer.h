@@ -75,7 +75,9 @@ class EkfLocalizer : public Localizer {
   const EkfOptions o_;
   // The map's likelihood field and the scan matcher on it; SetMap replaces both.
   struct MapModel {
-    MapModel(const OccupancyGrid& map, const EkfOptions& o) : field(map, o.field), fit(field, o.fit) {}
+    MapModel(const OccupancyGrid& map, const EkfOptions& o) : field(map, o.field), fit(field, o.fit) {
+      field.PrepareSurfaceDistance();  // with the rest of the model, off the filter's first scan
+    }
     LikelihoodField field;
     ScanToMapFit fit;
   };

@@ -1,8 +1,5 @@
 #include "services/localization/likelihood_field.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include "services/common/distance_field.h"
 
 namespace navd::localization {
@@ -14,25 +11,12 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
       origin_(map.origin()),
       resolution_(map.resolution()),
       inv_resolution_(1.0 / map.resolution()) {
-  const DistanceField to_occupied(map, DistanceTo::kOccupied);
-  const DistanceField to_free(map, DistanceTo::kFree);
-  const DistanceField to_open(map, DistanceTo::kNotOccupied);
-  // Centre-to-centre distances, less these, are distances to the surface from either side.
-  const double before = (0.5 - o_.surface_in_cell) * resolution_, behind = (0.5 + o_.surface_in_cell) * resolution_;
-  // A map with no free cell has no free side to be behind: its unknown cells read as free ones.
-  const bool has_free = !to_free.values().empty() && std::isfinite(to_free.values().front());
-  std::vector<float> field(to_occupied.values().size());  // unpadded
-  for (int y = 0; y < height_; ++y) {
-    for (int x = 0; x < width_; ++x) {
-      const size_t i = static_cast<size_t>(y) * width_ + x;
-      const int8_t value = map.at({x, y});
-      double d = to_occupied.values()[i] - before;
-      if (value >= OccupancyGrid::kOccupiedThreshold)
-        d = -(to_open.values()[i] - behind);
-      else if (!OccupancyGrid::IsFreeValue(value) && has_free)
-        d = std::max(d, to_free.values()[i] - behind);
-      field[i] = static_cast<float>(std::clamp(d, -o_.max_distance, o_.max_distance));
-    }
+  const DistanceField field(map);
+  const double half = resolution_ / 2;
+  std::vector<float> surface(field.values().size());  // unpadded
+  for (size_t i = 0; i < surface.size(); ++i) {
+    const double d = field.values()[i];
+    surface[i] = static_cast<float>(d <= 0.0 ? -half : std::min(d - half, o_.max_distance));
   }
   padded_width_ = width_ + 2;
   surface_distance_.resize(static_cast<size_t>(padded_width_) * (height_ + 2));
@@ -40,7 +24,7 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
     for (int x = -1; x <= width_; ++x) {
       const int cx = std::clamp(x, 0, width_ - 1), cy = std::clamp(y, 0, height_ - 1);
       surface_distance_[static_cast<size_t>(y + 1) * padded_width_ + (x + 1)] =
-          field[static_cast<size_t>(cy) * width_ + cx];
+          surface[static_cast<size_t>(cy) * width_ + cx];
     }
   }
   const double rand = o_.z_rand / o_.range_max;
@@ -53,6 +37,31 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
   log_outside_ = static_cast<float>(std::log(rand));
 }
 
+const std::vector<float>& LikelihoodField::SignedDistance() const {
+  // Built on first use: only the scan-to-map fit needs depths inside obstacles, and a second
+  // distance transform at start-up would be wasted on the particle and histogram filters.
+  std::call_once(signed_once_, [this] {
+    // Inverted: the free side is the "obstacle" whose distance the transform measures.
+    OccupancyGrid inverted(width_, height_, resolution_, origin_, OccupancyGrid::kFree);
+    signed_distance_.resize(static_cast<size_t>(width_) * height_);
+    const float inside = static_cast<float>(-resolution_ / 2);  // the surface field's value in obstacles
+    for (int y = 0; y < height_; ++y) {
+      for (int x = 0; x < width_; ++x) {
+        const float d = surface_distance_[static_cast<size_t>(y + 1) * padded_width_ + (x + 1)];
+        signed_distance_[static_cast<size_t>(y) * width_ + x] = d;
+        if (d != inside) inverted.set({x, y}, OccupancyGrid::kOccupied);
+      }
+    }
+    const DistanceField depth(inverted);  // from each obstacle cell to the nearest free one
+    const double half = resolution_ / 2;
+    for (size_t i = 0; i < signed_distance_.size(); ++i) {
+      const double d = depth.values()[i];
+      if (d > 0.0) signed_distance_[i] = static_cast<float>(-std::min(d - half, o_.max_distance));
+    }
+  });
+  return signed_distance_;
+}
+
 bool LikelihoodField::SurfaceDistance(const Point2& p, double* distance, Point2* gradient) const {
   const double gx = (p.x() - origin_.x()) * inv_resolution_ - 0.5;
   const double gy = (p.y() - origin_.y()) * inv_resolution_ - 0.5;
@@ -60,8 +69,8 @@ bool LikelihoodField::SurfaceDistance(const Point2& p, double* distance, Point2*
   const int x0 = std::clamp(static_cast<int>(std::floor(gx)), 0, width_ - 2);
   const int y0 = std::clamp(static_cast<int>(std::floor(gy)), 0, height_ - 2);
   const double fx = std::clamp(gx - x0, 0.0, 1.0), fy = std::clamp(gy - y0, 0.0, 1.0);
-  const float* row0 = &surface_distance_[static_cast<size_t>(y0 + 1) * padded_width_ + (x0 + 1)];
-  const float* row1 = row0 + padded_width_;
+  const float* row0 = &SignedDistance()[static_cast<size_t>(y0) * width_ + x0];
+  const float* row1 = row0 + width_;
   *distance = (1 - fy) * ((1 - fx) * row0[0] + fx * row0[1]) + fy * ((1 - fx) * row1[0] + fx * row1[1]);
   if (gradient) {
     *gradient = Point2((1 - fy) * (row0[1] - row0[0]) + fy * (row1[1] - row1[0]),

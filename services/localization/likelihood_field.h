@@ -1,26 +1,13 @@
 #pragma once
 // The likelihood-field sensor model (Thrun, Burgard and Fox, "Probabilistic Robotics" §6.4) on a
-// map's exact distance fields: a beam ending d metres from where the map says beams end has
+// map's exact distance field: a beam ending d metres from the nearest obstacle surface has
 // likelihood z_hit N(d; 0, sigma_hit) + z_rand / range_max. The same field serves the particle
 // filter (log-likelihoods), the scan-to-map fit (distances and their gradients) and the histogram
-// filter. Bilinearly interpolated, so fits are not quantised to cells. Metres, map frame.
-//
-// Beams end `surface_in_cell` of a cell past the free side of an obstacle's first layer of cells
-// (the options say why); d is signed, negative inside obstacles. With s = surface_in_cell cells:
-//  - in a free cell, its distance to the nearest occupied cell's centre, less 0.5 - s cells (AMCL's
-//    field at s = 0);
-//  - in an occupied cell, minus its distance to the nearest cell that is not occupied, less 0.5 + s
-//    cells: how much deeper than the surface it lies;
-//  - in an unknown cell, the larger of the free cell's value and its distance to the nearest free
-//    cell less 0.5 + s cells: how far behind the surface seen from free space it lies.
-// So a beam that reaches past a wall by some distance costs what one that falls short of it by as
-// much does. Were every cell of an obstacle alike (AMCL's field: half a cell anywhere inside) a beam
-// reaching into a wall, or into the unknown cells behind it, would cost little, and the estimate
-// of a scanner that sees ahead only would lead its true pose by 1-2 cm on real logs. A cell that
-// some beams ended in and others passed (a wall's edge, stored as unknown in a map_server image)
-// reads as free beside an occupied one, whether the map keeps its probability or not.
+// filter. Distances are to the obstacle *surface* (centre distance minus half a cell), bilinearly
+// interpolated, so fits are not quantised to cells. Metres, map frame.
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <vector>
 
 #include "services/common/occupancy_grid.h"
@@ -34,15 +21,7 @@ struct LikelihoodFieldOptions {
   double z_rand = 0.05;
   double max_distance = 2.0;  // m: distances beyond count as this far
   double range_max = 4.0;     // m: the z_rand density is 1 / range_max
-  // Where beams end in the map's obstacle cells, in cells past their free side. 0: at the first
-  // cell's edge, as in a map drawn from geometry (a world) and scanned by rays cast on its cells
-  // (the simulator). 0.5: at its centre, as in a map drawn from scans, whose ends fall anywhere in
-  // the cells they marked (navd's maps from a robot's scans, a map_server map from any SLAM).
-  double surface_in_cell = 0.0;
 };
-
-// surface_in_cell for a map drawn from scans.
-inline constexpr double kScanDrawnMapSurface = 0.5;
 
 class LikelihoodField {
  public:
@@ -67,9 +46,14 @@ class LikelihoodField {
   float ToCellY(double y) const { return static_cast<float>((y - origin_.y()) * inv_resolution_) - 0.5f; }
   double inv_resolution() const { return inv_resolution_; }
 
-  // The field's signed metres at the map-frame point p (above), within ±max_distance, with its
-  // gradient (per metre) when `gradient` is given; false off the map.
+  // Signed metres from the map-frame point p to the nearest obstacle surface (inside an obstacle,
+  // minus the distance to its free side, so fits are pushed out of walls), at most max_distance,
+  // with its gradient (per metre) when `gradient` is given; false off the map.
   bool SurfaceDistance(const Point2& p, double* distance, Point2* gradient = nullptr) const;
+  // Builds the depths inside obstacles that SurfaceDistance reads (a distance transform of the
+  // whole map; otherwise built on its first call), for owners that must not pay for it at their
+  // first scan: on a large map it takes half a second, which a control loop cannot spare.
+  void PrepareSurfaceDistance() const { SignedDistance(); }
   // How well a scan (end points in the robot frame) agrees with the map at `pose`, 0..1: the mean
   // over the beams of each beam's likelihood relative to a perfect fit. A mean of ratios, not of
   // logs: a few beams on people or clutter lower it by their share, they do not sink it (which
@@ -84,9 +68,14 @@ class LikelihoodField {
   int width_ = 0, height_ = 0;
   Point2 origin_;
   double resolution_ = 1.0, inv_resolution_ = 1.0;
-  // The signed field, with a ring of one cell repeating the edge, (width + 2) x (height + 2).
+  // -half a cell anywhere inside obstacles (AMCL's field), with a ring of one cell repeating the
+  // edge, (width + 2) x (height + 2).
   std::vector<float> surface_distance_;
   int padded_width_ = 0;
+  // The same outside, the depth inside obstacles; unpadded, built on first use.
+  const std::vector<float>& SignedDistance() const;
+  mutable std::once_flag signed_once_;
+  mutable std::vector<float> signed_distance_;
   std::vector<float> log_likelihood_table_;  // log(z_hit * N(d) + z_rand / range) by |d| in mm
   float log_outside_ = 0.0f;                 // a beam ending outside the map
 };

@@ -20,7 +20,7 @@ constexpr double kScanlessSteps = 20.0;  // x the update thresholds
 }  // namespace
 
 ParticleFilterLocalizer::MapModel::MapModel(const OccupancyGrid& grid, const ParticleFilterOptions& o)
-    : map(grid), field(grid, {o.sigma_hit, o.z_hit, o.z_rand, o.max_distance, o.range_max, o.surface_in_cell}) {
+    : map(grid), field(grid, {o.sigma_hit, o.z_hit, o.z_rand, o.max_distance, o.range_max}) {
   if (o.sensor_model == SensorModel::kBeam) caster.emplace(grid);
   for (size_t i = 0; i < map.cells().size(); ++i)
     if (OccupancyGrid::IsFreeValue(map.cells()[i])) free_cells.push_back(static_cast<int32_t>(i));

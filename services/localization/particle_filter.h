@@ -77,9 +77,8 @@ struct ParticleFilterOptions {
   double sigma_hit = 0.07;  // m
   double z_hit = 0.95;
   double z_rand = 0.05;
-  double max_distance = 2.0;     // m: distances beyond count as this far
-  double range_max = 4.0;        // m: the z_rand density is 1 / range_max
-  double surface_in_cell = 0.0;  // where beams end in the map's obstacle cells (LikelihoodFieldOptions)
+  double max_distance = 2.0;  // m: distances beyond count as this far
+  double range_max = 4.0;     // m: the z_rand density is 1 / range_max
   // Filter only after the robot moved this much (AMCL update_min_d / update_min_a).
   double update_min_distance = 0.05;  // m
   double update_min_angle = 0.05;     // rad
