@@ -6,6 +6,7 @@
 //               [--map MAP.yaml] [--odom-noise T,R[,S,D]] [--seed N] [--localizer amcl|ekf|calibration]
 //               [--front-recovery SCORE] [--odometry-bias auto|on|off] [--frame-turn RAD]
 //               [--drop-seen-through] [--return-budget N]
+//   navd-replay --log FILE[.gz] --mode consistency --out SCANS.txt [--trajectory EST.tum] [--scan K]
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with, by default,
@@ -23,7 +24,9 @@
 // --odometry log: the robot's odometry's noise, as far as it is known). `render` writes a FLASER
 // log whose scans are cast again in the map the log's poses draw (at --resolution), at those poses
 // or every --step metres between them, with --people walking the log's path, by the log's scanner
-// or another one (--fov, --beams) (services/mapping/log_renderer.h).
+// or another one (--fov, --beams) (services/mapping/log_renderer.h). `consistency` measures how
+// well the scans agree with one another at the log's poses or a trajectory's, with no ground truth
+// (services/mapping/scan_consistency.h); slam prints it for its estimate and the log's poses.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -51,6 +54,7 @@
 #include "services/mapping/log_renderer.h"
 #include "services/mapping/occupancy_grid_mapper.h"
 #include "services/mapping/odometry_pairing.h"
+#include "services/mapping/scan_consistency.h"
 #include "services/common/trajectory_alignment.h"
 
 namespace {
@@ -72,6 +76,27 @@ void NoteCoarserMap(const navd::OccupancyGrid& grid, double resolution) {
                  "navd-replay: the map spans %.0f x %.0f m: drawn at %.3f m, not %.3f, to stay within %lld cells\n",
                  grid.width() * grid.resolution(), grid.height() * grid.resolution(), grid.resolution(), resolution,
                  navd::OccupancyGrid::kMaxCells);
+}
+
+// m: the echoes the scan consistency measures, as far as the maps are drawn from each pose.
+constexpr double kConsistencyReach = 15.0;
+
+// The log's scans at `poses`, one per scan in file order, for the scan consistency
+// (services/mapping/scan_consistency.h).
+navd::mapping::ScanConsistency ConsistencyOf(const navd::CarmenLog& log, const std::vector<navd::Pose2>& poses,
+                                             const navd::mapping::ScanConsistencyOptions& options = {}) {
+  std::vector<std::vector<navd::Point2>> returns;
+  returns.reserve(log.scans.size());
+  for (const navd::CarmenScan& s : log.scans)
+    returns.push_back(
+        navd::ScanReturns(s.ranges, s.angle_min, s.angle_increment, s.no_return_range(), kConsistencyReach));
+  return navd::mapping::ScanConsistency(poses, std::move(returns), options);
+}
+
+std::vector<navd::Pose2> LogPoses(const navd::CarmenLog& log) {
+  std::vector<navd::Pose2> poses;
+  for (const navd::CarmenScan& s : log.scans) poses.push_back(s.pose);
+  return poses;
 }
 
 // Graph SLAM over the log's scans with the given odometry (one pose per scan): the TUM trajectory of every scan (the
@@ -111,8 +136,7 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   }
   std::fprintf(stderr, "\n");
   const std::vector<Pose2> estimate = slam.Trajectory();
-  std::vector<Pose2> truth;
-  for (const CarmenScan& s : log.scans) truth.push_back(s.pose);
+  const std::vector<Pose2> truth = LogPoses(log);
   const TrajectoryError error = AlignedTrajectoryError(estimate, truth);
   // Step by step, as Kümmerle et al.'s relations metric (Cartographer's paper reports it); a log of
   // one scan has no step (nan).
@@ -153,6 +177,10 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
       wrong_refinements, error.position_rmse, error.heading_rmse, error.worst,
       1e3 * busy / static_cast<double>(estimate.size()), relative.translation_mean, relative.rotation_mean,
       relative.along_rmse, relative.across_rmse, error.similarity_rmse, error.scale, out.c_str());
+  std::printf(
+      "scan consistency: returns %.1f mm from the lines the other scans draw at the estimate, %.1f mm at the "
+      "log's poses\n",
+      1e3 * ConsistencyOf(log, estimate).Score().mean_distance, 1e3 * ConsistencyOf(log, truth).Score().mean_distance);
   if (tuning.learn_odometry_bias)
     std::printf("odometry bias learnt: scale %.4f, drift %.4f rad/m, turn error %.4f\n", slam.odometry_bias().scale(),
                 slam.odometry_bias().drift(), slam.odometry_bias().turn_error());
@@ -299,6 +327,101 @@ int Render(const navd::CarmenLog& log, const std::string& out, double resolution
   return 0;
 }
 
+// One pose per non-empty, non-comment line of a TUM trajectory (t x y z qx qy qz qw), in order;
+// throws std::runtime_error naming the file and line for a line that is not eight numbers.
+std::vector<navd::Pose2> ReadTumTrajectory(const std::string& path) {
+  std::vector<navd::Pose2> poses;
+  const std::string text = navd::ReadTextFile(path, "--trajectory");
+  size_t begin = 0;
+  for (int number = 1; begin < text.size(); ++number) {
+    size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(begin, end - begin);
+    begin = end + 1;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+    double f[8];
+    int used = 0;
+    if (std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf %n", &f[0], &f[1], &f[2], &f[3], &f[4], &f[5], &f[6],
+                    &f[7], &used) != 8 ||
+        line.find_first_not_of(" \t\r", used) != std::string::npos)
+      throw std::runtime_error(path + ":" + std::to_string(number) + ": not a TUM pose (t x y z qx qy qz qw)");
+    const double qx = f[4], qy = f[5], qz = f[6], qw = f[7];
+    const navd::Pose2 pose{f[1], f[2], std::atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))};
+    if (!pose.finite()) throw std::runtime_error(path + ":" + std::to_string(number) + ": pose is not finite");
+    poses.push_back(pose);
+  }
+  return poses;
+}
+
+// How well the log's scans agree at a trajectory's poses (`trajectory`, TUM, one line per scan in
+// file order) or, without one, at the log's own: the mean, and per scan into `out` (scan, stamp,
+// returns scored, mean distance in mm). With `scan` (0 or more) instead: where the other scans
+// place that scan, searched every 5 cm up to 0.2 m and every 0.02 rad up to 0.24 rad around its
+// pose.
+int Consistency(const navd::CarmenLog& log, const std::string& trajectory, int scan, const std::string& out) {
+  const std::vector<navd::Pose2> poses = trajectory.empty() ? LogPoses(log) : ReadTumTrajectory(trajectory);
+  if (poses.size() != log.scans.size())
+    throw std::runtime_error("--trajectory: " + std::to_string(poses.size()) + " poses for the log's " +
+                             std::to_string(log.scans.size()) + " scans");
+  // Searching for one scan's place, its returns look for lines twice as far and count up to 10 cm
+  // off: a scan placed tens of centimetres and degrees off (a corrected log's error) has few of
+  // its returns within the measure's 15 cm of a line, and the search would see no slope to its
+  // place.
+  navd::mapping::ScanConsistencyOptions options;
+  if (scan >= 0) {
+    options.neighbour_radius = 0.3;
+    options.cap = 0.1;
+  }
+  const navd::mapping::ScanConsistency consistency = ConsistencyOf(log, poses, options);
+  const char* at = trajectory.empty() ? "the log's poses" : trajectory.c_str();
+  if (scan >= 0) {
+    if (scan >= static_cast<int>(poses.size()))
+      throw std::runtime_error("--scan: the log has scans 0 to " + std::to_string(poses.size() - 1) + ", not " +
+                               std::to_string(scan));
+    // The best fit among the poses where at least as many of its returns find a line as at its own,
+    // less a fifth: a pose that moves the scan off the walls it saw would be judged on the few
+    // returns left.
+    const navd::Pose2& own = poses[scan];
+    const navd::mapping::ScanConsistency::ScanFit here = consistency.ScanAt(scan, own);
+    if (here.scored == 0)
+      throw std::runtime_error("--scan: no return of scan " + std::to_string(scan) +
+                               " lies on a line the other scans draw at " + at);
+    navd::mapping::ScanConsistency::ScanFit best = here;
+    navd::Pose2 offset;
+    for (int a = -12; a <= 12; ++a)
+      for (int i = -4; i <= 4; ++i)
+        for (int j = -4; j <= 4; ++j) {
+          const navd::Pose2 moved{0.05 * i, 0.05 * j, 0.02 * a};
+          const auto fit = consistency.ScanAt(scan, {own.x + moved.x, own.y + moved.y, own.theta + moved.theta});
+          if (fit.scored >= 0.8 * here.scored && fit.mean_distance < best.mean_distance) {
+            best = fit;
+            offset = moved;
+          }
+        }
+    navd::WriteFileAtomically(
+        out, "# scan dx_m dy_m dtheta_rad mean_distance_mm own_mean_distance_mm\n" + std::to_string(scan) + " " +
+                 std::to_string(offset.x) + " " + std::to_string(offset.y) + " " + std::to_string(offset.theta) + " " +
+                 std::to_string(1e3 * best.mean_distance) + " " + std::to_string(1e3 * here.mean_distance) + "\n");
+    std::printf(
+        "consistency: scan %d at %s: %.2f mm from the other scans' lines, %.2f mm at its best, %+.2f m, "
+        "%+.2f m, %+.2f rad from it (map frame) -> %s\n",
+        scan, at, 1e3 * here.mean_distance, 1e3 * best.mean_distance, offset.x, offset.y, offset.theta, out.c_str());
+    return 0;
+  }
+  const navd::mapping::ScanConsistencyResult result = consistency.Score();
+  std::string table = "# scan stamp returns_scored mean_distance_mm\n";
+  for (size_t i = 0; i < poses.size(); ++i) {
+    char line[96];
+    std::snprintf(line, sizeof line, "%zu %.6f %d %.2f\n", i, log.scans[i].timestamp, result.scan_scored[i],
+                  1e3 * result.scan_mean_distance[i]);
+    table += line;
+  }
+  navd::WriteFileAtomically(out, table);
+  std::printf("consistency: %zu scans at %s, %lld returns scored, %.2f mm from the lines the other scans draw -> %s\n",
+              poses.size(), at, result.scored, 1e3 * result.mean_distance, out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -309,9 +432,12 @@ int main(int argc, char** argv) {
   app.add_option("--log", log_path, "CARMEN log (.log or .log.gz)")->required();
   app.add_option("--mode", mode,
                  "map: build a map from the log's corrected poses; localize: a localiser on a map; slam: graph SLAM "
-                 "from corrupted odometry; render: the log's scans cast again in the map its poses draw")
-      ->check(CLI::IsMember({"map", "localize", "slam", "render"}));
-  app.add_option("--out", out, "Output: map_server YAML (map), TUM trajectory (localize, slam) or CARMEN log (render)")
+                 "from corrupted odometry; render: the log's scans cast again in the map its poses draw; "
+                 "consistency: how well the scans agree at the log's poses or --trajectory's")
+      ->check(CLI::IsMember({"map", "localize", "slam", "render", "consistency"}));
+  app.add_option("--out", out,
+                 "Output: map_server YAML (map), TUM trajectory (localize, slam), CARMEN log (render) or each scan's "
+                 "consistency (consistency)")
       ->required();
   navd::mapping::LogRenderOptions render;
   app.add_option("--step", render.step, "render: metres between rendered scans (default 0: at the log's own poses)")
@@ -332,6 +458,15 @@ int main(int argc, char** argv) {
   app.add_option("--people", render.people.count,
                  "render: people walking the log's path, back and forth at about 1 m/s (path_walkers.h)")
       ->check(CLI::Range(0, 10000));
+  std::string trajectory;
+  app.add_option("--trajectory", trajectory,
+                 "consistency: a TUM trajectory (t x y z qx qy qz qw), one line per scan of the log in file order "
+                 "(default: the log's poses)");
+  int consistency_scan = -1;
+  app.add_option("--scan", consistency_scan,
+                 "consistency: where the other scans place this scan (from 0, in file order): the pose around its "
+                 "own that fits them best")
+      ->check(CLI::NonNegativeNumber);
   std::string map_out;
   app.add_option("--map-out", map_out, "slam: also write the map built as map_server YAML + PGM");
   std::string map_path, odom_noise = "0.05,0.035";
@@ -436,6 +571,8 @@ int main(int argc, char** argv) {
     int rc;
     if (mode == "map") {
       rc = BuildMap(log, out, resolution, png);
+    } else if (mode == "consistency") {
+      rc = Consistency(log, trajectory, consistency_scan, out);
     } else if (mode == "render") {
       render.fov = render_fov_degrees * M_PI / 180.0;
       render.seed = render.people.seed = seed;

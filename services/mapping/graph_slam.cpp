@@ -56,16 +56,16 @@ ScanMatchOptions GraphSlam::FrontEndWindow(const Pose2& moved) const {
   return base.Widened(grow_xy, grow_theta);
 }
 
-Eigen::Matrix3d GraphSlam::SequentialInformation(const Pose2& pose, const Eigen::Matrix3d& matched) const {
-  Eigen::Matrix3d base = Information(o_.sequential_sigma_xy, o_.sequential_sigma_theta);
+Eigen::Matrix3d GraphSlam::WallInformation(const Pose2& pose, const Eigen::Matrix3d& matched, double sigma_xy,
+                                           double sigma_theta, double free_sigma_xy, double free_sigma_theta) {
+  const Eigen::Matrix3d base = Information(sigma_xy, sigma_theta);
   if (matched.isZero()) return base;
   // The polish's information is about the pose in the map frame; the edge's error is in the new
   // node's frame.
   Eigen::Matrix3d to_node = Eigen::Matrix3d::Identity();
   to_node.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(-pose.theta).toRotationMatrix();
-  const Eigen::Matrix3d left_open = (to_node * matched * to_node.transpose() +
-                                     Information(o_.sequential_free_sigma_xy, o_.sequential_free_sigma_theta))
-                                        .inverse();
+  const Eigen::Matrix3d left_open =
+      (to_node * matched * to_node.transpose() + Information(free_sigma_xy, free_sigma_theta)).inverse();
   return (left_open + base.inverse()).inverse();
 }
 
@@ -196,7 +196,10 @@ Pose2 GraphSlam::AddScan(const Pose2& odometry, const RangeScan& scan) {
   travel_since_closure_ += step;
   node_distance_.push_back(node_distance_.back() + step);
   const int node = graph_.AddNode(pose);
-  graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose, SequentialInformation(pose, matched), false});
+  graph_.AddEdge({last, node, graph_.nodes()[last].inverse() * pose,
+                  WallInformation(pose, matched, o_.sequential_sigma_xy, o_.sequential_sigma_theta,
+                                  o_.sequential_free_sigma_xy, o_.sequential_free_sigma_theta),
+                  false});
   node_scans_.push_back(scan);
   node_points_.push_back(std::move(points));
   node_reference_points_.push_back(std::move(returns.reference));
@@ -302,13 +305,20 @@ bool GraphSlam::LoopMatch(LoopReference& reference, const std::vector<Point2>& s
   return Distance(match->pose.translation(), here.translation()) <= allowance;
 }
 
-bool GraphSlam::MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns, int first, int last,
-                             const Pose2& guess, const ScanMatchOptions& window, ScanMatch* match) const {
-  std::vector<Point2> points = NodePointsInMap(first, last);
-  *match = MatchScan(CorrelationGrid(points, window.resolution, window.sigma), scan, guess, window);
-  if (match->score < o_.loop_min_score || match->coarse_spread > o_.refine_max_spread) return false;
-  match->pose = Polish(std::move(points), returns, match->pose, o_.loop_polish);
-  return true;
+bool GraphSlam::MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns,
+                             const std::vector<Point2>& reference, const Pose2& guess, const ScanMatchOptions& window,
+                             ScanMatch* match, Eigen::Matrix3d* walls) const {
+  *match = MatchScan(CorrelationGrid(reference, window.resolution, window.sigma), scan, guess, window);
+  walls->setZero();
+  if (match->score >= o_.loop_min_score && match->coarse_spread <= o_.refine_max_spread) {
+    match->pose = Polish(reference, returns, match->pose, o_.loop_polish);
+    return true;
+  }
+  // Partial: only the walls the polish pairs with say where the pose lies, from where the graph
+  // put it.
+  if (match->score < o_.refine_min_partial_score) return false;
+  match->pose = Polish(reference, returns, guess, o_.loop_polish, walls);
+  return !walls->isZero();
 }
 
 Pose2 GraphSlam::Polish(std::vector<Point2> reference, const std::vector<Point2>& returns, const Pose2& guess,
@@ -377,9 +387,14 @@ void GraphSlam::Refine() {
       for (const auto& [nearest, first, last] : stretches) {
         if (TurnedOnTheSpot(nearest)) continue;
         ScanMatch match;
-        if (!MatchAgainst(scan, node_points_[i], first, last, here, window, &match)) continue;
+        Eigen::Matrix3d walls;
+        if (!MatchAgainst(scan, node_points_[i], NodePointsInMap(first, last), here, window, &match, &walls)) continue;
         const Pose2 relative = graph_.nodes()[nearest].inverse() * match.pose;
-        graph_.AddEdge({nearest, i, relative, information, true});
+        graph_.AddEdge({nearest, i, relative,
+                        walls.isZero() ? information
+                                       : WallInformation(match.pose, walls, o_.loop_sigma_xy, o_.loop_sigma_theta,
+                                                         o_.refine_partial_free_sigma, o_.refine_partial_free_sigma),
+                        true});
         refinements_.push_back({node_scan_[nearest], node_scan_[i], relative, match.score});
       }
     }

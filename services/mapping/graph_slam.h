@@ -168,7 +168,8 @@ struct GraphSlamOptions {
   // matched pose, see their wall from the other side (SurfaceFacingCheck).
   double loop_max_behind = 0.5;
   // Refinement (Refine()): once the graph is consistent, every node is matched again against
-  // each stretch of the chain passing near it, in a narrow window around where the graph puts it.
+  // each stretch of the chain passing near it, in a narrow window around where the graph puts it
+  // (a partial match, refine_min_partial_score, holds it only where its walls do).
   // The many small constraints average out the front end's per-step errors the way Cartographer's
   // constraints to every nearby submap do.
   double refine_radius = 3.0;         // m between the node and the nearest node of a stretch
@@ -181,7 +182,14 @@ struct GraphSlamOptions {
   // skewed, and fits the other pass best at a wrong heading.
   double refine_spot_turn = 0.5;
   double refine_spot_travel = 0.35;
-  double refine_max_spread = 0.1;  // m: a match that slides farther along a corridor is dropped
+  double refine_max_spread = 0.1;  // m: a match that slides farther along a corridor is partial
+  // A match explaining less than loop_min_score of the node's scan (a corridor driven the other
+  // way: a 180-degree scanner sees in common only the walls beside the robot), but at least this
+  // much, or one that slides along a corridor, is partial: it holds the node only as far as the
+  // walls its polish paired with fix it, across the corridor and not along it, and where they
+  // leave it free, as uncertain as refine_partial_free_sigma (m and rad).
+  double refine_min_partial_score = 0.3;
+  double refine_partial_free_sigma = 0.2;
   PoseGraphOptions optimizer;
 };
 
@@ -249,9 +257,13 @@ class GraphSlam {
   int LocalMapFirst(int last) const;
   // The front end's search window for a scan `moved` (odometry) from the last node.
   ScanMatchOptions FrontEndWindow(const Pose2& moved) const;
-  // The information of the front-end edge to a node matched at `pose` (the edge's error frame: the
-  // node's), from the polish's mean pair information `matched` (zero: the polish was refused).
-  Eigen::Matrix3d SequentialInformation(const Pose2& pose, const Eigen::Matrix3d& matched) const;
+  // The information of an edge to a node matched at `pose` (the edge's error frame: the node's),
+  // at least as uncertain as sigma_xy (m), sigma_theta (rad) in every direction, and where the
+  // walls the polish paired with (their mean pair information `matched`, map frame) leave the pose
+  // free, as uncertain as free_sigma_xy, free_sigma_theta. Zero `matched` (the polish was
+  // refused): the base alone.
+  static Eigen::Matrix3d WallInformation(const Pose2& pose, const Eigen::Matrix3d& matched, double sigma_xy,
+                                         double sigma_theta, double free_sigma_xy, double free_sigma_theta);
   // Teaches odometry_bias_ the odometry's `step` from node `last` against the matched pose of the
   // new node, as far as the polish's information `matched` (map frame; zero: no polish) says the
   // walls fixed it.
@@ -293,11 +305,14 @@ class GraphSlam {
   // was refused).
   Pose2 Polish(std::vector<Point2> reference, const std::vector<Point2>& returns, const Pose2& guess,
                const PointToLineOptions& options, Eigen::Matrix3d* information = nullptr) const;
-  // A scan's points (robot frame, thinned) matched against the map of nodes [first, last] around
-  // `guess`, then polished with all its `returns`; false when the match is weak or slides along a
-  // corridor.
-  bool MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns, int first, int last,
-                    const Pose2& guess, const ScanMatchOptions& window, ScanMatch* match) const;
+  // A scan's points (robot frame, thinned) matched against `reference` (map frame) around `guess`,
+  // then polished with all its `returns`. A match that explains too little (below loop_min_score)
+  // or slides along a corridor is partial: from at least refine_min_partial_score, the polish from
+  // `guess` alone stands, and `walls` receives its mean pair information (zero for a whole
+  // match). False when there is no match, whole or partial.
+  bool MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns,
+                    const std::vector<Point2>& reference, const Pose2& guess, const ScanMatchOptions& window,
+                    ScanMatch* match, Eigen::Matrix3d* walls) const;
 
   GraphSlamOptions o_;
   FrontEndRecovery recovery_;

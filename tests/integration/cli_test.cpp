@@ -530,9 +530,9 @@ std::string RoomFlaserLine(const std::array<double, 3>& seen_from, const std::ar
   return line.str();
 }
 
-// scripts/scan-consistency judges a trajectory by its own scans: in a 10 x 6 m room, the scans
-// placed at the poses they were taken from agree better than at poses that drift as SLAM's might
-// (2 mrad of heading and 1 cm sideways more per scan).
+// navd-replay --mode consistency judges a trajectory by its own scans: in a 10 x 6 m room, the
+// scans placed at the poses they were taken from agree better than at poses that drift as SLAM's
+// might (2 mrad of heading and 1 cm sideways more per scan).
 TEST(ScanConsistency, ADriftingTrajectoryReadsWorseThanTheTrueOne) {
   const std::string dir = MakeTempDir();
   auto tum_line = [](double t, double x, double y, double theta) {
@@ -543,6 +543,7 @@ TEST(ScanConsistency, ADriftingTrajectoryReadsWorseThanTheTrueOne) {
   };
   {
     std::ofstream log(dir + "/room.log"), exact(dir + "/exact.tum"), drift(dir + "/drift.tum");
+    exact << "# t x y z qx qy qz qw\n";
     for (int k = 0; k < 40; ++k) {
       const auto pose = RoomDrivePose(k);
       const auto& [x, y, theta] = pose;
@@ -552,30 +553,47 @@ TEST(ScanConsistency, ADriftingTrajectoryReadsWorseThanTheTrueOne) {
       drift << tum_line(t, x, y + 0.01 * k, theta + 0.002 * k);
     }
   }
-  const auto r = RunCommand(
-      {SourceDir() + "/scripts/scan-consistency", dir + "/room.log", dir + "/exact.tum", dir + "/drift.tum"});
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::map<std::string, std::pair<double, double>> read;  // mean distance (m), share within 3 cm
-  std::istringstream lines(r.output);
-  for (std::string line; std::getline(lines, line);) {
-    char name[512];
-    double mean = 0, within = 0, close = 0;
-    if (std::sscanf(line.c_str(), "| %511[^|]| %lf | %lf | %lf |", name, &mean, &within, &close) == 4) {
-      std::string n(name);
-      read[n.substr(0, n.find_last_not_of(' ') + 1)] = {mean, close};
-    }
-  }
-  ASSERT_EQ(read.size(), 3u) << r.output;
-  const auto log_poses = read["the log's"], exact = read[dir + "/exact.tum"], drift = read[dir + "/drift.tum"];
-  EXPECT_NEAR(exact.first, log_poses.first, 1e-4) << r.output;  // the same poses, read from the TUM file
-  EXPECT_LT(exact.first, 0.01) << r.output;
-  EXPECT_GT(exact.second, 0.8) << r.output;
-  EXPECT_GT(drift.first, 2.0 * exact.first) << r.output;
-  EXPECT_LT(drift.second, exact.second - 0.2) << r.output;
+  // The mean distance (mm) it prints, and the returns scored.
+  auto judge = [&](const std::string& trajectory) {
+    std::vector<std::string> args{NavdReplayBinary(), "--log", dir + "/room.log", "--mode",
+                                  "consistency",      "--out", dir + "/scans.txt"};
+    if (!trajectory.empty()) args.insert(args.end(), {"--trajectory", trajectory});
+    const auto r = RunCommand(args);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    long long scored = 0;
+    double mm = -1.0;
+    const size_t at = r.output.find("returns scored");
+    EXPECT_NE(at, std::string::npos) << r.output;
+    if (at != std::string::npos)
+      std::sscanf(r.output.c_str() + r.output.rfind(", ", at - 1) + 2, "%lld returns scored, %lf mm", &scored, &mm);
+    return std::make_pair(mm, scored);
+  };
+  const auto log_poses = judge(""), exact = judge(dir + "/exact.tum"), drift = judge(dir + "/drift.tum");
+  EXPECT_EQ(exact, log_poses);  // the same poses, read from the TUM file
+  EXPECT_GT(exact.second, 1000);
+  EXPECT_LT(exact.first, 5.0);
+  EXPECT_GT(drift.first, 2.0 * exact.first + 5.0);
+  // Per scan, one line each after the header.
+  std::ifstream scans(dir + "/scans.txt");
+  int lines = 0;
+  for (std::string line; std::getline(scans, line);) lines += line.empty() || line[0] == '#' ? 0 : 1;
+  EXPECT_EQ(lines, 40);
 
-  const auto short_tum = RunCommand({SourceDir() + "/scripts/scan-consistency", dir + "/room.log", dir + "/room.log"});
-  EXPECT_NE(short_tum.exit_code, 0);
-  EXPECT_NE(short_tum.output.find("scan-consistency: "), std::string::npos) << short_tum.output;
+  const auto not_tum = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "consistency",
+                                   "--trajectory", dir + "/room.log", "--out", dir + "/x.txt"});
+  EXPECT_NE(not_tum.exit_code, 0);
+  EXPECT_NE(not_tum.output.find("navd-replay: " + dir + "/room.log:1: not a TUM pose"), std::string::npos)
+      << not_tum.output;
+  {
+    std::ofstream short_tum(dir + "/short.tum");
+    short_tum << tum_line(100.0, 0.0, 0.0, 0.0);
+  }
+  const auto too_short = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "consistency",
+                                     "--trajectory", dir + "/short.tum", "--out", dir + "/x.txt"});
+  EXPECT_NE(too_short.exit_code, 0);
+  EXPECT_NE(too_short.output.find("--trajectory: 1 poses for the log's 40 scans"), std::string::npos)
+      << too_short.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.txt"));
 }
 
 // A log whose scan 20 says a pose 0.1 m and 0.1 rad off where it was taken: --scan 20 finds the
@@ -591,15 +609,20 @@ TEST(ScanConsistency, FindsWhereTheOtherScansPlaceAScanWhoseLoggedPoseIsOff) {
     }
   }
   auto fit = [&](const std::string& scan) {
-    const auto r = RunCommand({SourceDir() + "/scripts/scan-consistency", dir + "/room.log", "--scan", scan});
+    const auto r = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "consistency", "--scan", scan,
+                               "--out", dir + "/scan.txt"});
     EXPECT_EQ(r.exit_code, 0) << r.output;
-    std::array<double, 5> read{};  // at the log's pose, at the best; the best's offset x, y, theta
-    EXPECT_EQ(std::sscanf(r.output.c_str(),
-                          "scan %*d: mean distance to the other scans' returns %lf m at the log's pose, %lf m at its "
-                          "best, %lf m, %lf m, %lf rad",
-                          &read[0], &read[1], &read[2], &read[3], &read[4]),
-              5)
-        << r.output;
+    std::array<double, 5> read{};  // at the log's pose, at the best (mm); the best's offset x, y, theta
+    const size_t at = r.output.find("scan " + scan + " at");
+    EXPECT_NE(at, std::string::npos) << r.output;
+    if (at != std::string::npos)
+      EXPECT_EQ(
+          std::sscanf(r.output.c_str() + at,
+                      "scan %*d at the log's poses: %lf mm from the other scans' lines, %lf mm at its best, %lf m, "
+                      "%lf m, %lf rad",
+                      &read[0], &read[1], &read[2], &read[3], &read[4]),
+          5)
+          << r.output;
     return read;
   };
   const auto off = fit("20");
@@ -610,9 +633,11 @@ TEST(ScanConsistency, FindsWhereTheOtherScansPlaceAScanWhoseLoggedPoseIsOff) {
   const auto right = fit("10");
   EXPECT_EQ(right[0], right[1]);
   EXPECT_EQ(right[4], 0.0);
-  const auto refused = RunCommand({SourceDir() + "/scripts/scan-consistency", dir + "/room.log", "--scan", "40"});
+  const auto refused = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "consistency", "--scan",
+                                   "40", "--out", dir + "/x.txt"});
   EXPECT_NE(refused.exit_code, 0);
-  EXPECT_NE(refused.output.find("--scan needs one scan number from 0 to 39"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("navd-replay: --scan: the log has scans 0 to 39, not 40"), std::string::npos)
+      << refused.output;
 }
 
 // navd-replay --mode slam on a real log of ../shared/data: its ATE, loop closures and wrong ones.

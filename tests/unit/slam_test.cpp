@@ -22,6 +22,7 @@
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
 #include "services/mapping/recycled_cells.h"
+#include "services/mapping/scan_consistency.h"
 #include "services/mapping/seen_through_check.h"
 #include "services/mapping/shared_places.h"
 #include "services/mapping/surface_facing_check.h"
@@ -672,6 +673,40 @@ TEST(GraphSlam, RefineMatchesEachNodeAgainstTheLapBeforeAndKeepsTheTrajectory) {
   EXPECT_LT(PositionRmse(slam.Trajectory(), truth), std::max(before, 0.03) * 1.1);
 }
 
+// Scans taken round the room agree at their true poses to about their range noise (1 cm); a scan
+// placed 6 cm off stands out, and makes the whole trajectory score worse.
+TEST(ScanConsistency, ScansAgreeAtTheirTruePosesAndAScanPlacedOffStandsOut) {
+  const OccupancyGrid map = Room();
+  std::mt19937 rng(4);
+  const std::vector<Pose2> truth = OneLap();
+  std::vector<std::vector<Point2>> returns;
+  for (const Pose2& pose : truth) returns.push_back(Points(ScanFrom(map, pose, &rng)));
+  const ScanConsistencyResult right = ScanConsistency(truth, returns).Score();
+  EXPECT_GT(right.scored, static_cast<long long>(truth.size()) * 100);
+  EXPECT_LT(right.mean_distance, 0.012);
+  std::vector<Pose2> moved = truth;
+  const size_t off = truth.size() / 2;
+  moved[off] = moved[off] * Pose2(0.0, 0.06, 0.0);
+  const ScanConsistencyResult wrong = ScanConsistency(moved, returns).Score();
+  EXPECT_GT(wrong.scan_mean_distance[off], 0.03);
+  EXPECT_LT(right.scan_mean_distance[off], 0.015);
+  EXPECT_GT(wrong.mean_distance, right.mean_distance);
+  // The other scans tell where the one placed off belongs: back where it was taken, it fits best.
+  const ScanConsistency placed_off(moved, returns);
+  EXPECT_LT(placed_off.ScanAt(off, truth[off]).mean_distance, 0.5 * placed_off.ScanAt(off, moved[off]).mean_distance);
+  // A scan alone has nothing to agree with; poses and scans must pair up.
+  const ScanConsistencyResult alone = ScanConsistency({truth[0]}, {returns[0]}).Score();
+  EXPECT_EQ(alone.scored, 0);
+  EXPECT_TRUE(std::isnan(alone.mean_distance));
+  EXPECT_TRUE(std::isnan(alone.scan_mean_distance[0]));
+  try {
+    ScanConsistency(truth, {returns[0]});
+    FAIL() << "a trajectory longer than its scans was scored";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+  }
+}
+
 // A 180-degree, 1-degree scan of `map` from `pose` (as the logs' SICK scanners); no return reads 81.91.
 RangeScan FrontScanFrom(const OccupancyGrid& map, const Pose2& pose, std::mt19937* noise) {
   const RayCaster caster(map);
@@ -685,6 +720,46 @@ RangeScan FrontScanFrom(const OccupancyGrid& map, const Pose2& pose, std::mt1993
     scan.ranges.push_back(static_cast<float>(r < 30.0 ? r + n(*noise) : 81.91));
   }
   return scan;
+}
+
+// Down a bare corridor and back the other way with a 180-degree scanner: each pass sees the end
+// wall it faces, and the two have only the side walls beside the robot in common. Refinement holds
+// the way back to the way out there, across the corridor, and leaves the position along it to the
+// chain.
+TEST(GraphSlam, RefineHoldsAPassTheOtherWayAcrossTheCorridorNotAlongIt) {
+  OccupancyGrid corridor(260, 60, 0.05, Point2::Zero());
+  corridor.FillBox({0.0, 0.0}, {13.0, 0.1});
+  corridor.FillBox({0.0, 2.4}, {13.0, 2.5});
+  corridor.FillBox({0.0, 0.0}, {0.1, 2.5});
+  corridor.FillBox({12.9, 0.0}, {13.0, 2.5});
+  std::vector<Pose2> truth;
+  for (double x = 1.5; x < 11.0; x += 0.4) truth.emplace_back(x, 1.3, 0.0);
+  const size_t out = truth.size();
+  for (int k = 1; k <= 4; ++k) truth.emplace_back(truth.back().x, 1.3, k * M_PI / 4);
+  for (double x = truth.back().x - 0.4; x > 1.4; x -= 0.4) truth.emplace_back(x, 1.1, M_PI);
+  GraphSlamOptions o;
+  o.first_pose = truth.front();
+  GraphSlam slam(o);
+  std::mt19937 rng(3);
+  AddWithNoisyOdometry(slam, truth, rng, [&](const Pose2& pose) { return FrontScanFrom(corridor, pose, &rng); });
+  ASSERT_EQ(slam.nodes(), static_cast<int>(truth.size()));  // every scan a node: their indices agree
+  const size_t kept = slam.graph().edges().size();
+  slam.Refine();
+  int back_to_out = 0;
+  for (size_t e = kept; e < slam.graph().edges().size(); ++e) {
+    const PoseGraphEdge& edge = slam.graph().edges()[e];
+    const int from = edge.from;
+    if (from >= static_cast<int>(out) || edge.to <= static_cast<int>(out) + 4) continue;
+    ++back_to_out;
+    // The node's frame faces back down the corridor: x along it, y across.
+    const Pose2 measured = edge.measurement;
+    const Pose2 right = truth[from].inverse() * truth[edge.to];
+    const Pose2 diff = right.inverse() * measured;
+    EXPECT_LT(std::abs(diff.y), 0.03) << from << " -> " << edge.to;
+    EXPECT_LT(std::abs(diff.theta), 0.02) << from << " -> " << edge.to;
+    EXPECT_LT(edge.information(0, 0), 0.2 * edge.information(1, 1)) << from << " -> " << edge.to;
+  }
+  EXPECT_GE(back_to_out, 5);
 }
 
 std::vector<PlacedReturns> Placed(const std::vector<Pose2>& poses, const std::vector<std::vector<Point2>>& points) {

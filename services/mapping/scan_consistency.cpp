@@ -1,0 +1,100 @@
+#include "services/mapping/scan_consistency.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "services/common/error.h"
+#include "services/mapping/cell_key.h"
+
+namespace navd::mapping {
+
+ScanConsistency::ScanConsistency(const std::vector<Pose2>& poses, std::vector<std::vector<Point2>> returns,
+                                 const ScanConsistencyOptions& options)
+    : o_(options), returns_(std::move(returns)) {
+  if (poses.size() != returns_.size())
+    throw Error(ErrorCode::kInvalidArgument, "scan consistency: " + std::to_string(poses.size()) + " poses for " +
+                                                 std::to_string(returns_.size()) + " scans");
+  // Bucketed by cells of the neighbour radius, a return's neighbours lie in the 3 x 3 cells around
+  // its own.
+  for (size_t i = 0; i < poses.size(); ++i)
+    for (const Point2& p : returns_[i]) placed_.push_back({poses[i] * p, static_cast<int>(i)});
+  for (size_t k = 0; k < placed_.size(); ++k) cells_[CellOf(placed_[k].point)].push_back(static_cast<int>(k));
+}
+
+int64_t ScanConsistency::CellOf(const Point2& p) const {
+  return CellKey(static_cast<int64_t>(std::floor(p.x() / o_.neighbour_radius)),
+                 static_cast<int64_t>(std::floor(p.y() / o_.neighbour_radius)));
+}
+
+double ScanConsistency::DistanceToLine(const Point2& point, int scan) const {
+  Point2 total = Point2::Zero();
+  Eigen::Matrix2d outer = Eigen::Matrix2d::Zero();
+  int n = 0;
+  const double r2 = o_.neighbour_radius * o_.neighbour_radius;
+  const int64_t cx = static_cast<int64_t>(std::floor(point.x() / o_.neighbour_radius));
+  const int64_t cy = static_cast<int64_t>(std::floor(point.y() / o_.neighbour_radius));
+  for (int64_t dx = -1; dx <= 1; ++dx)
+    for (int64_t dy = -1; dy <= 1; ++dy) {
+      const auto found = cells_.find(CellKey(cx + dx, cy + dy));
+      if (found == cells_.end()) continue;
+      for (int k : found->second) {
+        const Placed& other = placed_[k];
+        if (std::abs(other.scan - scan) < o_.exclude_scans) continue;
+        const Point2 d = other.point - point;
+        if (d.squaredNorm() > r2) continue;
+        total += d;
+        outer += d * d.transpose();
+        ++n;
+      }
+    }
+  if (n < o_.min_neighbours) return -1.0;
+  // The neighbours' line, relative to the point: through their mean, across the smaller
+  // eigenvalue's direction of their spread.
+  const Point2 mean = total / n;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> spread(outer / n - mean * mean.transpose());
+  const double small = spread.eigenvalues()(0), large = spread.eigenvalues()(1);
+  if (large <= 0.0 || small > o_.max_flatness * large) return -1.0;
+  return std::min(o_.cap, std::abs(mean.dot(spread.eigenvectors().col(0))));
+}
+
+ScanConsistencyResult ScanConsistency::Score() const {
+  ScanConsistencyResult result;
+  std::vector<double> scan_sum(returns_.size(), 0.0);
+  result.scan_scored.assign(returns_.size(), 0);
+  double sum = 0.0;
+  for (const Placed& q : placed_) {
+    const double distance = DistanceToLine(q.point, q.scan);
+    if (distance < 0.0) continue;
+    sum += distance;
+    ++result.scored;
+    scan_sum[q.scan] += distance;
+    ++result.scan_scored[q.scan];
+  }
+  constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  result.mean_distance = result.scored > 0 ? sum / static_cast<double>(result.scored) : kNone;
+  result.scan_mean_distance.resize(returns_.size());
+  for (size_t i = 0; i < returns_.size(); ++i)
+    result.scan_mean_distance[i] = result.scan_scored[i] > 0 ? scan_sum[i] / result.scan_scored[i] : kNone;
+  return result;
+}
+
+ScanConsistency::ScanFit ScanConsistency::ScanAt(int k, const Pose2& pose) const {
+  if (k < 0 || k >= static_cast<int>(returns_.size()))
+    throw Error(ErrorCode::kInvalidArgument, "scan consistency: no scan " + std::to_string(k) + " of " +
+                                                 std::to_string(returns_.size()));
+  double sum = 0.0;
+  ScanFit fit;
+  for (const Point2& p : returns_[k]) {
+    const double distance = DistanceToLine(pose * p, k);
+    if (distance < 0.0) continue;
+    sum += distance;
+    ++fit.scored;
+  }
+  fit.mean_distance = fit.scored > 0 ? sum / fit.scored : std::numeric_limits<double>::quiet_NaN();
+  return fit;
+}
+
+}  // namespace navd::mapping
