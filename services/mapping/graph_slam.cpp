@@ -247,7 +247,8 @@ void GraphSlam::TryLoopClosure(int node) {
 
   const Pose2 relative = graph_.nodes()[candidate].inverse() * match.pose;
   graph_.AddEdge({candidate, node, relative, Information(o_.loop_sigma_xy, o_.loop_sigma_theta), true});
-  closures_.push_back({node_scan_[candidate], node_scan_[node], relative, match.score});
+  closures_.push_back(
+      {node_scan_[candidate], node_scan_[node], relative, match.score, graph_.edges().back().information});
   travel_since_closure_ = 0.0;
   unsettled_error_ += graph_.SquaredError(graph_.edges().back());
   if (unsettled_error_ > o_.loop_settled_error) Optimize();
@@ -390,12 +391,12 @@ void GraphSlam::Refine() {
         Eigen::Matrix3d walls;
         if (!MatchAgainst(scan, node_points_[i], NodePointsInMap(first, last), here, window, &match, &walls)) continue;
         const Pose2 relative = graph_.nodes()[nearest].inverse() * match.pose;
-        graph_.AddEdge({nearest, i, relative,
-                        walls.isZero() ? information
-                                       : WallInformation(match.pose, walls, o_.loop_sigma_xy, o_.loop_sigma_theta,
-                                                         o_.refine_partial_free_sigma, o_.refine_partial_free_sigma),
-                        true});
-        refinements_.push_back({node_scan_[nearest], node_scan_[i], relative, match.score});
+        const Eigen::Matrix3d edge_information =
+            walls.isZero() ? information
+                           : WallInformation(match.pose, walls, o_.loop_sigma_xy, o_.loop_sigma_theta,
+                                             o_.refine_partial_free_sigma, o_.refine_partial_free_sigma);
+        graph_.AddEdge({nearest, i, relative, edge_information, true});
+        refinements_.push_back({node_scan_[nearest], node_scan_[i], relative, match.score, edge_information});
       }
     }
     Optimize();

@@ -194,11 +194,14 @@ struct GraphSlamOptions {
 };
 
 // An accepted loop closure: scans by their order of arrival, the matched pose of `to_scan` in
-// `from_scan`'s frame, and the match's score.
+// `from_scan`'s frame, the match's score and the information its edge holds it with (in
+// `to_scan`'s frame: x, y in 1/m², theta in 1/rad²; a partial refinement match's is small along
+// the corridor, where it measures nothing).
 struct LoopClosure {
   int from_scan = 0, to_scan = 0;
   Pose2 measurement;
   double score = 0.0;
+  Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
 };
 
 class GraphSlam {

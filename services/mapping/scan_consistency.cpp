@@ -83,8 +83,8 @@ ScanConsistencyResult ScanConsistency::Score() const {
 
 ScanConsistency::ScanFit ScanConsistency::ScanAt(int k, const Pose2& pose) const {
   if (k < 0 || k >= static_cast<int>(returns_.size()))
-    throw Error(ErrorCode::kInvalidArgument, "scan consistency: no scan " + std::to_string(k) + " of " +
-                                                 std::to_string(returns_.size()));
+    throw Error(ErrorCode::kInvalidArgument,
+                "scan consistency: no scan " + std::to_string(k) + " of " + std::to_string(returns_.size()));
   double sum = 0.0;
   ScanFit fit;
   for (const Point2& p : returns_[k]) {
