@@ -58,7 +58,7 @@ ScanMatchOptions GraphSlam::FrontEndWindow(const Pose2& moved) const {
 
 Eigen::Matrix3d GraphSlam::WallInformation(const Pose2& pose, const Eigen::Matrix3d& matched, double sigma_xy,
                                            double sigma_theta, double free_sigma_xy, double free_sigma_theta) {
-  const Eigen::Matrix3d base = Information(sigma_xy, sigma_theta);
+  Eigen::Matrix3d base = Information(sigma_xy, sigma_theta);
   if (matched.isZero()) return base;
   // The polish's information is about the pose in the map frame; the edge's error is in the new
   // node's frame.

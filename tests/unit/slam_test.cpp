@@ -680,6 +680,7 @@ TEST(ScanConsistency, ScansAgreeAtTheirTruePosesAndAScanPlacedOffStandsOut) {
   std::mt19937 rng(4);
   const std::vector<Pose2> truth = OneLap();
   std::vector<std::vector<Point2>> returns;
+  returns.reserve(truth.size());
   for (const Pose2& pose : truth) returns.push_back(Points(ScanFrom(map, pose, &rng)));
   const ScanConsistencyResult right = ScanConsistency(truth, returns).Score();
   EXPECT_GT(right.scored, static_cast<long long>(truth.size()) * 100);
@@ -700,7 +701,7 @@ TEST(ScanConsistency, ScansAgreeAtTheirTruePosesAndAScanPlacedOffStandsOut) {
   EXPECT_TRUE(std::isnan(alone.mean_distance));
   EXPECT_TRUE(std::isnan(alone.scan_mean_distance[0]));
   try {
-    ScanConsistency(truth, {returns[0]});
+    [[maybe_unused]] const ScanConsistency refused(truth, {returns[0]});
     FAIL() << "a trajectory longer than its scans was scored";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
