@@ -307,18 +307,18 @@ bool GraphSlam::LoopMatch(LoopReference& reference, const std::vector<Point2>& s
 }
 
 bool GraphSlam::MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns,
-                             const std::vector<Point2>& reference, const Pose2& guess, const ScanMatchOptions& window,
+                             std::vector<Point2> reference, const Pose2& guess, const ScanMatchOptions& window,
                              ScanMatch* match, Eigen::Matrix3d* walls) const {
   *match = MatchScan(CorrelationGrid(reference, window.resolution, window.sigma), scan, guess, window);
   walls->setZero();
   if (match->score >= o_.loop_min_score && match->coarse_spread <= o_.refine_max_spread) {
-    match->pose = Polish(reference, returns, match->pose, o_.loop_polish);
+    match->pose = Polish(std::move(reference), returns, match->pose, o_.loop_polish);
     return true;
   }
   // Partial: only the walls the polish pairs with say where the pose lies, from where the graph
   // put it.
   if (match->score < o_.refine_min_partial_score) return false;
-  match->pose = Polish(reference, returns, guess, o_.loop_polish, walls);
+  match->pose = Polish(std::move(reference), returns, guess, o_.loop_polish, walls);
   return !walls->isZero();
 }
 

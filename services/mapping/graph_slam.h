@@ -313,9 +313,8 @@ class GraphSlam {
   // or slides along a corridor is partial: from at least refine_min_partial_score, the polish from
   // `guess` alone stands, and `walls` receives its mean pair information (zero for a whole
   // match). False when there is no match, whole or partial.
-  bool MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns,
-                    const std::vector<Point2>& reference, const Pose2& guess, const ScanMatchOptions& window,
-                    ScanMatch* match, Eigen::Matrix3d* walls) const;
+  bool MatchAgainst(const std::vector<Point2>& scan, const std::vector<Point2>& returns, std::vector<Point2> reference,
+                    const Pose2& guess, const ScanMatchOptions& window, ScanMatch* match, Eigen::Matrix3d* walls) const;
 
   GraphSlamOptions o_;
   FrontEndRecovery recovery_;

@@ -21,21 +21,18 @@ ScanConsistency::ScanConsistency(const std::vector<Pose2>& poses, std::vector<st
   // its own.
   for (size_t i = 0; i < poses.size(); ++i)
     for (const Point2& p : returns_[i]) placed_.push_back({poses[i] * p, static_cast<int>(i)});
-  for (size_t k = 0; k < placed_.size(); ++k) cells_[CellOf(placed_[k].point)].push_back(static_cast<int>(k));
+  for (size_t k = 0; k < placed_.size(); ++k)
+    cells_[CellKey(Cell(placed_[k].point.x()), Cell(placed_[k].point.y()))].push_back(static_cast<int>(k));
 }
 
-int64_t ScanConsistency::CellOf(const Point2& p) const {
-  return CellKey(static_cast<int64_t>(std::floor(p.x() / o_.neighbour_radius)),
-                 static_cast<int64_t>(std::floor(p.y() / o_.neighbour_radius)));
-}
+int64_t ScanConsistency::Cell(double v) const { return static_cast<int64_t>(std::floor(v / o_.neighbour_radius)); }
 
 double ScanConsistency::DistanceToLine(const Point2& point, int scan) const {
   Point2 total = Point2::Zero();
   Eigen::Matrix2d outer = Eigen::Matrix2d::Zero();
   int n = 0;
   const double r2 = o_.neighbour_radius * o_.neighbour_radius;
-  const int64_t cx = static_cast<int64_t>(std::floor(point.x() / o_.neighbour_radius));
-  const int64_t cy = static_cast<int64_t>(std::floor(point.y() / o_.neighbour_radius));
+  const int64_t cx = Cell(point.x()), cy = Cell(point.y());
   for (int64_t dx = -1; dx <= 1; ++dx)
     for (int64_t dy = -1; dy <= 1; ++dy) {
       const auto found = cells_.find(CellKey(cx + dx, cy + dy));

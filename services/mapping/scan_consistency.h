@@ -62,7 +62,8 @@ class ScanConsistency {
   // The capped distance (m) from `point` of scan `scan` to the line of the other scans' returns
   // around it; negative when they draw none.
   double DistanceToLine(const Point2& point, int scan) const;
-  int64_t CellOf(const Point2& p) const;
+  // The cell (of neighbour_radius) a coordinate (m) falls in.
+  int64_t Cell(double v) const;
 
   ScanConsistencyOptions o_;
   std::vector<std::vector<Point2>> returns_;
