@@ -35,6 +35,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
@@ -82,16 +83,15 @@ void NoteCoarserMap(const navd::OccupancyGrid& grid, double resolution) {
 // m: the echoes the scan consistency measures, as far as the maps are drawn from each pose.
 constexpr double kConsistencyReach = 15.0;
 
-// The log's scans at `poses`, one per scan in file order, for the scan consistency
-// (services/mapping/scan_consistency.h).
-navd::mapping::ScanConsistency ConsistencyOf(const navd::CarmenLog& log, const std::vector<navd::Pose2>& poses,
-                                             const navd::mapping::ScanConsistencyOptions& options = {}) {
+// The log's scans' echoes, one list per scan in file order, robot frame, as the scan consistency
+// (services/mapping/scan_consistency.h) measures them.
+std::vector<std::vector<navd::Point2>> ConsistencyReturns(const navd::CarmenLog& log) {
   std::vector<std::vector<navd::Point2>> returns;
   returns.reserve(log.scans.size());
   for (const navd::CarmenScan& s : log.scans)
     returns.push_back(
         navd::ScanReturns(s.ranges, s.angle_min, s.angle_increment, s.no_return_range(), kConsistencyReach));
-  return navd::mapping::ScanConsistency(poses, std::move(returns), options);
+  return returns;
 }
 
 std::vector<navd::Pose2> LogPoses(const navd::CarmenLog& log) {
@@ -186,10 +186,13 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
       wrong_refinements, error.position_rmse, error.heading_rmse, error.worst,
       1e3 * busy / static_cast<double>(estimate.size()), relative.translation_mean, relative.rotation_mean,
       relative.along_rmse, relative.across_rmse, error.similarity_rmse, error.scale, out.c_str());
+  std::vector<std::vector<navd::Point2>> returns = ConsistencyReturns(log);
+  const double at_estimate = navd::mapping::ScanConsistency(estimate, returns).Score().mean_distance;
+  const double at_log = navd::mapping::ScanConsistency(truth, std::move(returns)).Score().mean_distance;
   std::printf(
       "scan consistency: returns %.1f mm from the lines the other scans draw at the estimate, %.1f mm at the "
       "log's poses\n",
-      1e3 * ConsistencyOf(log, estimate).Score().mean_distance, 1e3 * ConsistencyOf(log, truth).Score().mean_distance);
+      1e3 * at_estimate, 1e3 * at_log);
   if (tuning.learn_odometry_bias)
     std::printf("odometry bias learnt: scale %.4f, drift %.4f rad/m, turn error %.4f\n", slam.odometry_bias().scale(),
                 slam.odometry_bias().drift(), slam.odometry_bias().turn_error());
@@ -381,7 +384,7 @@ int Consistency(const navd::CarmenLog& log, const std::string& trajectory, int s
     options.neighbour_radius = 0.3;
     options.cap = 0.1;
   }
-  const navd::mapping::ScanConsistency consistency = ConsistencyOf(log, poses, options);
+  const navd::mapping::ScanConsistency consistency(poses, ConsistencyReturns(log), options);
   const char* at = trajectory.empty() ? "the log's poses" : trajectory.c_str();
   if (scan >= 0) {
     if (scan >= static_cast<int>(poses.size()))

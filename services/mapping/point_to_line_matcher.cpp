@@ -5,6 +5,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
+
+#include "services/mapping/line_fit.h"
 
 namespace navd::mapping {
 namespace {
@@ -43,29 +46,13 @@ const Point2& PointToLineMatcher::Normal(int i) const {
   // The line through the point: the principal direction of its neighbours.
   const Point2& p = reference_[i];
   const double r2 = o_.normal_radius * o_.normal_radius;
-  Point2 sum = Point2::Zero();
-  Eigen::Matrix2d outer = Eigen::Matrix2d::Zero();
-  int n = 0;
+  LineFit fit;
   ForEachNear(p, [&](int j) {
     const Point2 d = reference_[j] - p;
-    if (d.squaredNorm() > r2) return;
-    sum += d;
-    outer += d * d.transpose();
-    ++n;
+    if (d.squaredNorm() <= r2) fit.Add(d);
   });
-  if (n < 3) return normals_[i];
-  const Point2 mean = sum / n;
-  const Eigen::Matrix2d cov = outer / n - mean * mean.transpose();
-  // The 2 x 2 covariance's eigenvalues in closed form: mid -+ half, with half the distance
-  // between them from the spread's difference and the cross term.
-  const double a = cov(0, 0), b = cov(0, 1), c = cov(1, 1);
-  const double mid = 0.5 * (a + c), diff = 0.5 * (a - c), half = std::hypot(diff, b);
-  const double small = mid - half, large = mid + half;
-  if (large <= 0.0 || small > o_.max_flatness * large) return normals_[i];
-  // The small eigenvalue's eigenvector, (b, small - a) or (small - c, b): the one of the two
-  // that does not vanish as b does (a line along x has its normal along y, and the other way).
-  const Point2 normal = diff >= 0.0 ? Point2(b, -(diff + half)) : Point2(diff - half, b);
-  normals_[i] = normal.normalized();
+  if (fit.count() < 3) return normals_[i];
+  if (const std::optional<FittedLine> line = fit.Fit(o_.max_flatness)) normals_[i] = line->normal;
   return normals_[i];
 }
 

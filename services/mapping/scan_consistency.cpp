@@ -1,13 +1,14 @@
 #include "services/mapping/scan_consistency.h"
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "services/common/error.h"
 #include "services/mapping/cell_key.h"
+#include "services/mapping/line_fit.h"
 
 namespace navd::mapping {
 
@@ -28,9 +29,7 @@ ScanConsistency::ScanConsistency(const std::vector<Pose2>& poses, std::vector<st
 int64_t ScanConsistency::Cell(double v) const { return static_cast<int64_t>(std::floor(v / o_.neighbour_radius)); }
 
 double ScanConsistency::DistanceToLine(const Point2& point, int scan) const {
-  Point2 total = Point2::Zero();
-  Eigen::Matrix2d outer = Eigen::Matrix2d::Zero();
-  int n = 0;
+  LineFit fit;
   const double r2 = o_.neighbour_radius * o_.neighbour_radius;
   const int64_t cx = Cell(point.x()), cy = Cell(point.y());
   for (int64_t dx = -1; dx <= 1; ++dx)
@@ -41,20 +40,13 @@ double ScanConsistency::DistanceToLine(const Point2& point, int scan) const {
         const Placed& other = placed_[k];
         if (std::abs(other.scan - scan) < o_.exclude_scans) continue;
         const Point2 d = other.point - point;
-        if (d.squaredNorm() > r2) continue;
-        total += d;
-        outer += d * d.transpose();
-        ++n;
+        if (d.squaredNorm() <= r2) fit.Add(d);
       }
     }
-  if (n < o_.min_neighbours) return -1.0;
-  // The neighbours' line, relative to the point: through their mean, across the smaller
-  // eigenvalue's direction of their spread.
-  const Point2 mean = total / n;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> spread(outer / n - mean * mean.transpose());
-  const double small = spread.eigenvalues()(0), large = spread.eigenvalues()(1);
-  if (large <= 0.0 || small > o_.max_flatness * large) return -1.0;
-  return std::min(o_.cap, std::abs(mean.dot(spread.eigenvectors().col(0))));
+  if (fit.count() < o_.min_neighbours) return -1.0;
+  const std::optional<FittedLine> line = fit.Fit(o_.max_flatness);
+  if (!line) return -1.0;
+  return std::min(o_.cap, std::abs(line->mean.dot(line->normal)));
 }
 
 ScanConsistencyResult ScanConsistency::Score() const {

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -18,6 +20,7 @@
 #include "services/common/trajectory_alignment.h"
 #include "services/mapping/correlative_scan_matcher.h"
 #include "services/mapping/graph_slam.h"
+#include "services/mapping/line_fit.h"
 #include "services/mapping/odometry_pairing.h"
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
@@ -164,6 +167,39 @@ std::vector<Point2> ScanOfWalls(const std::vector<std::pair<Point2, Point2>>& wa
     if (nearest < 20.0) out.emplace_back((nearest + n(noise)) * Point2(std::cos(a), std::sin(a)));
   }
   return out;
+}
+
+TEST(LineFit, FindsTheLineOfAWallAtAnyHeadingAndRefusesACorner) {
+  // A wall at 30 degrees, 0.2 m from the point of interest, its points a little off it.
+  const double heading = 0.5236;
+  const Point2 along(std::cos(heading), std::sin(heading)), across(-along.y(), along.x());
+  LineFit wall;
+  for (int i = -5; i <= 5; ++i) wall.Add(0.2 * across + 0.03 * i * along + ((i % 2) ? 0.002 : -0.002) * across);
+  const std::optional<FittedLine> line = wall.Fit(0.1);
+  ASSERT_TRUE(line.has_value());
+  EXPECT_NEAR(std::abs(line->normal.dot(across)), 1.0, 1e-3);
+  EXPECT_NEAR(std::abs(line->mean.dot(line->normal)), 0.2, 1e-3);
+  // The same along either axis: the closed form's two eigenvector choices.
+  for (const Point2& direction : {Point2(1.0, 0.0), Point2(0.0, 1.0)}) {
+    LineFit axis;
+    for (int i = -3; i <= 3; ++i) axis.Add(0.05 * i * direction);
+    const std::optional<FittedLine> fitted = axis.Fit(0.1);
+    ASSERT_TRUE(fitted.has_value());
+    EXPECT_NEAR(std::abs(fitted->normal.dot(direction)), 0.0, 1e-9);
+  }
+  // A corner's points spread as much one way as the other; one point, or the same point twice,
+  // draws no line.
+  LineFit corner;
+  for (int i = 0; i <= 5; ++i) {
+    corner.Add(Point2(0.03 * i, 0.0));
+    corner.Add(Point2(0.0, 0.03 * i));
+  }
+  EXPECT_FALSE(corner.Fit(0.1).has_value());
+  LineFit single;
+  single.Add(Point2(0.1, 0.1));
+  EXPECT_FALSE(single.Fit(0.1).has_value());
+  single.Add(Point2(0.1, 0.1));
+  EXPECT_FALSE(single.Fit(0.1).has_value());
 }
 
 TEST(PointToLineMatcher, PolishesTheCorrelativePoseBeyondItsCells) {
