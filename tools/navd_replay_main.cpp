@@ -56,6 +56,7 @@
 #include "services/mapping/log_renderer.h"
 #include "services/mapping/occupancy_grid_mapper.h"
 #include "services/mapping/odometry_pairing.h"
+#include "services/mapping/pose_graph_g2o.h"
 #include "services/mapping/scan_consistency.h"
 #include "services/common/trajectory_alignment.h"
 
@@ -104,7 +105,8 @@ std::vector<navd::Pose2> LogPoses(const navd::CarmenLog& log) {
 // final, optimised poses), judged against the log's corrected poses after SE(2) alignment; each
 // accepted loop closure judged against the corrected relative pose.
 int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, const SlamTuning& tuning,
-         const std::string& out, const std::string& map_out, const std::string& png, double resolution) {
+         const std::string& out, const std::string& map_out, const std::string& graph_out, const std::string& png,
+         double resolution) {
   using namespace navd;
   // The map frame starts at the log's first pose, so the map lines up with the log's own (turned
   // by frame_turn: the correlative grids' axes lie along the map frame's, so a turned frame
@@ -196,6 +198,11 @@ int Slam(const navd::CarmenLog& log, const std::vector<navd::Pose2>& odometry, c
   if (tuning.learn_odometry_bias)
     std::printf("odometry bias learnt: scale %.4f, drift %.4f rad/m, turn error %.4f\n", slam.odometry_bias().scale(),
                 slam.odometry_bias().drift(), slam.odometry_bias().turn_error());
+  if (!graph_out.empty()) {
+    WriteFileAtomically(graph_out, mapping::FormatG2o(slam.graph(), slam.node_scan_indices()));
+    std::printf("pose graph: %d nodes (ids: their scans), %zu edges -> %s\n", slam.nodes(), slam.graph().edges().size(),
+                graph_out.c_str());
+  }
   if (!map_out.empty() || !png.empty()) {
     mapping::MapperOptions o;
     o.resolution = resolution;
@@ -481,6 +488,10 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   std::string map_out;
   app.add_option("--map-out", map_out, "slam: also write the map built as map_server YAML + PGM");
+  std::string graph_out;
+  app.add_option("--graph-out", graph_out,
+                 "slam: also write the optimised pose graph in g2o's format (VERTEX_SE2 / EDGE_SE2; vertex ids: the "
+                 "scans the nodes were made from)");
   std::string map_path, odom_noise = "0.05,0.035";
   uint64_t seed = 1;
   app.add_option("--map", map_path, "localize: map to localise on (default: built from the log's poses)");
@@ -565,6 +576,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  if (!graph_out.empty() && mode != "slam") {
+    std::fprintf(stderr, "navd-replay: --graph-out is for --mode slam\n");
+    return 2;
+  }
   try {
     const auto t0 = std::chrono::steady_clock::now();
     const std::optional<navd::OdometryPairing> given_pairing = navd::ParseOdometryPairing(pairing, "--pairing");
@@ -599,7 +614,7 @@ int main(int argc, char** argv) {
       const navd::OdometryNoise least;
       slam_tuning.odometry = {std::max(noise.translation, least.translation),
                               std::max(noise.rotation_per_metre, least.rotation_per_metre)};
-      rc = Slam(log, odometry, slam_tuning, out, map_out, png, resolution);
+      rc = Slam(log, odometry, slam_tuning, out, map_out, graph_out, png, resolution);
     } else {
       const navd::OccupancyGrid map = map_path.empty() ? MapFromLog(log, resolution) : navd::LoadAnyMapFile(map_path);
       if (motion_noise < 0.0 && odometry_source == "log") {

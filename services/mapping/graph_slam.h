@@ -244,6 +244,8 @@ class GraphSlam {
   const RangeScan* last_node_scan() const { return node_scans_.empty() ? nullptr : &node_scans_.back(); }
   Pose2 last_node_pose() const { return graph_.nodes().empty() ? Pose2{} : graph_.nodes().back(); }
   const PoseGraph& graph() const { return graph_; }
+  // The scan each node was made from (by order of arrival), node by node.
+  const std::vector<int>& node_scan_indices() const { return node_scan_; }
 
  private:
   // The scan's returns (robot frame, beam order, no-returns dropped): those matched, within its

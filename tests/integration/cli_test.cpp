@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <map>
 #include <random>
+#include <set>
 #include <sstream>
 #include <memory>
 #include <filesystem>
@@ -176,6 +177,14 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   const auto missing = RunCommand({NavdReplayBinary(), "--log", dir + "/none.log", "--out", dir + "/x.yaml"});
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_EQ(Lines(missing.output), 1) << missing.output;
+  // A pose graph is SLAM's: asked of the map mode, one line says so and nothing is written.
+  const auto graph = RunCommand(
+      {NavdReplayBinary(), "--log", dir + "/room.log", "--out", dir + "/y.yaml", "--graph-out", dir + "/g.g2o"});
+  EXPECT_NE(graph.exit_code, 0);
+  EXPECT_EQ(Lines(graph.output), 1) << graph.output;
+  EXPECT_NE(graph.output.find("--graph-out"), std::string::npos) << graph.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/y.yaml"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/g.g2o"));
 }
 
 // A log spread wider than a grid holds at 5 cm (two rooms 250 m apart, as a campus's buildings):
@@ -615,7 +624,7 @@ TEST(ScanConsistency, FindsWhereTheOtherScansPlaceAScanWhoseLoggedPoseIsOff) {
     std::array<double, 5> read{};  // at the log's pose, at the best (mm); the best's offset x, y, theta
     const size_t at = r.output.find("scan " + scan + " at");
     EXPECT_NE(at, std::string::npos) << r.output;
-    if (at != std::string::npos)
+    if (at != std::string::npos) {
       EXPECT_EQ(
           std::sscanf(r.output.c_str() + at,
                       "scan %*d at the log's poses: %lf mm from the other scans' lines, %lf mm at its best, %lf m, "
@@ -623,6 +632,7 @@ TEST(ScanConsistency, FindsWhereTheOtherScansPlaceAScanWhoseLoggedPoseIsOff) {
                       &read[0], &read[1], &read[2], &read[3], &read[4]),
           5)
           << r.output;
+    }
     return read;
   };
   const auto off = fit("20");
@@ -680,12 +690,13 @@ SlamRun RunSlam(const std::string& log, int seed, const std::string& dir, const 
 
 // Graph SLAM on the Intel log with corrupted odometry (5%, 2 deg/m, seed 3): the trajectory of
 // every scan within 0.10 m RMSE of the corrected poses after SE(2) alignment, loops closed, none of
-// them wrong (each judged against the corrected poses), the map written as map_server YAML + PGM.
+// them wrong (each judged against the corrected poses), the map written as map_server YAML + PGM
+// and the pose graph in g2o's format, its vertices where the trajectory puts their scans.
 TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
   const std::string log = SourceDir() + "/../shared/data/carmen/intel-corrected.log.gz";
   if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
   const std::string dir = MakeTempDir();
-  const SlamRun run = RunSlam(log, 3, dir);
+  const SlamRun run = RunSlam(log, 3, dir, {"--graph-out", dir + "/graph.g2o"});
   ASSERT_GE(run.ate, 0.0) << run.output;
   std::printf("Intel log, slam: ATE RMSE %.4f m, relative error per step %.4f m, %d loop closures, %d wrong\n", run.ate,
               run.step_error, run.closures, run.wrong);
@@ -701,6 +712,48 @@ TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
   for (std::string line; std::getline(tum, line);) ++lines;
   EXPECT_EQ(lines, 910);
   EXPECT_TRUE(std::filesystem::exists(dir + "/map.pgm"));
+
+  std::vector<std::array<double, 3>> trajectory;
+  std::ifstream tum_again(dir + "/est.tum");
+  for (std::string line; std::getline(tum_again, line);) {
+    double t, x, y, z, qx, qy, qz, qw;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x, &y, &z, &qx, &qy, &qz, &qw), 8);
+    trajectory.push_back({x, y, 2.0 * std::atan2(qz, qw)});
+  }
+  std::ifstream g2o(dir + "/graph.g2o");
+  std::set<int> vertices;
+  int edges = 0;
+  for (std::string line; std::getline(g2o, line);) {
+    char tag[16];
+    if (line.rfind("VERTEX_SE2 ", 0) == 0) {
+      int id;
+      double x, y, theta;
+      ASSERT_EQ(std::sscanf(line.c_str(), "%15s %d %lf %lf %lf", tag, &id, &x, &y, &theta), 5) << line;
+      ASSERT_TRUE(id >= 0 && id < static_cast<int>(trajectory.size())) << line;
+      EXPECT_NEAR(x, trajectory[id][0], 1e-5) << line;
+      EXPECT_NEAR(y, trajectory[id][1], 1e-5) << line;
+      EXPECT_NEAR(std::remainder(theta - trajectory[id][2], 2.0 * M_PI), 0.0, 1e-5) << line;
+      vertices.insert(id);
+    } else {
+      int from, to;
+      double m[3], info[6];
+      ASSERT_EQ(std::sscanf(line.c_str(), "%15s %d %d %lf %lf %lf %lf %lf %lf %lf %lf %lf", tag, &from, &to, &m[0],
+                            &m[1], &m[2], &info[0], &info[1], &info[2], &info[3], &info[4], &info[5]),
+                12)
+          << line;
+      EXPECT_STREQ(tag, "EDGE_SE2");
+      EXPECT_TRUE(vertices.count(from) && vertices.count(to)) << line;
+      EXPECT_GT(info[0], 0.0) << line;
+      EXPECT_GT(info[3], 0.0) << line;
+      EXPECT_GT(info[5], 0.0) << line;
+      ++edges;
+    }
+  }
+  EXPECT_EQ(vertices.count(0), 1u);
+  // A chain through every node, and the loop closures and refinement matches on top.
+  EXPECT_GE(edges, static_cast<int>(vertices.size()) - 1 + run.closures);
+  EXPECT_NE(run.output.find("pose graph: " + std::to_string(vertices.size()) + " nodes"), std::string::npos)
+      << run.output;
 }
 
 // The aces log's scans are stamped like the ODOM line before them but move with the lines after

@@ -24,6 +24,7 @@
 #include "services/mapping/odometry_pairing.h"
 #include "services/mapping/point_to_line_matcher.h"
 #include "services/mapping/pose_graph.h"
+#include "services/mapping/pose_graph_g2o.h"
 #include "services/mapping/recycled_cells.h"
 #include "services/mapping/scan_consistency.h"
 #include "services/mapping/seen_through_check.h"
@@ -322,6 +323,26 @@ TEST(PoseGraph, SquaredErrorIsTheEdgesErrorWhitenedByItsInformation) {
   // 0.1 m (2 sigma) and 0.02 rad (1 sigma) off a measured step of 1 m straight ahead.
   EXPECT_NEAR(graph.SquaredError({0, 1, Pose2{1.0, 0.0, 0.0}, information, true}), 4.0 + 1.0, 1e-9);
   EXPECT_NEAR(graph.SquaredError({0, 1, Pose2{1.1, 0.0, 0.02}, information, true}), 0.0, 1e-12);
+}
+
+TEST(PoseGraph, WritesG2osVerticesAndEdgesUnderTheIdsItIsGiven) {
+  PoseGraph graph;
+  graph.AddNode({0.0, 0.0, 0.0});
+  graph.AddNode({1.0, 0.5, 0.25});
+  Eigen::Matrix3d information;
+  information << 400.0, 10.0, 1.5, 10.0, 100.0, -2.0, 1.5, -2.0, 2500.0;
+  graph.AddEdge({0, 1, Pose2{1.0, 0.5, 0.25}, information, true});
+  EXPECT_EQ(FormatG2o(graph, {7, 42}),
+            "VERTEX_SE2 7 0.000000 0.000000 0.000000000\n"
+            "VERTEX_SE2 42 1.000000 0.500000 0.250000000\n"
+            "EDGE_SE2 7 42 1.000000 0.500000 0.250000000 400 10 1.5 100 -2 2500\n");
+  try {
+    FormatG2o(graph, {7});
+    FAIL() << "one id for two nodes was taken";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(e.what()).find("1 for 2 nodes"), std::string::npos) << e.what();
+  }
 }
 
 // Feeds `slam` a scan at each true pose with odometry 5 % and 2 degrees per metre off each step.
