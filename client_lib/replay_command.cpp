@@ -27,6 +27,7 @@
 #include "services/common/quantile.h"
 #include "services/common/scan_reach.h"
 #include "services/common/text_file.h"
+#include "services/common/tum_trajectory.h"
 #include "services/mapping/odometry_pairing.h"
 
 namespace navd::navctl {
@@ -397,10 +398,7 @@ int RunReplay(const ReplayOptions& o) {
     worst = std::max(worst, ep);
     errors.emplace_back(p.stamp, ep);
     ++judged;
-    char line[160];
-    std::snprintf(line, sizeof line, "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n", p.stamp, p.pose.x, p.pose.y,
-                  std::sin(p.pose.theta / 2), std::cos(p.pose.theta / 2));
-    tum += line;
+    tum += FormatTumLine(p.stamp, p.pose);
   }
   if (!o.out.empty()) WriteFileAtomically(o.out, tum);
   const AtScans at_scans = JudgeAtScans(log, got, o, plan);

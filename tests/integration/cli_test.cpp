@@ -185,6 +185,20 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   EXPECT_NE(graph.output.find("--graph-out"), std::string::npos) << graph.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/y.yaml"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/g.g2o"));
+  // So is every option another mode would ignore: the line names it and the modes it is for.
+  const auto seeded = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "consistency", "--out",
+                                  dir + "/z.txt", "--seed", "3"});
+  EXPECT_NE(seeded.exit_code, 0);
+  EXPECT_EQ(Lines(seeded.output), 1) << seeded.output;
+  EXPECT_NE(seeded.output.find("--seed is for --mode localize|slam|render, not consistency"), std::string::npos)
+      << seeded.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/z.txt"));
+  const auto particles = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "slam", "--out",
+                                     dir + "/z.tum", "--min-particles", "500"});
+  EXPECT_NE(particles.exit_code, 0);
+  EXPECT_NE(particles.output.find("--min-particles is for --mode localize, not slam"), std::string::npos)
+      << particles.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/z.tum"));
 }
 
 // A log spread wider than a grid holds at 5 cm (two rooms 250 m apart, as a campus's buildings):

@@ -1,5 +1,6 @@
 // map_server YAML + PGM reading, PNG export, world files, and the embedded default world.
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 #include <zlib.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "services/common/map_server_format.h"
 #include "services/common/png_format.h"
 #include "services/common/text_file.h"
+#include "services/common/tum_trajectory.h"
 #include "services/common/world.h"
 #include "services/planning/costmap.h"
 #include "services/planning/grid_astar_planner.h"
@@ -267,6 +269,37 @@ TEST(TextFile, WritesAtomically) {
   size_t files = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
   EXPECT_EQ(files, 1u);  // no temporary left behind
+}
+
+// TUM trajectories as evo reads them: what navd writes reads back to the same poses (heading from
+// the quaternion's yaw, any turn), comments and blank lines are skipped, and a line that is not
+// eight numbers is refused with its file and line.
+TEST(TumTrajectory, ReadsBackWhatItWritesAndNamesTheBadLine) {
+  const std::vector<Pose2> poses = {{1.5, -2.25, 0.0}, {-3.0, 4.0, 3.0}, {0.125, 0.5, -2.5}};
+  std::string text = "# t x y z qx qy qz qw\n\n";
+  for (size_t k = 0; k < poses.size(); ++k) text += FormatTumLine(10.0 + k, poses[k]);
+  const std::vector<Pose2> read = ParseTumTrajectory(text, "est.tum");
+  ASSERT_EQ(read.size(), poses.size());
+  for (size_t k = 0; k < poses.size(); ++k) {
+    EXPECT_NEAR(read[k].x, poses[k].x, 1e-6);
+    EXPECT_NEAR(read[k].y, poses[k].y, 1e-6);
+    EXPECT_NEAR(NormalizeAngle(read[k].theta - poses[k].theta), 0.0, 1e-6);
+  }
+  // A quaternion with roll and pitch too: its yaw is what a planar pose keeps.
+  const Eigen::Quaterniond q = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX());
+  const std::string tilted = "1 2 3 0 " + std::to_string(q.x()) + " " + std::to_string(q.y()) + " " +
+                             std::to_string(q.z()) + " " + std::to_string(q.w()) + "\n";
+  EXPECT_NEAR(ParseTumTrajectory(tilted, "t").front().theta, 0.7, 1e-5);
+  for (const char* bad : {"1 2 3 0 0 0 0\n", "1 2 3 0 0 0 0 1 extra\n", "1 nan 3 0 0 0 0 1\n"}) {
+    try {
+      ParseTumTrajectory(text + bad, "est.tum");
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("est.tum:6:"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // The PNG for people: a valid 8-bit grey PNG (signature, IHDR, CRCs, deflated rows) whose pixels
