@@ -7,20 +7,13 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
 #include "client_lib/navd_client.h"
-#include "dds/conversions.h"
-#include "dds/participant.h"
-#include "dds/topics.h"
-#include "geometry_msgsPubSubTypes.h"
-#include "nav_msgsPubSubTypes.h"
-#include "rosgraph_msgsPubSubTypes.h"
-#include "sensor_msgsPubSubTypes.h"
+#include "client_lib/replay_link.h"
 #include "services/common/carmen_log.h"
 #include "services/common/carmen_odometry.h"
 #include "services/common/odometry_noise.h"
@@ -46,11 +39,6 @@ std::string Format(const char* format, double value) {
 }
 
 std::string Seconds(double s) { return Format("%.1f", s); }
-
-struct StampedPose {
-  double stamp;
-  Pose2 pose;
-};
 
 // The odometry slip at log time t (s since the first scan): a translation in the odom frame
 // growing linearly to (dx, dy) over the ramp.
@@ -213,28 +201,20 @@ class LostWatch {
   std::thread thread_;
 };
 
-}  // namespace
+// The log as the replay plays it: its scans (paced or re-timed when their stamps cannot time a
+// replay), the odometry at each and the disturbance planned on it.
+struct PreparedLog {
+  CarmenLog log;
+  std::vector<Pose2> odometry;  // one per scan, odom frame
+  DisturbancePlan plan;
+};
 
-void ParseDisturbance(const std::string& flag, const std::string& text, Disturbance kind, ReplayOptions* options) {
-  double t = 0, dx = 0, dy = 0;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &t, &dx, &dy, &tail) != 3 || !std::isfinite(t) || !std::isfinite(dx) ||
-      !std::isfinite(dy) || t < 0.0)
-    throw std::runtime_error(
-        flag + " must be T,DX,DY: seconds of log time (>= 0) and metres in the robot's frame, got '" + text + "'");
-  if (options->disturbance != Disturbance::kNone)
-    throw std::runtime_error(flag + ": one of --kidnap and --slip at a time");
-  options->disturbance = kind;
-  options->disturb_at = t;
-  options->disturb_dx = dx;
-  options->disturb_dy = dy;
-}
-
-int RunReplay(const ReplayOptions& o) {
-  if (!(o.rate > 0.0) || !std::isfinite(o.rate)) throw std::runtime_error("--rate must be a positive number");
+PreparedLog PrepareLog(const ReplayOptions& o) {
   const OdometryNoise noise = ParseOdometryNoise(o.odom_noise);
   const std::optional<OdometryPairing> given_pairing = ParseOdometryPairing(o.pairing, "--pairing");
-  CarmenLog log = ReadCarmenLog(o.log, o.strict);
+  PreparedLog p;
+  CarmenLog& log = p.log;
+  log = ReadCarmenLog(o.log, o.strict);
   if (log.skipped_lines > 0) std::fprintf(stderr, "navctl replay: skipped %d malformed lines\n", log.skipped_lines);
   if (o.max_scans > 0 && log.scans.size() > static_cast<size_t>(o.max_scans)) log.scans.resize(o.max_scans);
   if (log.scans.size() < 2) throw std::runtime_error(o.log + ": fewer than two laser scans to replay");
@@ -242,7 +222,7 @@ int RunReplay(const ReplayOptions& o) {
     throw std::runtime_error("--odometry must be noisy or log, not '" + o.odometry + "'");
   // Taken at the log's own stamps, before the scans are re-timed below.
   std::string how;
-  std::vector<Pose2> odometry = mapping::ReplayOdometryAtScans(
+  p.odometry = mapping::ReplayOdometryAtScans(
       log, o.odometry == "log" ? mapping::OdometrySource::kLog : mapping::OdometrySource::kNoisy, given_pairing, noise,
       o.seed, &how);
   if (!how.empty()) std::printf("replay: odometry: %s\n", how.c_str());
@@ -262,122 +242,120 @@ int RunReplay(const ReplayOptions& o) {
                              Seconds(log.scans.back().timestamp - log.scans.front().timestamp) + " s)");
   if (disturbed && o.server.empty())
     throw std::runtime_error("--kidnap/--slip needs --server to ask navd whether it knows it is lost");
-  const DisturbancePlan plan = disturbed ? PlanDisturbance(log, o) : DisturbancePlan{};
-  if (o.disturbance == Disturbance::kKidnap) HoldOdometryWhileCarried(plan, &odometry);
+  if (disturbed) p.plan = PlanDisturbance(log, o);
+  if (o.disturbance == Disturbance::kKidnap) HoldOdometryWhileCarried(p.plan, &p.odometry);
+  return p;
+}
 
-  dds::ParticipantOptions popts;
-  popts.domain = o.domain;
-  popts.name = "navctl-replay";
-  popts.security_enclave = o.dds_security;
-  dds::Participant participant(popts);
-  dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock(participant, dds::kClock, dds::Reliability::kBestEffort,
-                                                                1);
-  dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType> odom(participant, dds::TopicName(o.robot_namespace, dds::kOdom),
-                                                             dds::Reliability::kBestEffort, 5);
-  dds::Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(
-      participant, dds::TopicName(o.robot_namespace, dds::kScan), dds::Reliability::kBestEffort, 5);
-  std::mutex mutex;
-  std::vector<StampedPose> poses;
-  dds::Reader<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType> pose_reader(
-      participant, dds::TopicName(o.robot_namespace, dds::kPose), dds::Reliability::kReliable,
-      [&](const geometry_msgs::msg::dds_::PoseWithCovarianceStamped_& m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        poses.push_back({dds::FromTime(m.header().stamp()), dds::FromPose(m.pose().pose())});
-      },
-      50);
-  const auto deadline = Clock::now() + std::chrono::duration<double>(o.wait);
-  while ((scan.matched() == 0 || odom.matched() == 0) && Clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  if (scan.matched() == 0 || odom.matched() == 0) {
-    throw std::runtime_error("no navd reading " + dds::TopicName(o.robot_namespace, dds::kScan) + " on DDS domain " +
-                             std::to_string(o.domain) + " within " + std::to_string(o.wait).substr(0, 4) + " s");
-  }
+// The odometry at log time `t` as the robot sends it (slipped while a slip is under way).
+void SendOdometry(const ReplayOptions& o, const PreparedLog& p, double t, const Pose2& odometry, ReplayLink& link) {
+  const Pose2 slip = SlipAt(o, t - p.log.scans.front().timestamp);
+  link.PublishOdometry(t, {odometry.x + slip.x, odometry.y + slip.y, odometry.theta});
+}
 
-  const double t0 = log.scans.front().timestamp, t_end = log.scans.back().timestamp;
-  std::atomic<double> log_time{t0};
-  auto publish_odometry = [&](double t, const Pose2& p) {
-    rosgraph_msgs::msg::dds_::Clock_ c;
-    c.clock(dds::ToTime(t));
-    clock.Write(c);
-    const Pose2 slip = SlipAt(o, t - t0);
-    const Pose2 slipped{p.x + slip.x, p.y + slip.y, p.theta};
-    odom.Write(dds::MakeOdometry(t, slipped, 0.0, 0.0, 0.0, Eigen::Matrix3d::Zero(), "odom"));
-    log_time = t;
-  };
-  sensor_msgs::msg::dds_::LaserScan_ msg;
-  auto publish_scan = [&](const CarmenScan& s) {
-    msg.header(dds::MakeHeader(s.timestamp, "base_scan"));
-    msg.angle_min(static_cast<float>(s.angle_min));
-    msg.angle_increment(static_cast<float>(s.angle_increment));
-    msg.angle_max(static_cast<float>(s.angle_min + (s.ranges.size() - 1) * s.angle_increment));
-    msg.range_min(0.05f);
-    msg.range_max(static_cast<float>(
-        std::min(s.no_return_range(), ScanReach(s.ranges, s.no_return_range(), {o.range_max, o.far_range_max}))));
-    msg.ranges(s.ranges);
-    scan.Write(msg);
-  };
-
-  // navd first hears the robot standing at the first scan, then is told where that is.
-  publish_odometry(t0, odometry.front());
-  if (!o.server.empty()) {
-    ClientOptions copts;
-    copts.server = o.server;
-    Client client(copts);
-    const auto until = Clock::now() + std::chrono::duration<double>(o.wait);
-    while (true) {
-      publish_odometry(t0, odometry.front());
-      try {
-        client.SetPose(log.scans.front().pose.x, log.scans.front().pose.y, log.scans.front().pose.theta);
-        std::lock_guard<std::mutex> lock(mutex);
-        poses.clear();  // what navd thought before it was told
-        break;
-      } catch (const std::exception& e) {
-        if (Clock::now() > until) throw std::runtime_error(std::string("navd refused the first pose: ") + e.what());
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      }
+// navd first hears the robot standing at the first scan, then is told where that is (gRPC SetPose,
+// tried until navd answers or o.wait runs out); what it published before is dropped.
+void TellFirstPose(const ReplayOptions& o, const PreparedLog& p, ReplayLink& link) {
+  const double t0 = p.log.scans.front().timestamp;
+  const Pose2& first = p.log.scans.front().pose;
+  SendOdometry(o, p, t0, p.odometry.front(), link);
+  ClientOptions copts;
+  copts.server = o.server;
+  Client client(copts);
+  const auto until = Clock::now() + std::chrono::duration<double>(o.wait);
+  while (true) {
+    SendOdometry(o, p, t0, p.odometry.front(), link);
+    try {
+      client.SetPose(first.x, first.y, first.theta);
+      link.TakePoses();
+      return;
+    } catch (const std::exception& e) {
+      if (Clock::now() > until) throw std::runtime_error(std::string("navd refused the first pose: ") + e.what());
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
   }
+}
 
-  std::unique_ptr<LostWatch> lost_watch;
-  if (disturbed) lost_watch = std::make_unique<LostWatch>(o.server, t0 + o.disturb_at, log_time);
-  const double tick = ReplayTick(o);
+// Plays the log at o.rate log seconds per wall second: each scan at its stamp with the odometry
+// of that instant just before it, and odometry and clock every replay tick between scans,
+// interpolated. `log_time` follows the clock sent. Returns the wall seconds it took, including
+// half a second for navd's last estimates.
+double PlayLog(const ReplayOptions& o, const PreparedLog& p, ReplayLink& link, std::atomic<double>& log_time) {
+  const std::vector<CarmenScan>& scans = p.log.scans;
+  const double t0 = scans.front().timestamp, tick = ReplayTick(o);
+  auto send_odometry = [&](double t, const Pose2& odometry) {
+    SendOdometry(o, p, t, odometry, link);
+    log_time = t;
+  };
+  auto send_scan = [&](const CarmenScan& s) {
+    link.PublishScan(
+        s, std::min(s.no_return_range(), ScanReach(s.ranges, s.no_return_range(), {o.range_max, o.far_range_max})));
+  };
+  if (o.server.empty()) send_odometry(t0, p.odometry.front());
   const auto wall0 = Clock::now();
   auto pace = [&](double t) {
     std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((t - t0) / o.rate));
   };
-  size_t next = 1;  // scan 0 was "published" as the starting pose; it is sent below at t0
-  publish_scan(log.scans.front());
-  for (double t = t0 + tick; next < log.scans.size();) {
-    const CarmenScan& s = log.scans[next];
+  size_t next = 1;  // scan 0 is where navd was told the robot stands; it is sent here at t0
+  send_scan(scans.front());
+  for (double t = t0 + tick; next < scans.size();) {
+    const CarmenScan& s = scans[next];
     if (s.timestamp <= t) {
-      // The scan at its own time, the odometry of that instant just before it.
       pace(s.timestamp);
-      publish_odometry(s.timestamp, odometry[next]);
-      if (!Carried(o, plan, next)) publish_scan(s);
+      send_odometry(s.timestamp, p.odometry[next]);
+      if (!Carried(o, p.plan, next)) send_scan(s);
       ++next;
-      if (next % 100 == 0 || next == log.scans.size()) {
-        std::fprintf(stderr, "\r  replayed %zu/%zu scans", next, log.scans.size());
-      }
+      if (next % 100 == 0 || next == scans.size())
+        std::fprintf(stderr, "\r  replayed %zu/%zu scans", next, scans.size());
       continue;
     }
     pace(t);
-    const double span = s.timestamp - log.scans[next - 1].timestamp;
-    const double f = span > 0 ? (t - log.scans[next - 1].timestamp) / span : 1.0;
-    publish_odometry(t, Interpolate(odometry[next - 1], odometry[next], std::clamp(f, 0.0, 1.0)));
+    const double span = s.timestamp - scans[next - 1].timestamp;
+    const double f = span > 0 ? (t - scans[next - 1].timestamp) / span : 1.0;
+    send_odometry(t, Interpolate(p.odometry[next - 1], p.odometry[next], std::clamp(f, 0.0, 1.0)));
     t += tick;
   }
   std::fprintf(stderr, "\n");
   // The last estimates come after the last scan.
-  publish_odometry(t_end + tick, odometry.back());
+  send_odometry(scans.back().timestamp + tick, p.odometry.back());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  const double wall = std::chrono::duration<double>(Clock::now() - wall0).count();
+  return std::chrono::duration<double>(Clock::now() - wall0).count();
+}
 
-  std::vector<StampedPose> got;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    got = poses;
-  }
+// When navd declared the pose lost (`lost`, log time, -1: never) after the disturbance and when its
+// error (stamp, m) was back within 0.1 m to stay, in one line.
+void ReportDisturbance(const ReplayOptions& o, const PreparedLog& p,
+                       const std::vector<std::pair<double, double>>& errors, double lost) {
+  const CarmenLog& log = p.log;
+  const DisturbancePlan& plan = p.plan;
+  const double t0 = log.scans.front().timestamp;
+  double peak = 0.0;
+  for (const auto& [stamp, error] : errors)
+    if (stamp >= plan.shown && stamp <= plan.shown + 60.0) peak = std::max(peak, error);
+  const double back = BackWithin(errors, plan.over, 0.1, 2.0);
+  const std::string what =
+      o.disturbance == Disturbance::kKidnap
+          ? "carried " + Format("%.2f", plan.moved) + " m at " + Seconds(log.scans[plan.pick].timestamp - t0) + " s (" +
+                std::to_string(plan.drop - plan.pick - 1) + " scans over " +
+                Seconds(log.scans[plan.drop].timestamp - log.scans[plan.pick].timestamp) + " s unseen, odometry still)"
+          : "odometry slipped " + Format("%.2f", plan.moved) + " m at " + Seconds(o.disturb_at) + " s";
+  std::printf("%s: %s; navd %s; worst error after %.2f m; %s\n",
+              o.disturbance == Disturbance::kKidnap ? "kidnap" : "slip", what.c_str(),
+              lost >= 0.0 ? ("declared the pose lost " + Seconds(lost - plan.shown) + " s later").c_str()
+                          : "never declared the pose lost",
+              peak,
+              back >= 0.0 ? ("back within 0.1 m " + Seconds(back - plan.shown) + " s after it").c_str()
+                          : "never back within 0.1 m");
+}
+
+// navd's poses judged against the corrected poses (each at its stamp, and at the scans), written
+// to o.out as TUM, and with a disturbance when navd declared itself lost and was back. Returns the
+// exit code: 1 when navd published no pose.
+int Report(const ReplayOptions& o, const PreparedLog& p, std::vector<StampedPose> got, const LostWatch* lost_watch,
+           double wall, const std::string& pose_topic) {
+  const CarmenLog& log = p.log;
+  const DisturbancePlan& plan = p.plan;
+  const double t0 = log.scans.front().timestamp, t_end = log.scans.back().timestamp;
   // Each pose against the corrected trajectory at its stamp.
   double sq_pos = 0, sq_head = 0, worst = 0;
   int judged = 0;
@@ -405,7 +383,7 @@ int RunReplay(const ReplayOptions& o) {
   std::printf("replay: %zu scans, %.0f s of log in %.1f s (%.0fx real time)\n", log.scans.size(), t_end - t0, wall,
               wall > 0 ? (t_end - t0) / wall : 0.0);
   if (judged == 0) {
-    std::printf("navd published no poses on %s\n", dds::TopicName(o.robot_namespace, dds::kPose).c_str());
+    std::printf("navd published no poses on %s\n", pose_topic.c_str());
     return 1;
   }
   std::printf("navd: %d poses, position RMSE %.4f m, heading RMSE %.4f rad, worst %.3f m%s\n", judged,
@@ -415,28 +393,40 @@ int RunReplay(const ReplayOptions& o) {
     std::printf("navd at scans: %d scans, position RMSE %.4f m, worst %.3f m\n", at_scans.judged,
                 std::sqrt(at_scans.sq_pos / at_scans.judged), at_scans.worst);
   }
-  if (lost_watch) {
-    double peak = 0.0;
-    for (const auto& [stamp, error] : errors)
-      if (stamp >= plan.shown && stamp <= plan.shown + 60.0) peak = std::max(peak, error);
-    const double back = BackWithin(errors, plan.over, 0.1, 2.0);
-    const double lost = lost_watch->first_lost();
-    const std::string what =
-        o.disturbance == Disturbance::kKidnap
-            ? "carried " + Format("%.2f", plan.moved) + " m at " + Seconds(log.scans[plan.pick].timestamp - t0) +
-                  " s (" + std::to_string(plan.drop - plan.pick - 1) + " scans over " +
-                  Seconds(log.scans[plan.drop].timestamp - log.scans[plan.pick].timestamp) +
-                  " s unseen, odometry still)"
-            : "odometry slipped " + Format("%.2f", plan.moved) + " m at " + Seconds(o.disturb_at) + " s";
-    std::printf("%s: %s; navd %s; worst error after %.2f m; %s\n",
-                o.disturbance == Disturbance::kKidnap ? "kidnap" : "slip", what.c_str(),
-                lost >= 0.0 ? ("declared the pose lost " + Seconds(lost - plan.shown) + " s later").c_str()
-                            : "never declared the pose lost",
-                peak,
-                back >= 0.0 ? ("back within 0.1 m " + Seconds(back - plan.shown) + " s after it").c_str()
-                            : "never back within 0.1 m");
-  }
+  if (lost_watch) ReportDisturbance(o, p, errors, lost_watch->first_lost());
   return 0;
+}
+
+}  // namespace
+
+void ParseDisturbance(const std::string& flag, const std::string& text, Disturbance kind, ReplayOptions* options) {
+  double t = 0, dx = 0, dy = 0;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &t, &dx, &dy, &tail) != 3 || !std::isfinite(t) || !std::isfinite(dx) ||
+      !std::isfinite(dy) || t < 0.0)
+    throw std::runtime_error(
+        flag + " must be T,DX,DY: seconds of log time (>= 0) and metres in the robot's frame, got '" + text + "'");
+  if (options->disturbance != Disturbance::kNone)
+    throw std::runtime_error(flag + ": one of --kidnap and --slip at a time");
+  options->disturbance = kind;
+  options->disturb_at = t;
+  options->disturb_dx = dx;
+  options->disturb_dy = dy;
+}
+
+int RunReplay(const ReplayOptions& o) {
+  if (!(o.rate > 0.0) || !std::isfinite(o.rate)) throw std::runtime_error("--rate must be a positive number");
+  const PreparedLog prepared = PrepareLog(o);
+  ReplayLink link({o.domain, o.dds_security, o.robot_namespace});
+  link.WaitForNavd(o.wait);
+  const double t0 = prepared.log.scans.front().timestamp;
+  std::atomic<double> log_time{t0};
+  if (!o.server.empty()) TellFirstPose(o, prepared, link);
+  std::unique_ptr<LostWatch> lost_watch;
+  if (o.disturbance != Disturbance::kNone)
+    lost_watch = std::make_unique<LostWatch>(o.server, t0 + o.disturb_at, log_time);
+  const double wall = PlayLog(o, prepared, link, log_time);
+  return Report(o, prepared, link.TakePoses(), lost_watch.get(), wall, link.pose_topic());
 }
 
 }  // namespace navd::navctl

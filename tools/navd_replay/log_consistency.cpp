@@ -27,8 +27,7 @@ std::vector<std::vector<Point2>> ConsistencyReturns(const CarmenLog& log) {
   std::vector<std::vector<Point2>> returns;
   returns.reserve(log.scans.size());
   for (const CarmenScan& s : log.scans)
-    returns.push_back(
-        ScanReturns(s.ranges, s.angle_min, s.angle_increment, s.no_return_range(), kConsistencyReach));
+    returns.push_back(ScanReturns(s.ranges, s.angle_min, s.angle_increment, s.no_return_range(), kConsistencyReach));
   return returns;
 }
 

@@ -92,8 +92,8 @@ int Localize(const CarmenLog& log, const std::vector<Pose2>& odometry, const Occ
   WriteFileAtomically(options.out, tum);
   const double n_scans = static_cast<double>(log.scans.size());
   std::printf("localize (%s): %zu scans, position RMSE %.4f m, heading RMSE %.4f rad, worst %.3f m%s -> %s\n",
-              options.method.c_str(), log.scans.size(), std::sqrt(sq_pos / n_scans), std::sqrt(sq_head / n_scans), worst,
-              worst > 0.5 ? " (lost at times)" : ", never lost", options.out.c_str());
+              options.method.c_str(), log.scans.size(), std::sqrt(sq_pos / n_scans), std::sqrt(sq_head / n_scans),
+              worst, worst > 0.5 ? " (lost at times)" : ", never lost", options.out.c_str());
   // A map drawn in a frame of its own (a SLAM run's, which starts where its localiser put the
   // first scan) is judged by its shape: the trajectory on it aligned to the corrected poses.
   std::printf("localize: RMSE %.4f m after SE(2) alignment\n", AlignedTrajectoryError(estimate, truth).position_rmse);

@@ -38,8 +38,7 @@ int BuildMap(const CarmenLog& log, const std::string& out, double resolution, co
   return 0;
 }
 
-int Render(const CarmenLog& log, const std::string& out, double resolution,
-           const mapping::LogRenderOptions& options) {
+int Render(const CarmenLog& log, const std::string& out, double resolution, const mapping::LogRenderOptions& options) {
   const OccupancyGrid map = MapFromLog(log, resolution);
   // People walk by the clock: a log whose stamps say too little is paced from its motion first.
   // Without people the stamps are the log's own.

@@ -64,7 +64,8 @@ void WriteMap(const mapping::GraphSlam& slam, const SlamRunOptions& options) {
   if (!options.map_out.empty()) SaveMapServerMap(grid, options.map_out);
   if (!options.png.empty()) SaveMapPng(grid, options.png);
   std::printf("map: %dx%d cells at %.3f m%s%s%s%s\n", grid.width(), grid.height(), grid.resolution(),
-              options.map_out.empty() ? "" : " -> ", options.map_out.c_str(), options.png.empty() ? "" : " -> ", options.png.c_str());
+              options.map_out.empty() ? "" : " -> ", options.map_out.c_str(), options.png.empty() ? "" : " -> ",
+              options.png.c_str());
 }
 
 }  // namespace
