@@ -18,25 +18,38 @@ ScanConsistency::ScanConsistency(const std::vector<Pose2>& poses, std::vector<st
   if (poses.size() != returns_.size())
     throw Error(ErrorCode::kInvalidArgument, "scan consistency: " + std::to_string(poses.size()) + " poses for " +
                                                  std::to_string(returns_.size()) + " scans");
-  // Bucketed by cells of the neighbour radius, a return's neighbours lie in the 3 x 3 cells around
-  // its own.
+  // Bucketed by cells of half the neighbour radius, a return's neighbours lie in the 5 x 5 cells
+  // around its own (a third fewer returns to look at than 3 x 3 cells of the radius). Each cell's returns lie side by
+  // side in placed_: a dense log puts thousands of returns in a cell, and visiting them in memory order, not scattered,
+  // is most of the measure's speed.
+  std::vector<std::pair<int64_t, Placed>> keyed;
   for (size_t i = 0; i < poses.size(); ++i)
-    for (const Point2& p : returns_[i]) placed_.push_back({poses[i] * p, static_cast<int>(i)});
-  for (size_t k = 0; k < placed_.size(); ++k)
-    cells_[CellKey(Cell(placed_[k].point.x()), Cell(placed_[k].point.y()))].push_back(static_cast<int>(k));
+    for (const Point2& p : returns_[i]) {
+      const Point2 point = poses[i] * p;
+      keyed.push_back({CellKey(Cell(point.x()), Cell(point.y())), {point, static_cast<int>(i)}});
+    }
+  std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  placed_.reserve(keyed.size());
+  for (size_t k = 0; k < keyed.size(); ++k) {
+    if (k == 0 || keyed[k].first != keyed[k - 1].first) cells_[keyed[k].first] = {static_cast<int>(k), 0};
+    placed_.push_back(keyed[k].second);
+    cells_[keyed[k].first].second = static_cast<int>(k) + 1;
+  }
 }
 
-int64_t ScanConsistency::Cell(double v) const { return static_cast<int64_t>(std::floor(v / o_.neighbour_radius)); }
+int64_t ScanConsistency::Cell(double v) const {
+  return static_cast<int64_t>(std::floor(v / (o_.neighbour_radius / kCellsPerRadius)));
+}
 
 double ScanConsistency::DistanceToLine(const Point2& point, int scan) const {
   LineFit fit;
   const double r2 = o_.neighbour_radius * o_.neighbour_radius;
   const int64_t cx = Cell(point.x()), cy = Cell(point.y());
-  for (int64_t dx = -1; dx <= 1; ++dx)
-    for (int64_t dy = -1; dy <= 1; ++dy) {
+  for (int64_t dx = -kCellsPerRadius; dx <= kCellsPerRadius; ++dx)
+    for (int64_t dy = -kCellsPerRadius; dy <= kCellsPerRadius; ++dy) {
       const auto found = cells_.find(CellKey(cx + dx, cy + dy));
       if (found == cells_.end()) continue;
-      for (int k : found->second) {
+      for (int k = found->second.first; k < found->second.second; ++k) {
         const Placed& other = placed_[k];
         if (std::abs(other.scan - scan) < o_.exclude_scans) continue;
         const Point2 d = other.point - point;

@@ -7,6 +7,7 @@
 // SLAM on a robot's own log (no corrected poses), and a corrected log's poses themselves: they come
 // from another SLAM system, with errors of their own. Map frame, metres.
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "services/common/pose2.h"
@@ -62,13 +63,15 @@ class ScanConsistency {
   // The capped distance (m) from `point` of scan `scan` to the line of the other scans' returns
   // around it; negative when they draw none.
   double DistanceToLine(const Point2& point, int scan) const;
-  // The cell (of neighbour_radius) a coordinate (m) falls in.
+  // The cell (neighbour_radius / kCellsPerRadius wide) a coordinate (m) falls in.
+  static constexpr int kCellsPerRadius = 2;
   int64_t Cell(double v) const;
 
   ScanConsistencyOptions o_;
   std::vector<std::vector<Point2>> returns_;
-  std::vector<Placed> placed_;
-  std::unordered_map<int64_t, std::vector<int>> cells_;  // indices into placed_ by neighbour_radius cell
+  std::vector<Placed> placed_;  // every scan's returns in the map frame, grouped by cell
+  // A cell's returns: [first, second) in placed_.
+  std::unordered_map<int64_t, std::pair<int, int>> cells_;
 };
 
 }  // namespace navd::mapping
