@@ -296,7 +296,7 @@ double PlayLog(const ReplayOptions& o, const PreparedLog& p, ReplayLink& link, s
   auto pace = [&](double t) {
     std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((t - t0) / o.rate));
   };
-  size_t next = 1;  // scan 0 is where navd was told the robot stands; it is sent here at t0
+  size_t next = 1;  // scan 0 is where the robot stands (navd was told so, with --server); sent here at t0
   send_scan(scans.front());
   for (double t = t0 + tick; next < scans.size();) {
     const CarmenScan& s = scans[next];
@@ -365,18 +365,18 @@ int Report(const ReplayOptions& o, const PreparedLog& p, std::vector<StampedPose
   // Stable: of poses with one stamp, the last received is navd's latest word on that instant.
   std::stable_sort(got.begin(), got.end(),
                    [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
-  for (const StampedPose& p : got) {
-    if (p.stamp < t0 || p.stamp > t_end) continue;
-    while (k + 1 < log.scans.size() && log.scans[k].timestamp < p.stamp) ++k;
-    const Pose2 truth = CorrectedBetween(log.scans[k - 1], log.scans[k], p.stamp);
-    const double ep = std::hypot(p.pose.x - truth.x, p.pose.y - truth.y);
-    const double eh = std::abs(NormalizeAngle(p.pose.theta - truth.theta));
+  for (const StampedPose& got_pose : got) {
+    if (got_pose.stamp < t0 || got_pose.stamp > t_end) continue;
+    while (k + 1 < log.scans.size() && log.scans[k].timestamp < got_pose.stamp) ++k;
+    const Pose2 truth = CorrectedBetween(log.scans[k - 1], log.scans[k], got_pose.stamp);
+    const double ep = std::hypot(got_pose.pose.x - truth.x, got_pose.pose.y - truth.y);
+    const double eh = std::abs(NormalizeAngle(got_pose.pose.theta - truth.theta));
     sq_pos += ep * ep;
     sq_head += eh * eh;
     worst = std::max(worst, ep);
-    errors.emplace_back(p.stamp, ep);
+    errors.emplace_back(got_pose.stamp, ep);
     ++judged;
-    tum += FormatTumLine(p.stamp, p.pose);
+    tum += FormatTumLine(got_pose.stamp, got_pose.pose);
   }
   if (!o.out.empty()) WriteFileAtomically(o.out, tum);
   const AtScans at_scans = JudgeAtScans(log, got, o, plan);

@@ -63,8 +63,8 @@ class ScanConsistency {
   // The capped distance (m) from `point` of scan `scan` to the line of the other scans' returns
   // around it; negative when they draw none.
   double DistanceToLine(const Point2& point, int scan) const;
-  // The cell (neighbour_radius / kCellsPerRadius wide) a coordinate (m) falls in.
   static constexpr int kCellsPerRadius = 2;
+  // The cell (neighbour_radius / kCellsPerRadius wide) a coordinate (m) falls in.
   int64_t Cell(double v) const;
 
   ScanConsistencyOptions o_;

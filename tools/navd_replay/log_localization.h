@@ -35,8 +35,8 @@ struct LocalizationRunOptions {
 };
 
 // Starts at the log's first pose and takes the odometry given per scan (one pose per scan, in the
-// odometry's own frame); prints the position and heading RMSE against the log's poses, as they are
-// and after SE(2) alignment. Returns the exit code.
+// odometry's own frame); prints the position and heading RMSE against the log's poses, and the
+// position RMSE after SE(2) alignment. Returns the exit code.
 int Localize(const CarmenLog& log, const std::vector<Pose2>& odometry, const OccupancyGrid& map,
              const LocalizationRunOptions& options);
 

@@ -1,12 +1,16 @@
 // navd-replay: runs navd's library code over a recorded CARMEN log, as fast as it can.
-//   navd-replay --log FILE[.gz] --mode map --out MAP.yaml [--resolution 0.05]
+//   navd-replay --log FILE[.gz] --mode map --out MAP.yaml [--resolution 0.05] [--png MAP.png]
 //   navd-replay --log FILE[.gz] --mode render --out RENDERED.log [--step M] [--turn RAD] [--range-noise M]
-//               [--people N] [--fov DEG --beams N] [--seed N]
-//   navd-replay --log FILE[.gz] --mode localize|slam --out EST.tum [--odometry noisy|log]
+//               [--people N] [--fov DEG --beams N] [--seed N] [--resolution M]
+//   navd-replay --log FILE[.gz] --mode localize --out EST.tum [--odometry noisy|log] [--pairing P]
 //               [--map MAP.yaml] [--odom-noise T,R[,S,D]] [--seed N] [--localizer amcl|ekf|calibration]
-//               [--front-recovery SCORE] [--odometry-bias auto|on|off] [--frame-turn RAD]
-//               [--drop-seen-through] [--return-budget N]
+//               [--update-min-d M] [--update-min-a RAD] [--min-particles N] [--motion-noise A]
+//   navd-replay --log FILE[.gz] --mode slam --out EST.tum [--odometry noisy|log] [--pairing P]
+//               [--odom-noise T,R[,S,D]] [--seed N] [--front-recovery SCORE] [--odometry-bias auto|on|off]
+//               [--frame-turn RAD] [--drop-seen-through] [--return-budget N] [--map-out MAP.yaml]
+//               [--png MAP.png] [--graph-out GRAPH.g2o]
 //   navd-replay --log FILE[.gz] --mode consistency --out SCANS.txt [--trajectory EST.tum] [--scan K]
+// An option given to a mode not listed with it is refused (ModeScopes).
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with, by default,
@@ -169,11 +173,12 @@ int main(int argc, char** argv) {
                  "--pairing says, else FLASER's odometry fields: raw logs)")
       ->check(CLI::IsMember({"noisy", "log"}));
   std::string pairing = "auto";
-  app.add_option("--pairing", pairing,
-                 "with --odometry log: how each scan takes the ODOM lines next to it: auto (as consecutive scans "
-                 "matched against each other agree, default), stamp, or a share of the way from the line before "
-                 "the scan (0) to the line after it (1), by stamp across a gap of over 1 s or where scans share "
-                 "their two lines");
+  app.add_option(
+      "--pairing", pairing,
+      "localize, slam: with --odometry log: how each scan takes the ODOM lines next to it: auto (as consecutive scans "
+      "matched against each other agree, default), stamp, or a share of the way from the line before "
+      "the scan (0) to the line after it (1), by stamp across a gap of over 1 s or where scans share "
+      "their two lines");
   app.add_option("--seed", seed,
                  "localize, slam: seed of the odometry noise (and the filter); render: of the range noise");
   // A log's own odometry errs beyond the front end's window between some scans (stamps that
@@ -228,7 +233,8 @@ int main(int argc, char** argv) {
                  "localize: the filter's odometry noise alpha1..4 (variance per unit of motion squared; default: "
                  "T² of --odom-noise with --odometry noisy, 0.005 with --odometry log)")
       ->check(CLI::Range(0.0, 10.0));
-  app.add_option("--resolution", resolution, "Map resolution, metres")->check(CLI::Range(0.005, 10.0));
+  app.add_option("--resolution", resolution, "map, render, localize, slam: the map's resolution, metres")
+      ->check(CLI::Range(0.005, 10.0));
   std::string png;
   app.add_option("--png", png, "map, slam: also write the map as a PNG image for people");
   app.add_flag("--strict", strict, "Stop at the first malformed line instead of skipping it");
