@@ -378,6 +378,8 @@ int main(int argc, char** argv) {
 
   try {
     if (replay->parsed()) {
+      if (replay->get_option("--pairing")->count() > 0 && replay_options.odometry != "log")
+        throw std::invalid_argument("--pairing is for --odometry log (the ODOM lines it pairs with the scans)");
       if (!kidnap.empty())
         navd::navctl::ParseDisturbance("--kidnap", kidnap, navd::navctl::Disturbance::kKidnap, &replay_options);
       if (!slip.empty())

@@ -199,6 +199,18 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   EXPECT_NE(particles.output.find("--min-particles is for --mode localize, not slam"), std::string::npos)
       << particles.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/z.tum"));
+  // --pairing says how the log's own odometry meets the scans: with the noise protocol it would
+  // change nothing.
+  const auto pairing = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "slam", "--out",
+                                   dir + "/z.tum", "--pairing", "stamp"});
+  EXPECT_NE(pairing.exit_code, 0);
+  EXPECT_EQ(Lines(pairing.output), 1) << pairing.output;
+  EXPECT_NE(pairing.output.find("--pairing is for --odometry log"), std::string::npos) << pairing.output;
+  const auto navctl_pairing =
+      RunCommand({NavctlBinary(), "replay", "--log", dir + "/room.log", "--pairing", "stamp", "--server", ""});
+  EXPECT_NE(navctl_pairing.exit_code, 0);
+  EXPECT_EQ(Lines(navctl_pairing.output), 1) << navctl_pairing.output;
+  EXPECT_NE(navctl_pairing.output.find("--pairing is for --odometry log"), std::string::npos) << navctl_pairing.output;
 }
 
 // A log spread wider than a grid holds at 5 cm (two rooms 250 m apart, as a campus's buildings):

@@ -247,6 +247,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "navd-replay: %s\n", misplaced.c_str());
     return 2;
   }
+  if (app.get_option("--pairing")->count() > 0 && odometry_source != "log") {
+    std::fprintf(stderr, "navd-replay: --pairing is for --odometry log (the ODOM lines it pairs with the scans)\n");
+    return 2;
+  }
   try {
     const auto t0 = std::chrono::steady_clock::now();
     const std::optional<navd::OdometryPairing> given_pairing = navd::ParseOdometryPairing(pairing, "--pairing");
