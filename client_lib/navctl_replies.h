@@ -1,5 +1,6 @@
 #pragma once
 // What navctl prints of navd's replies: lines for people, or with --json one JSON object each.
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>

@@ -50,8 +50,9 @@ int CountWrong(const std::vector<mapping::LoopClosure>& closures, const std::vec
 // scored on a second thread.
 void PrintScanConsistency(const CarmenLog& log, const std::vector<Pose2>& estimate, const std::vector<Pose2>& truth) {
   std::vector<std::vector<Point2>> returns = ConsistencyReturns(log);
-  std::future<double> at_log = std::async(
-      std::launch::async, [&truth, returns] { return mapping::ScanConsistency(truth, returns).Score().mean_distance; });
+  std::future<double> at_log = std::async(std::launch::async, [&truth, copy = returns]() mutable {
+    return mapping::ScanConsistency(truth, std::move(copy)).Score().mean_distance;
+  });
   const double at_estimate = mapping::ScanConsistency(estimate, std::move(returns)).Score().mean_distance;
   std::printf(
       "scan consistency: returns %.1f mm from the lines the other scans draw at the estimate, %.1f mm at the "
