@@ -10,7 +10,8 @@
 //               [--frame-turn RAD] [--drop-seen-through] [--return-budget N] [--map-out MAP.yaml]
 //               [--png MAP.png] [--graph-out GRAPH.g2o]
 //   navd-replay --log FILE[.gz] --mode consistency --out SCANS.txt [--trajectory EST.tum] [--scan K]
-// An option given to a mode not listed with it is refused (ModeScopes).
+// An option given to a mode not listed with it is refused, and --pairing without --odometry log
+// (OptionScopes).
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with, by default,
@@ -36,6 +37,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,15 +56,16 @@
 
 namespace {
 
-// The modes each mode-specific option works in: one given to another mode would be ignored, and a
-// run the user thinks tuned or saved something would have done neither.
-struct ModeScope {
+// Where each option of one mode (or one odometry source) works: given elsewhere it would be
+// ignored, and a run the user thinks tuned or saved something would have done neither.
+struct OptionScope {
   const char* option;
-  std::vector<std::string> modes;
+  std::vector<std::string> values;  // the values of `by` it works under
+  const char* by = "--mode";
 };
 
-const std::vector<ModeScope>& ModeScopes() {
-  static const std::vector<ModeScope> scopes = {
+const std::vector<OptionScope>& OptionScopes() {
+  static const std::vector<OptionScope> scopes = {
       {"--step", {"render"}},
       {"--turn", {"render"}},
       {"--range-noise", {"render"}},
@@ -90,19 +93,23 @@ const std::vector<ModeScope>& ModeScopes() {
       {"--seed", {"localize", "slam", "render"}},
       {"--png", {"map", "slam"}},
       {"--resolution", {"map", "render", "localize", "slam"}},
+      // It pairs the log's own ODOM lines with its scans.
+      {"--pairing", {"log"}, "--odometry"},
   };
   return scopes;
 }
 
-// "--X is for --mode a|b" for the first option given that `mode` does not use; "" when none is.
-std::string OptionOutsideItsModes(const CLI::App& app, const std::string& mode) {
-  for (const ModeScope& scope : ModeScopes()) {
+// "--X is for --mode a|b, not c" for the first option given where it does not work; "" when none
+// is. `value_of`: the value given to each option a scope names (--mode, --odometry).
+std::string OptionOutsideItsScope(const CLI::App& app, const std::map<std::string, std::string>& value_of) {
+  for (const OptionScope& scope : OptionScopes()) {
+    const std::string& value = value_of.at(scope.by);
     if (app.get_option(scope.option)->count() == 0 ||
-        std::find(scope.modes.begin(), scope.modes.end(), mode) != scope.modes.end())
+        std::find(scope.values.begin(), scope.values.end(), value) != scope.values.end())
       continue;
-    std::string modes;
-    for (const std::string& m : scope.modes) modes += (modes.empty() ? "" : "|") + m;
-    return std::string(scope.option) + " is for --mode " + modes + ", not " + mode;
+    std::string values;
+    for (const std::string& v : scope.values) values += (values.empty() ? "" : "|") + v;
+    return std::string(scope.option) + " is for " + scope.by + " " + values + ", not " + value;
   }
   return "";
 }
@@ -243,12 +250,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  if (const std::string misplaced = OptionOutsideItsModes(app, mode); !misplaced.empty()) {
+  if (const std::string misplaced = OptionOutsideItsScope(app, {{"--mode", mode}, {"--odometry", odometry_source}});
+      !misplaced.empty()) {
     std::fprintf(stderr, "navd-replay: %s\n", misplaced.c_str());
-    return 2;
-  }
-  if (app.get_option("--pairing")->count() > 0 && odometry_source != "log") {
-    std::fprintf(stderr, "navd-replay: --pairing is for --odometry log (the ODOM lines it pairs with the scans)\n");
     return 2;
   }
   try {
