@@ -7,7 +7,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
+#include <optional>
 #include <thread>
+#include <vector>
 
 #include "server/camera_perception.h"
 #include "server/control_loop.h"
@@ -82,53 +85,90 @@ void StartViewFeed(const DaemonOptions& o, std::unique_ptr<ViewFeed>& view) {
   spdlog::info("navd: live view at http://{}:{}/ (Foxglove: ws://{}:{})", host, view->port(), host, view->port());
 }
 
-}  // namespace
+// The simulated clock of --use-sim-time (also returned in `sim_clock`, for rt/clock to set), else
+// the system's.
+std::unique_ptr<Clock> MakeClock(bool use_sim_time, SimClock*& sim_clock) {
+  sim_clock = nullptr;
+  if (!use_sim_time) return std::make_unique<SystemClock>();
+  auto clock = std::make_unique<SimClock>();
+  sim_clock = clock.get();
+  return clock;
+}
 
-int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
-  // Refused before anything starts: a daemon that would listen unprotected must not come up.
-  security::GrpcSecurity grpc_security(o.grpc_security, o.listen);
-  // --- Map and robot -------------------------------------------------------------------------
-  MapStore maps;
+// navd's services on `listen`, with gRPC's standard health service reporting each as serving (and
+// the server as a whole, the empty name). `port` is the bound one (--listen may ask for 0). Throws
+// navd::Error when the address cannot be bound.
+std::unique_ptr<grpc::Server> StartGrpcServer(const std::string& listen, const security::GrpcSecurity& security,
+                                              std::initializer_list<grpc::Service*> services, int& port) {
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::ServerBuilder builder;
+  port = 0;
+  builder.AddListeningPort(listen, security.Credentials(), &port);
+  for (grpc::Service* service : services) builder.RegisterService(service);
+  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  if (!server || port == 0) {
+    throw Error(ErrorCode::kUnavailable,
+                "cannot listen on " + listen +
+                    " (address in use or invalid, or a TLS key that does not match its certificate)");
+  }
+  auto* health = server->GetHealthCheckService();
+  for (const char* name : {"", "navd.v1.PlanningService", "navd.v1.LocalizationService", "navd.v1.MappingService",
+                           "navd.v1.NavigationService"}) {
+    health->SetServingStatus(name, true);
+  }
+  return server;
+}
+
+// What navd runs on besides its map: the robot, where it starts, and the world's speed zones and
+// depth camera (none of them with --map: the default robot at the map's origin).
+struct DaemonSetting {
   RobotDescription robot;
   Pose2 initial_pose;
   std::vector<SpeedZone> speed_zones;
   std::optional<DepthCameraDescription> camera;
+};
+
+// Puts the map of --map, or of --world (the embedded one by default), into `maps`. Throws
+// navd::Error for an initial pose off the map.
+DaemonSetting LoadSetting(const DaemonOptions& o, MapStore& maps) {
+  DaemonSetting setting;
   if (!o.map_path.empty()) {
     std::string name;
     OccupancyGrid grid = LoadAnyMapFile(o.map_path, &name);
     maps.Set(std::move(grid), name);
   } else {
     World world = o.world_path.empty() ? DefaultWorld() : LoadWorldFile(o.world_path);
-    robot = world.robot;
-    initial_pose = world.start;
-    speed_zones = std::move(world.speed_zones);
-    camera = world.camera;
+    setting.robot = world.robot;
+    setting.initial_pose = world.start;
+    setting.speed_zones = std::move(world.speed_zones);
+    setting.camera = world.camera;
     maps.Set(std::move(world.map), world.name);
   }
-  if (o.initial_pose_set) initial_pose = {o.initial_pose[0], o.initial_pose[1], o.initial_pose[2]};
+  if (o.initial_pose_set) setting.initial_pose = {o.initial_pose[0], o.initial_pose[1], o.initial_pose[2]};
   const auto map = maps.Get();
   spdlog::info("navd: map '{}' {}x{} cells at {} m", map->name, map->grid.width(), map->grid.height(),
                map->grid.resolution());
-
-  // --- Services -----------------------------------------------------------------------------
-  planning::PlanningEngineOptions planning_options;
-  planning_options.costmap.inflation_radius = robot.radius + o.inflation_margin;
-  planning_options.costmap.decay_radius = o.cost_decay;
-  planning_options.velocity.max_speed = robot.max_wheel_speed;
-  planning_options.velocity.max_acceleration = robot.max_wheel_accel;
-  // Opposite rims at full acceleration turn the body at 2 a / wheel base.
-  planning_options.velocity.max_angular_acceleration = 2.0 * robot.max_wheel_accel / robot.wheel_base;
-  planning::PlanningEngine planning(maps, planning_options);
-  planning::RegisterDefaultPlanners(planning);
-  planning.CurrentCostmap();  // built now rather than on the first request
-
-  if (!map->grid.ContainsPoint(initial_pose.translation())) {
+  if (!map->grid.ContainsPoint(setting.initial_pose.translation())) {
     throw Error(ErrorCode::kInvalidArgument,
-                "initial pose " + FormatPoint(initial_pose.translation()) + " lies outside the map");
+                "initial pose " + FormatPoint(setting.initial_pose.translation()) + " lies outside the map");
   }
-  // Every localiser runs; --localizer (or SelectMethod) picks the one that answers.
-  mapping::MapBuilder map_builder;
-  localization::LocalizerSelector localizer(/*search_on_its_own_thread=*/true);
+  return setting;
+}
+
+planning::PlanningEngineOptions PlanningOptions(const DaemonOptions& o, const RobotDescription& robot) {
+  planning::PlanningEngineOptions options;
+  options.costmap.inflation_radius = robot.radius + o.inflation_margin;
+  options.costmap.decay_radius = o.cost_decay;
+  options.velocity.max_speed = robot.max_wheel_speed;
+  options.velocity.max_acceleration = robot.max_wheel_accel;
+  // Opposite rims at full acceleration turn the body at 2 a / wheel base.
+  options.velocity.max_angular_acceleration = 2.0 * robot.max_wheel_accel / robot.wheel_base;
+  return options;
+}
+
+// Every localiser runs; --localizer (or SelectMethod) picks the one that answers.
+void AddLocalizers(const DaemonOptions& o, const RobotDescription& robot, const OccupancyGrid& grid,
+                   mapping::MapBuilder& map_builder, localization::LocalizerSelector& localizer) {
   localization::ParticleFilterOptions filter_options;
   if (robot.drive == DriveType::kOmni) filter_options.motion_model = localization::MotionModel::kOmni;
   if (o.laser_model == "beam") filter_options.sensor_model = localization::SensorModel::kBeam;
@@ -139,42 +179,25 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   // The control loop never waits for the nearby reset's search (tens of ms): a scan that comes
   // while it runs is weighed without it.
   filter_options.nearby_reset.wait_for_search = false;
-  localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(map->grid, filter_options));
+  localizer.Add(std::make_unique<localization::ParticleFilterLocalizer>(grid, filter_options));
   localizer.Add(std::make_unique<localization::OdometryLocalizer>());
-  localizer.Add(std::make_unique<localization::EkfLocalizer>(map->grid));
+  localizer.Add(std::make_unique<localization::EkfLocalizer>(grid));
   localization::OdometricCalibrationOptions calibration;
   calibration.wheel_base = robot.wheel_base;
-  localizer.Add(std::make_unique<localization::OdometricCalibrationLocalizer>(map->grid, calibration));
+  localizer.Add(std::make_unique<localization::OdometricCalibrationLocalizer>(grid, calibration));
   // Grid localisation only where its grid is small enough (10 cm x 10 degrees).
   try {
-    localizer.Add(std::make_unique<localization::HistogramLocalizer>(map->grid));
+    localizer.Add(std::make_unique<localization::HistogramLocalizer>(grid));
   } catch (const Error& e) {
     if (o.localizer == "histogram") throw;
     spdlog::info("histogram localisation not offered: {}", e.what());
   }
   localizer.Add(std::make_unique<mapping::SlamLocalizer>(map_builder));  // while exploring
   localizer.Select(o.localizer);
-  localizer.SetPose(initial_pose, Eigen::Matrix3d::Zero());  // checks it, too
+}
 
-  std::unique_ptr<Clock> clock;
-  SimClock* sim_clock = nullptr;
-  if (o.use_sim_time) {
-    auto c = std::make_unique<SimClock>();
-    sim_clock = c.get();
-    clock = std::move(c);
-  } else {
-    clock = std::make_unique<SystemClock>();
-  }
-
-  navigation::NavigatorOptions navigator;
-  navigator.follower.wheel_base = robot.wheel_base;
-  navigator.follower.max_wheel_speed = robot.max_wheel_speed;
-  navigator.reflex.enabled = o.sonar_reflexes;
-  const navigation::UtilityBrainOptions brain =
-      o.brain_path.empty() ? navigation::DefaultBrainOptions() : navigation::LoadBrainFile(o.brain_path);
-  navigation::MovingObstacleOptions moving;
-  moving.detection.robot_radius = robot.radius;
-  moving.avoidance.wheel_base = robot.wheel_base;
+// --people-aware: the crowd planner's limits are the robot's, and among people at most --crowd-speed.
+navigation::PeopleAwareOptions PeopleAwareOptions(const DaemonOptions& o, const RobotDescription& robot) {
   navigation::PeopleAwareOptions people;
   people.enabled = o.people_aware;
   if (o.people_source == "topic" && !o.people_aware)
@@ -193,14 +216,51 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   limits.max_speed = std::min(o.crowd_speed, limits.max_speed);
   people.control.planner.desired_speed = limits.max_speed;
   people.control.planner.robot_radius = robot.radius;
-  navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain, {}, moving, people);
   if (o.people_aware) {
     spdlog::info("navd: people-aware: crowd RRT at {} m/s, {} vertices per plan every {} s; people from {}",
                  people.control.planner.desired_speed, people.control.planner.max_nodes, people.control.replan_period,
                  o.people_source == "topic" ? "rt/<ns>/people" : "the laser");
   }
-  for (const SpeedZone& z : speed_zones) spdlog::info("navd: speed zone '{}': at most {} m/s", z.name, z.max_speed);
-  executive.SetSpeedZones(navigation::SpeedZones(std::move(speed_zones)));
+  return people;
+}
+
+}  // namespace
+
+int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
+  // Refused before anything starts: a daemon that would listen unprotected must not come up.
+  security::GrpcSecurity grpc_security(o.grpc_security, o.listen);
+  // --- Map and robot -------------------------------------------------------------------------
+  MapStore maps;
+  DaemonSetting setting = LoadSetting(o, maps);
+  const RobotDescription& robot = setting.robot;
+  const auto map = maps.Get();
+
+  // --- Services -----------------------------------------------------------------------------
+  planning::PlanningEngine planning(maps, PlanningOptions(o, robot));
+  planning::RegisterDefaultPlanners(planning);
+  planning.CurrentCostmap();  // built now rather than on the first request
+  mapping::MapBuilder map_builder;
+  localization::LocalizerSelector localizer(/*search_on_its_own_thread=*/true);
+  AddLocalizers(o, robot, map->grid, map_builder, localizer);
+  localizer.SetPose(setting.initial_pose, Eigen::Matrix3d::Zero());  // checks it, too
+
+  SimClock* sim_clock = nullptr;  // under --use-sim-time: set by rt/clock
+  const std::unique_ptr<Clock> clock = MakeClock(o.use_sim_time, sim_clock);
+
+  navigation::NavigatorOptions navigator;
+  navigator.follower.wheel_base = robot.wheel_base;
+  navigator.follower.max_wheel_speed = robot.max_wheel_speed;
+  navigator.reflex.enabled = o.sonar_reflexes;
+  const navigation::UtilityBrainOptions brain =
+      o.brain_path.empty() ? navigation::DefaultBrainOptions() : navigation::LoadBrainFile(o.brain_path);
+  navigation::MovingObstacleOptions moving;
+  moving.detection.robot_radius = robot.radius;
+  moving.avoidance.wheel_base = robot.wheel_base;
+  const navigation::PeopleAwareOptions people = PeopleAwareOptions(o, robot);
+  navigation::NavigationExecutive executive(planning, localizer, *clock, navigator, brain, {}, moving, people);
+  for (const SpeedZone& z : setting.speed_zones)
+    spdlog::info("navd: speed zone '{}': at most {} m/s", z.name, z.max_speed);
+  executive.SetSpeedZones(navigation::SpeedZones(std::move(setting.speed_zones)));
 
   // --- Transport ----------------------------------------------------------------------------
   DdsBridge bridge(o.dds, o.robot_namespace, sim_clock, *clock, o.odometry == "encoders" ? &robot : nullptr,
@@ -212,12 +272,12 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   // The depth camera the world describes, its clouds into an obstacle layer over the served map.
   std::unique_ptr<perception::DepthObstacleLayer> camera_layer;
   std::unique_ptr<CameraPerception> camera_perception;
-  if (camera) {
+  if (setting.camera) {
     const auto layer_options = perception::DepthObstacleLayerOptions::ForRobot(robot.height);
-    camera_layer = std::make_unique<perception::DepthObstacleLayer>(*camera, layer_options);
+    camera_layer = std::make_unique<perception::DepthObstacleLayer>(*setting.camera, layer_options);
     camera_perception = std::make_unique<CameraPerception>(bridge, maps, localizer, *camera_layer);
     spdlog::info("navd: depth camera at {:.2f} m, tilted {:.0f} degrees down: obstacles up to {:.2f} m from {}",
-                 camera->mount_z, camera->tilt * 180.0 / M_PI, layer_options.filter.max_height,
+                 setting.camera->mount_z, setting.camera->tilt * 180.0 / M_PI, layer_options.filter.max_height,
                  dds::TopicName(o.robot_namespace, dds::kCameraPoints));
   }
   ControlLoop loop({o.control_rate, o.sensor_timeout, robot.wheel_base}, *clock, bridge, localizer, executive,
@@ -242,25 +302,9 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
                                           });
   navigation::NavigationService navigation_service(executive);
 
-  grpc::EnableDefaultHealthCheckService(true);
-  grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(o.listen, grpc_security.Credentials(), &port);
-  builder.RegisterService(&planning_service);
-  builder.RegisterService(&localization_service);
-  builder.RegisterService(&mapping_service);
-  builder.RegisterService(&navigation_service);
-  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
-  if (!server || port == 0) {
-    throw Error(ErrorCode::kUnavailable,
-                "cannot listen on " + o.listen +
-                    " (address in use or invalid, or a TLS key that does not match its certificate)");
-  }
-  auto* health = server->GetHealthCheckService();
-  for (const char* name : {"", "navd.v1.PlanningService", "navd.v1.LocalizationService", "navd.v1.MappingService",
-                           "navd.v1.NavigationService"}) {
-    health->SetServingStatus(name, true);
-  }
+  std::unique_ptr<grpc::Server> server = StartGrpcServer(
+      o.listen, grpc_security, {&planning_service, &localization_service, &mapping_service, &navigation_service}, port);
   StartViewFeed(o, view);
   const std::string host = o.listen.substr(0, o.listen.rfind(':'));
   if (!o.port_file.empty()) WriteFileAtomically(o.port_file, std::to_string(port) + "\n");
@@ -291,7 +335,7 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   loop.Stop();  // also publishes a zero command
   map_publisher.Stop();
   if (view) view->Stop();
-  health->Shutdown();
+  server->GetHealthCheckService()->Shutdown();
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));
   spdlog::info("navd: stopped");
   return 0;

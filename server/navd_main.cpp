@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstdio>
 
+#include "dds/participant_flags.h"
 #include "server/daemon.h"
 
 namespace {
@@ -37,16 +38,8 @@ int main(int argc, char** argv) {
                  "mode 600; reloaded on SIGHUP; needs TLS");
   app.add_flag("--insecure", sec.insecure,
                "Allow plain-text gRPC on a non-loopback --listen address (anyone who reaches it can drive the robot)");
-  app.add_option("--domain", o.dds.domain, "DDS domain id")->check(CLI::Range(0, 232));
   std::string network = "loopback";
-  app.add_option("--dds-network", network, "loopback (default: 127.0.0.1 only) or all (every interface)");
-  app.add_option("--dds-peer", o.dds.peers, "Extra unicast DDS discovery peer (IPv4), repeatable");
-  app.add_option("--dds-discovery-server", o.dds.discovery_server,
-                 "HOST:PORT of a Fast DDS discovery server (fast-discovery-server -i 0): discover peers through it "
-                 "by unicast, as in a cluster without multicast");
-  app.add_option("--dds-security", o.dds.security_enclave,
-                 "DDS Security enclave directory (cert.pem, key.pem, CAs, signed governance and permissions; "
-                 "scripts/make-keystore makes one): authenticated, access-controlled, encrypted DDS");
+  navd::dds::AddParticipantFlags(app, o.dds, network);
   app.add_option("--namespace", o.robot_namespace, "Robot namespace for topics (rt/<ns>/scan ...)");
   app.add_flag("--use-sim-time", o.use_sim_time, "Follow the simulator's rt/clock instead of the system clock");
   app.add_option("--localizer", o.localizer,

@@ -12,6 +12,7 @@
 #include <memory>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "client_lib/telemetry.h"
@@ -155,6 +156,17 @@ void WriteRoomScans(std::ostream& log) {
   }
 }
 
+// A command refused with one line that holds `line`, and `unwritten`, the file it was to write, not
+// written.
+void ExpectRefused(const std::vector<std::string>& command, const std::string& line,
+                   const std::string& unwritten = "") {
+  const auto r = RunCommand(command);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_EQ(Lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find(line), std::string::npos) << r.output;
+  if (!unwritten.empty()) EXPECT_FALSE(std::filesystem::exists(unwritten)) << unwritten;
+}
+
 // navd-replay builds a map from a CARMEN log's poses: a square room seen from its centre.
 TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   const std::string dir = MakeTempDir();
@@ -178,39 +190,40 @@ TEST(NavdReplay, BuildsAMapFromALogAndReportsBadLines) {
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_EQ(Lines(missing.output), 1) << missing.output;
   // A pose graph is SLAM's: asked of the map mode, one line says so and nothing is written.
-  const auto graph = RunCommand(
-      {NavdReplayBinary(), "--log", dir + "/room.log", "--out", dir + "/y.yaml", "--graph-out", dir + "/g.g2o"});
-  EXPECT_NE(graph.exit_code, 0);
-  EXPECT_EQ(Lines(graph.output), 1) << graph.output;
-  EXPECT_NE(graph.output.find("--graph-out"), std::string::npos) << graph.output;
-  EXPECT_FALSE(std::filesystem::exists(dir + "/y.yaml"));
+  const std::string room = dir + "/room.log";
+  ExpectRefused({NavdReplayBinary(), "--log", room, "--out", dir + "/y.yaml", "--graph-out", dir + "/g.g2o"},
+                "--graph-out is for --mode slam, not map", dir + "/y.yaml");
   EXPECT_FALSE(std::filesystem::exists(dir + "/g.g2o"));
   // So is every option another mode would ignore: the line names it and the modes it is for.
-  const auto seeded = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "consistency", "--out",
-                                  dir + "/z.txt", "--seed", "3"});
-  EXPECT_NE(seeded.exit_code, 0);
-  EXPECT_EQ(Lines(seeded.output), 1) << seeded.output;
-  EXPECT_NE(seeded.output.find("--seed is for --mode localize|slam|render, not consistency"), std::string::npos)
-      << seeded.output;
-  EXPECT_FALSE(std::filesystem::exists(dir + "/z.txt"));
-  const auto particles = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "slam", "--out",
-                                     dir + "/z.tum", "--min-particles", "500"});
-  EXPECT_NE(particles.exit_code, 0);
-  EXPECT_NE(particles.output.find("--min-particles is for --mode localize, not slam"), std::string::npos)
-      << particles.output;
-  EXPECT_FALSE(std::filesystem::exists(dir + "/z.tum"));
+  ExpectRefused({NavdReplayBinary(), "--log", room, "--mode", "consistency", "--out", dir + "/z.txt", "--seed", "3"},
+                "--seed is for --mode localize|slam|render, not consistency", dir + "/z.txt");
+  ExpectRefused(
+      {NavdReplayBinary(), "--log", room, "--mode", "slam", "--out", dir + "/z.tum", "--min-particles", "500"},
+      "--min-particles is for --mode localize, not slam", dir + "/z.tum");
   // --pairing says how the log's own odometry meets the scans: with the noise protocol it would
   // change nothing.
-  const auto pairing = RunCommand({NavdReplayBinary(), "--log", dir + "/room.log", "--mode", "slam", "--out",
-                                   dir + "/z.tum", "--pairing", "stamp"});
-  EXPECT_NE(pairing.exit_code, 0);
-  EXPECT_EQ(Lines(pairing.output), 1) << pairing.output;
-  EXPECT_NE(pairing.output.find("--pairing is for --odometry log"), std::string::npos) << pairing.output;
-  const auto navctl_pairing =
-      RunCommand({NavctlBinary(), "replay", "--log", dir + "/room.log", "--pairing", "stamp", "--server", ""});
-  EXPECT_NE(navctl_pairing.exit_code, 0);
-  EXPECT_EQ(Lines(navctl_pairing.output), 1) << navctl_pairing.output;
-  EXPECT_NE(navctl_pairing.output.find("--pairing is for --odometry log"), std::string::npos) << navctl_pairing.output;
+  ExpectRefused({NavdReplayBinary(), "--log", room, "--mode", "slam", "--out", dir + "/z.tum", "--pairing", "stamp"},
+                "--pairing is for --odometry log", dir + "/z.tum");
+  ExpectRefused({NavctlBinary(), "replay", "--log", room, "--pairing", "stamp", "--server", ""},
+                "--pairing is for --odometry log");
+  // And every option its mode takes only beside another: SLAM's resolution is its map's, a map
+  // given to the localiser has its own, and a log's own odometry draws no noise.
+  ExpectRefused({NavdReplayBinary(), "--log", room, "--mode", "slam", "--out", dir + "/z.tum", "--resolution", "0.1"},
+                "--resolution in --mode slam is the resolution of the map it writes", dir + "/z.tum");
+  ExpectRefused({NavdReplayBinary(), "--log", room, "--mode", "localize", "--map", dir + "/room.yaml", "--resolution",
+                 "0.1", "--out", dir + "/z.tum"},
+                "--resolution is for the map drawn from the log's poses", dir + "/z.tum");
+  ExpectRefused({NavdReplayBinary(), "--log", room, "--mode", "slam", "--odometry", "log", "--seed", "2", "--out",
+                 dir + "/z.tum"},
+                "--seed with --odometry log is for --mode localize --localizer amcl", dir + "/z.tum");
+  ExpectRefused({NavdReplayBinary(), "--log", room, "--mode", "localize", "--odometry", "log", "--localizer", "ekf",
+                 "--seed", "2", "--out", dir + "/z.tum"},
+                "--seed with --odometry log is for --mode localize --localizer amcl", dir + "/z.tum");
+  // Beside what they need, they run.
+  const auto resolved = RunCommand({NavdReplayBinary(), "--log", room, "--mode", "slam", "--out", dir + "/z.tum",
+                                    "--resolution", "0.1", "--map-out", dir + "/z.yaml"});
+  ASSERT_EQ(resolved.exit_code, 0) << resolved.output;
+  EXPECT_NEAR(LoadMapServerMap(dir + "/z.yaml").resolution(), 0.1, 1e-9);
 }
 
 // A log spread wider than a grid holds at 5 cm (two rooms 250 m apart, as a campus's buildings):
@@ -684,19 +697,13 @@ struct SlamRun {
   std::string output;
 };
 
-SlamRun RunSlam(const std::string& log, int seed, const std::string& dir, const std::vector<std::string>& more = {}) {
+// seed: of the noise protocol's odometry; none for a log's own (--odometry log in `more`).
+SlamRun RunSlam(const std::string& log, std::optional<int> seed, const std::string& dir,
+                const std::vector<std::string>& more = {}) {
   SlamRun out;
-  std::vector<std::string> command{NavdReplayBinary(),
-                                   "--log",
-                                   log,
-                                   "--mode",
-                                   "slam",
-                                   "--seed",
-                                   std::to_string(seed),
-                                   "--out",
-                                   dir + "/est.tum",
-                                   "--map-out",
-                                   dir + "/map.yaml"};
+  std::vector<std::string> command{
+      NavdReplayBinary(), "--log", log, "--mode", "slam", "--out", dir + "/est.tum", "--map-out", dir + "/map.yaml"};
+  if (seed) command.insert(command.end(), {"--seed", std::to_string(*seed)});
   command.insert(command.end(), more.begin(), more.end());
   const auto r = RunCommand(command, 180.0);
   out.output = r.output;
@@ -789,8 +796,8 @@ TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
 TEST(NavdReplay, SlamOnTheAcesLogsOwnOdometryPairsItsOdomLinesAsItsScansAgree) {
   const std::string log = SourceDir() + "/../shared/data/carmen/aces-corrected.log.gz";
   if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
-  const SlamRun run =
-      RunSlam(log, 1, MakeTempDir(), {"--odometry", "log", "--front-recovery", "0", "--odometry-bias", "off"});
+  const SlamRun run = RunSlam(log, std::nullopt, MakeTempDir(),
+                              {"--odometry", "log", "--front-recovery", "0", "--odometry-bias", "off"});
   ASSERT_GE(run.ate, 0.0) << run.output;
   std::printf("aces log, own odometry, no recovery: ATE RMSE %.4f m\n", run.ate);
   EXPECT_NE(run.output.find("ODOM lines paired at"), std::string::npos) << run.output;
@@ -805,8 +812,8 @@ TEST(NavdReplay, SlamOnTheAcesLogsOwnOdometryPairsItsOdomLinesAsItsScansAgree) {
 TEST(NavdReplay, SlamOnTheCsailLogsOwnOdometrySearchesAgainWhereItsHeadingJumps) {
   const std::string log = SourceDir() + "/../shared/data/carmen/csail-corrected.log.gz";
   if (!std::filesystem::exists(log)) GTEST_SKIP() << "shared data not beside the checkout: " << log;
-  const SlamRun on = RunSlam(log, 1, MakeTempDir(), {"--odometry", "log"});
-  const SlamRun off = RunSlam(log, 1, MakeTempDir(), {"--odometry", "log", "--front-recovery", "0"});
+  const SlamRun on = RunSlam(log, std::nullopt, MakeTempDir(), {"--odometry", "log"});
+  const SlamRun off = RunSlam(log, std::nullopt, MakeTempDir(), {"--odometry", "log", "--front-recovery", "0"});
   ASSERT_GE(on.ate, 0.0) << on.output;
   ASSERT_GE(off.ate, 0.0) << off.output;
   std::printf("csail log, own odometry: ATE RMSE %.4f m (%.4f m without recovery)\n", on.ate, off.ate);

@@ -114,6 +114,21 @@ std::string OptionOutsideItsScope(const CLI::App& app, const std::map<std::strin
   return "";
 }
 
+// Options that work in their mode only beside another option (or without one): given otherwise
+// they would change nothing. "" when none is given so.
+std::string OptionWithoutEffect(const CLI::App& app, const std::string& mode, const std::string& odometry,
+                                const std::string& localizer) {
+  const auto given = [&app](const char* option) { return app.get_option(option)->count() > 0; };
+  if (given("--resolution") && mode == "slam" && !given("--map-out") && !given("--png"))
+    return "--resolution in --mode slam is the resolution of the map it writes: add --map-out or --png";
+  if (given("--resolution") && mode == "localize" && given("--map"))
+    return "--resolution is for the map drawn from the log's poses, and --map brings its own";
+  // The seed draws the noise of --odometry noisy and the particle filter's samples, nothing else.
+  if (given("--seed") && odometry == "log" && (mode == "slam" || (mode == "localize" && localizer != "amcl")))
+    return "--seed with --odometry log is for --mode localize --localizer amcl (the particle filter) only";
+  return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -250,8 +265,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  if (const std::string misplaced = OptionOutsideItsScope(app, {{"--mode", mode}, {"--odometry", odometry_source}});
-      !misplaced.empty()) {
+  std::string misplaced = OptionOutsideItsScope(app, {{"--mode", mode}, {"--odometry", odometry_source}});
+  if (misplaced.empty()) misplaced = OptionWithoutEffect(app, mode, odometry_source, localization.method);
+  if (!misplaced.empty()) {
     std::fprintf(stderr, "navd-replay: %s\n", misplaced.c_str());
     return 2;
   }
