@@ -110,22 +110,21 @@ void ControlLoop::StaleTick(double now) {
   bridge_.PublishStatus(executive_.navigator().Status(), localizer_.Estimate(), localizer_.name(), now);
 }
 
-void ControlLoop::Tick(uint64_t tick, double now) {
-  const auto tick_start = std::chrono::steady_clock::now();
-  timing_.TickStarted(tick_start);
-  const std::optional<localization::OdometryReading> newest_odometry = bridge_.LatestOdometry();
-  std::optional<localization::ScanReading> scan;  // the scan that arrived since the last tick
-  std::optional<Pose2> odom_at_scan;
-  std::chrono::steady_clock::time_point scan_wall_arrival;
-  if (const uint64_t count = bridge_.scan_count(); count != scans_seen_) {
-    scan_wall_arrival = bridge_.last_scan_wall_arrival();
-    scan = bridge_.LatestScan();
-    if (scan && scan_odometry_.Waits(scan->stamp, newest_odometry, tick_start)) {
-      scan.reset();  // a later tick takes it (or a newer one), with the odometry of its instant
-    } else {
-      scans_seen_ = count;
-    }
-  }
+std::optional<localization::ScanReading> ControlLoop::TakeScan(
+    const std::optional<localization::OdometryReading>& newest_odometry,
+    std::chrono::steady_clock::time_point tick_start, std::chrono::steady_clock::time_point& wall_arrival) {
+  const uint64_t count = bridge_.scan_count();
+  if (count == scans_seen_) return std::nullopt;
+  wall_arrival = bridge_.last_scan_wall_arrival();
+  std::optional<localization::ScanReading> scan = bridge_.LatestScan();
+  // A scan waiting for the odometry of its instant is left for a later tick (or a newer scan).
+  if (scan && scan_odometry_.Waits(scan->stamp, newest_odometry, tick_start)) return std::nullopt;
+  scans_seen_ = count;
+  return scan;
+}
+
+void ControlLoop::FeedOdometry(const std::optional<localization::OdometryReading>& newest_odometry,
+                               const std::optional<localization::ScanReading>& scan) {
   for (const localization::OdometryReading& odom :
        scan_odometry_.Readings(newest_odometry, scan ? std::optional<double>(scan->stamp) : std::nullopt,
                                [this](double stamp) { return bridge_.OdometryAt(stamp); })) {
@@ -136,65 +135,50 @@ void ControlLoop::Tick(uint64_t tick, double now) {
                    odom.pose.x, odom.pose.y, odom.pose.theta, odom.stamp, odometry_jumps_seen_);
     }
   }
-  if (scan) {
-    if (executive_.localization_active()) localizer_.AddScan(*scan);
-    odom_at_scan = bridge_.OdometryAt(scan->stamp);
-    if (map_builder_.active() && odom_at_scan) {
-      // A mapping run takes the scan with the odometry of its own stamp (a robot turning at 1 rad/s
-      // turns 0.05 rad in one control period, and under load ticks fall further apart), and the
-      // localiser's pose carried to that stamp.
-      const localization::PoseEstimate estimate = localizer_.Estimate();
-      const Pose2 localised = estimate.pose * (bridge_.OdometryAt(estimate.stamp)->inverse() * *odom_at_scan);
-      mapping::RangeScan r{scan->ranges, scan->angle_min, scan->angle_increment, scan->stamp};
-      if (scan->range_max > 0.0) r.range_max = scan->range_max;
-      // Readings under the scanner's minimum (self-hits, glare) say nothing: NaN, where +inf would
-      // be a no-return and clear along the beam.
-      for (float& range : r.ranges)
-        if (range < scan->range_min) range = std::numeric_limits<float>::quiet_NaN();
-      map_builder_.Submit(*odom_at_scan, localised, r);
-    }
-  }
-  std::optional<navigation::PeopleReport> people;  // the report that arrived since the last tick
-  if (bridge_.people_count() != people_seen_) {
-    people_seen_ = bridge_.people_count();
-    people = bridge_.LatestPeople();
-    // The count and the sample are read apart: a tick may find the one it took already.
-    if (people && people->stamp == people_stamp_) people.reset();
-    if (people) people_stamp_ = people->stamp;
-  }
+}
+
+void ControlLoop::SubmitToMapping(const localization::ScanReading& scan, const Pose2& odom_at_scan) {
+  // A mapping run takes the scan with the odometry of its own stamp (a robot turning at 1 rad/s
+  // turns 0.05 rad in one control period, and under load ticks fall further apart), and the
+  // localiser's pose carried to that stamp.
+  const localization::PoseEstimate estimate = localizer_.Estimate();
+  const Pose2 localised = estimate.pose * (bridge_.OdometryAt(estimate.stamp)->inverse() * odom_at_scan);
+  mapping::RangeScan r{scan.ranges, scan.angle_min, scan.angle_increment, scan.stamp};
+  if (scan.range_max > 0.0) r.range_max = scan.range_max;
+  // Readings under the scanner's minimum (self-hits, glare) say nothing: NaN, where +inf would
+  // be a no-return and clear along the beam.
+  for (float& range : r.ranges)
+    if (range < scan.range_min) range = std::numeric_limits<float>::quiet_NaN();
+  map_builder_.Submit(odom_at_scan, localised, r);
+}
+
+std::optional<navigation::PeopleReport> ControlLoop::TakePeople() {
+  if (bridge_.people_count() == people_seen_) return std::nullopt;
+  people_seen_ = bridge_.people_count();
+  std::optional<navigation::PeopleReport> people = bridge_.LatestPeople();
+  // The count and the sample are read apart: a tick may find the one it took already.
+  if (!people || people->stamp == people_stamp_) return std::nullopt;
+  people_stamp_ = people->stamp;
+  return people;
+}
+
+bool ControlLoop::SensorsFresh(double now) const {
   // A laser that has spoken and then gone silent is stale too; a robot without one is not. People
   // read from a detector are needed: silent, or never heard, the sensors are stale.
   const bool laser_fresh = !bridge_.scan_seen() || now - bridge_.last_scan_arrival() <= options_.sensor_timeout;
   const bool people_fresh = !bridge_.reads_people() || now - bridge_.last_people_arrival() <= options_.sensor_timeout;
-  const bool fresh = laser_fresh && people_fresh && now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
-  const bool was_active = executive_.navigator().Status().active || was_searching_;
-  navigation::ExecutiveInputs inputs;
-  inputs.sensors_fresh = fresh;
-  inputs.contact = bridge_.Contact(options_.sensor_timeout);
-  inputs.rear_contact_only = bridge_.RearContactOnly(options_.sensor_timeout);
-  inputs.scans = scans_seen_;
-  inputs.scan = scan ? &*scan : nullptr;
-  inputs.scan_odometry = odom_at_scan;
-  inputs.odometry = bridge_.OdometryAt(localizer_.Estimate().stamp);
-  inputs.rear_free = bridge_.RearFree(options_.sensor_timeout);
-  if (camera_) inputs.sensed_cells = camera_->Step(now);
-  const std::vector<navigation::SonarEcho> sonar = bridge_.SonarEchoes(options_.sensor_timeout);
-  inputs.sonar = &sonar;
-  inputs.people = people ? &*people : nullptr;
-  inputs.people_odometry = people ? bridge_.OdometryAt(people->stamp) : std::nullopt;
-  if (people) {
-    const auto odometry = bridge_.LatestOdometry();
-    inputs.people_age = odometry ? std::clamp(odometry->stamp - people->stamp, 0.0, 1.0) : 0.0;
-  }
-  const WheelSpeeds wheels = executive_.Step(inputs, now);
-  const navigation::NavigationStatus status = executive_.navigator().Status();
+  return laser_fresh && people_fresh && now - bridge_.last_odometry_arrival() <= options_.sensor_timeout;
+}
+
+void ControlLoop::LogChanges(const WheelSpeeds& wheels, const navigation::NavigationStatus& status, bool contact,
+                             double now) {
   if (spdlog::should_log(spdlog::level::trace)) {
     // Every tick's command, with what it came from, to set beside navsim's trace of the truth.
     const localization::PoseEstimate e = localizer_.Estimate();
     spdlog::trace("t={:.2f}s tick at ({:.3f}, {:.3f}, {:.3f}): wheels {:.3f} {:.3f} m/s, {}, state {}{}{}{}", now,
                   e.pose.x, e.pose.y, e.pose.theta, wheels.left, wheels.right,
                   executive_.crowd_steering() ? "crowd controller" : "navigator",
-                  navigation::NavigationStateName(status.feedback.state), inputs.contact ? ", bumper pressed" : "",
+                  navigation::NavigationStateName(status.feedback.state), contact ? ", bumper pressed" : "",
                   status.hold_reason.empty() ? "" : ": ", status.hold_reason);
   }
   if (status.feedback.behaviour != behaviour_ || status.hold_reason != hold_reason_) {
@@ -220,6 +204,46 @@ void ControlLoop::Tick(uint64_t tick, double now) {
   losses_seen_ = executive_.localization_losses();
   if (spdlog::should_log(spdlog::level::debug) && executive_.crowd().plans() != crowd_plans_seen_)
     LogCrowdPlan(wheels, now);
+}
+
+void ControlLoop::Tick(uint64_t tick, double now) {
+  const auto tick_start = std::chrono::steady_clock::now();
+  timing_.TickStarted(tick_start);
+  const std::optional<localization::OdometryReading> newest_odometry = bridge_.LatestOdometry();
+  std::chrono::steady_clock::time_point scan_wall_arrival;
+  // The scan that arrived since the last tick.
+  const std::optional<localization::ScanReading> scan = TakeScan(newest_odometry, tick_start, scan_wall_arrival);
+  FeedOdometry(newest_odometry, scan);
+  std::optional<Pose2> odom_at_scan;
+  if (scan) {
+    if (executive_.localization_active()) localizer_.AddScan(*scan);
+    odom_at_scan = bridge_.OdometryAt(scan->stamp);
+    if (map_builder_.active() && odom_at_scan) SubmitToMapping(*scan, *odom_at_scan);
+  }
+  // The people report that arrived since the last tick.
+  const std::optional<navigation::PeopleReport> people = TakePeople();
+  const bool was_active = executive_.navigator().Status().active || was_searching_;
+  navigation::ExecutiveInputs inputs;
+  inputs.sensors_fresh = SensorsFresh(now);
+  inputs.contact = bridge_.Contact(options_.sensor_timeout);
+  inputs.rear_contact_only = bridge_.RearContactOnly(options_.sensor_timeout);
+  inputs.scans = scans_seen_;
+  inputs.scan = scan ? &*scan : nullptr;
+  inputs.scan_odometry = odom_at_scan;
+  inputs.odometry = bridge_.OdometryAt(localizer_.Estimate().stamp);
+  inputs.rear_free = bridge_.RearFree(options_.sensor_timeout);
+  if (camera_) inputs.sensed_cells = camera_->Step(now);
+  const std::vector<navigation::SonarEcho> sonar = bridge_.SonarEchoes(options_.sensor_timeout);
+  inputs.sonar = &sonar;
+  inputs.people = people ? &*people : nullptr;
+  inputs.people_odometry = people ? bridge_.OdometryAt(people->stamp) : std::nullopt;
+  if (people) {
+    const auto odometry = bridge_.LatestOdometry();
+    inputs.people_age = odometry ? std::clamp(odometry->stamp - people->stamp, 0.0, 1.0) : 0.0;
+  }
+  const WheelSpeeds wheels = executive_.Step(inputs, now);
+  const navigation::NavigationStatus status = executive_.navigator().Status();
+  LogChanges(wheels, status, inputs.contact, now);
   was_searching_ = executive_.searching();
   if (status.active || was_searching_) {
     bridge_.PublishCommand(ToTwist(wheels, options_.wheel_base));

@@ -3,6 +3,8 @@
 // into the localiser), decides (one navigation step, stopping on stale sensors) and commands
 // (cmd_vel), and publishes telemetry at half the rate.
 #include <atomic>
+#include <chrono>
+#include <optional>
 #include <thread>
 
 #include "server/camera_perception.h"
@@ -35,6 +37,23 @@ class ControlLoop {
   void Run();
   // One step at clock time `now` (seconds).
   void Tick(uint64_t tick, double now);
+  // The scan that arrived since the last tick (its wall arrival in `wall_arrival`), unless it waits
+  // for the odometry of its instant.
+  std::optional<localization::ScanReading> TakeScan(const std::optional<localization::OdometryReading>& newest_odometry,
+                                                    std::chrono::steady_clock::time_point tick_start,
+                                                    std::chrono::steady_clock::time_point& wall_arrival);
+  // The odometry up to the scan's stamp (or the newest) into the localiser, logging jumps.
+  void FeedOdometry(const std::optional<localization::OdometryReading>& newest_odometry,
+                    const std::optional<localization::ScanReading>& scan);
+  // The scan into a running mapping run, at the odometry of its stamp.
+  void SubmitToMapping(const localization::ScanReading& scan, const Pose2& odom_at_scan);
+  // The people report that arrived since the last tick, once.
+  std::optional<navigation::PeopleReport> TakePeople();
+  // Odometry, and the laser and people detector once heard, within sensor_timeout of `now`.
+  bool SensorsFresh(double now) const;
+  // The log's account of a tick: its command at trace level, changes of behaviour and of the
+  // pose's loss at info, the crowd's plans at debug.
+  void LogChanges(const WheelSpeeds& wheels, const navigation::NavigationStatus& status, bool contact, double now);
   // Runs when the clock has not advanced for sensor_timeout wall seconds; `now` is extrapolated.
   void StaleTick(double now);
   // At debug level (SPDLOG_LEVEL=debug), each new plan of the crowd controller: what it chose and
