@@ -40,6 +40,70 @@ const char* const kMissionSchema =
 
 double Finite(double v) { return std::isfinite(v) ? v : 0.0; }
 
+// The costmap as Nav2's costs (0-253, lethal 254) per cell, row-major like its grid.
+std::vector<uint8_t> CostmapCells(const planning::Costmap& costmap) {
+  const OccupancyGrid& grid = costmap.grid();
+  std::vector<uint8_t> cost(grid.cells().size());
+  for (int y = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      const CellIndex c{x, y};
+      cost[grid.Flat(c)] = costmap.IsLethal(c) ? kLethalCost : costmap.cost(c);
+    }
+  }
+  return cost;
+}
+
+// /status: what the executive does and why, and how sure the localiser is.
+Json StatusJson(double now, const navigation::NavigationStatus& s, const std::string& localizer,
+                const localization::PoseEstimate& estimate, const navigation::NavigationExecutive& executive) {
+  Json utilities = Json::array();
+  for (const navigation::ProcessUtility& u : s.feedback.utilities) {
+    utilities.push_back(
+        {{"name", u.name}, {"utility", Finite(u.utility)}, {"gamma", Finite(u.gamma)}, {"active", u.active}});
+  }
+  return {{"stamp", now},
+          {"state", navigation::NavigationStateName(s.feedback.state)},
+          {"behaviour", s.feedback.behaviour},
+          {"hold_reason", s.hold_reason},
+          {"active", s.active},
+          {"paused", s.paused},
+          {"sensors_stale", s.sensors_stale},
+          {"localizer", localizer},
+          {"localization_quality", Finite(estimate.quality)},
+          {"localization_lost", executive.localization_lost()},
+          {"localization_losses", executive.localization_losses()},
+          {"danger", Finite(s.feedback.danger)},
+          {"speed_limit", Finite(s.feedback.speed_limit)},
+          {"reflex", s.feedback.reflex},
+          {"utilities", utilities}};
+}
+
+// /mission: the goal, the waypoints and the progress through them, and how the last one ended.
+Json MissionJson(double now, const navigation::NavigationStatus& s, const navigation::Navigator& navigator) {
+  Json waypoints = Json::array();
+  for (const navigation::NavigationGoal& g : navigator.MissionWaypoints()) {
+    waypoints.push_back({{"x", g.pose.x}, {"y", g.pose.y}});
+  }
+  Json mission = {{"stamp", now},
+                  {"goal_id", s.goal_id},
+                  {"active", s.active},
+                  {"goal", {{"x", s.goal.pose.x}, {"y", s.goal.pose.y}, {"yaw", s.goal.pose.theta}}},
+                  {"waypoints", waypoints},
+                  {"mission_index", s.feedback.mission_index},
+                  {"mission_count", s.feedback.mission_count},
+                  {"laps_completed", s.feedback.laps_completed},
+                  {"waypoints_reached", s.feedback.waypoints_reached},
+                  {"distance_remaining", Finite(s.feedback.distance_remaining)},
+                  {"distance_travelled", Finite(s.feedback.distance_travelled)},
+                  {"eta", Finite(s.feedback.eta)},
+                  {"recoveries", s.feedback.recoveries}};
+  if (s.last_result) {
+    mission["last_result"] = {{"outcome", navigation::OutcomeName(s.last_result->outcome)},
+                              {"message", s.last_result->message}};
+  }
+  return mission;
+}
+
 // The goal of a "/goal" message: {x, y[, yaw]} or {pose: {position: {x, y}, orientation: {z, w}}}
 // (map frame). Throws navd::Error naming the field that is missing or not a number.
 navigation::NavigateRequest ParseGoal(const std::string& payload) {
@@ -159,8 +223,30 @@ void ViewFeed::Run() {
 void ViewFeed::PublishOnce(bool building_due) {
   const double now = sources_.clock.Now();
   const uint64_t stamp = view::StampNanoseconds(now);
+  PublishMaps(building_due, stamp, now);
+  const localization::PoseEstimate estimate = sources_.localizer.Estimate();
+  if (estimate.valid) PublishPose(estimate, stamp);
+  const navigation::Navigator& navigator = sources_.executive.navigator();
+  if (server_.HasSubscribers(channels_.path)) {
+    server_.Publish(channels_.path, stamp, view::PathJson(navigator.LegPath(), now, kMapFrame));
+  }
+  if (server_.HasSubscribers(channels_.path_ahead)) {
+    server_.Publish(channels_.path_ahead, stamp,
+                    view::PathJson(navigator.PathAhead(std::numeric_limits<double>::infinity()), now, kMapFrame));
+  }
+  const navigation::NavigationStatus s = navigator.Status();
+  PublishSensed(s, stamp, now);
+  if (server_.HasSubscribers(channels_.status)) {
+    server_.Publish(channels_.status, stamp,
+                    StatusJson(now, s, sources_.localizer.name(), estimate, sources_.executive).dump());
+  }
+  if (server_.HasSubscribers(channels_.mission)) {
+    server_.Publish(channels_.mission, stamp, MissionJson(now, s, navigator).dump());
+  }
+}
 
-  // Maps: the served one when it changes (a subscriber gets the newest at once), the one being built
+void ViewFeed::PublishMaps(bool building_due, uint64_t stamp, double now) {
+  // The served one when it changes (a subscriber gets the newest at once), the one being built
   // every map_period during a mapping run, the costmap when the planner rebuilds it.
   if (const auto served = sources_.maps.Get(); served && served->version != map_version_) {
     map_version_ = served->version;
@@ -176,40 +262,26 @@ void ViewFeed::PublishOnce(bool building_due) {
     std::shared_ptr<const planning::Costmap> costmap = sources_.costmaps.Current();
     if (costmap && costmap != costmap_) {
       costmap_ = costmap;
-      const OccupancyGrid& grid = costmap->grid();
-      std::vector<uint8_t> cost(grid.cells().size());
-      for (int y = 0; y < grid.height(); ++y) {
-        for (int x = 0; x < grid.width(); ++x) {
-          const CellIndex c{x, y};
-          cost[grid.Flat(c)] = costmap->IsLethal(c) ? kLethalCost : costmap->cost(c);
-        }
-      }
-      server_.Publish(channels_.costmap, stamp, view::CostGridJson(grid, cost, now, kMapFrame));
+      server_.Publish(channels_.costmap, stamp,
+                      view::CostGridJson(costmap->grid(), CostmapCells(*costmap), now, kMapFrame));
     }
   }
+}
 
-  const localization::PoseEstimate estimate = sources_.localizer.Estimate();
-  if (estimate.valid) {
-    if (server_.HasSubscribers(channels_.pose)) {
-      double covariance[9];
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) covariance[3 * r + c] = estimate.covariance(r, c);
-      server_.Publish(channels_.pose, stamp, view::PoseJson(estimate.pose, covariance, estimate.stamp, kMapFrame));
-    }
-    if (server_.HasSubscribers(channels_.transform)) {
-      server_.Publish(channels_.transform, stamp,
-                      view::FrameTransformJson(estimate.pose, estimate.stamp, kMapFrame, options_.robot_frame));
-    }
+void ViewFeed::PublishPose(const localization::PoseEstimate& estimate, uint64_t stamp) {
+  if (server_.HasSubscribers(channels_.pose)) {
+    double covariance[9];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) covariance[3 * r + c] = estimate.covariance(r, c);
+    server_.Publish(channels_.pose, stamp, view::PoseJson(estimate.pose, covariance, estimate.stamp, kMapFrame));
   }
+  if (server_.HasSubscribers(channels_.transform)) {
+    server_.Publish(channels_.transform, stamp,
+                    view::FrameTransformJson(estimate.pose, estimate.stamp, kMapFrame, options_.robot_frame));
+  }
+}
 
-  const navigation::Navigator& navigator = sources_.executive.navigator();
-  if (server_.HasSubscribers(channels_.path)) {
-    server_.Publish(channels_.path, stamp, view::PathJson(navigator.LegPath(), now, kMapFrame));
-  }
-  if (server_.HasSubscribers(channels_.path_ahead)) {
-    server_.Publish(channels_.path_ahead, stamp,
-                    view::PathJson(navigator.PathAhead(std::numeric_limits<double>::infinity()), now, kMapFrame));
-  }
+void ViewFeed::PublishSensed(const navigation::NavigationStatus& s, uint64_t stamp, double now) {
   if (sources_.bridge && server_.HasSubscribers(channels_.scan) && sources_.bridge->scan_count() != scans_seen_) {
     scans_seen_ = sources_.bridge->scan_count();
     if (const auto scan = sources_.bridge->LatestScan()) {
@@ -225,8 +297,6 @@ void ViewFeed::PublishOnce(bool building_due) {
     }
     server_.Publish(channels_.people, stamp, view::MovingDiscsJson(discs, now, kMapFrame));
   }
-
-  const navigation::NavigationStatus s = navigator.Status();
   if (server_.HasSubscribers(channels_.obstacles)) {
     std::vector<view::MovingDisc> discs;
     int i = 0;
@@ -235,53 +305,6 @@ void ViewFeed::PublishOnce(bool building_due) {
           {"obstacle " + std::to_string(i++), b.position, b.velocity, b.radius, b.person ? "person" : "obstacle"});
     }
     server_.Publish(channels_.obstacles, stamp, view::MovingDiscsJson(discs, now, kMapFrame));
-  }
-  if (server_.HasSubscribers(channels_.status)) {
-    Json utilities = Json::array();
-    for (const navigation::ProcessUtility& u : s.feedback.utilities) {
-      utilities.push_back(
-          {{"name", u.name}, {"utility", Finite(u.utility)}, {"gamma", Finite(u.gamma)}, {"active", u.active}});
-    }
-    const Json status = {{"stamp", now},
-                         {"state", navigation::NavigationStateName(s.feedback.state)},
-                         {"behaviour", s.feedback.behaviour},
-                         {"hold_reason", s.hold_reason},
-                         {"active", s.active},
-                         {"paused", s.paused},
-                         {"sensors_stale", s.sensors_stale},
-                         {"localizer", sources_.localizer.name()},
-                         {"localization_quality", Finite(estimate.quality)},
-                         {"localization_lost", sources_.executive.localization_lost()},
-                         {"localization_losses", sources_.executive.localization_losses()},
-                         {"danger", Finite(s.feedback.danger)},
-                         {"speed_limit", Finite(s.feedback.speed_limit)},
-                         {"reflex", s.feedback.reflex},
-                         {"utilities", utilities}};
-    server_.Publish(channels_.status, stamp, status.dump());
-  }
-  if (server_.HasSubscribers(channels_.mission)) {
-    Json waypoints = Json::array();
-    for (const navigation::NavigationGoal& g : navigator.MissionWaypoints()) {
-      waypoints.push_back({{"x", g.pose.x}, {"y", g.pose.y}});
-    }
-    Json mission = {{"stamp", now},
-                    {"goal_id", s.goal_id},
-                    {"active", s.active},
-                    {"goal", {{"x", s.goal.pose.x}, {"y", s.goal.pose.y}, {"yaw", s.goal.pose.theta}}},
-                    {"waypoints", waypoints},
-                    {"mission_index", s.feedback.mission_index},
-                    {"mission_count", s.feedback.mission_count},
-                    {"laps_completed", s.feedback.laps_completed},
-                    {"waypoints_reached", s.feedback.waypoints_reached},
-                    {"distance_remaining", Finite(s.feedback.distance_remaining)},
-                    {"distance_travelled", Finite(s.feedback.distance_travelled)},
-                    {"eta", Finite(s.feedback.eta)},
-                    {"recoveries", s.feedback.recoveries}};
-    if (s.last_result) {
-      mission["last_result"] = {{"outcome", navigation::OutcomeName(s.last_result->outcome)},
-                                {"message", s.last_result->message}};
-    }
-    server_.Publish(channels_.mission, stamp, mission.dump());
   }
 }
 

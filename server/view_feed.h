@@ -62,6 +62,12 @@ class ViewFeed {
   };
   void Run();
   void PublishOnce(bool building_due);
+  // The served map when it changed, the one being built when due, the costmap when rebuilt.
+  void PublishMaps(bool building_due, uint64_t stamp, double now);
+  // The pose with its covariance, and the map -> robot transform.
+  void PublishPose(const localization::PoseEstimate& estimate, uint64_t stamp);
+  // What the robot senses: the newest scan, the people it tracks, the moving obstacles it avoids.
+  void PublishSensed(const navigation::NavigationStatus& s, uint64_t stamp, double now);
   void Command(const view::ClientMessage& m);
 
   ViewFeedOptions options_;
