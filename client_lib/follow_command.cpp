@@ -19,7 +19,10 @@ double StampOf(const v1::Stamp& s) { return s.sec() + s.nanosec() * 1e-9; }
 constexpr double kRadToDeg = 180.0 / M_PI;
 }  // namespace
 
-int RunFollow(Client& client, const FollowOptions& o) {
+namespace {
+
+// The mission of --waypoints or of --scenario's targets, with the options that shape it.
+v1::FollowWaypointsRequest FollowRequest(const FollowOptions& o) {
   if (o.waypoints.empty() == o.scenario.empty()) {
     throw std::invalid_argument("follow needs --waypoints or --scenario (one of them)");
   }
@@ -47,7 +50,61 @@ int RunFollow(Client& client, const FollowOptions& o) {
   req.set_max_distance(o.max_distance);
   req.set_planner(o.planner);
   req.set_preempt(o.preempt);
+  return req;
+}
 
+// --measure: the mission judged by navsim's ground truth over its own span of simulated time
+// (from `start_stamp`, its first feedback, when there was one), into j["truth"] and, without
+// --json, as text.
+void ReportTruth(const FollowOptions& o, MeasuredRun& measured, PoseErrorMeter& meter, PeopleProximityMeter& proximity,
+                 double start_stamp, const v1::NavigationResult& result, nlohmann::json& j) {
+  const auto after = measured.telemetry->WaitForSimStatus(5.0);
+  if (!after) throw std::runtime_error("--measure: the simulator stopped reporting");
+  const double end_stamp = dds::FromTime(after->header().stamp());
+  const double from = start_stamp >= 0.0 ? start_stamp : end_stamp - result.elapsed();
+  meter.SetWindow(from, from + result.elapsed());
+  const PoseErrorFigures e = meter.Figures();
+  // Seed 000 reports its runs by their first 100 m of true travel.
+  const double first_100m = meter.TimeToTravel(100.0, from);
+  const double distance = after->distance_travelled() - measured.before.distance_travelled();
+  const unsigned collisions = after->collisions() - measured.before.collisions();
+  j["truth"] = {{"distance_travelled", distance},
+                {"sim_time", result.elapsed()},
+                {"collisions", collisions},
+                {"mean_position_error", e.mean_position},
+                {"rms_position_error", e.rms_position},
+                {"max_position_error", e.max_position},
+                {"mean_heading_error", e.mean_heading},
+                {"samples", e.samples},
+                {"mission_start", from}};
+  if (first_100m >= 0.0) j["truth"]["time_to_first_100m"] = first_100m;
+  proximity.SetWindow(from, from + result.elapsed());
+  const ProximityFigures people = proximity.Figures();
+  if (people.samples > 0) {
+    j["truth"]["people"] = {{"time", people.time},
+                            {"outside_personal_zone", people.outside_personal},
+                            {"outside_intimate_zone", people.outside_intimate},
+                            {"nearest", people.nearest}};
+  }
+  if (o.json) return;
+  std::printf(
+      "ground truth: %.2f m in %.1f s of simulated time; mean position error %.4f m (rms %.4f, max %.4f, %zu "
+      "samples), mean heading error %.2f deg; collisions %u\n",
+      distance, result.elapsed(), e.mean_position, e.rms_position, e.max_position, e.samples,
+      e.mean_heading * kRadToDeg, collisions);
+  if (first_100m >= 0.0) std::printf("ground truth: the first 100 m took %.1f s\n", first_100m);
+  if (people.samples > 0) {
+    std::printf(
+        "ground truth: the nearest person was outside the personal zone (1.2 m) %.2f%% of %.1f s, outside "
+        "the intimate zone (0.45 m) %.2f%%; closest approach %.2f m\n",
+        100.0 * people.outside_personal, people.time, 100.0 * people.outside_intimate, people.nearest);
+  }
+}
+
+}  // namespace
+
+int RunFollow(Client& client, const FollowOptions& o) {
+  const v1::FollowWaypointsRequest req = FollowRequest(o);
   // Ground truth and navd's estimates, matched by stamp, from before the mission starts.
   PoseErrorMeter meter;
   PeopleProximityMeter proximity(o.robot_namespace.empty() ? "robot" : o.robot_namespace);
@@ -55,8 +112,6 @@ int RunFollow(Client& client, const FollowOptions& o) {
   if (o.measure)
     measured = StartMeasuring(meter, {o.domain, dds::Network::kLoopback, "navctl-follow", {}, o.dds_security, {}},
                               o.robot_namespace, &proximity);
-  const std::unique_ptr<Telemetry>& telemetry = measured.telemetry;
-  const auto& before = measured.before;
 
   double start_stamp = -1.0, last_print = -1e9;
   uint32_t recoveries = 0, reflexes = 0;  // the mission's counts, from its feedback
@@ -91,51 +146,7 @@ int RunFollow(Client& client, const FollowOptions& o) {
         OutcomeText(result.outcome()), result.message().c_str(), result.waypoints_reached(),
         result.distance_travelled(), result.elapsed(), recoveries, reflexes);
   }
-  if (telemetry) {
-    const auto after = telemetry->WaitForSimStatus(5.0);
-    if (!after) throw std::runtime_error("--measure: the simulator stopped reporting");
-    // The mission's own span of simulated time (its first feedback carries its start).
-    const double end_stamp = dds::FromTime(after->header().stamp());
-    const double from = start_stamp >= 0.0 ? start_stamp : end_stamp - result.elapsed();
-    meter.SetWindow(from, from + result.elapsed());
-    const PoseErrorFigures e = meter.Figures();
-    // Seed 000 reports its runs by their first 100 m of true travel.
-    const double first_100m = meter.TimeToTravel(100.0, from);
-    const double distance = after->distance_travelled() - before.distance_travelled();
-    const unsigned collisions = after->collisions() - before.collisions();
-    j["truth"] = {{"distance_travelled", distance},
-                  {"sim_time", result.elapsed()},
-                  {"collisions", collisions},
-                  {"mean_position_error", e.mean_position},
-                  {"rms_position_error", e.rms_position},
-                  {"max_position_error", e.max_position},
-                  {"mean_heading_error", e.mean_heading},
-                  {"samples", e.samples},
-                  {"mission_start", from}};
-    if (first_100m >= 0.0) j["truth"]["time_to_first_100m"] = first_100m;
-    proximity.SetWindow(from, from + result.elapsed());
-    const ProximityFigures people = proximity.Figures();
-    if (people.samples > 0) {
-      j["truth"]["people"] = {{"time", people.time},
-                              {"outside_personal_zone", people.outside_personal},
-                              {"outside_intimate_zone", people.outside_intimate},
-                              {"nearest", people.nearest}};
-    }
-    if (!o.json) {
-      std::printf(
-          "ground truth: %.2f m in %.1f s of simulated time; mean position error %.4f m (rms %.4f, max %.4f, %zu "
-          "samples), mean heading error %.2f deg; collisions %u\n",
-          distance, result.elapsed(), e.mean_position, e.rms_position, e.max_position, e.samples,
-          e.mean_heading * kRadToDeg, collisions);
-      if (first_100m >= 0.0) std::printf("ground truth: the first 100 m took %.1f s\n", first_100m);
-      if (people.samples > 0) {
-        std::printf(
-            "ground truth: the nearest person was outside the personal zone (1.2 m) %.2f%% of %.1f s, outside "
-            "the intimate zone (0.45 m) %.2f%%; closest approach %.2f m\n",
-            100.0 * people.outside_personal, people.time, 100.0 * people.outside_intimate, people.nearest);
-      }
-    }
-  }
+  if (measured.telemetry) ReportTruth(o, measured, meter, proximity, start_stamp, result, j);
   if (o.json) std::printf("%s\n", j.dump().c_str());
   return result.outcome() == v1::SUCCEEDED ? 0 : 1;
 }
