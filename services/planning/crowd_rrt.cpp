@@ -310,187 +310,224 @@ Point2 VisibleGoal(const Costmap& costmap, const Point2& from, const std::vector
 
 namespace {
 
-// One tree, grown and chosen from; PlanCrowdRrt has checked the request and the options.
-CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o) {
-  const UnicycleState& s0 = r.start;
-  const CrowdField field(costmap, r, o);
-  const Point2 start = s0.position();
-  const double start_distance = Distance(start, r.goal);
-  const double direction = start_distance > 1e-6 ? std::atan2(r.goal.y() - start.y(), r.goal.x() - start.x()) : s0.yaw;
-  const Point2 axis(std::cos(direction), std::sin(direction));
-  const Point2 normal(-axis.y(), axis.x());
-  const double reach = std::max(o.desired_speed * o.horizon, 1.0);
+// One tree, grown and chosen from (the chapter's Algorithm 1 with our additions); PlanCrowdRrt has
+// checked the request and the options. Its vertices are one `step` of the unicycle each under an
+// input from the parent, pruned where the field forbids.
+class CrowdTree {
+ public:
+  CrowdTree(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o)
+      : r_(r),
+        o_(o),
+        field_(costmap, r, o),
+        start_(r.start.position()),
+        start_distance_(Distance(start_, r.goal)),
+        direction_(start_distance_ > 1e-6 ? std::atan2(r.goal.y() - start_.y(), r.goal.x() - start_.x()) : r.start.yaw),
+        axis_(std::cos(direction_), std::sin(direction_)),
+        normal_(-axis_.y(), axis_.x()),
+        reach_(std::max(o.desired_speed * o.horizon, 1.0)),
+        // (e): 0 when off; the robot cannot stop harder than its limit.
+        stop_deceleration_(std::min(o.approach_deceleration, r.limits.max_accel)) {
+    tree_.reserve(static_cast<size_t>(o.max_nodes) + r.previous.size() + 64);
+    root_ = r.start;
+    root_.t = 0.0;
+    const double here = field_(start_, 0.0);
+    tree_.push_back({root_, {}, -1, 0.0, std::isfinite(here) ? here : 0.0, false, false});
+    // (a) A robot already deep in someone's space (they walked up to it) may stay that deep on its
+    // way out; the braking chain answers to bodies and walls only, so stopping stays a choice.
+    ceiling_ = std::max(o.max_potential, std::isfinite(here) ? here : 0.0);
+    // (b) A robot that an escape or a bump turned further than 90° from the goal's direction may
+    // turn back towards it: only headings worse than where it starts are pruned (ours; the
+    // chapter's robot always faces down the street).
+    max_heading_error_ = std::max(M_PI / 2.0, std::abs(NormalizeAngle(root_.yaw - direction_)) + 1e-6);
+  }
 
-  std::vector<Vertex> tree;
-  tree.reserve(static_cast<size_t>(o.max_nodes) + r.previous.size() + 64);
-  UnicycleState root = s0;
-  root.t = 0.0;
-  const double here = field(start, 0.0);
-  tree.push_back({root, {}, -1, 0.0, std::isfinite(here) ? here : 0.0, false, false});
-  int pruned = 0;
-  // (a) A robot already deep in someone's space (they walked up to it) may stay that deep on its
-  // way out; the braking chain answers to bodies and walls only, so stopping stays a choice.
-  const double ceiling = std::max(o.max_potential, std::isfinite(here) ? here : 0.0);
+  // The chains every plan starts from, before the random growth.
+  void AddChains() {
+    // Line 1: what is left of the last plan, replayed from where the robot is now.
+    int tip = 0;
+    for (const UnicycleInput& u : r_.previous) {
+      if ((tip = Extend(tip, u, false, true)) < 0) break;
+    }
+    // Ours: a braking chain, then standing (speed and yaw rate damped to nought).
+    Chain([this](const UnicycleState& s) { return Braking(s, r_.limits, o_.step); }, /*braking=*/true);
+    // Ours: a turn on the spot towards the goal, then on towards it. From a standstill the random
+    // extensions speed up as they turn, so a robot that passers-by left facing a wall found no way
+    // round and stood there.
+    if (root_.v < kStanding && std::abs(NormalizeAngle(root_.yaw - direction_)) > kTurnOnTheSpot) {
+      Chain(
+          [this](const UnicycleState& s) {
+            const double off = std::abs(NormalizeAngle(std::atan2(r_.goal.y() - s.y, r_.goal.x() - s.x) - s.yaw));
+            return SteerTowards(s, r_.goal, off > kSetOff ? 0.0 : o_.desired_speed, o_.gains);
+          },
+          /*braking=*/false);
+    }
+    // Ours: with the goal an end, a chain steered straight at it. The random extensions, noisy at
+    // 1.5 m/s, came within a metre of a 0.25 m goal disc and not into it, round after round.
+    if (r_.goal_tolerance > 0.0) {
+      Chain([this](const UnicycleState& s) { return SteerTowards(s, r_.goal, o_.desired_speed, o_.gains); },
+            /*braking=*/false, /*until_arrived=*/true);
+    }
+  }
 
-  // (b) A robot that an escape or a bump turned further than 90° from the goal's direction may
-  // turn back towards it: only headings worse than where it starts are pruned (ours; the
-  // chapter's robot always faces down the street).
-  const double max_heading_error = std::max(M_PI / 2.0, std::abs(NormalizeAngle(root.yaw - direction)) + 1e-6);
-  // (e): 0 when off; the robot cannot stop harder than its limit.
-  const double stop_deceleration = std::min(o.approach_deceleration, r.limits.max_accel);
+  // Lines 2-9: extensions from the vertex nearest a random target (the goal, or a point of the
+  // band ahead), with noise on the steering input, until max_nodes.
+  void GrowRandomly() {
+    // Large enough for every random target and for where the robot can get to within the horizon,
+    // within reason: beyond the grid the answers stay exact, only slower.
+    const double index_half_size =
+        std::min(std::max(1.1 * reach_ + o_.lateral_range, r_.limits.max_speed * o_.horizon) + 1.0, kIndexMaxHalfSize);
+    NearestVertexIndex index(start_, index_half_size, kIndexCell);
+    for (int i = 0; i < static_cast<int>(tree_.size()); ++i)
+      if (Growable(i)) index.Add(i, At(i).state.position());
+    std::mt19937_64 rng(r_.seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::normal_distribution<double> noise_v(0.0, o_.speed_noise), noise_w(0.0, o_.yaw_noise);
+    // A pruned extension still counts as an attempt, so a boxed-in robot's plan ends.
+    const int attempts = 4 * o_.max_nodes;
+    for (int k = 0; static_cast<int>(tree_.size()) < o_.max_nodes && k < attempts; ++k) {
+      Point2 target = r_.goal;
+      if (unit(rng) >= o_.goal_bias) {
+        target = start_ + axis_ * (reach_ * (1.1 * unit(rng) - 0.1)) +
+                 normal_ * (o_.lateral_range * (2.0 * unit(rng) - 1.0));
+      }
+      const int nearest = index.Nearest(target, [this](int i) { return At(i).state.position(); });
+      if (nearest < 0) break;
+      UnicycleInput u = SteerTowards(At(nearest).state, target, o_.desired_speed, o_.gains);
+      u.accel += noise_v(rng);
+      u.yaw_accel += noise_w(rng);
+      const int i = Extend(nearest, u, false);
+      if (i >= 0 && Growable(i)) index.Add(i, At(i).state.position());
+    }
+  }
+
+  // Line 10: the cheapest vertex by Eq. 15, not the newest; early vertices only when nothing else.
+  // None at all: an escape.
+  CrowdTrajectory Choose() const {
+    int chosen = -1;
+    double chosen_cost = std::numeric_limits<double>::infinity();
+    double latest = 0.0;
+    for (size_t i = 1; i < tree_.size(); ++i) latest = std::max(latest, tree_[i].state.t);
+    // When no vertex lives min_select_time (everything runs into someone's predicted way), the
+    // cheapest of those that stay clear the longest: the cheapest overall is the shortest, which
+    // then ends in a stop in front of people who do not stop.
+    const double earliest = std::min(o_.min_select_time, latest - o_.step) - 1e-9;
+    for (size_t i = 1; i < tree_.size(); ++i) {
+      if (tree_[i].state.t < earliest && !tree_[i].arrived) continue;
+      const double c = Total(tree_[i]);
+      if (c < chosen_cost) {
+        chosen_cost = c;
+        chosen = static_cast<int>(i);
+      }
+    }
+    CrowdTrajectory out = chosen < 0 ? Escape(field_, root_, r_, o_) : CrowdTrajectory{};
+    out.tree_size = static_cast<int>(tree_.size());
+    out.pruned = pruned_;
+    if (chosen < 0) {
+      out.cost = Total(tree_[0]);
+      return out;
+    }
+    out.cost = chosen_cost;
+    out.braking = At(chosen).braking;
+    out.arrived = At(chosen).arrived;
+    for (int i = chosen; i >= 0; i = At(i).parent) {
+      out.states.push_back(At(i).state);
+      if (i > 0) out.inputs.push_back(At(i).input);
+    }
+    std::reverse(out.states.begin(), out.states.end());
+    std::reverse(out.inputs.begin(), out.inputs.end());
+    return out;
+  }
+
+ private:
+  const Vertex& At(int i) const { return tree_[static_cast<size_t>(i)]; }
+
   // One vertex step from tree[from] under `u`; returns the new vertex's index, or -1 when pruned.
-  auto extend = [&](int from, const UnicycleInput& u, bool braking, bool kept = false) -> int {
-    const double limit = braking ? std::numeric_limits<double>::max() : ceiling;
-    const Vertex& parent = tree[static_cast<size_t>(from)];
+  int Extend(int from, const UnicycleInput& u, bool braking, bool kept = false) {
+    const double limit = braking ? std::numeric_limits<double>::max() : ceiling_;
+    const Vertex& parent = At(from);
     UnicycleState s = parent.state;
     // The field is checked at every sub-step: robot and person close at up to 3 m/s, and a vertex
     // step would jump through a person.
     double cost = parent.cost, previous = parent.potential, highest = 0.0;
     bool arrived = parent.arrived;
-    const UnicycleInput input = ClampInput(u, r.limits);
+    const UnicycleInput input = ClampInput(u, r_.limits);
     // (e) spares a vertex braking at half the limit or more.
-    const bool guarded = !braking && stop_deceleration > 0.0 && input.accel > -0.5 * r.limits.max_accel;
-    for (double done = 0.0; done < o.step - 1e-9; done += kSubStep) {
-      const double dt = std::min(kSubStep, o.step - done);
-      s = Propagate(s, u, dt, r.limits);
-      const double g = field(s.position(), s.t);
+    const bool guarded = !braking && stop_deceleration_ > 0.0 && input.accel > -0.5 * r_.limits.max_accel;
+    for (double done = 0.0; done < o_.step - 1e-9; done += kSubStep) {
+      const double dt = std::min(kSubStep, o_.step - done);
+      s = Propagate(s, u, dt, r_.limits);
+      const double g = field_(s.position(), s.t);
       highest = std::max(highest, g);
       if (!std::isfinite(g) || highest > limit) break;
       // Ours: the shortfall of the speed along the goal's direction from the desired speed, so a
       // plan that dawdles pays for every second of it, not just for the progress it lacks at the end.
-      const double shortfall = std::max(0.0, o.desired_speed - s.v * std::cos(NormalizeAngle(s.yaw - direction)));
+      const double shortfall = std::max(0.0, o_.desired_speed - s.v * std::cos(NormalizeAngle(s.yaw - direction_)));
       // (e) Too fast to stop short of someone ahead, and not braking.
       if (guarded && s.v > 0.0 &&
-          s.v * s.v > 2.0 * stop_deceleration * std::max(0.0, field.GapAhead(s.position(), s.yaw, s.t))) {
+          s.v * s.v > 2.0 * stop_deceleration_ * std::max(0.0, field_.GapAhead(s.position(), s.yaw, s.t))) {
         highest = CrowdField::kBlocked;
         break;
       }
-      if (!arrived) cost += 0.5 * dt * (previous + g) + dt * o.speed_weight * shortfall * shortfall;
-      arrived = arrived || (r.goal_tolerance > 0.0 && Distance(s.position(), r.goal) <= r.goal_tolerance);
+      if (!arrived) cost += 0.5 * dt * (previous + g) + dt * o_.speed_weight * shortfall * shortfall;
+      arrived = arrived || (r_.goal_tolerance > 0.0 && Distance(s.position(), r_.goal) <= r_.goal_tolerance);
       previous = g;
     }
-    const bool heading_back = std::abs(NormalizeAngle(s.yaw - direction)) > max_heading_error && s.v > 0.0;
-    if (!std::isfinite(highest) || highest > limit || heading_back || s.t > o.horizon + 1e-9) {
-      ++pruned;
+    const bool heading_back = std::abs(NormalizeAngle(s.yaw - direction_)) > max_heading_error_ && s.v > 0.0;
+    if (!std::isfinite(highest) || highest > limit || heading_back || s.t > o_.horizon + 1e-9) {
+      ++pruned_;
       return -1;
     }
-    tree.push_back({s, input, from, cost, previous, braking, kept, arrived});
-    return static_cast<int>(tree.size()) - 1;
-  };
-
-  // Line 1: what is left of the last plan, replayed from where the robot is now.
-  int tip = 0;
-  for (const UnicycleInput& u : r.previous) {
-    if ((tip = extend(tip, u, false, true)) < 0) break;
-  }
-  // Ours: a braking chain, then standing (speed and yaw rate damped to nought).
-  tip = 0;
-  while (tip >= 0 && tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
-    const UnicycleState& s = tree[static_cast<size_t>(tip)].state;
-    tip = extend(tip, Braking(s, r.limits, o.step), true);
+    tree_.push_back({s, input, from, cost, previous, braking, kept, arrived});
+    return static_cast<int>(tree_.size()) - 1;
   }
 
-  // Ours: a turn on the spot towards the goal, then on towards it. From a standstill the random
-  // extensions speed up as they turn, so a robot that passers-by left facing a wall found no way
-  // round and stood there.
-  if (root.v < kStanding && std::abs(NormalizeAngle(root.yaw - direction)) > kTurnOnTheSpot) {
-    tip = 0;
-    while (tip >= 0 && tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
-      const UnicycleState& s = tree[static_cast<size_t>(tip)].state;
-      const double off = std::abs(NormalizeAngle(std::atan2(r.goal.y() - s.y, r.goal.x() - s.x) - s.yaw));
-      tip = extend(tip, SteerTowards(s, r.goal, off > kSetOff ? 0.0 : o.desired_speed, o.gains), false);
-    }
-  }
-
-  // Ours: with the goal an end, a chain steered straight at it. The random extensions, noisy at
-  // 1.5 m/s, came within a metre of a 0.25 m goal disc and not into it, round after round.
-  if (r.goal_tolerance > 0.0) {
-    tip = 0;
-    while (tip >= 0 && !tree[static_cast<size_t>(tip)].arrived &&
-           tree[static_cast<size_t>(tip)].state.t < o.horizon - 1e-9) {
-      tip = extend(tip, SteerTowards(tree[static_cast<size_t>(tip)].state, r.goal, o.desired_speed, o.gains), false);
+  // A chain from the root, `input` of each tip's state, to the horizon (or until a vertex is
+  // pruned, or with `until_arrived` until one arrives).
+  template <typename Input>
+  void Chain(const Input& input, bool braking, bool until_arrived = false) {
+    int tip = 0;
+    while (tip >= 0 && !(until_arrived && At(tip).arrived) && At(tip).state.t < o_.horizon - 1e-9) {
+      const UnicycleState s = At(tip).state;  // a copy: Extend grows the tree under it
+      tip = Extend(tip, input(s), braking);
     }
   }
 
   // Too late for children; the braking chain is a way out, not a place to grow from (trees grown
   // from its end stop first and then set off again).
-  const auto growable = [&](int i) {
-    const Vertex& v = tree[static_cast<size_t>(i)];
-    return v.state.t <= o.horizon - o.step + 1e-9 && !v.braking;
-  };
-  // Large enough for every random target and for where the robot can get to within the horizon,
-  // within reason: beyond the grid the answers stay exact, only slower.
-  const double index_half_size =
-      std::min(std::max(1.1 * reach + o.lateral_range, r.limits.max_speed * o.horizon) + 1.0, kIndexMaxHalfSize);
-  NearestVertexIndex index(start, index_half_size, kIndexCell);
-  for (int i = 0; i < static_cast<int>(tree.size()); ++i)
-    if (growable(i)) index.Add(i, tree[static_cast<size_t>(i)].state.position());
-  const auto grow = [&](int from, const UnicycleInput& u) {
-    const int i = extend(from, u, false);
-    if (i >= 0 && growable(i)) index.Add(i, tree[static_cast<size_t>(i)].state.position());
-  };
+  bool Growable(int i) const { return At(i).state.t <= o_.horizon - o_.step + 1e-9 && !At(i).braking; }
 
-  std::mt19937_64 rng(r.seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::normal_distribution<double> noise_v(0.0, o.speed_noise), noise_w(0.0, o.yaw_noise);
-  // Lines 2-9. A pruned extension still counts as an attempt, so a boxed-in robot's plan ends.
-  const int attempts = 4 * o.max_nodes;
-  for (int k = 0; static_cast<int>(tree.size()) < o.max_nodes && k < attempts; ++k) {
-    Point2 target = r.goal;
-    if (unit(rng) >= o.goal_bias) {
-      target = start + axis * (reach * (1.1 * unit(rng) - 0.1)) + normal * (o.lateral_range * (2.0 * unit(rng) - 1.0));
-    }
-    const int nearest = index.Nearest(target, [&](int i) { return tree[static_cast<size_t>(i)].state.position(); });
-    if (nearest < 0) break;
-    UnicycleInput u = SteerTowards(tree[static_cast<size_t>(nearest)].state, target, o.desired_speed, o.gains);
-    u.accel += noise_v(rng);
-    u.yaw_accel += noise_w(rng);
-    grow(nearest, u);
-  }
-
-  // Line 10: the cheapest vertex by Eq. 15, not the newest; early vertices only when nothing else.
-  auto total = [&](const Vertex& v) {
-    const double progress = start_distance - Distance(v.state.position(), r.goal);
-    const double heading = NormalizeAngle(v.state.yaw - direction);
+  // Eq. 15: the way's cost and, short of the goal, the end's (progress and heading), a vertex on
+  // the last plan's remains discounted.
+  double Total(const Vertex& v) const {
+    const double progress = start_distance_ - Distance(v.state.position(), r_.goal);
+    const double heading = NormalizeAngle(v.state.yaw - direction_);
     const double end =
-        v.arrived ? 0.0 : o.end_weight * std::exp(o.end_rate * progress) + o.heading_weight * std::pow(heading, 4);
+        v.arrived ? 0.0 : o_.end_weight * std::exp(o_.end_rate * progress) + o_.heading_weight * std::pow(heading, 4);
     const double cost = v.cost + end;
-    return v.kept ? cost * o.keep_factor : cost;
-  };
-  int chosen = -1;
-  double chosen_cost = std::numeric_limits<double>::infinity();
-  double latest = 0.0;
-  for (size_t i = 1; i < tree.size(); ++i) latest = std::max(latest, tree[i].state.t);
-  // When no vertex lives min_select_time (everything runs into someone's predicted way), the
-  // cheapest of those that stay clear the longest: the cheapest overall is the shortest, which
-  // then ends in a stop in front of people who do not stop.
-  const double earliest = std::min(o.min_select_time, latest - o.step) - 1e-9;
-  for (size_t i = 1; i < tree.size(); ++i) {
-    if (tree[i].state.t < earliest && !tree[i].arrived) continue;
-    const double c = total(tree[i]);
-    if (c < chosen_cost) {
-      chosen_cost = c;
-      chosen = static_cast<int>(i);
-    }
+    return v.kept ? cost * o_.keep_factor : cost;
   }
 
-  CrowdTrajectory out = chosen < 0 ? Escape(field, root, r, o) : CrowdTrajectory{};
-  out.tree_size = static_cast<int>(tree.size());
-  out.pruned = pruned;
-  if (chosen < 0) {
-    out.cost = total(tree[0]);
-    return out;
-  }
-  out.cost = chosen_cost;
-  out.braking = tree[static_cast<size_t>(chosen)].braking;
-  out.arrived = tree[static_cast<size_t>(chosen)].arrived;
-  for (int i = chosen; i >= 0; i = tree[static_cast<size_t>(i)].parent) {
-    out.states.push_back(tree[static_cast<size_t>(i)].state);
-    if (i > 0) out.inputs.push_back(tree[static_cast<size_t>(i)].input);
-  }
-  std::reverse(out.states.begin(), out.states.end());
-  std::reverse(out.inputs.begin(), out.inputs.end());
-  return out;
+  const CrowdRrtRequest& r_;
+  const CrowdRrtOptions& o_;
+  const CrowdField field_;
+  const Point2 start_;
+  const double start_distance_;
+  const double direction_;  // rad, map frame: from the start towards the goal
+  const Point2 axis_, normal_;
+  const double reach_;  // m: how far ahead random targets lie
+  const double stop_deceleration_;
+  UnicycleState root_;
+  double ceiling_ = 0.0;  // the potential no vertex but the braking chain's may exceed
+  double max_heading_error_ = 0.0;
+  std::vector<Vertex> tree_;
+  int pruned_ = 0;
+};
+
+CrowdTrajectory PlanOnce(const Costmap& costmap, const CrowdRrtRequest& r, const CrowdRrtOptions& o) {
+  CrowdTree tree(costmap, r, o);
+  tree.AddChains();
+  tree.GrowRandomly();
+  return tree.Choose();
 }
 
 }  // namespace
