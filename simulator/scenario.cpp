@@ -285,161 +285,149 @@ int PlaceRandomObstacles(const YamlFields& f, const YAML::Node& n, Scenario& s, 
   return placed;
 }
 
-Scenario Parse(const YamlFields& f, const std::string& text, const std::string& base_dir) {
-  const YAML::Node doc = ParseYamlMapping(text, f.source());
-  f.CheckKeys(
-      doc, "",
-      {"name", "world", "seed", "targets", "hidden_obstacles", "doors", "robots", "moving_obstacles", "people"});
-  Scenario s;
-  s.source = f.source();
-  s.name = doc["name"] ? f.String(doc["name"], "name") : std::filesystem::path(f.source()).stem().string();
+// `world:`: a world file (relative to the scenario) or "default".
+World ReadWorld(const YamlFields& f, const YAML::Node& doc, const std::string& base_dir) {
   if (!doc["world"]) f.Fail("world", "is missing (a world file path, relative to the scenario, or 'default')", doc);
   const YAML::Node w = doc["world"];
   if (!w.IsScalar()) f.Fail("world", "must be a world file path or 'default'", w);
   const std::string world_path = w.as<std::string>();
-  if (world_path == "default") {
-    s.world = DefaultWorld();
-  } else {
-    std::filesystem::path p(world_path);
-    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
-    s.world = LoadWorldFile(p.string());
-  }
-  s.truth = s.world.map;
-  if (doc["seed"]) {
-    s.seed = static_cast<uint64_t>(f.Integer(doc["seed"], "seed", 0, 2'000'000'000));
-  }
-  if (doc["targets"]) s.targets = f.Points(doc["targets"], "targets", 1);
+  if (world_path == "default") return DefaultWorld();
+  std::filesystem::path p(world_path);
+  if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
+  return LoadWorldFile(p.string());
+}
 
-  // Robots.
-  if (doc["robots"]) {
-    const YAML::Node robots = doc["robots"];
-    f.ExpectSequence(robots, "robots", "robots");
-    if (robots.size() == 0) f.Fail("robots", "must list at least one robot", robots);
-    std::set<std::string> names;
-    const std::regex valid_name("[A-Za-z][A-Za-z0-9_]*");
-    for (size_t i = 0; i < robots.size(); ++i) {
-      const YAML::Node r = robots[i];
-      const std::string field = Index("robots", i);
-      f.ExpectMap(r, field);
-      RobotSpec spec;
-      spec.body = s.world.robot;
-      ReadRobotDescription(f, r, field + ".", spec.body, {"name", "sensors"});
-      if (r["name"]) spec.name = f.String(r["name"], field + ".name");
-      if (robots.size() > 1 && spec.name.empty())
-        f.Fail(field + ".name", "is required when there are several robots", r);
-      if (!spec.name.empty() && !std::regex_match(spec.name, valid_name)) {
-        f.Fail(field + ".name", "must be a topic name (a letter, then letters, digits or _)", r["name"]);
-      }
-      if (!names.insert(spec.name).second) f.Fail(field + ".name", "repeats robot name '" + spec.name + "'", r["name"]);
-      if (r["start"]) {
-        spec.start = f.PoseOf(r["start"], field + ".start");
-      } else if (i == 0) {
-        spec.start = s.world.start;
-      } else {
-        f.Fail(field + ".start", "is missing ([x, y, theta] in metres and radians)", r);
-      }
-      spec.laser = s.world.laser;
-      spec.camera = s.world.camera;
-      spec.bumper = spec.encoders = true;
-      if (r["sensors"]) ReadSensors(f, r["sensors"], field + ".", s.world, spec);
-      s.robots.push_back(spec);
+// `robots:`: each the world's robot with what it overrides, named (several need names), at its
+// start (the first may take the world's), with the world's sensors unless it lists its own.
+std::vector<RobotSpec> ReadRobots(const YamlFields& f, const YAML::Node& robots, const World& world) {
+  f.ExpectSequence(robots, "robots", "robots");
+  if (robots.size() == 0) f.Fail("robots", "must list at least one robot", robots);
+  std::vector<RobotSpec> out;
+  std::set<std::string> names;
+  const std::regex valid_name("[A-Za-z][A-Za-z0-9_]*");
+  for (size_t i = 0; i < robots.size(); ++i) {
+    const YAML::Node r = robots[i];
+    const std::string field = Index("robots", i);
+    f.ExpectMap(r, field);
+    RobotSpec spec;
+    spec.body = world.robot;
+    ReadRobotDescription(f, r, field + ".", spec.body, {"name", "sensors"});
+    if (r["name"]) spec.name = f.String(r["name"], field + ".name");
+    if (robots.size() > 1 && spec.name.empty()) f.Fail(field + ".name", "is required when there are several robots", r);
+    if (!spec.name.empty() && !std::regex_match(spec.name, valid_name)) {
+      f.Fail(field + ".name", "must be a topic name (a letter, then letters, digits or _)", r["name"]);
     }
-  } else {
-    s.robots = ScenarioFromWorld(s.world).robots;
+    if (!names.insert(spec.name).second) f.Fail(field + ".name", "repeats robot name '" + spec.name + "'", r["name"]);
+    if (r["start"]) {
+      spec.start = f.PoseOf(r["start"], field + ".start");
+    } else if (i == 0) {
+      spec.start = world.start;
+    } else {
+      f.Fail(field + ".start", "is missing ([x, y, theta] in metres and radians)", r);
+    }
+    spec.laser = world.laser;
+    spec.camera = world.camera;
+    spec.bumper = spec.encoders = true;
+    if (r["sensors"]) ReadSensors(f, r["sensors"], field + ".", world, spec);
+    out.push_back(spec);
   }
+  return out;
+}
 
-  // Doors and hidden obstacles change only the truth; doors are filled in once the hidden
-  // obstacles are, so that opening one can restore what lies under it.
-  if (const YAML::Node doors = doc["doors"]) {
-    f.ExpectSequence(doors, "doors", "{name, box, closed}");
-    for (size_t i = 0; i < doors.size(); ++i) {
-      const std::string field = Index("doors", i);
-      f.ExpectMap(doors[i], field);
-      f.CheckKeys(doors[i], field, {"name", "box", "closed"});
-      Door d;
-      if (!doors[i]["name"] || !doors[i]["box"]) f.Fail(field, "needs a name and a box", doors[i]);
-      d.name = f.String(doors[i]["name"], field + ".name");
-      d.box = ReadBox(f, doors[i]["box"], field + ".box");
-      if (doors[i]["closed"]) d.closed = f.Bool(doors[i]["closed"], field + ".closed");
-      s.doors.push_back(d);
-    }
+std::vector<Door> ReadDoors(const YamlFields& f, const YAML::Node& doors) {
+  f.ExpectSequence(doors, "doors", "{name, box, closed}");
+  std::vector<Door> out;
+  for (size_t i = 0; i < doors.size(); ++i) {
+    const std::string field = Index("doors", i);
+    f.ExpectMap(doors[i], field);
+    f.CheckKeys(doors[i], field, {"name", "box", "closed"});
+    Door d;
+    if (!doors[i]["name"] || !doors[i]["box"]) f.Fail(field, "needs a name and a box", doors[i]);
+    d.name = f.String(doors[i]["name"], field + ".name");
+    d.box = ReadBox(f, doors[i]["box"], field + ".box");
+    if (doors[i]["closed"]) d.closed = f.Bool(doors[i]["closed"], field + ".closed");
+    out.push_back(d);
   }
-  std::mt19937_64 rng(s.seed * 7919 + 17);
-  if (const YAML::Node h = doc["hidden_obstacles"]) {
-    f.ExpectMap(h, "hidden_obstacles");
-    f.CheckKeys(h, "hidden_obstacles", {"boxes", "discs", "glass", "solids", "random"});
-    if (h["boxes"]) {
-      f.ExpectSequence(h["boxes"], "hidden_obstacles.boxes", "[x_min, y_min, x_max, y_max]");
-      for (size_t i = 0; i < h["boxes"].size(); ++i) {
-        const Box b = ReadBox(f, h["boxes"][i], Index("hidden_obstacles.boxes", i));
-        s.truth.FillBox(b.min, b.max);
-        ++s.hidden_obstacles;
-      }
-    }
-    if (h["glass"]) {
-      f.ExpectSequence(h["glass"], "hidden_obstacles.glass", "[x_min, y_min, x_max, y_max]");
-      for (size_t i = 0; i < h["glass"].size(); ++i) {
-        const Box b = ReadBox(f, h["glass"][i], Index("hidden_obstacles.glass", i));
-        FillHidden(s, b.min, b.max, true);
-        ++s.hidden_obstacles;
-      }
-    }
-    if (h["discs"]) {
-      f.ExpectSequence(h["discs"], "hidden_obstacles.discs", "[x, y, radius]");
-      for (size_t i = 0; i < h["discs"].size(); ++i) {
-        const std::string field = Index("hidden_obstacles.discs", i);
-        const auto v = f.Numbers(h["discs"][i], field, 3, 3);
-        if (v[2] <= 0) f.Fail(field, "must have a positive radius", h["discs"][i]);
-        FillPolygon(s.truth, [&] {
-          Polygon p;
-          for (int k = 0; k < 16; ++k)
-            p.push_back({v[0] + v[2] * std::cos(k * M_PI / 8), v[1] + v[2] * std::sin(k * M_PI / 8)});
-          return p;
-        }());
-        ++s.hidden_obstacles;
-      }
-    }
-    if (h["solids"]) {
-      ReadSolids(f, h["solids"], s);
-      FillSolids(s);
-      s.hidden_obstacles += static_cast<int>(h["solids"].size());
-    }
-    if (h["random"]) s.hidden_obstacles += PlaceRandomObstacles(f, h["random"], s, rng);
-  }
-  s.fixed_truth = s.truth;
-  s.truth = TruthWithDoors(s.fixed_truth, s.doors);
+  return out;
+}
 
-  // Moving obstacles and people.
-  if (const YAML::Node m = doc["moving_obstacles"]) {
-    f.ExpectSequence(m, "moving_obstacles", "{name, radius, speed, loop}");
-    for (size_t i = 0; i < m.size(); ++i) {
-      const std::string field = Index("moving_obstacles", i);
-      f.ExpectMap(m[i], field);
-      f.CheckKeys(m[i], field, {"name", "radius", "speed", "loop", "patience"});
-      MovingObstacleDescription d;
-      d.name = m[i]["name"] ? f.String(m[i]["name"], field + ".name") : "obstacle" + std::to_string(i + 1);
-      f.Read(m[i], "radius", field + ".", d.radius, &YamlFields::Positive);
-      f.Read(m[i], "speed", field + ".", d.speed, &YamlFields::NonNegative);
-      f.Read(m[i], "patience", field + ".", d.patience, &YamlFields::NonNegative);
-      if (!m[i]["loop"]) f.Fail(field + ".loop", "is missing (a list of at least 2 [x, y] points)", m[i]);
-      d.loop = f.Points(m[i]["loop"], field + ".loop", 2);
-      // The whole loop must be clear of walls, or the obstacle would stall forever.
-      for (size_t k = 0; k < d.loop.size(); ++k) {
-        const Point2 a = d.loop[k], b = d.loop[(k + 1) % d.loop.size()];
-        const int n = std::max(1, static_cast<int>(Distance(a, b) / (s.truth.resolution() / 2)));
-        for (int j = 0; j <= n; ++j) {
-          const Point2 p = a + (b - a) * (static_cast<double>(j) / n);
-          if (s.truth.DiscHitsObstacle(p, d.radius)) {
-            f.Fail(Index(field + ".loop", k), "runs into a wall at " + FormatPoint(p), m[i]["loop"][k]);
-          }
+// `hidden_obstacles:` into the scenario's truth (boxes, glass, discs, solids, then the random ones
+// clear of those), counted in s.hidden_obstacles.
+void ReadHiddenObstacles(const YamlFields& f, const YAML::Node& h, Scenario& s, std::mt19937_64& rng) {
+  f.ExpectMap(h, "hidden_obstacles");
+  f.CheckKeys(h, "hidden_obstacles", {"boxes", "discs", "glass", "solids", "random"});
+  if (h["boxes"]) {
+    f.ExpectSequence(h["boxes"], "hidden_obstacles.boxes", "[x_min, y_min, x_max, y_max]");
+    for (size_t i = 0; i < h["boxes"].size(); ++i) {
+      const Box b = ReadBox(f, h["boxes"][i], Index("hidden_obstacles.boxes", i));
+      s.truth.FillBox(b.min, b.max);
+      ++s.hidden_obstacles;
+    }
+  }
+  if (h["glass"]) {
+    f.ExpectSequence(h["glass"], "hidden_obstacles.glass", "[x_min, y_min, x_max, y_max]");
+    for (size_t i = 0; i < h["glass"].size(); ++i) {
+      const Box b = ReadBox(f, h["glass"][i], Index("hidden_obstacles.glass", i));
+      FillHidden(s, b.min, b.max, true);
+      ++s.hidden_obstacles;
+    }
+  }
+  if (h["discs"]) {
+    f.ExpectSequence(h["discs"], "hidden_obstacles.discs", "[x, y, radius]");
+    for (size_t i = 0; i < h["discs"].size(); ++i) {
+      const std::string field = Index("hidden_obstacles.discs", i);
+      const auto v = f.Numbers(h["discs"][i], field, 3, 3);
+      if (v[2] <= 0) f.Fail(field, "must have a positive radius", h["discs"][i]);
+      FillPolygon(s.truth, [&] {
+        Polygon p;
+        for (int k = 0; k < 16; ++k)
+          p.push_back({v[0] + v[2] * std::cos(k * M_PI / 8), v[1] + v[2] * std::sin(k * M_PI / 8)});
+        return p;
+      }());
+      ++s.hidden_obstacles;
+    }
+  }
+  if (h["solids"]) {
+    ReadSolids(f, h["solids"], s);
+    FillSolids(s);
+    s.hidden_obstacles += static_cast<int>(h["solids"].size());
+  }
+  if (h["random"]) s.hidden_obstacles += PlaceRandomObstacles(f, h["random"], s, rng);
+}
+
+// `moving_obstacles:`, each on a loop clear of the truth's walls (or it would stall forever).
+std::vector<MovingObstacleDescription> ReadMovingObstacles(const YamlFields& f, const YAML::Node& m,
+                                                           const OccupancyGrid& truth) {
+  f.ExpectSequence(m, "moving_obstacles", "{name, radius, speed, loop}");
+  std::vector<MovingObstacleDescription> out;
+  for (size_t i = 0; i < m.size(); ++i) {
+    const std::string field = Index("moving_obstacles", i);
+    f.ExpectMap(m[i], field);
+    f.CheckKeys(m[i], field, {"name", "radius", "speed", "loop", "patience"});
+    MovingObstacleDescription d;
+    d.name = m[i]["name"] ? f.String(m[i]["name"], field + ".name") : "obstacle" + std::to_string(i + 1);
+    f.Read(m[i], "radius", field + ".", d.radius, &YamlFields::Positive);
+    f.Read(m[i], "speed", field + ".", d.speed, &YamlFields::NonNegative);
+    f.Read(m[i], "patience", field + ".", d.patience, &YamlFields::NonNegative);
+    if (!m[i]["loop"]) f.Fail(field + ".loop", "is missing (a list of at least 2 [x, y] points)", m[i]);
+    d.loop = f.Points(m[i]["loop"], field + ".loop", 2);
+    for (size_t k = 0; k < d.loop.size(); ++k) {
+      const Point2 a = d.loop[k], b = d.loop[(k + 1) % d.loop.size()];
+      const int n = std::max(1, static_cast<int>(Distance(a, b) / (truth.resolution() / 2)));
+      for (int j = 0; j <= n; ++j) {
+        const Point2 p = a + (b - a) * (static_cast<double>(j) / n);
+        if (truth.DiscHitsObstacle(p, d.radius)) {
+          f.Fail(Index(field + ".loop", k), "runs into a wall at " + FormatPoint(p), m[i]["loop"][k]);
         }
       }
-      s.moving_obstacles.push_back(d);
     }
+    out.push_back(d);
   }
-  if (doc["people"]) s.crowd = ReadCrowd(f, doc["people"], s.world);
+  return out;
+}
 
-  // Every robot must start in free space, clear of the others.
+// Every robot must start in free space, clear of the others.
+void CheckRobotStarts(const YamlFields& f, const YAML::Node& doc, const Scenario& s) {
   for (size_t i = 0; i < s.robots.size(); ++i) {
     const auto& r = s.robots[i];
     const YAML::Node at = doc["robots"] ? doc["robots"][i] : doc["world"];
@@ -453,6 +441,33 @@ Scenario Parse(const YamlFields& f, const std::string& text, const std::string& 
       }
     }
   }
+}
+
+Scenario Parse(const YamlFields& f, const std::string& text, const std::string& base_dir) {
+  const YAML::Node doc = ParseYamlMapping(text, f.source());
+  f.CheckKeys(
+      doc, "",
+      {"name", "world", "seed", "targets", "hidden_obstacles", "doors", "robots", "moving_obstacles", "people"});
+  Scenario s;
+  s.source = f.source();
+  s.name = doc["name"] ? f.String(doc["name"], "name") : std::filesystem::path(f.source()).stem().string();
+  s.world = ReadWorld(f, doc, base_dir);
+  s.truth = s.world.map;
+  if (doc["seed"]) {
+    s.seed = static_cast<uint64_t>(f.Integer(doc["seed"], "seed", 0, 2'000'000'000));
+  }
+  if (doc["targets"]) s.targets = f.Points(doc["targets"], "targets", 1);
+  s.robots = doc["robots"] ? ReadRobots(f, doc["robots"], s.world) : ScenarioFromWorld(s.world).robots;
+  // Doors and hidden obstacles change only the truth; doors are filled in once the hidden
+  // obstacles are, so that opening one can restore what lies under it.
+  if (const YAML::Node doors = doc["doors"]) s.doors = ReadDoors(f, doors);
+  std::mt19937_64 rng(s.seed * 7919 + 17);
+  if (const YAML::Node h = doc["hidden_obstacles"]) ReadHiddenObstacles(f, h, s, rng);
+  s.fixed_truth = s.truth;
+  s.truth = TruthWithDoors(s.fixed_truth, s.doors);
+  if (const YAML::Node m = doc["moving_obstacles"]) s.moving_obstacles = ReadMovingObstacles(f, m, s.truth);
+  if (doc["people"]) s.crowd = ReadCrowd(f, doc["people"], s.world);
+  CheckRobotStarts(f, doc, s);
   return s;
 }
 
