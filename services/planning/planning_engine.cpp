@@ -1,8 +1,10 @@
 #include "services/planning/planning_engine.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <algorithm>
+#include <cstdio>
+#include <optional>
 
 #include "services/common/error.h"
 #include "services/planning/elastic_band.h"
@@ -21,6 +23,102 @@ const std::vector<PlannerOptionSpec>& CommonOptions() {
 void CheckFinite(const Point2& p, const std::string& field) {
   if (!std::isfinite(p.x())) throw Error(ErrorCode::kInvalidArgument, field + ".x is not a finite number");
   if (!std::isfinite(p.y())) throw Error(ErrorCode::kInvalidArgument, field + ".y is not a finite number");
+}
+
+// Every number of the request finite, and every moving body's radius a number of metres.
+void CheckRequest(const Point2& start, const Point2& goal, const PlanningScene& scene) {
+  CheckFinite(start, "start");
+  CheckFinite(goal, "goal");
+  for (size_t i = 0; i < scene.moving.size(); ++i) {
+    const std::string field = "moving[" + std::to_string(i) + "]";
+    CheckFinite(scene.moving[i].position, field + ".position");
+    CheckFinite(scene.moving[i].velocity, field + ".velocity");
+    if (!(scene.moving[i].radius >= 0.0 && scene.moving[i].radius < 1e3))
+      throw Error(ErrorCode::kInvalidArgument, field + ".radius must be a number of metres >= 0");
+  }
+  for (size_t i = 0; i < scene.obstacle_cells.size(); ++i)
+    CheckFinite(scene.obstacle_cells[i], "obstacle_cells[" + std::to_string(i) + "]");
+}
+
+void CheckInsideMap(const OccupancyGrid& grid, const Point2& p, const std::string& field) {
+  if (!grid.ContainsPoint(p)) {
+    throw Error(ErrorCode::kInvalidArgument, field + " " + FormatPoint(p) + " is outside the map, which spans " +
+                                                 FormatPoint(grid.origin()) + " to " +
+                                                 FormatPoint(grid.origin() + Point2(grid.size_x(), grid.size_y())));
+  }
+}
+
+// The goal's cell, where the robot can stand: not in an obstacle nor within its inflation.
+CellIndex GoalCell(const Costmap& costmap, const Point2& goal) {
+  const CellIndex goal_cell = costmap.grid().CellOf(goal);
+  if (costmap.grid().IsOccupied(goal_cell)) {
+    throw Error(ErrorCode::kInvalidArgument, "goal " + FormatPoint(goal) + " is inside an obstacle");
+  }
+  if (costmap.IsLethal(goal_cell)) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", costmap.options().inflation_radius);
+    throw Error(ErrorCode::kInvalidArgument, "goal " + FormatPoint(goal) + " is within " + buf +
+                                                 " m of an obstacle or unknown space: the robot cannot stand there");
+  }
+  return goal_cell;
+}
+
+// The start's cell; a start within the inflation (a robot brushing a wall) leaves it by the
+// nearest free cell within `recovery_radius` metres.
+CellIndex StartCell(const Costmap& costmap, const Point2& start, double recovery_radius) {
+  const OccupancyGrid& grid = costmap.grid();
+  const CellIndex start_cell = grid.CellOf(start);
+  if (grid.IsOccupied(start_cell)) {
+    throw Error(ErrorCode::kInvalidArgument, "start " + FormatPoint(start) + " is inside an obstacle");
+  }
+  if (!costmap.IsLethal(start_cell)) return start_cell;
+  const std::optional<CellIndex> free =
+      costmap.NearestFree(start_cell, static_cast<int>(recovery_radius / grid.resolution()), false);
+  if (!free) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf,
+                  " is within %.2f m of an obstacle or unknown space, and no free cell is within %.2f m",
+                  costmap.options().inflation_radius, recovery_radius);
+    throw Error(ErrorCode::kInvalidArgument, "start " + FormatPoint(start) + buf);
+  }
+  return *free;
+}
+
+// The path's points: the cells' (or the planner's own points), joined to the exact start and goal,
+// then shortened and relaxed as the options ask. `recovered`: the start left the inflation first.
+std::vector<Point2> PathPoints(const Costmap& costmap, const CellPath& cells, const Point2& start, const Point2& goal,
+                               bool recovered, const PlannerOptions& options, const StopRequested& stop) {
+  const OccupancyGrid& grid = costmap.grid();
+  // The end cells' own centres are dropped when the exact points see their neighbours directly
+  // (always for grid steps; any-angle planners checked visibility from the centres only).
+  std::vector<Point2> points{start};
+  if (!cells.points.empty()) {
+    points.insert(points.end(), cells.points.begin(), cells.points.end());
+  } else {
+    for (const CellIndex& c : cells.cells) points.push_back(grid.CellCenter(c));
+  }
+  points.push_back(goal);
+  if (!cells.keep_shape && points.size() > 3 && costmap.SegmentFree(points[points.size() - 3], goal)) {
+    points.erase(points.end() - 2);
+  }
+  if (!cells.keep_shape && !recovered && points.size() > 2 && costmap.SegmentFree(start, points[2])) {
+    points.erase(points.begin() + 1);
+  }
+  if (options.at("smooth") != 0.0 && !cells.keep_shape) {
+    // The first hop may leave the inflation zone, which the shortcut test would reject; keep it.
+    if (recovered) {
+      std::vector<Point2> rest(points.begin() + 1, points.end());
+      rest = ShortcutPath(costmap, rest, stop);
+      points.resize(1);
+      points.insert(points.end(), rest.begin(), rest.end());
+    } else {
+      points = ShortcutPath(costmap, points, stop);
+    }
+  }
+  if (options.at("elastic_band") != 0.0 && !cells.keep_shape && cells.speed_limits.empty()) {
+    points = ElasticBand(costmap, points);
+  }
+  return points;
 }
 
 }  // namespace
@@ -176,17 +274,7 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
                                      const std::map<std::string, double>& given, const StopRequested& stop,
                                      const PlanningScene& scene) {
   const auto t0 = std::chrono::steady_clock::now();
-  CheckFinite(start, "start");
-  CheckFinite(goal, "goal");
-  for (size_t i = 0; i < scene.moving.size(); ++i) {
-    const std::string field = "moving[" + std::to_string(i) + "]";
-    CheckFinite(scene.moving[i].position, field + ".position");
-    CheckFinite(scene.moving[i].velocity, field + ".velocity");
-    if (!(scene.moving[i].radius >= 0.0 && scene.moving[i].radius < 1e3))
-      throw Error(ErrorCode::kInvalidArgument, field + ".radius must be a number of metres >= 0");
-  }
-  for (size_t i = 0; i < scene.obstacle_cells.size(); ++i)
-    CheckFinite(scene.obstacle_cells[i], "obstacle_cells[" + std::to_string(i) + "]");
+  CheckRequest(start, goal, scene);
   const GlobalPlanner& planner = Find(planner_name);
   const PlannerOptions options = ResolveOptions(planner, given);
   // Held for the whole request: `grid` refers into it even after a scene costmap replaces
@@ -194,44 +282,10 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
   const std::shared_ptr<const Costmap> map_costmap = CurrentCostmap();
   std::shared_ptr<const Costmap> costmap = map_costmap;
   const OccupancyGrid& grid = map_costmap->grid();
-
-  auto check_inside = [&](const Point2& p, const std::string& field) {
-    if (!grid.ContainsPoint(p)) {
-      throw Error(ErrorCode::kInvalidArgument, field + " " + FormatPoint(p) + " is outside the map, which spans " +
-                                                   FormatPoint(grid.origin()) + " to " +
-                                                   FormatPoint(grid.origin() + Point2(grid.size_x(), grid.size_y())));
-    }
-  };
-  check_inside(start, "start");
-  check_inside(goal, "goal");
-
-  const CellIndex goal_cell = grid.CellOf(goal);
-  if (grid.IsOccupied(goal_cell)) {
-    throw Error(ErrorCode::kInvalidArgument, "goal " + FormatPoint(goal) + " is inside an obstacle");
-  }
-  if (costmap->IsLethal(goal_cell)) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", costmap->options().inflation_radius);
-    throw Error(ErrorCode::kInvalidArgument, "goal " + FormatPoint(goal) + " is within " + buf +
-                                                 " m of an obstacle or unknown space: the robot cannot stand there");
-  }
-
-  CellIndex start_cell = grid.CellOf(start);
-  if (grid.IsOccupied(start_cell)) {
-    throw Error(ErrorCode::kInvalidArgument, "start " + FormatPoint(start) + " is inside an obstacle");
-  }
-  if (costmap->IsLethal(start_cell)) {
-    const std::optional<CellIndex> free =
-        costmap->NearestFree(start_cell, static_cast<int>(options_.start_recovery_radius / grid.resolution()), false);
-    if (!free) {
-      char buf[96];
-      std::snprintf(buf, sizeof buf,
-                    " is within %.2f m of an obstacle or unknown space, and no free cell is within %.2f m",
-                    costmap->options().inflation_radius, options_.start_recovery_radius);
-      throw Error(ErrorCode::kInvalidArgument, "start " + FormatPoint(start) + buf);
-    }
-    start_cell = *free;
-  }
+  CheckInsideMap(grid, start, "start");
+  CheckInsideMap(grid, goal, "goal");
+  const CellIndex goal_cell = GoalCell(*map_costmap, goal);
+  CellIndex start_cell = StartCell(*map_costmap, start, options_.start_recovery_radius);
 
   const bool draw_moving = !scene.moving.empty() && !planner.plans_among_moving_bodies();
   if (draw_moving || !scene.obstacle_cells.empty()) {
@@ -256,37 +310,8 @@ PathPlan PlanningEngine::ComputePath(const Point2& start, const Point2& goal, co
   PathPlan plan;
   plan.planner = planner.name();
   plan.expansions = cells.expansions;
-  // Cell centres, joined to the exact start and goal. The end cells' own centres are dropped when
-  // the exact points see their neighbours directly (always for grid steps; any-angle planners
-  // checked visibility from the centres only).
   const bool recovered = start_cell != grid.CellOf(start);
-  plan.points.push_back(start);
-  if (!cells.points.empty()) {
-    plan.points.insert(plan.points.end(), cells.points.begin(), cells.points.end());
-  } else {
-    for (const CellIndex& c : cells.cells) plan.points.push_back(grid.CellCenter(c));
-  }
-  plan.points.push_back(goal);
-  if (!cells.keep_shape && plan.points.size() > 3 && costmap->SegmentFree(plan.points[plan.points.size() - 3], goal)) {
-    plan.points.erase(plan.points.end() - 2);
-  }
-  if (!cells.keep_shape && !recovered && plan.points.size() > 2 && costmap->SegmentFree(start, plan.points[2])) {
-    plan.points.erase(plan.points.begin() + 1);
-  }
-  if (options.at("smooth") != 0.0 && !cells.keep_shape) {
-    // The first hop may leave the inflation zone, which the shortcut test would reject; keep it.
-    if (recovered) {
-      std::vector<Point2> rest(plan.points.begin() + 1, plan.points.end());
-      rest = ShortcutPath(*costmap, rest, stop);
-      plan.points.resize(1);
-      plan.points.insert(plan.points.end(), rest.begin(), rest.end());
-    } else {
-      plan.points = ShortcutPath(*costmap, plan.points, stop);
-    }
-  }
-  if (options.at("elastic_band") != 0.0 && !cells.keep_shape && cells.speed_limits.empty()) {
-    plan.points = ElasticBand(*costmap, plan.points);
-  }
+  plan.points = PathPoints(*costmap, cells, start, goal, recovered, options, stop);
   if (!cells.speed_limits.empty()) {
     // Speeds belong to cells.points, which keep their shape: start and goal take their neighbours'.
     plan.speed_limits.push_back(cells.speed_limits.front());
