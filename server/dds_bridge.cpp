@@ -40,28 +40,17 @@ using dds::Reliability;
 DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& ns, SimClock* sim_clock,
                      const Clock& arrival_clock, const RobotDescription* encoders, const std::string& rear_range_frame,
                      const std::vector<double>& sonar_angles, bool people)
-    : participant_(options), ns_(ns), arrival_clock_(arrival_clock) {
+    : participant_(options), ns_(ns), arrival_clock_(arrival_clock), rear_range_frame_(rear_range_frame) {
   if (encoders) {
     wheel_odometry_ = std::make_unique<localization::WheelOdometry>(*encoders);
     joints_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::JointState_PubSubType>>(
         participant_, dds::TopicName(ns, dds::kJointStates), Reliability::kBestEffort,
-        [this](const sensor_msgs::msg::dds_::JointState_& m) {
-          std::lock_guard<std::mutex> lock(wheel_mutex_);
-          const auto reading = wheel_odometry_->AddWheelAngles(m.position(), dds::FromTime(m.header().stamp()));
-          if (!reading) return;  // wrong wheel count or non-finite angles: never integrated
-          wheel_reading_ = reading;
-          Remember(*reading);
-          ++wheel_count_;
-          last_odom_arrival_ = arrival_clock_.Now();
-        },
-        5);
+        [this](const sensor_msgs::msg::dds_::JointState_& m) { OnJointState(m); }, 5);
   }
   if (sim_clock) {
     clock_reader_ = std::make_unique<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
         participant_, dds::kClock, Reliability::kBestEffort,
         [sim_clock](const rosgraph_msgs::msg::dds_::Clock_& m) { sim_clock->Set(dds::FromTime(m.clock())); }, 1);
-  }
-  if (sim_clock) {
     next_tick_writer_ = std::make_unique<dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
         participant_, dds::TopicName(ns, dds::kNextTick), Reliability::kReliable, 1);
   }
@@ -84,58 +73,19 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
   if (!rear_range_frame.empty()) {
     ir_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>>(
         participant_, dds::TopicName(ns, dds::kIr), Reliability::kBestEffort,
-        [this, rear_range_frame](const sensor_msgs::msg::dds_::Range_& m) {
-          if (m.header().frame_id() != rear_range_frame) return;
-          // REP 117: +inf (or anything past max_range) is "nothing in range", -inf and readings at
-          // min_range (a Sharp IR's 0.1 m) something that close or closer; NaN says nothing.
-          if (std::isnan(m.range())) return;
-          double r =
-              m.range() == -std::numeric_limits<float>::infinity() ? 0.0 : std::min<double>(m.range(), m.max_range());
-          if (r <= m.min_range()) r = 0.0;
-          rear_range_ = r;
-          last_rear_arrival_ = arrival_clock_.Now();
-        },
-        8);
+        [this](const sensor_msgs::msg::dds_::Range_& m) { OnRearRange(m); }, 8);
   }
   if (!sonar_angles.empty()) {
     for (double a : sonar_angles) sonar_.push_back({a});
     // A ring sends one message per sensor in a burst: the history holds a whole one.
     sonar_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>>(
         participant_, dds::TopicName(ns, dds::kSonar), Reliability::kBestEffort,
-        [this](const sensor_msgs::msg::dds_::Range_& m) {
-          const std::string& frame = m.header().frame_id();
-          constexpr std::string_view kPrefix = "sonar_";
-          if (frame.rfind(kPrefix, 0) != 0) return;
-          size_t index = 0;
-          try {
-            index = std::stoul(frame.substr(kPrefix.size()));
-          } catch (const std::exception&) {
-            return;
-          }
-          if (index >= sonar_.size() || !(m.range() >= 0.0f)) return;
-          std::lock_guard<std::mutex> lock(sonar_mutex_);
-          SonarSlot& s = sonar_[index];
-          // ROS: +inf, or anything at or past max_range, is "nothing in range".
-          s.echo = std::isfinite(m.range()) && m.range() < m.max_range();
-          s.range = m.range();
-          s.arrival = arrival_clock_.Now();
-        },
-        static_cast<int>(2 * sonar_angles.size()));
+        [this](const sensor_msgs::msg::dds_::Range_& m) { OnSonar(m); }, static_cast<int>(2 * sonar_angles.size()));
   }
   if (people) {
     people_reader_ = std::make_unique<dds::Reader<people_msgs::msg::dds_::People_PubSubType>>(
         participant_, dds::TopicName(ns, dds::kPeople), Reliability::kBestEffort,
-        [this](const people_msgs::msg::dds_::People_& m) {
-          if (InBaseLink(m)) {
-            last_people_arrival_ = arrival_clock_.Now();
-            return;
-          }
-          // The sensors are stale meanwhile.
-          const int n = ++bad_people_;
-          if (WorthSaying(n))
-            spdlog::warn("people report ignored ({} so far): frame_id '{}' is not base_link", n, m.header().frame_id());
-        },
-        2);
+        [this](const people_msgs::msg::dds_::People_& m) { OnPeople(m); }, 2);
   }
   scan_topic_ = dds::TopicName(ns, dds::kScan);
   scan_reader_ = std::make_unique<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
@@ -155,6 +105,57 @@ DdsBridge::DdsBridge(const dds::ParticipantOptions& options, const std::string& 
       participant_, dds::TopicName(ns, dds::kMap), Reliability::kReliable, 1, true);
   costmap_writer_ = std::make_unique<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>>(
       participant_, dds::TopicName(ns, dds::kCostmap), Reliability::kReliable, 1, true);
+}
+
+void DdsBridge::OnJointState(const sensor_msgs::msg::dds_::JointState_& m) {
+  std::lock_guard<std::mutex> lock(wheel_mutex_);
+  const auto reading = wheel_odometry_->AddWheelAngles(m.position(), dds::FromTime(m.header().stamp()));
+  if (!reading) return;  // wrong wheel count or non-finite angles: never integrated
+  wheel_reading_ = reading;
+  Remember(*reading);
+  ++wheel_count_;
+  last_odom_arrival_ = arrival_clock_.Now();
+}
+
+void DdsBridge::OnRearRange(const sensor_msgs::msg::dds_::Range_& m) {
+  if (m.header().frame_id() != rear_range_frame_) return;
+  // REP 117: +inf (or anything past max_range) is "nothing in range", -inf and readings at
+  // min_range (a Sharp IR's 0.1 m) something that close or closer; NaN says nothing.
+  if (std::isnan(m.range())) return;
+  double r = m.range() == -std::numeric_limits<float>::infinity() ? 0.0 : std::min<double>(m.range(), m.max_range());
+  if (r <= m.min_range()) r = 0.0;
+  rear_range_ = r;
+  last_rear_arrival_ = arrival_clock_.Now();
+}
+
+void DdsBridge::OnSonar(const sensor_msgs::msg::dds_::Range_& m) {
+  const std::string& frame = m.header().frame_id();
+  constexpr std::string_view kPrefix = "sonar_";
+  if (frame.rfind(kPrefix, 0) != 0) return;
+  size_t index = 0;
+  try {
+    index = std::stoul(frame.substr(kPrefix.size()));
+  } catch (const std::exception&) {
+    return;
+  }
+  if (index >= sonar_.size() || !(m.range() >= 0.0f)) return;
+  std::lock_guard<std::mutex> lock(sonar_mutex_);
+  SonarSlot& s = sonar_[index];
+  // ROS: +inf, or anything at or past max_range, is "nothing in range".
+  s.echo = std::isfinite(m.range()) && m.range() < m.max_range();
+  s.range = m.range();
+  s.arrival = arrival_clock_.Now();
+}
+
+void DdsBridge::OnPeople(const people_msgs::msg::dds_::People_& m) {
+  if (InBaseLink(m)) {
+    last_people_arrival_ = arrival_clock_.Now();
+    return;
+  }
+  // The sensors are stale meanwhile.
+  const int n = ++bad_people_;
+  if (WorthSaying(n))
+    spdlog::warn("people report ignored ({} so far): frame_id '{}' is not base_link", n, m.header().frame_id());
 }
 
 void DdsBridge::ReadCamera() {

@@ -116,6 +116,7 @@ class DdsBridge {
   dds::Participant participant_;
   std::string ns_;
   const Clock& arrival_clock_;
+  std::string rear_range_frame_;  // the frame_id of the rear range sensor's readings on rt/<ns>/ir
   std::atomic<double> last_odom_arrival_{-1e9};
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_reader_;
   // Odometry from the wheel encoders, when navd computes it (--odometry encoders).
@@ -124,6 +125,11 @@ class DdsBridge {
   mutable std::mutex wheel_mutex_;
   std::optional<localization::OdometryReading> wheel_reading_;
   void Remember(const localization::OdometryReading& reading);
+  // The readers' callbacks, on DDS threads.
+  void OnJointState(const sensor_msgs::msg::dds_::JointState_& m);
+  void OnRearRange(const sensor_msgs::msg::dds_::Range_& m);
+  void OnSonar(const sensor_msgs::msg::dds_::Range_& m);
+  void OnPeople(const people_msgs::msg::dds_::People_& m);
   // Whether a people report is in base_link (or <ns>/base_link).
   static bool InBaseLink(const people_msgs::msg::dds_::People_& m);
   mutable std::mutex history_mutex_;
