@@ -113,17 +113,6 @@ class DdsBridge {
   void PublishCostmap(const OccupancyGrid& geometry, const std::vector<int8_t>& cells, double now);
 
  private:
-  dds::Participant participant_;
-  std::string ns_;
-  const Clock& arrival_clock_;
-  std::string rear_range_frame_;  // the frame_id of the rear range sensor's readings on rt/<ns>/ir
-  std::atomic<double> last_odom_arrival_{-1e9};
-  std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_reader_;
-  // Odometry from the wheel encoders, when navd computes it (--odometry encoders).
-  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::JointState_PubSubType>> joints_reader_;
-  std::unique_ptr<localization::WheelOdometry> wheel_odometry_;
-  mutable std::mutex wheel_mutex_;
-  std::optional<localization::OdometryReading> wheel_reading_;
   void Remember(const localization::OdometryReading& reading);
   // The readers' callbacks, on DDS threads.
   void OnJointState(const sensor_msgs::msg::dds_::JointState_& m);
@@ -132,23 +121,28 @@ class DdsBridge {
   void OnPeople(const people_msgs::msg::dds_::People_& m);
   // Whether a people report is in base_link (or <ns>/base_link).
   static bool InBaseLink(const people_msgs::msg::dds_::People_& m);
+
+  dds::Participant participant_;
+  std::string ns_;
+  const Clock& arrival_clock_;
+  std::string rear_range_frame_;  // the frame_id of the rear range sensor's readings on rt/<ns>/ir
+  std::atomic<double> last_odom_arrival_{-1e9};
+  // Odometry from the wheel encoders, when navd computes it (--odometry encoders).
+  std::unique_ptr<localization::WheelOdometry> wheel_odometry_;
+  mutable std::mutex wheel_mutex_;
+  std::optional<localization::OdometryReading> wheel_reading_;
   mutable std::mutex history_mutex_;
   localization::OdometryHistory history_{256};
   localization::OdometryJumpFilter history_filter_;
   std::atomic<uint64_t> wheel_count_{0};
-  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_reader_;
   std::string scan_topic_;
   mutable std::atomic<int> bad_scans_{0};
-  std::unique_ptr<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>> clock_reader_;
-  std::unique_ptr<dds::Reader<navsim_msgs::msg::dds_::BumperState_PubSubType>> bumper_reader_;
   std::atomic<double> last_contact_{-1e9};
   std::atomic<double> last_front_contact_{-1e9};
-  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>> ir_reader_;
   std::atomic<double> rear_range_{0.0};
   std::atomic<double> last_rear_arrival_{-1e9};
   std::atomic<double> last_scan_arrival_{-1e9};
   std::atomic<std::chrono::steady_clock::rep> last_scan_wall_{0};
-  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>> sonar_reader_;
   struct SonarSlot {
     double angle = 0.0;
     double range = 0.0;
@@ -157,21 +151,27 @@ class DdsBridge {
   };
   mutable std::mutex sonar_mutex_;
   std::vector<SonarSlot> sonar_;
-  // Declared before the reader, whose callback writes them: destroyed after it.
   std::atomic<double> last_people_arrival_{-1e9};
   std::atomic<int> bad_people_{0};
-  std::unique_ptr<dds::Reader<people_msgs::msg::dds_::People_PubSubType>> people_reader_;
+  mutable std::mutex cloud_mutex_;
+  std::shared_ptr<const CameraCloud> cloud_;
+  std::atomic<uint64_t> cloud_count_{0};
+  std::atomic<int> bad_clouds_{0};
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType>> cmd_writer_;
   std::unique_ptr<dds::Writer<navd_msgs::msg::dds_::NavStatus_PubSubType>> status_writer_;
   std::unique_ptr<dds::Writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>> pose_writer_;
   std::unique_ptr<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>> map_writer_;
   std::unique_ptr<dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>> next_tick_writer_;
   std::unique_ptr<dds::Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>> costmap_writer_;
-  // Declared before the reader, whose callback writes them: destroyed after it.
-  mutable std::mutex cloud_mutex_;
-  std::shared_ptr<const CameraCloud> cloud_;
-  std::atomic<uint64_t> cloud_count_{0};
-  std::atomic<int> bad_clouds_{0};
+  // The readers last: destroyed first, so that no callback runs on the state above once it is gone.
+  std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_reader_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::JointState_PubSubType>> joints_reader_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_reader_;
+  std::unique_ptr<dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType>> clock_reader_;
+  std::unique_ptr<dds::Reader<navsim_msgs::msg::dds_::BumperState_PubSubType>> bumper_reader_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>> ir_reader_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType>> sonar_reader_;
+  std::unique_ptr<dds::Reader<people_msgs::msg::dds_::People_PubSubType>> people_reader_;
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::PointCloud2_PubSubType>> cloud_reader_;
 };
 

@@ -54,7 +54,8 @@ struct NavsimOptions {
 };
 
 // Fills `o` from the command line; returns the exit code when there is nothing to run (--help, or
-// a refused option, whose line CLI11 has printed).
+// a refused option, whose line CLI11 has printed). Throws std::invalid_argument for a
+// --dds-network other than loopback or all.
 std::optional<int> ParseOptions(int argc, char** argv, NavsimOptions& o) {
   CLI::App app{
       "navsim: 2-D simulator of wheeled robots with lasers, sonars, IR, encoders and bumpers among moving "

@@ -3,7 +3,7 @@
 // scripted obstacles and the people every step; each sensor only at its physical rate (seed 000:
 // "only with the frequency allowed by the physical counterpart"); command watchdogs; contacts.
 // Deterministic: the same scenario, seed and command sequence give bit-identical runs. No
-// transport: navsim_main.cpp moves data to and from DDS. Seconds of simulated time; map frame.
+// transport: navsim's RobotTopics and WorldTopics move data to and from DDS. Seconds of simulated time; map frame.
 #include <memory>
 #include <optional>
 #include <random>

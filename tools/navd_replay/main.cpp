@@ -11,7 +11,9 @@
 //               [--png MAP.png] [--graph-out GRAPH.g2o]
 //   navd-replay --log FILE[.gz] --mode consistency --out SCANS.txt [--trajectory EST.tum] [--scan K]
 // An option given to a mode not listed with it is refused, and --pairing without --odometry log
-// (OptionScopes).
+// (OptionScopes); so is one its mode takes only beside another: --resolution in slam without
+// --map-out or --png, or in localize with --map; --seed with --odometry log but for amcl
+// localisation (OptionWithoutEffect).
 // `map` builds an occupancy grid from the log's (corrected) laser poses and saves it as a ROS
 // map_server YAML + PGM, atomically. `localize` runs a localiser (the particle filter, or the EKF
 // with scan-to-map matching) on the log's scans with, by default,
@@ -129,7 +131,7 @@ std::string OptionWithoutEffect(const CLI::App& app, const std::string& mode, co
   return "";
 }
 
-// Everything navd-replay's command line says, before the run's defaults fill what it left open.
+// Everything navd-replay's command line says; RunSlam and RunLocalize fill in place what it left open.
 struct CommandLine {
   std::string log_path, mode = "map", out;
   double resolution = 0.05;
