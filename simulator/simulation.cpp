@@ -216,6 +216,26 @@ void Simulation::Touch(SimulatedRobot& robot, int other, const Point2& where, bo
 
 StepOutputs Simulation::Step() {
   const double dt = options_.physics_step;
+  MoveRobots(dt);
+  MoveObstacles(dt);
+  if (crowd_) {
+    crowd_->Step(
+        now_, dt,
+        [this](const Point2& c, double r, int self, bool robots_only) { return Occupied(c, r, self, robots_only); },
+        [this](const Person& p, int body) {
+          if (body < kFirstObstacleId) Touch(*robots_[body], p.id, p.position, false);
+        });
+  }
+  now_ += dt;
+  StepOutputs out;
+  out.events = CountCollisions();
+  out.robots = ReadSensors();
+  out.truth = Due(options_.truth_rate, last_truth_);
+  out.status = Due(options_.status_rate, last_status_);
+  return out;
+}
+
+void Simulation::MoveRobots(double dt) {
   for (auto& r : robots_) {
     r->contact_this_step_ = false;
     r->bumper_ = {};
@@ -246,6 +266,9 @@ StepOutputs Simulation::Step() {
       Touch(*r, hit, from.translation() + r->spec_.body.radius * dir, true, step.dot(towards) / dt, other_closing);
     }
   }
+}
+
+void Simulation::MoveObstacles(double dt) {
   // Scripted obstacles wait while a body is in the way.
   for (size_t i = 0; i < obstacles_.size(); ++i) {
     auto& o = obstacles_[i];
@@ -259,17 +282,10 @@ StepOutputs Simulation::Step() {
       if (hit < kFirstObstacleId) Touch(*robots_[hit], id, next, false);
     }
   }
-  if (crowd_) {
-    crowd_->Step(
-        now_, dt,
-        [this](const Point2& c, double r, int self, bool robots_only) { return Occupied(c, r, self, robots_only); },
-        [this](const Person& p, int body) {
-          if (body < kFirstObstacleId) Touch(*robots_[body], p.id, p.position, false);
-        });
-  }
-  now_ += dt;
+}
 
-  StepOutputs out;
+std::vector<CollisionEvent> Simulation::CountCollisions() {
+  std::vector<CollisionEvent> events;
   // One contact is one collision, however often a stalled robot nudges again: it ends only after
   // kContactGap without touching.
   constexpr double kContactGap = 0.25;
@@ -277,13 +293,17 @@ StepOutputs Simulation::Step() {
     if (r->contact_this_step_) {
       if (now_ - r->last_contact_ > kContactGap) {
         ++r->collisions_;
-        out.events.push_back({now_, r->name().empty() ? "robot" : r->name(), r->contact_with_, r->contact_other_id_,
-                              r->contact_where_, r->contact_robot_closing_, r->contact_other_closing_});
+        events.push_back({now_, r->name().empty() ? "robot" : r->name(), r->contact_with_, r->contact_other_id_,
+                          r->contact_where_, r->contact_robot_closing_, r->contact_other_closing_});
       }
       r->last_contact_ = now_;
     }
     r->in_contact_ = now_ - r->last_contact_ <= kContactGap;
   }
+  return events;
+}
+
+std::vector<RobotReadings> Simulation::ReadSensors() {
   const bool any_sensor_due = [&] {
     for (const auto& r : robots_) {
       if ((r->laser_ && now_ - r->last_scan_ >= 1.0 / r->laser_->description().rate - 1e-9) ||
@@ -296,10 +316,10 @@ StepOutputs Simulation::Step() {
     return false;
   }();
   const std::vector<Disc> discs = any_sensor_due ? Discs() : std::vector<Disc>();
-  out.robots.resize(robots_.size());
+  std::vector<RobotReadings> readings(robots_.size());
   for (size_t i = 0; i < robots_.size(); ++i) {
     auto& r = *robots_[i];
-    auto& o = out.robots[i];
+    auto& o = readings[i];
     const Pose2& pose = r.base_.true_pose();
     if (r.laser_ && Due(r.laser_->description().rate, r.last_scan_)) {
       o.scan = r.laser_->Scan(pose, laser_truth(), discs, r.id_, r.sensor_rng_);
@@ -316,9 +336,7 @@ StepOutputs Simulation::Step() {
     o.bumper = r.spec_.bumper && Due(r.spec_.bumper_rate, r.last_bumper_);
     if (r.spec_.people && Due(r.spec_.people->rate, r.last_people_)) o.people = SensePeople(r);
   }
-  out.truth = Due(options_.truth_rate, last_truth_);
-  out.status = Due(options_.status_rate, last_status_);
-  return out;
+  return readings;
 }
 
 }  // namespace navd::sim

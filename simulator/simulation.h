@@ -165,6 +165,13 @@ class Simulation {
  private:
   // laser_truth_ and camera_walls_ from the truth as it is now.
   void RebuildViews();
+  // Step's parts, in its order: the robots (each against the others where they are now, stopped
+  // by its watchdog), the scripted obstacles, then, after the crowd and the clock, the contacts
+  // counted as collisions and the sensors due.
+  void MoveRobots(double dt);
+  void MoveObstacles(double dt);
+  std::vector<CollisionEvent> CountCollisions();
+  std::vector<RobotReadings> ReadSensors();
   // True when the period of a `rate` Hz stream has elapsed since `last`; advances `last`.
   bool Due(double rate, double& last) const;
   // kFree, kWall or the body id a disc at `centre` would overlap (ignoring `self`).
