@@ -694,6 +694,7 @@ struct SlamRun {
   double ate = -1.0;
   double step_error = -1.0;  // m, mean relative error per scan step
   int closures = -1, wrong = -1;
+  double closure_median = -1.0;  // m off the corrected poses; -1 without closures
   std::string output;
 };
 
@@ -718,6 +719,9 @@ SlamRun RunSlam(const std::string& log, std::optional<int> seed, const std::stri
   const size_t step = r.output.find("relative error per scan step ", at);
   if (step != std::string::npos)
     std::sscanf(r.output.c_str() + step, "relative error per scan step %lf", &out.step_error);
+  const size_t offsets = r.output.find("loop closures off the corrected poses: ", at);
+  if (offsets != std::string::npos)
+    std::sscanf(r.output.c_str() + offsets, "loop closures off the corrected poses: median %lf", &out.closure_median);
   return out;
 }
 
@@ -731,8 +735,10 @@ TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
   const std::string dir = MakeTempDir();
   const SlamRun run = RunSlam(log, 3, dir, {"--graph-out", dir + "/graph.g2o"});
   ASSERT_GE(run.ate, 0.0) << run.output;
-  std::printf("Intel log, slam: ATE RMSE %.4f m, relative error per step %.4f m, %d loop closures, %d wrong\n", run.ate,
-              run.step_error, run.closures, run.wrong);
+  std::printf(
+      "Intel log, slam: ATE RMSE %.4f m, relative error per step %.4f m, %d loop closures (median %.3f m off the "
+      "corrected poses), %d wrong\n",
+      run.ate, run.step_error, run.closures, run.closure_median, run.wrong);
   EXPECT_LE(run.ate, 0.10);
   // Seeds 1-5 read 0.0237 m or so, from perfect odometry 0.0232: the scans' own disagreement with
   // the corrected poses, step by step.
@@ -740,6 +746,9 @@ TEST(NavdReplay, SlamOnTheIntelLogClosesLoopsAndStaysWithinTenCentimetres) {
   EXPECT_LE(run.step_error, 0.03);
   EXPECT_GE(run.closures, 1);
   EXPECT_EQ(run.wrong, 0) << run.output;
+  // Seeds 1-5 read about 0.025 m: where the scans and the corrected poses part on two passes.
+  EXPECT_GT(run.closure_median, 0.0) << run.output;
+  EXPECT_LE(run.closure_median, 0.05) << run.output;
   std::vector<std::array<double, 3>> trajectory;
   std::ifstream tum(dir + "/est.tum");
   for (std::string line; std::getline(tum, line);) {
@@ -951,9 +960,14 @@ TEST(NavdReplay, SlamAndLocalisationHoldInAnOpenHallByItsFarWalls) {
   WriteHallLog(dir + "/hall.log");
   const SlamRun run = RunSlam(dir + "/hall.log", 1, dir);
   ASSERT_GE(run.ate, 0.0) << run.output;
-  std::printf("open hall, slam: ATE RMSE %.4f m, %d loop closures, %d wrong\n", run.ate, run.closures, run.wrong);
+  std::printf("open hall, slam: ATE RMSE %.4f m, %d loop closures (median %.3f m off the poses), %d wrong\n", run.ate,
+              run.closures, run.closure_median, run.wrong);
   EXPECT_LE(run.ate, 0.1);
   EXPECT_EQ(run.wrong, 0) << run.output;
+  // Its poses are exact, so its closures lie within the matcher's own error of them.
+  EXPECT_GE(run.closures, 1);
+  EXPECT_GE(run.closure_median, 0.0) << run.output;
+  EXPECT_LE(run.closure_median, 0.02) << run.output;
   const auto localize = RunCommand(
       {NavdReplayBinary(), "--log", dir + "/hall.log", "--mode", "localize", "--out", dir + "/loc.tum"}, 120.0);
   ASSERT_EQ(localize.exit_code, 0) << localize.output;

@@ -9,6 +9,7 @@
 
 #include "services/common/map_server_format.h"
 #include "services/common/png_format.h"
+#include "services/common/quantile.h"
 #include "services/common/relative_pose_error.h"
 #include "services/common/text_file.h"
 #include "services/common/trajectory_alignment.h"
@@ -22,27 +23,48 @@
 namespace navd::replay {
 namespace {
 
-// A closure is wrong when it disagrees with the corrected poses by more than 0.3 m or 0.1 rad, in
-// the directions it measures: a partial refinement match (a corridor driven the other way) holds
-// its node across the corridor only, and along it, where its edge's sigma exceeds 0.1 m, carries
-// where the graph put the node, as loosely as the odometry would.
+// How far a closure is off the corrected poses, in the directions it measures: a partial
+// refinement match (a corridor driven the other way) holds its node across the corridor only, and
+// along it, where its edge's sigma exceeds 0.1 m, carries where the graph put the node, as loosely
+// as the odometry would. Its translation (m) in those directions and in all, and its turn (rad).
+struct ClosureOffset {
+  double measured = 0.0, distance = 0.0, theta = 0.0;
+};
+
+ClosureOffset OffsetFromTruth(const mapping::LoopClosure& c, const std::vector<Pose2>& truth) {
+  const Pose2 true_relative = truth[c.from_scan].inverse() * truth[c.to_scan];
+  const Pose2 diff = true_relative.inverse() * c.measurement;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> xy(c.information.topLeftCorner<2, 2>());
+  Point2 measured = Point2::Zero();
+  for (int k = 0; k < 2; ++k)
+    if (xy.eigenvalues()(k) >= 1.0 / (0.1 * 0.1))
+      measured += xy.eigenvectors().col(k) * xy.eigenvectors().col(k).dot(Point2(diff.x, diff.y));
+  return {measured.norm(), std::hypot(diff.x, diff.y), diff.theta};
+}
+
+// A closure is wrong when it is more than 0.3 m or 0.1 rad off the corrected poses.
 int CountWrong(const std::vector<mapping::LoopClosure>& closures, const std::vector<Pose2>& truth, const char* kind) {
   int wrong = 0;
   for (const auto& c : closures) {
-    const Pose2 true_relative = truth[c.from_scan].inverse() * truth[c.to_scan];
-    const Pose2 diff = true_relative.inverse() * c.measurement;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> xy(c.information.topLeftCorner<2, 2>());
-    Point2 measured = Point2::Zero();
-    for (int k = 0; k < 2; ++k)
-      if (xy.eigenvalues()(k) >= 1.0 / (0.1 * 0.1))
-        measured += xy.eigenvectors().col(k) * xy.eigenvectors().col(k).dot(Point2(diff.x, diff.y));
-    if (measured.norm() > 0.3 || std::abs(diff.theta) > 0.1) {
+    const ClosureOffset off = OffsetFromTruth(c, truth);
+    if (off.measured > 0.3 || std::abs(off.theta) > 0.1) {
       ++wrong;
       std::fprintf(stderr, "wrong %s: scan %d to scan %d (score %.3f) is %.3f m, %.3f rad off the corrected poses\n",
-                   kind, c.from_scan, c.to_scan, c.score, std::hypot(diff.x, diff.y), diff.theta);
+                   kind, c.from_scan, c.to_scan, c.score, off.distance, off.theta);
     }
   }
   return wrong;
+}
+
+// How far the loop closures, each a match of one scan against the scans of another pass, lie from
+// the corrected poses: where scans and poses agree (a log rendered at its poses) a centimetre or
+// so; beyond that, the scans themselves place each other elsewhere than the poses do.
+void PrintClosureOffsets(const std::vector<mapping::LoopClosure>& closures, const std::vector<Pose2>& truth) {
+  if (closures.empty()) return;
+  std::vector<double> offsets;
+  for (const auto& c : closures) offsets.push_back(OffsetFromTruth(c, truth).measured);
+  std::printf("loop closures off the corrected poses: median %.3f m, 90th percentile %.3f m, worst %.3f m\n",
+              Quantile(offsets, 0.5), Quantile(offsets, 0.9), Quantile(offsets, 1.0));
 }
 
 // How well the log's scans agree at SLAM's estimate and at the log's own poses (ScanConsistency).
@@ -128,6 +150,7 @@ int Slam(const CarmenLog& log, const std::vector<Pose2>& odometry, const SlamRun
       wrong_refinements, error.position_rmse, error.heading_rmse, error.worst,
       1e3 * busy / static_cast<double>(estimate.size()), relative.translation_mean, relative.rotation_mean,
       relative.along_rmse, relative.across_rmse, error.similarity_rmse, error.scale, options.out.c_str());
+  PrintClosureOffsets(slam.closures(), truth);
   PrintScanConsistency(log, estimate, truth);
   if (options.learn_odometry_bias)
     std::printf("odometry bias learnt: scale %.4f, drift %.4f rad/m, turn error %.4f\n", slam.odometry_bias().scale(),
