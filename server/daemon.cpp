@@ -10,6 +10,7 @@
 #include <initializer_list>
 #include <optional>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "server/camera_perception.h"
@@ -85,14 +86,22 @@ void StartViewFeed(const DaemonOptions& o, std::unique_ptr<ViewFeed>& view) {
   spdlog::info("navd: live view at http://{}:{}/ (Foxglove: ws://{}:{})", host, view->port(), host, view->port());
 }
 
-// The simulated clock of --use-sim-time (also returned in `sim_clock`, for rt/clock to set), else
-// the system's.
-std::unique_ptr<Clock> MakeClock(bool use_sim_time, SimClock*& sim_clock) {
-  sim_clock = nullptr;
-  if (!use_sim_time) return std::make_unique<SystemClock>();
+// navd's clock: the simulated one of --use-sim-time, which rt/clock sets, or the system's.
+struct DaemonClock {
+  std::unique_ptr<Clock> clock;
+  SimClock* sim = nullptr;  // `clock` under --use-sim-time, else null
+};
+
+DaemonClock MakeClock(bool use_sim_time) {
+  DaemonClock out;
+  if (!use_sim_time) {
+    out.clock = std::make_unique<SystemClock>();
+    return out;
+  }
   auto clock = std::make_unique<SimClock>();
-  sim_clock = clock.get();
-  return clock;
+  out.sim = clock.get();
+  out.clock = std::move(clock);
+  return out;
 }
 
 // navd's services on `listen`, with gRPC's standard health service reporting each as serving (and
@@ -112,8 +121,9 @@ std::unique_ptr<grpc::Server> StartGrpcServer(const std::string& listen, const s
                     " (address in use or invalid, or a TLS key that does not match its certificate)");
   }
   auto* health = server->GetHealthCheckService();
-  for (const char* name : {"", "navd.v1.PlanningService", "navd.v1.LocalizationService", "navd.v1.MappingService",
-                           "navd.v1.NavigationService"}) {
+  for (const char* name :
+       {"", v1::PlanningService::service_full_name(), v1::LocalizationService::service_full_name(),
+        v1::MappingService::service_full_name(), v1::NavigationService::service_full_name()}) {
     health->SetServingStatus(name, true);
   }
   return server;
@@ -244,8 +254,9 @@ int RunDaemon(const DaemonOptions& o, DaemonSignals& signals) {
   AddLocalizers(o, robot, map->grid, map_builder, localizer);
   localizer.SetPose(setting.initial_pose, Eigen::Matrix3d::Zero());  // checks it, too
 
-  SimClock* sim_clock = nullptr;  // under --use-sim-time: set by rt/clock
-  const std::unique_ptr<Clock> clock = MakeClock(o.use_sim_time, sim_clock);
+  const DaemonClock daemon_clock = MakeClock(o.use_sim_time);
+  Clock* const clock = daemon_clock.clock.get();
+  SimClock* const sim_clock = daemon_clock.sim;
 
   navigation::NavigatorOptions navigator;
   navigator.follower.wheel_base = robot.wheel_base;

@@ -318,7 +318,9 @@ TEST_F(BadInput, ServesTheMapAndHealth) {
   EXPECT_EQ(map.info().width(), 200u);
   EXPECT_EQ(map.cells().size(), 200u * 200u);
   EXPECT_EQ(client().Health(), grpc::health::v1::HealthCheckResponse::SERVING);
-  EXPECT_EQ(client().Health("navd.v1.NavigationService"), grpc::health::v1::HealthCheckResponse::SERVING);
+  for (const char* service : {"navd.v1.PlanningService", "navd.v1.LocalizationService", "navd.v1.MappingService",
+                              "navd.v1.NavigationService"})
+    EXPECT_EQ(client().Health(service), grpc::health::v1::HealthCheckResponse::SERVING) << service;
 }
 
 }  // namespace
