@@ -121,9 +121,8 @@ std::unique_ptr<grpc::Server> StartGrpcServer(const std::string& listen, const s
                     " (address in use or invalid, or a TLS key that does not match its certificate)");
   }
   auto* health = server->GetHealthCheckService();
-  for (const char* name :
-       {"", v1::PlanningService::service_full_name(), v1::LocalizationService::service_full_name(),
-        v1::MappingService::service_full_name(), v1::NavigationService::service_full_name()}) {
+  for (const char* name : {"", v1::PlanningService::service_full_name(), v1::LocalizationService::service_full_name(),
+                           v1::MappingService::service_full_name(), v1::NavigationService::service_full_name()}) {
     health->SetServingStatus(name, true);
   }
   return server;
