@@ -3,18 +3,19 @@
 #include <ompl/base/Goal.h>
 #include <ompl/base/OptimizationObjective.h>
 #include <ompl/base/PlannerData.h>
+#include <ompl/base/StateValidityChecker.h>
 #include <ompl/base/goals/GoalSampleableRegion.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/base/spaces/SE2StateSpace.h>
 #include <ompl/control/DirectedControlSampler.h>
 #include <ompl/control/SimpleSetup.h>
+#include <ompl/control/StatePropagator.h>
 #include <ompl/control/planners/rrt/RRT.h>
 #include <ompl/control/planners/sst/SST.h>
 #include <ompl/control/spaces/RealVectorControlSpace.h>
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
-#include <chrono>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -166,6 +167,119 @@ class GoalDisc : public ob::GoalSampleableRegion {
   ob::StateSamplerPtr sampler_;
 };
 
+// The state space: the SE(2) pose within the grid's bounds, the speeds within the limits and the
+// time within the horizon. The nearest-neighbour metric weighs position and heading first; speeds
+// and time only break ties between nearby states.
+ob::StateSpacePtr UnicycleSpace(const OccupancyGrid& grid, const UnicycleLimits& l, double horizon) {
+  auto space = std::make_shared<ob::CompoundStateSpace>();
+  auto se2 = std::make_shared<ob::SE2StateSpace>();
+  ob::RealVectorBounds xy(2);
+  xy.setLow(0, grid.origin().x());
+  xy.setHigh(0, grid.origin().x() + grid.size_x());
+  xy.setLow(1, grid.origin().y());
+  xy.setHigh(1, grid.origin().y() + grid.size_y());
+  se2->setBounds(xy);
+  auto velocity = std::make_shared<ob::RealVectorStateSpace>(2);
+  ob::RealVectorBounds vb(2);
+  vb.setLow(0, 0.0);
+  vb.setHigh(0, l.max_speed);
+  vb.setLow(1, -l.max_yaw_rate);
+  vb.setHigh(1, l.max_yaw_rate);
+  velocity->setBounds(vb);
+  auto time = std::make_shared<ob::RealVectorStateSpace>(1);
+  time->setBounds(0.0, horizon);
+  space->addSubspace(se2, 1.0);
+  space->addSubspace(velocity, 0.1);
+  space->addSubspace(time, 0.001);
+  return space;
+}
+
+// The controls: linear and yaw acceleration within the limits.
+std::shared_ptr<oc::RealVectorControlSpace> AccelerationControls(const ob::StateSpacePtr& space,
+                                                                 const UnicycleLimits& l) {
+  auto controls = std::make_shared<oc::RealVectorControlSpace>(space, 2);
+  ob::RealVectorBounds cb(2);
+  cb.setLow(0, -l.max_accel);
+  cb.setHigh(0, l.max_accel);
+  cb.setLow(1, -l.max_yaw_accel);
+  cb.setHigh(1, l.max_yaw_accel);
+  controls->setBounds(cb);
+  return controls;
+}
+
+// Eq. 10 by Euler steps; speeds saturate at the robot's limits.
+class UnicyclePropagator : public oc::StatePropagator {
+ public:
+  UnicyclePropagator(const oc::SpaceInformationPtr& si, const UnicycleLimits& limits)
+      : oc::StatePropagator(si), l_(limits) {}
+  void propagate(const ob::State* from, const oc::Control* control, double duration, ob::State* result) const override {
+    const double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
+    const Unicycle s0 = Read(from);
+    UnicycleState s{s0.x, s0.y, s0.yaw, s0.v, s0.w, s0.t};
+    for (double done = 0.0; done < duration - 1e-9; done += kStep) {
+      s = Propagate(s, {u[0], u[1]}, std::min(kStep, duration - done), l_);
+    }
+    Write({s.x, s.y, s.yaw, s.v, s.w, s.t}, result);
+  }
+
+ private:
+  UnicycleLimits l_;
+};
+
+// A state is valid within the horizon, on the grid, off lethal cells, and clear of every moving
+// body where it will be at the state's time (the robot's radius: the costmap's inflation).
+class UnicycleValidity : public ob::StateValidityChecker {
+ public:
+  UnicycleValidity(const ob::SpaceInformationPtr& si, const Costmap& costmap, const std::vector<MovingBody>& moving,
+                   double horizon)
+      : ob::StateValidityChecker(si), costmap_(costmap), moving_(moving), horizon_(horizon) {}
+  bool isValid(const ob::State* state) const override {
+    const Unicycle s = Read(state);
+    if (s.t > horizon_) return false;
+    const OccupancyGrid& grid = costmap_.grid();
+    const CellIndex c = grid.CellOf({s.x, s.y});
+    if (!grid.Contains(c) || costmap_.IsLethal(c)) return false;
+    const double robot_radius = costmap_.options().inflation_radius;
+    for (const MovingBody& b : moving_) {
+      const Point2 at = b.position + s.t * b.velocity;
+      if (std::hypot(s.x - at.x(), s.y - at.y()) < b.radius + robot_radius) return false;
+    }
+    return true;
+  }
+
+ private:
+  const Costmap& costmap_;
+  const std::vector<MovingBody>& moving_;
+  double horizon_;
+};
+
+ob::PlannerPtr MakePlanner(const oc::SpaceInformationPtr& si, KinodynamicAlgorithm algorithm) {
+  if (algorithm == KinodynamicAlgorithm::kSst) {
+    auto sst = std::make_shared<oc::SST>(si);
+    sst->setGoalBias(0.1);
+    sst->setSelectionRadius(0.3);
+    sst->setPruningRadius(0.05);
+    return sst;
+  }
+  auto rrt = std::make_shared<oc::RRT>(si);
+  rrt->setGoalBias(0.1);
+  return rrt;
+}
+
+// A solution path at every propagation step, as plain numbers.
+KinodynamicTrajectory TrajectoryOf(oc::PathControl path) {
+  path.interpolate();
+  KinodynamicTrajectory t;
+  for (const ob::State* s : path.getStates()) {
+    const Unicycle u = Read(s);
+    t.points.emplace_back(u.x, u.y);
+    t.yaws.push_back(u.yaw);
+    t.speeds.push_back(u.v);
+    t.times.push_back(u.t);
+  }
+  return t;
+}
+
 }  // namespace
 
 double TrajectoryCost(const Costmap& costmap, const KinodynamicRequest& request, const std::vector<MovingBody>& moving,
@@ -183,63 +297,11 @@ KinodynamicTrajectory PlanKinodynamic(const Costmap& costmap, const KinodynamicR
   std::call_once(quiet, [] { ompl::msg::setLogLevel(ompl::msg::LOG_ERROR); });
   CheckRequest(r);
   const UnicycleLimits& l = r.limits;
-
-  const OccupancyGrid& grid = costmap.grid();
-  auto space = std::make_shared<ob::CompoundStateSpace>();
-  auto se2 = std::make_shared<ob::SE2StateSpace>();
-  ob::RealVectorBounds xy(2);
-  xy.setLow(0, grid.origin().x());
-  xy.setHigh(0, grid.origin().x() + grid.size_x());
-  xy.setLow(1, grid.origin().y());
-  xy.setHigh(1, grid.origin().y() + grid.size_y());
-  se2->setBounds(xy);
-  auto velocity = std::make_shared<ob::RealVectorStateSpace>(2);
-  ob::RealVectorBounds vb(2);
-  vb.setLow(0, 0.0);
-  vb.setHigh(0, l.max_speed);
-  vb.setLow(1, -l.max_yaw_rate);
-  vb.setHigh(1, l.max_yaw_rate);
-  velocity->setBounds(vb);
-  auto time = std::make_shared<ob::RealVectorStateSpace>(1);
-  time->setBounds(0.0, r.horizon);
-  // Weights of the nearest-neighbour metric: position and heading first; speeds and time only
-  // break ties between nearby states.
-  space->addSubspace(se2, 1.0);
-  space->addSubspace(velocity, 0.1);
-  space->addSubspace(time, 0.001);
-
-  auto controls = std::make_shared<oc::RealVectorControlSpace>(space, 2);
-  ob::RealVectorBounds cb(2);
-  cb.setLow(0, -l.max_accel);
-  cb.setHigh(0, l.max_accel);
-  cb.setLow(1, -l.max_yaw_accel);
-  cb.setHigh(1, l.max_yaw_accel);
-  controls->setBounds(cb);
-
-  oc::SimpleSetup setup(controls);
+  const ob::StateSpacePtr space = UnicycleSpace(costmap.grid(), l, r.horizon);
+  oc::SimpleSetup setup(AccelerationControls(space, l));
   const auto si = setup.getSpaceInformation();
-  // Eq. 10 by Euler steps; speeds saturate at the robot's limits.
-  setup.setStatePropagator([&](const ob::State* from, const oc::Control* control, double duration, ob::State* result) {
-    const double* u = control->as<oc::RealVectorControlSpace::ControlType>()->values;
-    const Unicycle s0 = Read(from);
-    UnicycleState s{s0.x, s0.y, s0.yaw, s0.v, s0.w, s0.t};
-    for (double done = 0.0; done < duration - 1e-9; done += kStep) {
-      s = Propagate(s, {u[0], u[1]}, std::min(kStep, duration - done), l);
-    }
-    Write({s.x, s.y, s.yaw, s.v, s.w, s.t}, result);
-  });
-  const double robot_radius = costmap.options().inflation_radius;
-  setup.setStateValidityChecker([&](const ob::State* state) {
-    const Unicycle s = Read(state);
-    if (s.t > r.horizon) return false;
-    const CellIndex c = grid.CellOf({s.x, s.y});
-    if (!grid.Contains(c) || costmap.IsLethal(c)) return false;
-    for (const MovingBody& b : moving) {
-      const Point2 at = b.position + s.t * b.velocity;
-      if (std::hypot(s.x - at.x(), s.y - at.y()) < b.radius + robot_radius) return false;
-    }
-    return true;
-  });
+  setup.setStatePropagator(std::make_shared<UnicyclePropagator>(si, l));
+  setup.setStateValidityChecker(std::make_shared<UnicycleValidity>(si, costmap, moving, r.horizon));
   si->setPropagationStepSize(kStep);
   si->setMinMaxControlDuration(2, 10);  // 0.1 to 0.5 s per control
   si->setDirectedControlSamplerAllocator(
@@ -251,17 +313,7 @@ KinodynamicTrajectory PlanKinodynamic(const Costmap& costmap, const KinodynamicR
   setup.setGoal(std::make_shared<GoalDisc>(si, r.goal, r.goal_tolerance));
   const CostField field(costmap, r, moving);
   setup.setOptimizationObjective(std::make_shared<Eq15Objective>(si, field));
-  if (r.algorithm == KinodynamicAlgorithm::kSst) {
-    auto sst = std::make_shared<oc::SST>(si);
-    sst->setGoalBias(0.1);
-    sst->setSelectionRadius(0.3);
-    sst->setPruningRadius(0.05);
-    setup.setPlanner(sst);
-  } else {
-    auto rrt = std::make_shared<oc::RRT>(si);
-    rrt->setGoalBias(0.1);
-    setup.setPlanner(rrt);
-  }
+  setup.setPlanner(MakePlanner(si, r.algorithm));
   setup.setup();
   if (!si->isValid(start.get()))
     throw Error(ErrorCode::kInvalidArgument, "start: the robot would touch an obstacle or a person there");
@@ -284,16 +336,7 @@ KinodynamicTrajectory PlanKinodynamic(const Costmap& costmap, const KinodynamicR
     setup.getPlannerData(data);
     vertices += data.numVertices();
     if (status != ob::PlannerStatus::EXACT_SOLUTION) break;
-    oc::PathControl path = setup.getSolutionPath();
-    path.interpolate();  // every propagation step
-    KinodynamicTrajectory t;
-    for (const ob::State* s : path.getStates()) {
-      const Unicycle u = Read(s);
-      t.points.emplace_back(u.x, u.y);
-      t.yaws.push_back(u.yaw);
-      t.speeds.push_back(u.v);
-      t.times.push_back(u.t);
-    }
+    KinodynamicTrajectory t = TrajectoryOf(setup.getSolutionPath());
     t.cost = TrajectoryCost(costmap, r, moving, t.points, t.times);
     if (t.cost < best.cost) best = std::move(t);
     ++best.rounds;
