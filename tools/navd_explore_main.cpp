@@ -56,6 +56,10 @@ class ExplorationRun {
                so.seed = options.seed;
                return so;
              }()),
+        recorder_(options.record.empty() ? nullptr
+                                         : std::make_unique<sim::CarmenRecorder>(
+                                               options.record, "navd-explore " + options.method_name + ", seed " +
+                                                                   std::to_string(options.seed))),
         session_(SessionOptions(world), world.start),
         follower_(FollowerParams(world)),
         odometry_(256),
@@ -65,9 +69,6 @@ class ExplorationRun {
         visited_{world.start.translation()},
         last_true_(sim_.robot().base().true_pose().translation()),
         goal_(world.start.translation()) {
-    if (!o_.record.empty())
-      recorder_ = std::make_unique<sim::CarmenRecorder>(
-          o_.record, "navd-explore " + o_.method_name + ", seed " + std::to_string(o_.seed));
     eo_.clearance = world.robot.radius + 0.15;
   }
 
@@ -76,10 +77,12 @@ class ExplorationRun {
     bool complete = false;
     while (sim_.now() < o_.max_time) {
       Step();
-      if (!Decide()) {
+      const Decision decision = Decide();
+      if (decision == Decision::kComplete) {
         complete = true;
         break;
       }
+      if (decision == Decision::kTurning) continue;
       if (sim_.now() > 2.0 && static_cast<int>(sim_.now() * 100) % 3000 == 0)
         std::fprintf(stderr, "\r  %s: %.0f s simulated, %.1f m driven, %d goals", o_.method_name.c_str(), sim_.now(),
                      travelled_, goals_);
@@ -141,9 +144,14 @@ class ExplorationRun {
     }
   }
 
-  // The goal's progress, the turn on the spot on arrival, and a new goal when one is due; false
-  // once no reachable frontier is left.
-  bool Decide() {
+  enum class Decision {
+    kTurning,   // turning on the spot after an arrival
+    kDriving,   // on the way to the goal, a new one chosen if one was due
+    kComplete,  // no reachable frontier is left
+  };
+
+  // The goal's progress, the turn on the spot on arrival, and a new goal when one is due.
+  Decision Decide() {
     const double remaining = Distance(estimate_.translation(), goal_);
     if (remaining < best_remaining_ - 0.05) {
       best_remaining_ = remaining;
@@ -152,20 +160,20 @@ class ExplorationRun {
     const bool arrived = follower_.state() == navigation::FollowerState::kArrived ||
                          follower_.state() == navigation::FollowerState::kIdle;
     const bool stuck = sim_.now() - last_progress_time_ > 20.0;
-    if (sim_.now() < look_around_until_) return true;
+    if (sim_.now() < look_around_until_) return Decision::kTurning;
     if (arrived && goals_ > 0 && look_around_until_ < 0.0) {
       // Arrived: half a turn on the spot first (the laser sees 240 degrees), then plan again.
       look_around_until_ = sim_.now() + 2.5;
       follower_.Clear();
-      return true;
+      return Decision::kTurning;
     }
     const bool done = (arrived && look_around_until_ >= 0.0) || stuck;
-    if (sim_.now() < next_plan_ && !done) return true;
+    if (sim_.now() < next_plan_ && !done) return Decision::kDriving;
     if (done) eo_.excluded.push_back(goal_);  // this goal is done or out of reach
     look_around_until_ = -1.0;
     next_plan_ = sim_.now() + 1.0;
     const auto step = navigation::NextExplorationStep(*session_.Map(), estimate_, o_.method, visited_, eo_);
-    if (!step) return false;
+    if (!step) return Decision::kComplete;
     if (Distance(step->goal, goal_) > 0.3) {
       ++goals_;
       best_remaining_ = 1e9;
@@ -173,7 +181,7 @@ class ExplorationRun {
     }
     goal_ = step->goal;
     follower_.SetPath(step->path, std::nullopt);
-    return true;
+    return Decision::kDriving;
   }
 
   // Coverage: the reachable free cells of the truth that the built map shows.

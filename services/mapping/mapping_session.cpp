@@ -110,13 +110,14 @@ void MappingSession::Work() {
   }
 }
 
+double MappingSession::RenderClock(double stamp) const { return o_.synchronous ? stamp : WallSeconds(); }
+
 void MappingSession::Render() {
   auto fresh = std::make_unique<OccupancyGridMapper>(geometry_, o_.mapper);
   slam_->RenderInto(*fresh);
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   mapper_ = std::move(fresh);
   rendered_optimisations_ = slam_->optimisations();
-  last_render_ = WallSeconds();
 }
 
 void MappingSession::Integrate(const Item& item) {
@@ -148,11 +149,12 @@ void MappingSession::Integrate(const Item& item) {
     pose = slam_->AddScan(item.odometry, item.scan);
     nodes = slam_->nodes();
     closures = slam_->loop_closures();
-    const bool rerender =
-        slam_->optimisations() != rendered_optimisations_ && WallSeconds() - last_render_ >= o_.rerender_period;
+    const double now = RenderClock(item.scan.stamp);
+    const bool rerender = slam_->optimisations() != rendered_optimisations_ && now - last_render_ >= o_.rerender_period;
     if (rerender) {
       // Loop closures moved the nodes: the map is drawn again from the optimised poses.
       Render();
+      last_render_ = now;
       changed = MapRegion{{0, 0}, {g.width() - 1, g.height() - 1}};
     } else if (nodes != nodes_before) {
       std::lock_guard<std::mutex> lock(mapper_mutex_);

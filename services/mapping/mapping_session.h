@@ -23,9 +23,12 @@ enum class MappingMode { kSlam, kKnownPoses };
 
 struct MappingSessionOptions {
   MappingMode mode = MappingMode::kSlam;
-  double resolution = 0.05;      // m
-  double size = 60.0;            // m, the side of the square mapped
-  double rerender_period = 2.0;  // s of wall time between re-renders after the graph moved
+  double resolution = 0.05;  // m
+  double size = 60.0;        // m, the side of the square mapped
+  // s between re-renders after the graph moved: of wall time, which bounds what re-rendering
+  // costs a daemon however fast its scans come; of the scans' stamps when synchronous, so that a
+  // run in one process maps the same on any machine and at any load.
+  double rerender_period = 2.0;
   // Submit integrates in the caller's thread and nothing is dropped (offline tools, simulations
   // in one process); otherwise a worker thread does, in order.
   bool synchronous = false;
@@ -93,6 +96,8 @@ class MappingSession {
   void Work();
   void Integrate(const Item& item);
   void Render();  // the whole map again from the optimised nodes (SLAM)
+  // The clock rerender_period counts in (s): the wall's, or a synchronous run's scan stamp.
+  double RenderClock(double stamp) const;
   void MarkChanged(const MapRegion& region);
 
   MappingSessionOptions o_;

@@ -18,6 +18,7 @@
 #include "client_lib/telemetry.h"
 #include "services/common/carmen_log.h"
 #include "services/common/map_server_format.h"
+#include "services/common/text_file.h"
 #include "tests/support/navd_fixture.h"
 
 namespace navd::testing {
@@ -1040,6 +1041,28 @@ TEST(NavdExplore, RecordsARunThatSlamReplays) {
   int lines = 0;
   for (std::string line; std::getline(tum, line);) ++lines;
   EXPECT_EQ(lines, scans);
+}
+
+// The same seed explores the same way on any machine and at any load: the same report and, to the
+// byte, the same recording (the map it plans on is redrawn after loop closures by simulated time,
+// MappingSessionOptions::rerender_period, not by how fast the machine runs).
+TEST(NavdExplore, TheSameSeedExploresTheSameWay) {
+  const std::string dir = MakeTempDir();
+  std::string reports[2], logs[2];
+  for (int i = 0; i < 2; ++i) {
+    const std::string log = dir + "/run" + std::to_string(i) + ".log";
+    const auto run = RunCommand(
+        {NavdExploreBinary(), "--method", "frontier", "--seed", "3", "--max-time", "300", "--record", log}, 300.0);
+    ASSERT_TRUE(run.exit_code == 0 || run.exit_code == 3) << run.output;
+    const size_t at = run.output.find("explore (");
+    ASSERT_NE(at, std::string::npos) << run.output;
+    reports[i] = run.output.substr(at, run.output.find('\n', at) - at);
+    logs[i] = ReadTextFile(log, "recording");
+  }
+  std::printf("%s\n", reports[0].c_str());
+  EXPECT_EQ(reports[0], reports[1]);
+  EXPECT_FALSE(logs[0].empty());
+  EXPECT_TRUE(logs[0] == logs[1]) << "the two recordings differ";
 }
 
 // Online replays: a real navd on the map navd-replay builds from one of the shared CARMEN logs,

@@ -57,12 +57,12 @@ int CountWrong(const std::vector<mapping::LoopClosure>& closures, const std::vec
 }
 
 // How far the loop closures, each a match of one scan against the scans of another pass, lie from
-// the corrected poses: where scans and poses agree (a log rendered at its poses) a centimetre or
-// so; beyond that, the scans themselves place each other elsewhere than the poses do.
+// the corrected poses: where scans and poses agree (a log rendered at its poses) a few
+// millimetres in the median; beyond that, the scans place each other elsewhere than the poses do.
 void PrintClosureOffsets(const std::vector<mapping::LoopClosure>& closures, const std::vector<Pose2>& truth) {
   if (closures.empty()) return;
   std::vector<double> offsets;
-  for (const auto& c : closures) offsets.push_back(OffsetFromTruth(c, truth).measured);
+  for (const auto& c : closures) offsets.push_back(OffsetFromTruth(c, truth).distance);
   std::printf("loop closures off the corrected poses: median %.3f m, 90th percentile %.3f m, worst %.3f m\n",
               Quantile(offsets, 0.5), Quantile(offsets, 0.9), Quantile(offsets, 1.0));
 }
