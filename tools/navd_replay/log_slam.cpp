@@ -62,6 +62,7 @@ int CountWrong(const std::vector<mapping::LoopClosure>& closures, const std::vec
 void PrintClosureOffsets(const std::vector<mapping::LoopClosure>& closures, const std::vector<Pose2>& truth) {
   if (closures.empty()) return;
   std::vector<double> offsets;
+  offsets.reserve(closures.size());
   for (const auto& c : closures) offsets.push_back(OffsetFromTruth(c, truth).distance);
   std::printf("loop closures off the corrected poses: median %.3f m, 90th percentile %.3f m, worst %.3f m\n",
               Quantile(offsets, 0.5), Quantile(offsets, 0.9), Quantile(offsets, 1.0));
